@@ -1,0 +1,252 @@
+// mrr — command line. Subcommands: render, probe, bench (see README "Command line").
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <new>
+#include <optional>
+
+#include "app/options.h"
+#include "common/error.h"
+#include "common/image_io.h"
+#include "compare/bench.h"
+#include "compare/report.h"
+#include "cpu_ref/probe.h"
+#include "scenes/builtin.h"
+#include "scenes/catalog.h"
+
+namespace mrr {
+namespace {
+
+// Options shared by render and probe.
+struct FrameOptions {
+  std::string scene = "builtin:demo";
+  std::string effect = "ssao";
+  std::string mode = "multires";
+  std::string path = "cpu";
+  std::string size = "1280x720";
+  int samples = 64;
+  int threads = 0;
+  std::optional<int> camera;
+  std::string eye, target;
+  std::optional<float> fov;
+  bool flipUp = false, noFlipUp = false;
+  float aoRadius = 0.0f;
+  std::optional<float> tauN, tauZ;
+  std::vector<int> disabledLevels;
+  bool quiet = false;
+
+  void add(CLI::App& app) {
+    std::string builtins;
+    for (const auto& n : builtinSceneNames()) builtins += " builtin:" + n;
+    app.add_option("--scene", scene,
+                   "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path. Built-ins:" + builtins)
+        ->capture_default_str();
+    app.add_option("--effect", effect, "ssao")->capture_default_str();
+    app.add_option("--mode", mode, "multires (the method) or full (the reference)")->capture_default_str();
+    app.add_option("--path", path, "cpu (the oracle); gpu is not built yet")->capture_default_str();
+    app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
+    app.add_option("--samples", samples, "effect samples per pixel (ssao: 1..1024)")->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0 = all cores); results are identical for any count");
+    app.add_option("--camera", camera, "index into the scene's cameras");
+    app.add_option("--eye", eye, "camera position x,y,z (with --target)");
+    app.add_option("--target", target, "camera target x,y,z (with --eye)");
+    app.add_option("--fov", fov, "vertical field of view, degrees");
+    app.add_flag("--flip-up", flipUp, "rotate the scene 180 degrees about X (files authored Y-down)");
+    app.add_flag("--no-flip-up", noFlipUp, "do not flip, even where the scene catalogue would");
+    app.add_option("--ao-radius", aoRadius, "SSAO radius in world units (0 = 3% of the scene diagonal)");
+    app.add_option("--tau-n", tauN, "normal-edge threshold on 1 - N.N (default 0.1)");
+    app.add_option("--tau-z", tauZ, "depth-edge threshold on |second difference of 1/z| / (1/z) (default 0.02)");
+    app.add_option("--disable-level", disabledLevels, "disable level 1, 2 or 3 (repeatable)");
+    app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
+  }
+
+  Settings settings() const {
+    Settings s = defaultSettings(parseEffect(effect));
+    s.mode = parseMode(mode);
+    const auto [w, h] = parseSize(size);
+    s.width = w;
+    s.height = h;
+    s.ssao.samples = samples;
+    s.ssao.radius = aoRadius;
+    if (tauN) s.edges.normalThreshold = *tauN;
+    if (tauZ) s.edges.depthThreshold = *tauZ;
+    for (int l : disabledLevels) {
+      require(l >= 1 && l < kLevelCount, "--disable-level " + std::to_string(l) + ": must be 1, 2 or 3");
+      s.levels[static_cast<size_t>(l)].enabled = false;
+    }
+    validateSettings(s);
+    return s;
+  }
+
+  SceneRequest sceneRequest() const {
+    SceneRequest r;
+    r.scene = scene;
+    if (flipUp) r.flipUp = true;
+    if (noFlipUp) r.flipUp = false;
+    r.cameraIndex = camera;
+    if (!eye.empty()) r.eye = parseVec3(eye, "--eye");
+    if (!target.empty()) r.target = parseVec3(target, "--target");
+    r.fovDegrees = fov;
+    return r;
+  }
+
+  void checkPath() const {
+    require(path == "cpu" || path == "gpu", "--path " + path + ": unknown path (expected cpu or gpu)");
+    require(path == "cpu", "--path gpu: the OpenGL port is not built yet (issue 5); use --path cpu");
+  }
+};
+
+ProgressFn progressPrinter(bool quiet, const std::string& what) {
+  if (quiet) return {};
+  return [what](const std::string& stage) { std::cerr << "[mrr] " << what << ": " << stage << "\n"; };
+}
+
+int threadCount(int requested) {
+  return requested > 0 ? requested : tbb::this_task_arena::max_concurrency();
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"mrr: multi-resolution rendering of expensive screen-space lighting (Besenthal et al.), "
+               "CPU oracle"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "help for every subcommand");
+
+  FrameOptions renderOpts;
+  std::string out, shaded, stages, report;
+  bool reference = false;
+  auto* render = app.add_subcommand("render", "render one frame and write the effect buffer, stages and report");
+  renderOpts.add(*render);
+  render->add_option("--out", out, "final effect buffer: .exr (float) or .png (preview)");
+  render->add_option("--shaded", shaded, "shaded image for viewing: .exr (linear) or .png (sRGB)");
+  render->add_option("--stages", stages, "every stage as a multi-part .exr");
+  render->add_option("--report", report, "JSON report: levels, shaded pixels, ideal speedup, timings");
+  render->add_flag("--reference", reference, "also render mode full and add error_vs_full to the report");
+
+  FrameOptions probeOpts;
+  std::string pixel;
+  bool json = false;
+  auto* probe = app.add_subcommand("probe", "follow one full-res pixel through every stage");
+  probeOpts.add(*probe);
+  probe->add_option("--pixel", pixel, "X,Y of the full-res pixel")->required();
+  probe->add_flag("--json", json, "print JSON instead of text");
+
+  BenchOptions benchOpts;
+  std::vector<std::string> benchSizes;
+  bool quick = false;
+  auto* bench = app.add_subcommand("bench", "the oracle's speed/accuracy benchmark (full vs multires, side by side)");
+  bench->add_option("--scenes", benchOpts.scenes, "scenes to run")->capture_default_str();
+  bench->add_option("--sizes", benchSizes, "sizes WxH (default 1280x720 1920x1080)");
+  bench->add_option("--samples", benchOpts.samples, "SSAO sample counts")->capture_default_str();
+  bench->add_option("--repeats", benchOpts.repeats, "timed repeats per configuration")->capture_default_str();
+  bench->add_option("--threads", benchOpts.threads, "threads (0 = all cores)");
+  bench->add_option("--json", benchOpts.jsonOut, "write all figures as JSON");
+  bench->add_option("--markdown", benchOpts.markdownOut, "write the tables as Markdown");
+  bench->add_flag("--quick", quick, "built-in demo scene at 320x180, 16 and 64 samples, 1 repeat (seconds)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  if (*bench) {
+    if (quick) {
+      benchOpts.scenes = {"builtin:demo"};
+      benchOpts.sizes = {{320, 180}};
+      benchOpts.samples = {16, 64};
+      benchOpts.repeats = 1;
+    }
+    if (!benchSizes.empty()) {
+      benchOpts.sizes.clear();
+      for (const auto& s : benchSizes) benchOpts.sizes.push_back(parseSize(s));
+    }
+    require(benchOpts.repeats >= 1 && benchOpts.repeats <= 100, "--repeats: must be in [1, 100]");
+    if (!benchOpts.jsonOut.empty()) checkOutputPath(benchOpts.jsonOut, "--json");
+    if (!benchOpts.markdownOut.empty()) checkOutputPath(benchOpts.markdownOut, "--markdown");
+    return runBench(benchOpts, std::cout);
+  }
+
+  FrameOptions& fo = *render ? renderOpts : probeOpts;
+  fo.checkPath();
+  const Settings settings = fo.settings();
+  require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");
+  std::optional<std::pair<int, int>> probePixelXY;
+  if (*probe) {
+    probePixelXY = parsePixel(pixel);
+    require(probePixelXY->first >= 0 && probePixelXY->second >= 0 && probePixelXY->first < settings.width &&
+                probePixelXY->second < settings.height,
+            "--pixel " + pixel + ": outside the " + fo.size + " image");
+  }
+  if (*render) {
+    require(!out.empty() || !shaded.empty() || !stages.empty() || !report.empty(),
+            "render: nothing to write (give --out, --shaded, --stages or --report)");
+    if (!out.empty()) checkOutputPath(out, "--out");
+    if (!shaded.empty()) checkOutputPath(shaded, "--shaded");
+    if (!stages.empty()) {
+      checkOutputPath(stages, "--stages");
+      require(stages.size() > 4 && stages.substr(stages.size() - 4) == ".exr", "--stages " + stages + ": must be an .exr file");
+    }
+    if (!report.empty()) checkOutputPath(report, "--report");
+  }
+
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
+                         static_cast<size_t>(threadCount(fo.threads)));
+  const ProgressFn progress = progressPrinter(fo.quiet, toString(settings.mode));
+  if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
+  const ResolvedScene rs = resolveScene(fo.sceneRequest());
+  if (!fo.quiet) std::cerr << "[mrr] " << rs.scene.triangleCount() << " triangles; building BVH\n";
+  const Renderer renderer(rs.scene);
+  const Constants constants = makeConstants(settings, rs.scene.bounds().diagonal());
+  const FrameResult frame = renderer.render(rs.camera, constants, progress);
+
+  if (*probe) {
+    const nlohmann::json j = probePixel(frame, probePixelXY->first, probePixelXY->second);
+    std::cout << (json ? j.dump(2) + "\n" : formatProbe(j));
+    return 0;
+  }
+
+  std::optional<FrameErrors> err;
+  if (reference) {
+    Settings full = settings;
+    full.mode = Mode::Full;
+    const FrameResult ref = renderer.render(rs.camera, makeConstants(full, rs.scene.bounds().diagonal()),
+                                            progressPrinter(fo.quiet, "reference"));
+    err = errorVsFull(frame, ref);
+  }
+  RunInfo info{rs.scene.name, rs.scene.credit, "cpu", threadCount(fo.threads)};
+  if (!out.empty()) writeFinal(out, frame);
+  if (!shaded.empty()) writeShaded(shaded, frame);
+  if (!stages.empty()) writeMultiPartExr(stages, stageParts(frame), constants.width, constants.height);
+  if (!report.empty()) writeTextFile(report, makeReport(frame, info, err).dump(2) + "\n");
+  if (!fo.quiet) {
+    std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
+              << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total") << " ms\n";
+    if (err)
+      std::cerr << "[mrr] vs full: RMS " << err->effect.rms << ", SSIM " << err->effect.ssim << " (shaded: RMS "
+                << err->shaded.rms << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace mrr
+
+int main(int argc, char** argv) {
+  try {
+    return mrr::run(argc, argv);
+  } catch (const mrr::MrrError& e) {
+    std::cerr << "mrr: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "mrr: error: out of memory\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "mrr: error: " << e.what() << "\n";
+    return 3;
+  }
+}

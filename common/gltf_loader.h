@@ -1,0 +1,24 @@
+#pragma once
+#include <string>
+
+#include "common/scene.h"
+
+namespace mrr {
+
+struct LoadOptions {
+  bool flipUp = false;  // rotate 180° about X after loading (files authored Y-down)
+};
+
+// Loads a glTF 2.0 file (.gltf or .glb) through tinygltf into the world-space scene model:
+// - the default scene's node hierarchy with TRS / matrix transforms, including mirrored
+//   nodes (negative determinant: winding is flipped so fronts stay fronts);
+// - every triangle primitive of every mesh (TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN);
+//   points and lines are skipped with a warning on stderr;
+// - base colour factor (textures are ignored: the effects use one albedo per mesh);
+// - normals, computed where missing;
+// - perspective cameras and the first KHR_lights_punctual directional light, when present.
+// Any problem (missing file, not glTF, truncated, bad accessor, indices out of range,
+// NaN/Inf, nothing to render) throws MrrError with one line naming the file.
+Scene loadGltf(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace mrr

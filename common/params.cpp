@@ -1,0 +1,129 @@
+#include "common/params.h"
+
+#include <cmath>
+
+#include "common/error.h"
+#include "common/kernels.h"
+
+namespace mrr {
+
+std::string toString(Effect effect) {
+  switch (effect) {
+    case Effect::Ssao: return "ssao";
+  }
+  return "?";
+}
+
+std::string toString(Mode mode) { return mode == Mode::Full ? "full" : "multires"; }
+
+Effect parseEffect(const std::string& name) {
+  if (name == "ssao") return Effect::Ssao;
+  throw MrrError("--effect " + name + ": unknown effect (expected ssao)");
+}
+
+Mode parseMode(const std::string& name) {
+  if (name == "multires") return Mode::Multires;
+  if (name == "full") return Mode::Full;
+  throw MrrError("--mode " + name + ": unknown mode (expected multires or full)");
+}
+
+// Table 1 of the paper (SPEC §3). i = ℓ + 1; the coarsest level covers everything.
+Settings defaultSettings(Effect effect) {
+  Settings s;
+  s.effect = effect;
+  switch (effect) {
+    case Effect::Ssao:
+      s.levels = {{{true, 0.924f, 100.0f}, {true, 1.848f, 50.0f}, {true, 3.696f, 20.0f},
+                   {true, 0.0f, 1.0f}}};
+      break;
+  }
+  return s;
+}
+
+void validateSettings(const Settings& s) {
+  auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
+  require(sizeOk(s.width) && sizeOk(s.height),
+          "--size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+              ": each side must be in [1, " + std::to_string(kMaxImageSize) + "]");
+  require(s.ssao.samples >= 1 && s.ssao.samples <= kMaxSsaoSamples,
+          "--samples " + std::to_string(s.ssao.samples) + ": must be in [1, " +
+              std::to_string(kMaxSsaoSamples) + "] for ssao");
+  require(std::isfinite(s.ssao.radius) && s.ssao.radius >= 0.0f,
+          "--ao-radius: must be a finite value >= 0 (0 = automatic)");
+  require(s.ssao.biasFraction >= 0.0f && s.ssao.biasFraction <= 1.0f,
+          "--ao-bias: must be in [0, 1] (a fraction of the radius)");
+  require(s.edges.normalThreshold >= 0.0f && s.edges.normalThreshold <= 2.0f,
+          "--tau-n: must be in [0, 2]");
+  require(std::isfinite(s.edges.depthThreshold) && s.edges.depthThreshold >= 0.0f,
+          "--tau-z: must be a finite value >= 0");
+  require(s.bilateral.radius >= 0 && s.bilateral.radius <= 8, "--blur-radius: must be in [0, 8]");
+  require(s.bilateral.sigmaSpatial > 0.0f && s.bilateral.sigmaDepth > 0.0f,
+          "bilateral sigmas must be > 0");
+  bool any = false;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelSettings& ls = s.levels[static_cast<size_t>(l)];
+    require(ls.sigma2 >= 0.0f && ls.sigma2 <= 64.0f,
+            "level " + std::to_string(l) + ": sigma2 must be in [0, 64]");
+    require(std::isfinite(ls.weight) && ls.weight >= 0.0f,
+            "level " + std::to_string(l) + ": weight must be a finite value >= 0");
+    any = any || ls.enabled;
+  }
+  require(s.levels[0].enabled, "--disable-level 0: the full-resolution level cannot be disabled");
+  require(any, "every level is disabled");
+}
+
+int Constants::nextCoarserEnabled(int level) const {
+  for (int l = level + 1; l < kLevelCount; ++l)
+    if (levels[static_cast<size_t>(l)].enabled) return l;
+  return -1;
+}
+
+Constants makeConstants(const Settings& s, float sceneDiagonal) {
+  validateSettings(s);
+  Constants c;
+  c.width = s.width;
+  c.height = s.height;
+  c.effect = s.effect;
+  c.mode = s.mode;
+  // SPEC §0: pad to a multiple of the coarsest scale so every level grid nests exactly.
+  const int coarsestScale = 1 << (kLevelCount - 1);
+  c.paddedWidth = (s.width + coarsestScale - 1) / coarsestScale * coarsestScale;
+  c.paddedHeight = (s.height + coarsestScale - 1) / coarsestScale * coarsestScale;
+  for (int l = 0; l < kLevelCount; ++l) {
+    LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const LevelSettings& ls = s.levels[static_cast<size_t>(l)];
+    lc.index = l;
+    lc.scale = 1 << l;
+    lc.width = c.paddedWidth / lc.scale;
+    lc.height = c.paddedHeight / lc.scale;
+    lc.enabled = s.mode == Mode::Full ? l == 0 : ls.enabled;
+    lc.sigma2 = ls.sigma2;
+    lc.weight = ls.weight;
+    lc.blurRadius = gaussianRadius(ls.sigma2);
+    lc.gaussian = gaussianWeights(ls.sigma2);
+  }
+  c.finestEnabled = 0;
+  c.coarsestEnabled = 0;
+  for (int l = 0; l < kLevelCount; ++l)
+    if (c.levels[static_cast<size_t>(l)].enabled) c.coarsestEnabled = l;
+  c.edges = s.edges;
+
+  c.ssao.samples = s.ssao.samples;
+  c.ssao.radius = s.ssao.radius > 0.0f
+                      ? s.ssao.radius
+                      : SsaoSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
+  c.ssao.bias = s.ssao.biasFraction * c.ssao.radius;
+  c.ssao.kernel = ssaoKernel(s.ssao.samples);
+
+  c.bilateral.radius = s.bilateral.radius;
+  c.bilateral.sigmaDepth = s.bilateral.sigmaDepth;
+  c.bilateral.normalPower = s.bilateral.normalPower;
+  const int r = s.bilateral.radius;
+  const double twoSigma2 = 2.0 * s.bilateral.sigmaSpatial * s.bilateral.sigmaSpatial;
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx)
+      c.bilateral.spatial.push_back(static_cast<float>(std::exp(-(dx * dx + dy * dy) / twoSigma2)));
+  return c;
+}
+
+}  // namespace mrr

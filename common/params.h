@@ -1,0 +1,111 @@
+#pragma once
+// Settings -> Constants (STYLE.md, after XeGTAO). Settings are the user's knobs, with the
+// paper's defaults (Table 1) and documented ranges; makeConstants() turns them into the
+// numbers every stage reads. Both paths read Constants only, never Settings, so the port
+// cannot see a different number than the oracle.
+#include <glm/glm.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace mrr {
+
+enum class Effect { Ssao };
+enum class Mode { Multires, Full };
+
+std::string toString(Effect effect);
+std::string toString(Mode mode);
+Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
+Mode parseMode(const std::string& name);
+
+constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
+constexpr int kMaxImageSize = 16384;     // per side; beyond it the G-buffers alone exceed RAM
+constexpr int kMaxSsaoSamples = 1024;    // the paper stops at 256
+
+struct LevelSettings {
+  bool enabled = true;
+  float sigma2 = 0.0f;  // σ_ℓ² [0, 64]: variance of the mask blur, in level-ℓ pixels (Tab. 1)
+  float weight = 1.0f;  // w_ℓ [0, ~]: blend weight, α_ℓ = min(â_ℓ · w_ℓ, 1) (Tab. 1)
+};
+
+struct EdgeSettings {
+  float normalThreshold = 0.1f;  // τ_n [0, 2]: 1 − N(p)·N(q) above it is a normal edge (~26°)
+  float depthThreshold = 0.02f;  // τ_z [0, ~]: |second difference of 1/z| / (1/z) above it
+};
+
+struct SsaoSettings {
+  int samples = 64;          // N [1, kMaxSsaoSamples]
+  float radius = 0.0f;       // R, world units; 0 = auto: kAutoRadiusFraction × scene diagonal
+  float biasFraction = 0.05f;  // depth bias as a fraction of R [0, 1]
+  static constexpr float kAutoRadiusFraction = 0.03f;
+};
+
+struct BilateralSettings {
+  int radius = 2;              // taps each side [0, 8]; 0 disables the blur
+  float sigmaSpatial = 1.5f;   // spatial Gaussian σ, level pixels
+  float sigmaDepth = 0.05f;    // depth similarity σ, relative to the centre depth
+  float normalPower = 16.0f;   // normal similarity max(N_p·N_q, 0)^p
+};
+
+struct Settings {
+  int width = 1280;
+  int height = 720;
+  Effect effect = Effect::Ssao;
+  Mode mode = Mode::Multires;
+  std::array<LevelSettings, kLevelCount> levels{};
+  EdgeSettings edges;
+  SsaoSettings ssao;
+  BilateralSettings bilateral;
+};
+
+// The paper's defaults for an effect (Table 1; SPEC §3).
+Settings defaultSettings(Effect effect);
+
+// Checks every range above; throws MrrError naming the option and the limit.
+void validateSettings(const Settings& settings);
+
+struct LevelConstants {
+  int index = 0;            // ℓ
+  int scale = 1;            // s_ℓ = 2^ℓ
+  int width = 0;            // padded W / s_ℓ
+  int height = 0;           // padded H / s_ℓ
+  bool enabled = true;
+  float sigma2 = 0.0f;
+  float weight = 1.0f;
+  int blurRadius = 0;             // r_ℓ = ceil(3 σ_ℓ)
+  std::vector<float> gaussian;    // 2 r_ℓ + 1 normalised weights (kernels.h)
+};
+
+struct Constants {
+  int width = 0, height = 0;              // W×H
+  int paddedWidth = 0, paddedHeight = 0;  // multiples of the coarsest scale (SPEC §0)
+  Effect effect = Effect::Ssao;
+  Mode mode = Mode::Multires;
+  std::array<LevelConstants, kLevelCount> levels{};
+  int finestEnabled = 0;
+  int coarsestEnabled = kLevelCount - 1;
+  EdgeSettings edges;
+  struct Ssao {
+    int samples = 0;
+    float radius = 0.0f;
+    float bias = 0.0f;
+    std::vector<glm::vec3> kernel;  // tangent-space hemisphere samples (kernels.h)
+  } ssao;
+  struct Bilateral {
+    int radius = 0;
+    float sigmaDepth = 0.0f;
+    float normalPower = 0.0f;
+    std::vector<float> spatial;  // (2r+1)² spatial weights, row-major
+  } bilateral;
+
+  // The enabled level coarser than ℓ that ℓ blends over, or -1 for the coarsest.
+  int nextCoarserEnabled(int level) const;
+};
+
+// Builds the constants for a W×H frame. `sceneDiagonal` resolves the automatic SSAO radius.
+// In Mode::Full only level 0 is enabled: the reference runs the same effect code at every
+// full-res pixel.
+Constants makeConstants(const Settings& settings, float sceneDiagonal);
+
+}  // namespace mrr

@@ -1,0 +1,62 @@
+#pragma once
+// The scene model: only what the effects need (brief: "model no more than a scene needs").
+// Triangles with per-vertex normals and one base colour per mesh, one directional light,
+// and cameras. Everything is in world space once loaded; node transforms are baked in.
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/camera.h"
+
+namespace mrr {
+
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;  // world space
+  std::vector<glm::vec3> normals;    // world space, unit length, one per position
+  std::vector<uint32_t> indices;     // three per triangle, counter-clockwise seen from the front
+  glm::vec3 baseColor{0.8f};         // linear RGB albedo in [0,1]
+};
+
+struct DirectionalLight {
+  glm::vec3 direction{0.3f, -1.0f, -0.4f};  // the way the light travels (world), unit length
+  glm::vec3 color{1.0f};                     // linear RGB radiance scale
+};
+
+struct Bounds {
+  glm::vec3 lo{0.0f};
+  glm::vec3 hi{0.0f};
+  glm::vec3 center() const { return 0.5f * (lo + hi); }
+  float diagonal() const { return glm::length(hi - lo); }
+};
+
+struct Scene {
+  std::string name;    // "builtin:plane", or the file's path
+  std::string credit;  // attribution line to show wherever a rendering is published
+  std::vector<Mesh> meshes;
+  DirectionalLight light;
+  bool hasLight = false;        // false: `light` is the default
+  std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty
+
+  Bounds bounds() const;
+  size_t triangleCount() const;
+};
+
+// Fills missing normals with area-weighted vertex normals (glTF 2.0 §3.7.2.1 says flat
+// normals; smooth ones keep the normal-edge detector from firing inside every mesh).
+void computeVertexNormals(Mesh& mesh);
+
+// Checks what every later stage relies on: finite positions and normals, indices in
+// range, at least one non-degenerate triangle. Throws MrrError naming `source`.
+void validateScene(const Scene& scene, const std::string& source);
+
+// A camera that frames the bounds: looks at the centre from the front-above diagonal.
+Camera frameBounds(const Bounds& bounds, float yfovRadians);
+
+// Rotates the scene 180° about the X axis: for files authored with Y down (the arcade).
+// A rotation, not a mirror, so winding and handedness are kept.
+void flipUp(Scene& scene);
+
+}  // namespace mrr

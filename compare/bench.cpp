@@ -1,0 +1,172 @@
+#include "compare/bench.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "common/image_io.h"
+#include "compare/report.h"
+#include "scenes/catalog.h"
+
+namespace mrr {
+
+namespace {
+
+struct Timed {
+  FrameResult frame;                        // the last repeat's frame
+  std::map<std::string, double> medianMs;   // per stage (and "total")
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+Timed timedRender(const Renderer& r, const Camera& cam, const Constants& c, int repeats) {
+  Timed t;
+  std::map<std::string, std::vector<double>> samples;
+  for (int i = 0; i <= repeats; ++i) {
+    FrameResult f = r.render(cam, c);
+    if (i == 0) continue;  // warm-up
+    std::map<std::string, double> perStage;
+    for (const StageTiming& s : f.timings) perStage[s.stage] += s.ms;
+    for (const auto& [k, v] : perStage) samples[k].push_back(v);
+    t.frame = std::move(f);
+  }
+  for (auto& [k, v] : samples) t.medianMs[k] = median(v);
+  return t;
+}
+
+// The method's own cost: everything but the full-res G-buffer, which a deferred renderer
+// has anyway and both modes share.
+double effectMs(const std::map<std::string, double>& ms) {
+  const auto total = ms.find("total"), g0 = ms.find("gbuffer.L0");
+  return total->second - (g0 != ms.end() ? g0->second : 0.0);
+}
+
+std::string machineName() {
+  std::ifstream cpu("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpu, line))
+    if (line.rfind("model name", 0) == 0) {
+      const auto p = line.find(':');
+      return line.substr(p + 2);
+    }
+  return "unknown CPU";
+}
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+int runBench(const BenchOptions& o, std::ostream& out) {
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = o.threads > 0 ? o.threads : hw;
+  nlohmann::json runs = nlohmann::json::array();
+  std::ostringstream md;
+  md << "Machine: " << machineName() << ", " << hw << " hardware threads; oracle (cpu_ref), " << threads
+     << " threads; median of " << o.repeats << " repeats after 1 warm-up.\n"
+     << "Effect time = frame time minus the full-res G-buffer (shared by both modes). "
+     << "Measured speedup = full effect time / multires effect time; ideal = W*H / shaded pixels.\n\n";
+  md << "| scene | size | samples | full ms | multires ms | measured | ideal | measured/ideal | RMS | PSNR | SSIM | edge-band RMS | Mrays/s |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::ostringstream stagesMd, scalingMd;
+  stagesMd << "| scene | size | samples | mode | stage medians (ms) |\n|---|---|---|---|---|\n";
+  scalingMd << "| scene | size | samples | mode | 1 thread ms | " << threads << " threads ms | scaling |\n|---|---|---|---|---|---|---|\n";
+
+  const size_t totalSteps = o.scenes.size() * o.sizes.size() * o.samples.size();
+  size_t step = 0;
+  for (const std::string& sceneName : o.scenes) {
+    SceneRequest req;
+    req.scene = sceneName;
+    std::cerr << "[bench] loading " << sceneName << "\n";
+    ResolvedScene rs = resolveScene(req);
+    std::unique_ptr<Renderer> renderer;
+    {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+      renderer = std::make_unique<Renderer>(rs.scene);
+    }
+    const float diag = rs.scene.bounds().diagonal();
+    for (const auto& [w, h] : o.sizes)
+      for (int n : o.samples) {
+        ++step;
+        std::cerr << "[bench] " << step << "/" << totalSteps << "  " << sceneName << " " << w << "x" << h << " ssao-" << n
+                  << "\n";
+        Settings s = defaultSettings(Effect::Ssao);
+        s.width = w;
+        s.height = h;
+        s.ssao.samples = n;
+        Settings sFull = s;
+        sFull.mode = Mode::Full;
+        const Constants cm = makeConstants(s, diag), cf = makeConstants(sFull, diag);
+        Timed full, multi;
+        {
+          tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+          full = timedRender(*renderer, rs.camera, cf, o.repeats);
+          multi = timedRender(*renderer, rs.camera, cm, o.repeats);
+        }
+        const ErrorFigures err = errorVsFull(multi.frame, full.frame).effect;
+        const double fullMs = effectMs(full.medianMs), multiMs = effectMs(multi.medianMs);
+        const double measured = fullMs / multiMs, ideal = multi.frame.idealSpeedup;
+        const double rays = static_cast<double>(cf.paddedWidth) * cf.paddedHeight;
+        const double mrays = rays / (full.medianMs["gbuffer.L0"] * 1e3);
+        md << "| " << sceneName << " | " << w << "x" << h << " | " << n << " | " << fixed(fullMs, 1) << " | "
+           << fixed(multiMs, 1) << " | " << fixed(measured, 2) << "x | " << fixed(ideal, 2) << "x | "
+           << fixed(100.0 * measured / ideal, 0) << "% | " << fixed(err.rms, 5) << " | " << fixed(err.psnr, 1) << " | "
+           << fixed(err.ssim, 4) << " | " << fixed(err.edgeBandRms, 5) << " | " << fixed(mrays, 1) << " |\n";
+        for (const Timed* t : {&full, &multi}) {
+          stagesMd << "| " << sceneName << " | " << w << "x" << h << " | " << n << " | "
+                   << toString(t->frame.constants.mode) << " | ";
+          for (const StageTiming& st : t->frame.timings) stagesMd << st.stage << " " << fixed(t->medianMs.at(st.stage), 1) << "; ";
+          stagesMd << "|\n";
+        }
+        nlohmann::json run = {{"scene", sceneName}, {"width", w}, {"height", h}, {"samples", n},
+                              {"threads", threads}, {"repeats", o.repeats},
+                              {"full_ms", full.medianMs}, {"multires_ms", multi.medianMs},
+                              {"full_effect_ms", fullMs}, {"multires_effect_ms", multiMs},
+                              {"measured_speedup", measured}, {"ideal_speedup", ideal},
+                              {"shaded_pixels", multi.frame.shadedPixelsTotal}, {"primary_mrays_per_s", mrays},
+                              {"rms", err.rms}, {"psnr", err.psnr}, {"ssim", err.ssim}, {"max_abs", err.maxAbs},
+                              {"edge_band_rms", err.edgeBandRms}};
+        if (n == o.scalingSamples && threads > 1) {
+          std::cerr << "[bench]   thread scaling 1 vs " << threads << "\n";
+          Timed full1, multi1;
+          {
+            tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
+            full1 = timedRender(*renderer, rs.camera, cf, o.repeats);
+            multi1 = timedRender(*renderer, rs.camera, cm, o.repeats);
+          }
+          for (auto [name, one, many] : {std::tuple{"full", &full1, &full}, std::tuple{"multires", &multi1, &multi}}) {
+            const double t1 = one->medianMs.at("total"), tn = many->medianMs.at("total");
+            scalingMd << "| " << sceneName << " | " << w << "x" << h << " | " << n << " | " << name << " | "
+                      << fixed(t1, 1) << " | " << fixed(tn, 1) << " | " << fixed(t1 / tn, 2) << "x |\n";
+            run[std::string("scaling_") + name] = {{"one_thread_ms", t1}, {"n_threads_ms", tn}};
+          }
+        }
+        runs.push_back(run);
+      }
+  }
+  std::ostringstream all;
+  all << md.str() << "\nPer-stage medians:\n\n" << stagesMd.str() << "\nThread scaling (frame total):\n\n" << scalingMd.str();
+  out << all.str();
+  if (!o.markdownOut.empty()) writeTextFile(o.markdownOut, all.str());
+  if (!o.jsonOut.empty())
+    writeTextFile(o.jsonOut, nlohmann::json({{"machine", machineName()}, {"runs", runs}}).dump(2) + "\n");
+  return 0;
+}
+
+}  // namespace mrr

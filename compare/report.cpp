@@ -1,0 +1,122 @@
+#include "compare/report.h"
+
+#include <cmath>
+
+namespace mrr {
+
+FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
+  return {compareToReference(frame.final(), reference.final(), frame.blend.levelMap),
+          compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap)};
+}
+
+namespace {
+nlohmann::json figuresJson(const ErrorFigures& e) {
+  return {{"rms", e.rms},
+          {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
+          {"ssim", e.ssim},
+          {"max_abs", e.maxAbs},
+          {"edge_band_rms", e.edgeBandRms},
+          {"edge_band_pixels", e.edgeBandPixels}};
+}
+}  // namespace
+
+nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::optional<FrameErrors>& err) {
+  const Constants& c = f.constants;
+  nlohmann::json j;
+  j["scene"] = info.scene;
+  j["credit"] = info.credit;
+  j["effect"] = toString(c.effect);
+  j["path"] = info.path;
+  j["mode"] = toString(c.mode);
+  j["width"] = c.width;
+  j["height"] = c.height;
+  j["padded_width"] = c.paddedWidth;
+  j["padded_height"] = c.paddedHeight;
+  j["samples"] = c.ssao.samples;
+  j["threads"] = info.threads;
+  j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}};
+  j["edges"] = {{"tau_n", c.edges.normalThreshold}, {"tau_z", c.edges.depthThreshold}};
+  nlohmann::json levels = nlohmann::json::array();
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    levels.push_back({{"level", l}, {"scale", lc.scale}, {"enabled", lc.enabled}, {"width", lc.width},
+                      {"height", lc.height}, {"sigma2", lc.sigma2}, {"weight", lc.weight},
+                      {"shaded_pixels", f.levels[static_cast<size_t>(l)].shadedPixels}});
+  }
+  j["levels"] = levels;
+  j["shaded_pixels_total"] = f.shadedPixelsTotal;
+  j["ideal_speedup"] = f.idealSpeedup;
+  nlohmann::json timings = nlohmann::json::object();
+  for (const StageTiming& t : f.timings) timings[t.stage] = t.ms;
+  j["timings_ms"] = timings;
+  j["timing_method"] = "wall clock (steady_clock) around each stage";
+  if (err) {
+    j["error_vs_full"] = figuresJson(err->effect);  // psnr null = identical images
+    j["error_vs_full_shaded"] = figuresJson(err->shaded);
+  }
+  return j;
+}
+
+std::vector<ExrPart> stageParts(const FrameResult& f) {
+  const Constants& c = f.constants;
+  std::vector<ExrPart> parts;
+  auto effectChannels = [](const std::string& prefix, int channels) {
+    if (channels == 1) return std::vector<std::string>{prefix};
+    return std::vector<std::string>{prefix + ".R", prefix + ".G", prefix + ".B"};
+  };
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const std::string L = ".L" + std::to_string(l);
+    const GBuffer& g = lr.gbuffer;
+    ImageF gb(g.width, g.height, 11);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        float v[11] = {g.depth.at(x, y),       g.position.at(x, y, 0), g.position.at(x, y, 1), g.position.at(x, y, 2),
+                       g.normal.at(x, y, 0),   g.normal.at(x, y, 1),   g.normal.at(x, y, 2),   g.albedo.at(x, y, 0),
+                       g.albedo.at(x, y, 1),   g.albedo.at(x, y, 2),   static_cast<float>(g.hit.at(x, y))};
+        for (int k = 0; k < 11; ++k) gb.at(x, y, k) = v[k];
+      }
+    parts.push_back({"gbuffer" + L, gb, {"depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "albedo.R", "albedo.G",
+                                          "albedo.B", "hit"}});
+  }
+  if (c.mode == Mode::Multires) {
+    const EdgeImages& e = f.edges;
+    ImageF edges(c.width, c.height, 4);
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) {
+        edges.at(x, y, 0) = e.normal.at(x, y);
+        edges.at(x, y, 1) = e.depth.at(x, y);
+        edges.at(x, y, 2) = e.background.at(x, y);
+        edges.at(x, y, 3) = e.combined.at(x, y);
+      }
+    parts.push_back({"edges", edges, {"normal", "depth", "background", "E"}});
+  }
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const std::string L = ".L" + std::to_string(l);
+    if (!lr.masks.mask.empty()) parts.push_back({"mask" + L, toFloat(lr.masks.mask), {"M"}});
+    parts.push_back({"alpha" + L, lr.masks.alpha, {"a"}});
+    parts.push_back({"stencil" + L, toFloat(lr.masks.stencil), {"S"}});
+    parts.push_back({"raw" + L, lr.raw, effectChannels("c_raw", lr.raw.channels)});
+    parts.push_back({"sub" + L, lr.sub, effectChannels("c", lr.sub.channels)});
+    parts.push_back({"upsample" + L, f.blend.upsampled[static_cast<size_t>(l)],
+                     effectChannels("c_hat", lr.sub.channels)});
+    parts.push_back({"blendalpha" + L, f.blend.alpha[static_cast<size_t>(l)], {"alpha"}});
+    parts.push_back({"composite" + L, f.blend.composite[static_cast<size_t>(l)],
+                     effectChannels("c_prime", lr.sub.channels)});
+  }
+  parts.push_back({"levelmap", toFloat(f.blend.levelMap), {"level"}});
+  parts.push_back({"final", f.final(), effectChannels("Y", f.final().channels)});
+  parts.push_back({"shaded", f.shaded, {"R", "G", "B"}});
+  return parts;
+}
+
+void writeFinal(const std::string& path, const FrameResult& frame) { writeImage(path, frame.final(), {}, false); }
+
+void writeShaded(const std::string& path, const FrameResult& frame) { writeImage(path, frame.shaded, {}, true); }
+
+}  // namespace mrr

@@ -1,0 +1,41 @@
+#pragma once
+// What a render writes: the --report JSON, the --stages multi-part EXR, and error figures
+// against the full-res reference. Shared by `mrr render`, `mrr bench` and the tests.
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/image_io.h"
+#include "common/metrics.h"
+#include "cpu_ref/pipeline.h"
+
+namespace mrr {
+
+struct RunInfo {
+  std::string scene;
+  std::string credit;
+  std::string path = "cpu";
+  int threads = 0;
+};
+
+// SPEC §10 figures of `frame` against `reference` (a Mode::Full frame, same samples), on the
+// effect buffer and on the shaded image.
+struct FrameErrors {
+  ErrorFigures effect;
+  ErrorFigures shaded;
+};
+FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference);
+
+nlohmann::json makeReport(const FrameResult& frame, const RunInfo& info, const std::optional<FrameErrors>& errors);
+
+// Every stage as EXR parts with documented names (README "Output files").
+std::vector<ExrPart> stageParts(const FrameResult& frame);
+
+// Final effect buffer: float EXR or PNG preview by extension.
+void writeFinal(const std::string& path, const FrameResult& frame);
+// Shaded image: float EXR (linear) or sRGB PNG preview by extension.
+void writeShaded(const std::string& path, const FrameResult& frame);
+
+}  // namespace mrr

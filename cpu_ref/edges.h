@@ -1,0 +1,30 @@
+#pragma once
+// Stage 2 — edge image E (SPEC §2), on the full-res (level 0) G-buffer, each kind kept apart.
+#include "common/image.h"
+#include "common/params.h"
+#include "cpu_ref/gbuffer.h"
+
+namespace mrr {
+
+struct EdgeImages {
+  ImageU8 normal;      // first derivative of N above τ_n
+  ImageU8 depth;       // second derivative of 1/z above τ_z
+  ImageU8 background;  // a hit pixel with a background 4-neighbour
+  ImageU8 combined;    // E = OR of the kinds
+};
+
+// Everything that decided one pixel: printed by `mrr probe`.
+struct EdgeDecision {
+  bool hit = false;
+  float normalMax = 0.0f;      // max over 4-neighbours of 1 − N(p)·N(q)
+  float depthSecondX = 0.0f;   // |d(p−x̂) − 2d(p) + d(p+x̂)| / d(p), 0 if not taken
+  float depthSecondY = 0.0f;   // same along y
+  bool takenX = false, takenY = false;  // whether each second difference was computable
+  bool backgroundNeighbour = false;
+  bool normal = false, depth = false, background = false;
+};
+
+EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y);
+EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings);
+
+}  // namespace mrr

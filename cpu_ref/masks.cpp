@@ -1,0 +1,88 @@
+#include "cpu_ref/masks.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+namespace mrr {
+
+ImageU8 maxPool(const ImageU8& src, int factor) {
+  ImageU8 out(src.width / factor, src.height / factor);
+  tbb::parallel_for(0, out.height, [&](int y) {
+    for (int x = 0; x < out.width; ++x) {
+      uint8_t m = 0;
+      for (int j = 0; j < factor; ++j)
+        for (int i = 0; i < factor; ++i) m = std::max(m, src.at(x * factor + i, y * factor + j));
+      out.at(x, y) = m;
+    }
+  });
+  return out;
+}
+
+ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
+  const int r = static_cast<int>(weights.size() / 2);
+  const int w = mask.width, h = mask.height;
+  ImageF horizontal(w, h), out(w, h);
+  // 1. horizontal pass, clamp-to-edge
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      float sum = 0.0f;
+      for (int i = -r; i <= r; ++i)
+        sum += weights[static_cast<size_t>(i + r)] * static_cast<float>(mask.at(std::clamp(x + i, 0, w - 1), y));
+      horizontal.at(x, y) = sum;
+    }
+  });
+  // 2. vertical pass, clamp-to-edge
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      float sum = 0.0f;
+      for (int i = -r; i <= r; ++i)
+        sum += weights[static_cast<size_t>(i + r)] * horizontal.at(x, std::clamp(y + i, 0, h - 1));
+      out.at(x, y) = sum;
+    }
+  });
+  return out;
+}
+
+std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c) {
+  std::array<MaskLevel, kLevelCount> levels;
+  // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), built through disabled levels too.
+  levels[0].mask = edges;
+  for (int l = 1; l < kLevelCount; ++l) levels[static_cast<size_t>(l)].mask = maxPool(levels[static_cast<size_t>(l - 1)].mask, 2);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    MaskLevel& ml = levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    if (l == c.coarsestEnabled) {
+      // 2. the coarsest enabled level covers everything: a ≡ 1.
+      ml.alpha = ImageF(lc.width, lc.height, 1, 1.0f);
+    } else {
+      // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ
+      ml.alpha = blurMask(ml.mask, lc.gaussian);
+    }
+    // 3. stencil S_ℓ = [a_ℓ > 0]
+    ml.stencil = ImageU8(lc.width, lc.height);
+    for (size_t i = 0; i < ml.alpha.data.size(); ++i) ml.stencil.data[i] = ml.alpha.data[i] > 0.0f;
+  }
+  // 4. coverage closure, fine to coarse: S_next ∨= maxpool(S_ℓ), across disabled levels.
+  for (int l = 0; l < kLevelCount; ++l) {
+    const int next = c.nextCoarserEnabled(l);
+    if (!c.levels[static_cast<size_t>(l)].enabled || next < 0) continue;
+    const ImageU8 pooled = maxPool(levels[static_cast<size_t>(l)].stencil, 1 << (next - l));
+    ImageU8& coarser = levels[static_cast<size_t>(next)].stencil;
+    for (size_t i = 0; i < coarser.data.size(); ++i) coarser.data[i] = coarser.data[i] | pooled.data[i];
+  }
+  return levels;
+}
+
+std::array<MaskLevel, kLevelCount> fullModeMasks(const Constants& c) {
+  std::array<MaskLevel, kLevelCount> levels;
+  const LevelConstants& l0 = c.levels[0];
+  levels[0].alpha = ImageF(l0.width, l0.height, 1, 1.0f);
+  levels[0].stencil = ImageU8(l0.width, l0.height);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) levels[0].stencil.at(x, y) = 1;
+  return levels;
+}
+
+}  // namespace mrr

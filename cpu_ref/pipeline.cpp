@@ -1,0 +1,88 @@
+#include "cpu_ref/pipeline.h"
+
+#include <chrono>
+
+#include "cpu_ref/bilateral.h"
+#include "cpu_ref/shade.h"
+#include "cpu_ref/ssao.h"
+
+namespace mrr {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+double FrameResult::timing(const std::string& stage) const {
+  double ms = 0.0;
+  for (const StageTiming& t : timings)
+    if (t.stage == stage) ms += t.ms;
+  return ms;
+}
+
+Renderer::Renderer(const Scene& scene) : scene_(scene), rays_(scene) { bvhBuildMs_ = msSince(buildStart_); }
+
+FrameResult Renderer::render(const Camera& camera, const Constants& c, const ProgressFn& progress) const {
+  FrameResult f;
+  f.constants = c;
+  f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
+  const auto frameStart = Clock::now();
+  auto stage = [&](const std::string& name, auto&& body) {
+    if (progress) progress(name);
+    const auto t0 = Clock::now();
+    body();
+    f.timings.push_back({name, msSince(t0)});
+  };
+
+  // 1. G-buffer per enabled level (SPEC §1).
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    stage("gbuffer.L" + std::to_string(l),
+          [&] { f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, lc); });
+  }
+
+  // 2–3. Edges, mask pyramid, blur, stencils (SPEC §2–3); `full` shades every pixel.
+  std::array<MaskLevel, kLevelCount> masks;
+  if (c.mode == Mode::Multires) {
+    stage("edges", [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges); });
+    stage("masks", [&] { masks = buildMasks(f.edges.combined, c); });
+  } else {
+    masks = fullModeMasks(c);
+  }
+  for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
+
+  // 4. Sub-images: the effect at stencilled pixels only, then the bilateral blur (SPEC §4).
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    stage("effect.L" + std::to_string(l),
+          [&] { lr.raw = renderSsao(lr.gbuffer, lr.masks.stencil, f.view, lc, c.ssao); });
+    stage("bilateral.L" + std::to_string(l),
+          [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
+    for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;
+    f.shadedPixelsTotal += lr.shadedPixels;
+  }
+  f.idealSpeedup = static_cast<double>(c.width) * c.height / static_cast<double>(std::max<int64_t>(f.shadedPixelsTotal, 1));
+
+  // 5. Upsample and blend, coarse to fine (SPEC §5).
+  stage("blend", [&] {
+    std::array<LevelImages, kLevelCount> in;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+      in[static_cast<size_t>(l)] = {&lr.sub, &lr.masks.stencil, &lr.masks.alpha};
+    }
+    f.blend = blendLevels(in, c);
+  });
+  // 6. The shaded image for viewing (SPEC §6).
+  stage("shade", [&] {
+    f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.view, scene_.light, c.effect);
+  });
+  f.timings.push_back({"total", msSince(frameStart)});
+  return f;
+}
+
+}  // namespace mrr

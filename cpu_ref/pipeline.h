@@ -1,0 +1,68 @@
+#pragma once
+// The oracle, end to end: scene → G-buffers → edges → masks → sub-images → blend.
+// Data flows one way through these stages; FrameResult keeps every intermediate so that
+// --stages, --report and probe can show them.
+#include <array>
+#include <chrono>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/camera.h"
+#include "common/params.h"
+#include "common/scene.h"
+#include "cpu_ref/blend.h"
+#include "cpu_ref/edges.h"
+#include "cpu_ref/gbuffer.h"
+#include "cpu_ref/masks.h"
+
+namespace mrr {
+
+struct LevelResult {
+  GBuffer gbuffer;   // empty for disabled levels
+  MaskLevel masks;   // M_ℓ, a_ℓ, S_ℓ
+  ImageF raw;        // the effect before the bilateral blur
+  ImageF sub;        // c_ℓ, after the bilateral blur
+  int64_t shadedPixels = 0;  // |S_ℓ|
+};
+
+struct StageTiming {
+  std::string stage;
+  double ms = 0.0;
+};
+
+struct FrameResult {
+  Constants constants;
+  View view;
+  EdgeImages edges;  // on the padded full-res grid (multires mode only)
+  std::array<LevelResult, kLevelCount> levels;
+  BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
+  int64_t shadedPixelsTotal = 0;
+  double idealSpeedup = 1.0;  // W·H / Σ|S_ℓ| (SPEC §4)
+  std::vector<StageTiming> timings;  // in pipeline order; "total" last
+
+  ImageF shaded;      // W×H linear RGB for viewing (SPEC §6)
+
+  const ImageF& final() const { return blend.final; }
+  double timing(const std::string& stage) const;
+};
+
+// Receives "stage name" as each stage starts (progress lines on stderr).
+using ProgressFn = std::function<void(const std::string&)>;
+
+class Renderer {
+ public:
+  explicit Renderer(const Scene& scene);  // builds the BVH
+  FrameResult render(const Camera& camera, const Constants& constants, const ProgressFn& progress = {}) const;
+  const Scene& scene() const { return scene_; }
+  double bvhBuildMs() const { return bvhBuildMs_; }
+
+ private:
+  const Scene& scene_;
+  double bvhBuildMs_ = 0.0;
+  std::chrono::steady_clock::time_point buildStart_ = std::chrono::steady_clock::now();
+  RayScene rays_;  // built after buildStart_ is taken (member order), timed in the constructor
+};
+
+}  // namespace mrr

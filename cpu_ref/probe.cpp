@@ -1,0 +1,152 @@
+#include "cpu_ref/probe.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "common/error.h"
+#include "cpu_ref/ssao.h"
+
+namespace mrr {
+
+namespace {
+nlohmann::json vec(const ImageF& img, int x, int y) {
+  nlohmann::json v = nlohmann::json::array();
+  for (int c = 0; c < img.channels; ++c) v.push_back(img.at(x, y, c));
+  return v;
+}
+nlohmann::json scalarOrVec(const ImageF& img, int x, int y) {
+  return img.channels == 1 ? nlohmann::json(img.at(x, y)) : vec(img, x, y);
+}
+std::string fmt(const nlohmann::json& v) {
+  if (v.is_array()) {
+    std::string s = "(";
+    for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + fmt(v[i]);
+    return s + ")";
+  }
+  if (v.is_number_float()) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v.get<double>());
+    return buf;
+  }
+  return v.dump();
+}
+}  // namespace
+
+nlohmann::json probePixel(const FrameResult& f, int x, int y) {
+  const Constants& c = f.constants;
+  require(x >= 0 && y >= 0 && x < c.width && y < c.height,
+          "--pixel " + std::to_string(x) + "," + std::to_string(y) + ": outside the " + std::to_string(c.width) +
+              "x" + std::to_string(c.height) + " image");
+  nlohmann::json j;
+  j["pixel"] = {x, y};
+  j["size"] = {c.width, c.height};
+  j["effect"] = toString(c.effect);
+  j["mode"] = toString(c.mode);
+
+  const GBuffer& g0 = f.levels[0].gbuffer;
+  j["gbuffer"] = {{"hit", g0.hit.at(x, y) != 0}, {"depth", g0.depth.at(x, y)},
+                  {"position", vec(g0.position, x, y)}, {"normal", vec(g0.normal, x, y)},
+                  {"albedo", vec(g0.albedo, x, y)}};
+
+  if (c.mode == Mode::Multires) {
+    const EdgeDecision e = edgeAt(g0, c.edges, x, y);
+    j["edges"] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {"tau_n", c.edges.normalThreshold}}},
+                  {"depth",
+                   {{"edge", e.depth},
+                    {"second_diff_x", e.takenX ? nlohmann::json(e.depthSecondX) : nlohmann::json("n/a")},
+                    {"second_diff_y", e.takenY ? nlohmann::json(e.depthSecondY) : nlohmann::json("n/a")},
+                    {"tau_z", c.edges.depthThreshold}}},
+                  {"background", {{"edge", e.background}, {"background_neighbour", e.backgroundNeighbour}}},
+                  {"E", e.normal || e.depth || e.background}};
+  }
+
+  nlohmann::json levels = nlohmann::json::array();
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    nlohmann::json lj = {{"level", l}, {"scale", lc.scale}, {"enabled", lc.enabled}};
+    if (!lc.enabled) {
+      levels.push_back(lj);
+      continue;
+    }
+    const int lx = x / lc.scale, ly = y / lc.scale;
+    lj["level_pixel"] = {lx, ly};
+    if (!lr.masks.mask.empty()) lj["M"] = lr.masks.mask.at(lx, ly);
+    lj["a"] = lr.masks.alpha.at(lx, ly);
+    lj["S"] = lr.masks.stencil.at(lx, ly);
+    lj["sigma2"] = lc.sigma2;
+    lj["w"] = lc.weight;
+    if (lr.masks.stencil.at(lx, ly)) {
+      lj["c_raw"] = scalarOrVec(lr.raw, lx, ly);
+      lj["c"] = scalarOrVec(lr.sub, lx, ly);
+      SsaoDetail d;
+      ssaoAt(lr.gbuffer, f.view, lc, c.ssao, lx, ly, &d);
+      lj["ssao"] = {{"samples", d.samples}, {"occluders", d.occluders}, {"occlusion", d.occlusion},
+                    {"offscreen", d.offscreen}, {"background", d.background}, {"rotation_rad", d.rotation}};
+    }
+    const BilinearTaps t = bilinearTaps(x, y, lc);
+    nlohmann::json taps = nlohmann::json::array();
+    for (int k = 0; k < 4; ++k) {
+      const bool s = lr.masks.stencil.at(t.x[k], t.y[k]) != 0;
+      taps.push_back({{"q", {t.x[k], t.y[k]}}, {"b", t.weight[k]}, {"S", s},
+                      {"c", s ? scalarOrVec(lr.sub, t.x[k], t.y[k]) : nlohmann::json(nullptr)},
+                      {"a", lr.masks.alpha.at(t.x[k], t.y[k])}});
+    }
+    lj["taps"] = taps;
+    lj["c_hat"] = scalarOrVec(f.blend.upsampled[static_cast<size_t>(l)], x, y);
+    lj["alpha"] = f.blend.alpha[static_cast<size_t>(l)].at(x, y);
+    lj["composite"] = scalarOrVec(f.blend.composite[static_cast<size_t>(l)], x, y);
+    levels.push_back(lj);
+  }
+  j["levels"] = levels;
+  j["finest_contributing_level"] = f.blend.levelMap.at(x, y);
+  j["final"] = scalarOrVec(f.blend.final, x, y);
+  return j;
+}
+
+std::string formatProbe(const nlohmann::json& j) {
+  std::ostringstream o;
+  o << "pixel " << fmt(j["pixel"]) << " of " << j["size"][0] << "x" << j["size"][1] << ", effect "
+    << j["effect"].get<std::string>() << ", mode " << j["mode"].get<std::string>() << "\n";
+  const auto& g = j["gbuffer"];
+  o << "G-buffer L0   hit " << g["hit"] << "  z " << fmt(g["depth"]) << "  N " << fmt(g["normal"]) << "  albedo "
+    << fmt(g["albedo"]) << "\n";
+  if (j.contains("edges")) {
+    const auto& e = j["edges"];
+    o << "edges         normal " << e["normal"]["edge"] << "  (max 1-N.N " << fmt(e["normal"]["max_1_minus_dot"])
+      << " vs tau_n " << fmt(e["normal"]["tau_n"]) << ")\n"
+      << "              depth  " << e["depth"]["edge"] << "  (|d2(1/z)|/(1/z) x " << fmt(e["depth"]["second_diff_x"])
+      << ", y " << fmt(e["depth"]["second_diff_y"]) << " vs tau_z " << fmt(e["depth"]["tau_z"]) << ")\n"
+      << "              background " << e["background"]["edge"] << "  (background 4-neighbour: "
+      << e["background"]["background_neighbour"] << ")\n"
+      << "              E = " << e["E"] << "\n";
+  }
+  for (const auto& l : j["levels"]) {
+    o << "level " << l["level"] << " (1/" << l["scale"] << ")";
+    if (!l["enabled"].get<bool>()) {
+      o << "  disabled\n";
+      continue;
+    }
+    o << "  level pixel " << fmt(l["level_pixel"]);
+    if (l.contains("M")) o << "  M " << l["M"];
+    o << "  a " << fmt(l["a"]) << "  S " << l["S"] << "  (sigma2 " << fmt(l["sigma2"]) << ", w " << fmt(l["w"]) << ")\n";
+    if (l.contains("c")) {
+      const auto& s = l["ssao"];
+      o << "    shaded: c_raw " << fmt(l["c_raw"]) << " -> bilateral c " << fmt(l["c"]) << "   (" << s["occluders"]
+        << "/" << s["samples"] << " samples occlude, weight " << fmt(s["occlusion"]) << "; " << s["offscreen"]
+        << " off-screen, " << s["background"] << " on background)\n";
+    } else {
+      o << "    not shaded at this level\n";
+    }
+    o << "    taps:";
+    for (const auto& t : l["taps"]) {
+      o << "  " << fmt(t["q"]) << " b " << fmt(t["b"]) << (t["S"].get<bool>() ? " c " + fmt(t["c"]) : std::string(" [S=0]"));
+    }
+    o << "\n    c_hat " << fmt(l["c_hat"]) << "  alpha " << fmt(l["alpha"]) << "  -> composite c' " << fmt(l["composite"])
+      << "\n";
+  }
+  o << "finest contributing level " << j["finest_contributing_level"] << ", final " << fmt(j["final"]) << "\n";
+  return o.str();
+}
+
+}  // namespace mrr

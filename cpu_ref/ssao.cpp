@@ -1,0 +1,101 @@
+#include "cpu_ref/ssao.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/hash.h"
+
+namespace mrr {
+
+namespace {
+constexpr float kTwoPi = 6.28318530717958647692f;
+
+// GLSL's smoothstep(0, 1, x).
+float smoothstep01(float x) {
+  const float t = std::clamp(x, 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// Depth of the occluder seen along the sample's view ray: the ray meets the tangent plane of
+// the texel it projects to (position P_t, normal N_t). On a plane this is exact at any level,
+// where the texel-centre depth alone is off by up to half a texel of slope and makes coarse
+// levels occlude themselves (docs/method.md, "tangent-plane depth"). Grazing rays fall
+// back to the texel-centre depth.
+float occluderDepth(const glm::vec3& sample, const glm::vec3& texelPosition, const glm::vec3& texelNormal) {
+  const float along = glm::dot(texelNormal, sample);
+  if (along * along <= 0.01f * glm::dot(sample, sample)) return -texelPosition.z;  // |cos| <= 0.1
+  return -sample.z * (glm::dot(texelNormal, texelPosition) / along);
+}
+
+// SPEC §6 range check: an occluder much farther from the receiver than R counts less.
+float rangeCheck(float radius, float receiverDepth, float bufferDepth) {
+  return smoothstep01(radius / std::max(std::fabs(receiverDepth - bufferDepth), 1e-6f));
+}
+}  // namespace
+
+float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, const Constants::Ssao& ssao,
+             int x, int y, SsaoDetail* detail) {
+  if (!g.hit.at(x, y)) return 1.0f;
+  const glm::vec3 p = g.positionAt(x, y);
+  const glm::vec3 n = g.normalAt(x, y);
+  // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
+  const float angle = kTwoPi * hashToUnit(pixelHash(static_cast<uint32_t>(x), static_cast<uint32_t>(y),
+                                                    static_cast<uint32_t>(level.index)));
+  glm::vec3 r(std::cos(angle), std::sin(angle), 0.0f);
+  glm::vec3 t = r - n * glm::dot(r, n);
+  if (glm::dot(t, t) < 1e-6f) {  // r ∥ n: take the perpendicular in-plane direction
+    r = glm::vec3(-std::sin(angle), std::cos(angle), 0.0f);
+    t = r - n * glm::dot(r, n);
+  }
+  t = glm::normalize(t);
+  const glm::vec3 b = glm::cross(n, t);
+  // 2. hemisphere samples: occluded when the depth buffer is in front by more than the bias
+  const float invScale = 1.0f / static_cast<float>(level.scale);
+  const float receiverDepth = -p.z;
+  float occlusion = 0.0f;
+  SsaoDetail d;
+  d.samples = ssao.samples;
+  d.rotation = angle;
+  for (const glm::vec3& k : ssao.kernel) {
+    const glm::vec3 s = p + ssao.radius * (t * k.x + b * k.y + n * k.z);
+    const float sampleDepth = -s.z;
+    if (sampleDepth <= 0.0f) {
+      ++d.offscreen;
+      continue;
+    }
+    const glm::vec2 px = view.project(s);
+    const float lx = std::floor(px.x * invScale), ly = std::floor(px.y * invScale);
+    if (!(lx >= 0.0f && ly >= 0.0f && lx < static_cast<float>(g.width) && ly < static_cast<float>(g.height))) {
+      ++d.offscreen;
+      continue;
+    }
+    const int ix = static_cast<int>(lx), iy = static_cast<int>(ly);
+    if (!g.hit.at(ix, iy)) {
+      ++d.background;
+      continue;
+    }
+    const float bufferDepth = occluderDepth(s, g.positionAt(ix, iy), g.normalAt(ix, iy));
+    if (bufferDepth < sampleDepth - ssao.bias) {
+      ++d.occluders;
+      occlusion += rangeCheck(ssao.radius, receiverDepth, bufferDepth);
+    }
+  }
+  d.occlusion = occlusion;
+  if (detail) *detail = d;
+  // 3. AO = 1 − occlusion / N
+  return 1.0f - occlusion / static_cast<float>(ssao.samples);
+}
+
+ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,
+                  const Constants::Ssao& ssao) {
+  ImageF out(g.width, g.height, 1, 0.0f);
+  tbb::parallel_for(0, g.height, [&](int y) {
+    for (int x = 0; x < g.width; ++x)
+      if (stencil.at(x, y)) out.at(x, y) = ssaoAt(g, view, level, ssao, x, y);
+  });
+  return out;
+}
+
+}  // namespace mrr

@@ -1,0 +1,28 @@
+#pragma once
+// Stage 4 — the SSAO sub-image (SPEC §4, §6): evaluated only where the stencil is set.
+#include "common/camera.h"
+#include "common/image.h"
+#include "common/params.h"
+#include "cpu_ref/gbuffer.h"
+
+namespace mrr {
+
+// One sample's story, for `mrr probe`.
+struct SsaoDetail {
+  int samples = 0;
+  int offscreen = 0;     // projected outside the level or behind the camera
+  int background = 0;    // projected onto background
+  int occluders = 0;     // depth test passed (buffer in front of the sample by > bias)
+  float occlusion = 0.0f;  // Σ range-check weights of the occluders
+  float rotation = 0.0f;   // per-pixel rotation angle, radians
+};
+
+// AO at level pixel (x, y): 1 − occlusion / N; 1 on background (SPEC §1).
+float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, const Constants::Ssao& ssao,
+             int x, int y, SsaoDetail* detail = nullptr);
+
+// The raw sub-image c_ℓ: AO where stencil = 1, 0 elsewhere (never read downstream).
+ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,
+                  const Constants::Ssao& ssao);
+
+}  // namespace mrr

@@ -1,0 +1,85 @@
+#include "scenes/catalog.h"
+
+#include <filesystem>
+
+#include "common/error.h"
+#include "common/gltf_loader.h"
+#include "common/paths.h"
+#include "scenes/builtin.h"
+
+namespace mrr {
+
+namespace {
+Camera view(glm::vec3 eye, glm::vec3 target, float fovDegrees) {
+  Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.yfov = glm::radians(fovDegrees);
+  return c;
+}
+}  // namespace
+
+const std::vector<SharedSceneInfo>& sharedSceneCatalog() {
+  // Cameras chosen by looking at the renders (docs/scenes.md); the first is the default.
+  static const std::vector<SharedSceneInfo> catalog = {
+      {"cornell", "cornell-box/CornellBox-Original.gltf", false,
+       {view({0, 1, 3.5f}, {0, 1, 0}, 45.0f)}},
+      {"arcade", "sascha-arcade/subpass_scene_opaque.gltf", true,
+       {view({0.0f, 3.5f, 9.5f}, {0.0f, 2.0f, 0.0f}, 60.0f)}},
+      {"apartment", "dream-apartment/dream-apartment.glb", false,
+       {view({6, 1.5f, -6}, {12, 0.9f, -10.5f}, 60.0f)}},
+  };
+  return catalog;
+}
+
+ResolvedScene resolveScene(const SceneRequest& request) {
+  ResolvedScene out;
+  const std::string& spec = request.scene;
+  std::vector<Camera> catalogCameras;
+  if (spec.rfind("builtin:", 0) == 0) {
+    out.scene = makeBuiltinScene(spec.substr(8));
+    if (request.flipUp.value_or(false)) flipUp(out.scene);
+  } else {
+    const SharedSceneInfo* info = nullptr;
+    for (const auto& entry : sharedSceneCatalog())
+      if (entry.name == spec) info = &entry;
+    LoadOptions options;
+    std::string path = spec;
+    if (info) {
+      path = (std::filesystem::path(sharedScenesDir()) / info->file).string();
+      require(std::filesystem::exists(path),
+              "--scene " + spec + ": " + path + " not found (set MRR_SCENES_DIR to the shared scenes folder)");
+      options.flipUp = request.flipUp.value_or(info->flipUp);
+      catalogCameras = info->cameras;
+    } else {
+      options.flipUp = request.flipUp.value_or(false);
+    }
+    out.scene = loadGltf(path, options);
+  }
+  // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
+  // catalogue's view, else framed from the bounds.
+  const float fov = glm::radians(request.fovDegrees.value_or(60.0f));
+  require(fov > 0.0f && fov < glm::radians(179.0f), "--fov: must be in (0, 179) degrees");
+  if (request.eye || request.target) {
+    require(request.eye && request.target, "--eye and --target must be given together");
+    out.camera = Camera{*request.eye, *request.target, {0, 1, 0}, fov};
+    require(glm::length(out.camera.target - out.camera.eye) > 0.0f, "--eye and --target coincide");
+    return out;
+  }
+  std::vector<Camera> cameras = out.scene.cameras;
+  if (cameras.empty()) cameras = catalogCameras;
+  if (request.cameraIndex) {
+    const int i = *request.cameraIndex;
+    require(i >= 0 && i < static_cast<int>(cameras.size()),
+            "--camera " + std::to_string(i) + ": the scene has " + std::to_string(cameras.size()) + " camera(s)");
+    out.camera = cameras[static_cast<size_t>(i)];
+  } else if (!cameras.empty()) {
+    out.camera = cameras.front();
+  } else {
+    out.camera = frameBounds(out.scene.bounds(), fov);
+  }
+  if (request.fovDegrees) out.camera.yfov = fov;
+  return out;
+}
+
+}  // namespace mrr

@@ -1,0 +1,37 @@
+#pragma once
+// Resolves a --scene argument to a Scene: "builtin:NAME", a short name of one of the shared
+// third-party scenes ("cornell", "arcade", "apartment", with the camera and up-axis they
+// need), or a path to any .gltf/.glb file.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/scene.h"
+
+namespace mrr {
+
+struct SceneRequest {
+  std::string scene = "builtin:demo";
+  std::optional<bool> flipUp;           // unset: the catalogue's choice (false for files)
+  std::optional<int> cameraIndex;       // into Scene::cameras
+  std::optional<glm::vec3> eye, target; // explicit camera (both or neither)
+  std::optional<float> fovDegrees;      // vertical field of view
+};
+
+struct SharedSceneInfo {
+  std::string name;       // short name
+  std::string file;       // relative to sharedScenesDir()
+  bool flipUp = false;
+  std::vector<Camera> cameras;  // good views, the first is the default
+};
+
+const std::vector<SharedSceneInfo>& sharedSceneCatalog();
+
+// Loads the scene and picks the camera. Throws MrrError for anything wrong.
+struct ResolvedScene {
+  Scene scene;
+  Camera camera;
+};
+ResolvedScene resolveScene(const SceneRequest& request);
+
+}  // namespace mrr

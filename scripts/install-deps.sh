@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs mrr's build and run dependencies on Debian 12 (all from Debian's own packages).
+# Safe to run repeatedly; skips apt when every package is already installed.
+set -euo pipefail
+pkgs=(
+  build-essential cmake ninja-build pkg-config
+  libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libopencv-core-dev
+  libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#pkgs[@]} packages present" >&2
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}" >&2
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done" >&2

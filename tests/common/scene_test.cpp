@@ -1,0 +1,261 @@
+// Tests of the scene model helpers: bounds, normals, validation, framing and flipping.
+#include "common/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "common/camera.h"
+#include "common/error.h"
+
+namespace mrr {
+namespace {
+
+Mesh makeTriangle(const std::string& name, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  Mesh mesh;
+  mesh.name = name;
+  mesh.positions = {a, b, c};
+  mesh.indices = {0, 1, 2};
+  computeVertexNormals(mesh);
+  return mesh;
+}
+
+Scene oneTriangleScene() {
+  Scene scene;
+  scene.name = "test";
+  scene.meshes.push_back(makeTriangle("tri", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  return scene;
+}
+
+// Runs validateScene and returns the MrrError message ("" if none was thrown).
+std::string validationError(const Scene& scene, const std::string& source = "my/scene.gltf") {
+  try {
+    validateScene(scene, source);
+  } catch (const MrrError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectOneLineNaming(const std::string& message, const std::string& source,
+                         const std::string& fragment) {
+  EXPECT_NE(message.find(source), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_NE(message.find(fragment), std::string::npos) << message;
+}
+
+TEST(SceneTest, BoundsAndTriangleCount) {
+  Scene scene = oneTriangleScene();
+  scene.meshes.push_back(makeTriangle("b", {-2, 0, 5}, {0, 3, 0}, {1, 1, -1}));
+  scene.meshes.back().positions.push_back({0, 0, 0});  // an unused vertex still counts
+  scene.meshes.back().normals.push_back({0, 1, 0});
+  const Bounds b = scene.bounds();
+  EXPECT_EQ(b.lo, glm::vec3(-2, 0, -1));
+  EXPECT_EQ(b.hi, glm::vec3(1, 3, 5));
+  EXPECT_EQ(b.center(), glm::vec3(-0.5f, 1.5f, 2.0f));
+  EXPECT_FLOAT_EQ(b.diagonal(), std::sqrt(9.0f + 9.0f + 36.0f));
+  EXPECT_EQ(scene.triangleCount(), 2u);
+}
+
+TEST(SceneTest, BoundsOfEmptySceneIsZeroSize) {
+  Scene scene;
+  const Bounds b = scene.bounds();
+  EXPECT_EQ(b.lo, glm::vec3(0.0f));
+  EXPECT_EQ(b.hi, glm::vec3(0.0f));
+  EXPECT_EQ(scene.triangleCount(), 0u);
+}
+
+TEST(SceneTest, ComputeVertexNormalsFollowsCounterClockwiseWinding) {
+  Mesh mesh = makeTriangle("t", {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  ASSERT_EQ(mesh.normals.size(), 3u);
+  for (const glm::vec3& n : mesh.normals) EXPECT_NEAR(glm::distance(n, glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+  std::swap(mesh.indices[1], mesh.indices[2]);
+  computeVertexNormals(mesh);
+  for (const glm::vec3& n : mesh.normals) EXPECT_NEAR(glm::distance(n, glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+}
+
+TEST(SceneTest, ComputeVertexNormalsIsAreaWeighted) {
+  // Vertex 0 is shared by a big triangle facing +Z (area 8) and a small one facing +X (area 0.5).
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 1, 0}, {0, 0, 1}};
+  mesh.indices = {0, 1, 2, 0, 3, 4};
+  computeVertexNormals(mesh);
+  const glm::vec3 expected = glm::normalize(glm::vec3(0.5f, 0.0f, 8.0f));
+  EXPECT_NEAR(glm::distance(mesh.normals[0], expected), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(mesh.normals[1], glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(mesh.normals[3], glm::vec3(1, 0, 0)), 0.0f, 1e-6f);
+}
+
+TEST(SceneTest, ComputeVertexNormalsStaysFiniteForUnusedAndDegenerateVertices) {
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};  // collinear + unused
+  mesh.indices = {0, 1, 2};
+  computeVertexNormals(mesh);
+  ASSERT_EQ(mesh.normals.size(), 4u);
+  for (const glm::vec3& n : mesh.normals) {
+    EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z));
+    EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
+  }
+}
+
+TEST(SceneTest, ComputeVertexNormalsReplacesWrongSizedNormals) {
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.indices = {0, 1, 2};
+  mesh.normals = {{1, 0, 0}};
+  computeVertexNormals(mesh);
+  ASSERT_EQ(mesh.normals.size(), 3u);
+  EXPECT_NEAR(glm::distance(mesh.normals[0], glm::vec3(0, 0, 1)), 0.0f, 1e-6f);
+}
+
+TEST(SceneTest, ValidateAcceptsAGoodScene) {
+  EXPECT_EQ(validationError(oneTriangleScene()), "");
+  // One good triangle is enough even when others are degenerate.
+  Scene scene = oneTriangleScene();
+  scene.meshes.push_back(makeTriangle("flat", {0, 0, 0}, {1, 1, 1}, {2, 2, 2}));
+  EXPECT_EQ(validationError(scene), "");
+}
+
+TEST(SceneTest, ValidateRejectsNoMeshes) {
+  Scene scene;
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "no meshes");
+}
+
+TEST(SceneTest, ValidateRejectsNoTriangles) {
+  Scene scene;
+  scene.meshes.emplace_back();
+  scene.meshes.back().name = "empty";
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "no triangles");
+}
+
+TEST(SceneTest, ValidateRejectsIndexOutOfRange) {
+  Scene scene = oneTriangleScene();
+  scene.meshes[0].indices[2] = 17;
+  const std::string message = validationError(scene);
+  expectOneLineNaming(message, "my/scene.gltf", "17");
+  EXPECT_NE(message.find("'tri'"), std::string::npos) << message;
+  EXPECT_NE(message.find("out of range"), std::string::npos) << message;
+}
+
+TEST(SceneTest, ValidateRejectsNonFinitePositionsAndNormals) {
+  Scene scene = oneTriangleScene();
+  scene.meshes[0].positions[1].y = std::numeric_limits<float>::quiet_NaN();
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "position");
+
+  scene = oneTriangleScene();
+  scene.meshes[0].positions[0].x = std::numeric_limits<float>::infinity();
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "position");
+
+  scene = oneTriangleScene();
+  scene.meshes[0].normals[2].z = -std::numeric_limits<float>::infinity();
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "normal");
+}
+
+TEST(SceneTest, ValidateRejectsMissingNormals) {
+  Scene scene = oneTriangleScene();
+  scene.meshes[0].normals.clear();
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "normals");
+}
+
+TEST(SceneTest, ValidateRejectsAllDegenerateTriangles) {
+  Scene scene;
+  scene.meshes.push_back(makeTriangle("line", {0, 0, 0}, {1, 1, 1}, {2, 2, 2}));
+  scene.meshes.push_back(makeTriangle("point", {3, 3, 3}, {3, 3, 3}, {3, 3, 3}));
+  expectOneLineNaming(validationError(scene), "my/scene.gltf", "degenerate");
+}
+
+TEST(SceneTest, FrameBoundsLooksAtTheCentreFromFrontAbove) {
+  const Bounds bounds{{-1, 0, -2}, {3, 2, 4}};
+  const float yfov = 0.8f;
+  const Camera camera = frameBounds(bounds, yfov);
+  EXPECT_EQ(camera.target, bounds.center());
+  EXPECT_EQ(camera.up, glm::vec3(0, 1, 0));
+  EXPECT_FLOAT_EQ(camera.yfov, yfov);
+  const glm::vec3 offset = camera.eye - camera.target;
+  EXPECT_GT(offset.y, 0.0f);  // above
+  EXPECT_GT(offset.z, 0.0f);  // in front (+Z)
+  const float radius = 0.5f * bounds.diagonal();
+  EXPECT_GE(glm::length(offset), radius / std::sin(0.5f * yfov));  // the whole sphere fits
+  EXPECT_LT(glm::length(offset), 2.0f * radius / std::sin(0.5f * yfov));  // not lost in the distance
+}
+
+TEST(SceneTest, FrameBoundsProjectsEveryCornerIntoTheImage) {
+  const Bounds bounds{{100, -5, 20}, {160, 15, 21}};
+  // Square and landscape images: the vertical field is the narrow one.
+  for (const auto& [w, h] : {std::pair{64, 64}, std::pair{160, 90}}) {
+    const Camera camera = frameBounds(bounds, 0.9f);
+    const View view = makeView(camera, w, h, w, h);
+    const glm::vec2 centre = view.project(view.toView(bounds.center()));
+    EXPECT_NEAR(centre.x, 0.5f * float(w), 1e-3f * float(w));
+    EXPECT_NEAR(centre.y, 0.5f * float(h), 1e-3f * float(h));
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 p{corner & 1 ? bounds.hi.x : bounds.lo.x, corner & 2 ? bounds.hi.y : bounds.lo.y,
+                        corner & 4 ? bounds.hi.z : bounds.lo.z};
+      const glm::vec3 v = view.toView(p);
+      ASSERT_LT(v.z, 0.0f);  // in front of the camera
+      const glm::vec2 pixel = view.project(v);
+      EXPECT_GE(pixel.x, 0.0f);
+      EXPECT_LE(pixel.x, float(w));
+      EXPECT_GE(pixel.y, 0.0f);
+      EXPECT_LE(pixel.y, float(h));
+    }
+  }
+}
+
+TEST(SceneTest, FrameBoundsHandlesZeroSizeBounds) {
+  for (const glm::vec3& at : {glm::vec3(0.0f), glm::vec3(1000.0f, -2000.0f, 5e4f)}) {
+    const Camera camera = frameBounds(Bounds{at, at}, 0.9f);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_TRUE(std::isfinite(camera.eye[i]));
+      EXPECT_TRUE(std::isfinite(camera.target[i]));
+    }
+    EXPECT_GT(glm::length(camera.eye - camera.target), 0.0f);
+    EXPECT_NO_THROW(makeView(camera, 32, 32, 32, 32));
+  }
+}
+
+TEST(SceneTest, FlipUpRotatesEverythingAboutX) {
+  Scene scene;
+  scene.meshes.push_back(makeTriangle("t", {1, 2, 3}, {2, 2, 3}, {1, 3, 4}));
+  scene.light.direction = glm::normalize(glm::vec3(0.2f, -1.0f, 0.3f));
+  scene.hasLight = true;
+  Camera camera;
+  camera.eye = {1, 2, 3};
+  camera.target = {4, 5, 6};
+  camera.up = {0, 1, 0};
+  scene.cameras.push_back(camera);
+  const Scene before = scene;
+
+  flipUp(scene);
+  auto flipped = [](glm::vec3 v) { return glm::vec3(v.x, -v.y, -v.z); };
+  for (size_t v = 0; v < 3; ++v) {
+    EXPECT_EQ(scene.meshes[0].positions[v], flipped(before.meshes[0].positions[v]));
+    EXPECT_EQ(scene.meshes[0].normals[v], flipped(before.meshes[0].normals[v]));
+  }
+  EXPECT_EQ(scene.meshes[0].indices, before.meshes[0].indices);
+  EXPECT_EQ(scene.light.direction, flipped(before.light.direction));
+  EXPECT_EQ(scene.cameras[0].eye, glm::vec3(1, -2, -3));
+  EXPECT_EQ(scene.cameras[0].target, glm::vec3(4, -5, -6));
+  EXPECT_EQ(scene.cameras[0].up, glm::vec3(0, -1, 0));
+
+  // A rotation keeps fronts in front: the winding still agrees with the normals.
+  const Mesh& mesh = scene.meshes[0];
+  const glm::vec3 geometric = glm::cross(mesh.positions[1] - mesh.positions[0], mesh.positions[2] - mesh.positions[0]);
+  EXPECT_GT(glm::dot(geometric, mesh.normals[0]), 0.0f);
+
+  // Twice is the identity.
+  flipUp(scene);
+  EXPECT_EQ(scene.meshes[0].positions, before.meshes[0].positions);
+}
+
+TEST(SceneTest, FlipUpKeepsTheDefaultLight) {
+  Scene scene = oneTriangleScene();
+  const glm::vec3 direction = scene.light.direction;
+  flipUp(scene);
+  EXPECT_EQ(scene.light.direction, direction);  // already meant for Y-up
+}
+
+}  // namespace
+}  // namespace mrr

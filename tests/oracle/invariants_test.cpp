@@ -1,0 +1,210 @@
+// Invariants that hold on every scene: coverage, closure, no reads of unrendered pixels,
+// the corrected blend, odd sizes, and bit-identical results for any thread count.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "cpu_ref/masks.h"
+#include "tests/oracle/render_helpers.h"
+
+namespace mrr {
+namespace {
+
+using test::countSet;
+using test::renderScene;
+using test::ssaoSettings;
+
+class EveryBuiltin : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EveryBuiltin, EveryPixelGetsAValueFromSomeLevel) {
+  const auto r = renderScene("builtin:" + GetParam(), ssaoSettings(97, 61, 8));
+  const FrameResult& f = r.frame;
+  const int C = f.constants.coarsestEnabled;
+  for (int y = 0; y < 61; ++y)
+    for (int x = 0; x < 97; ++x) {
+      ASSERT_EQ(f.blend.alpha[static_cast<size_t>(C)].at(x, y), 1.0f) << "dead pixel " << x << "," << y;
+      ASSERT_TRUE(std::isfinite(f.final().at(x, y)));
+      ASSERT_GE(f.final().at(x, y), 0.0f);
+      ASSERT_LE(f.final().at(x, y), 1.0f);
+    }
+}
+
+TEST_P(EveryBuiltin, StencilsAreClosedFromFineToCoarse) {
+  const auto r = renderScene("builtin:" + GetParam(), ssaoSettings(128, 96, 8));
+  const FrameResult& f = r.frame;
+  for (int l = 0; l + 1 < kLevelCount; ++l) {
+    const ImageU8 pooled = maxPool(f.levels[static_cast<size_t>(l)].masks.stencil, 2);
+    const ImageU8& coarser = f.levels[static_cast<size_t>(l + 1)].masks.stencil;
+    for (size_t i = 0; i < pooled.data.size(); ++i) ASSERT_LE(pooled.data[i], coarser.data[i]);
+  }
+  // Every edge pixel is shaded at full resolution.
+  for (size_t i = 0; i < f.edges.combined.data.size(); ++i)
+    if (f.edges.combined.data[i]) ASSERT_TRUE(f.levels[0].masks.stencil.data[i]);
+}
+
+TEST_P(EveryBuiltin, MaskedBilinearNeverReadsAnUnrenderedPixel) {
+  const auto r = renderScene("builtin:" + GetParam(), ssaoSettings(96, 64, 8));
+  const FrameResult& f = r.frame;
+  // Poison every unrendered level pixel with NaN and blend again: the result must be
+  // bit-identical, so no NaN was read.
+  std::array<ImageF, kLevelCount> poisoned;
+  std::array<LevelImages, kLevelCount> in;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    poisoned[static_cast<size_t>(l)] = lr.sub;
+    for (size_t i = 0; i < lr.sub.data.size(); ++i)
+      if (!lr.masks.stencil.data[i]) poisoned[static_cast<size_t>(l)].data[i] = std::numeric_limits<float>::quiet_NaN();
+    in[static_cast<size_t>(l)] = {&poisoned[static_cast<size_t>(l)], &lr.masks.stencil, &lr.masks.alpha};
+  }
+  const BlendResult again = blendLevels(in, f.constants);
+  ASSERT_EQ(again.final.data.size(), f.final().data.size());
+  EXPECT_EQ(std::memcmp(again.final.data.data(), f.final().data.data(), f.final().data.size() * sizeof(float)), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, EveryBuiltin, ::testing::ValuesIn(builtinSceneNames()));
+
+TEST(Blend, StepMatchesTheCorrectedEquation) {
+  // c'_ℓ = α ĉ_ℓ + (1 − α) c'_{ℓ+1}: with α = 0.25, fine 1, coarser 0 → 0.25.
+  EXPECT_FLOAT_EQ(blendStep(0.25f, 1.0f, 0.0f), 0.25f);
+  EXPECT_FLOAT_EQ(blendStep(1.0f, 0.3f, 0.9f), 0.3f);
+  EXPECT_FLOAT_EQ(blendStep(0.0f, 0.3f, 0.9f), 0.9f);
+}
+
+TEST(Blend, HandComputedTwoLevelsIncludingErratum) {
+  // An 8×8 frame with levels 0 and 3 only: level 3 is one pixel with c = 0.2, level 0 is
+  // c = 1 with a = 0.005 everywhere, w_0 = 100 → α_0 = 0.5, so the final is
+  // 0.5·1 + 0.5·0.2 = 0.6. The paper's printed Eq. 1 would blend level 0 over a composite
+  // "c'_{i−1}" that does not exist yet at the finest level; the corrected order blends over
+  // the coarser composite, c'_3 = 0.2.
+  Settings s = ssaoSettings(8, 8);
+  s.levels[1].enabled = false;
+  s.levels[2].enabled = false;
+  const Constants c = makeConstants(s, 1.0f);
+  ImageF sub0(8, 8, 1, 1.0f), a0(8, 8, 1, 0.005f), sub3(1, 1, 1, 0.2f), a3(1, 1, 1, 1.0f);
+  ImageU8 s0(8, 8, 1, 1), s3(1, 1, 1, 1);
+  std::array<LevelImages, kLevelCount> in;
+  in[0] = {&sub0, &s0, &a0};
+  in[3] = {&sub3, &s3, &a3};
+  const BlendResult b = blendLevels(in, c);
+  for (float v : b.final.data) EXPECT_NEAR(v, 0.6f, 1e-6f);
+  for (float v : b.alpha[0].data) EXPECT_NEAR(v, 0.5f, 1e-6f);
+  for (float v : b.composite[3].data) EXPECT_FLOAT_EQ(v, 0.2f);
+}
+
+TEST(Blend, MaskedBilinearRenormalisesOverRenderedTaps) {
+  // Level 1 (scale 2) of a 4×4 frame is 2×2; only q = (0,0) is rendered. Full-res pixel
+  // (1,1) has u = v = 0.25: weights 0.5625, 0.1875, 0.1875, 0.0625; masked → c(0,0).
+  Settings s = ssaoSettings(8, 8);
+  const Constants c = makeConstants(s, 1.0f);
+  const LevelConstants& l1 = c.levels[1];
+  ImageF sub(l1.width, l1.height, 1, 0.0f), alpha(l1.width, l1.height, 1, 0.0f);
+  ImageU8 st(l1.width, l1.height, 1, 0);
+  sub.at(0, 0) = 0.7f;
+  st.at(0, 0) = 1;
+  alpha.at(0, 0) = 0.01f;
+  const BilinearTaps t = bilinearTaps(1, 1, l1);
+  EXPECT_FLOAT_EQ(t.weight[0], 0.5625f);
+  EXPECT_FLOAT_EQ(t.weight[1], 0.1875f);
+  EXPECT_FLOAT_EQ(t.weight[3], 0.0625f);
+  const Upsampled u = upsampleAt(sub, st, alpha, l1, 1, 1);
+  EXPECT_TRUE(u.covered);
+  EXPECT_FLOAT_EQ(u.color[0], 0.7f);
+  EXPECT_FLOAT_EQ(u.alphaHat, 0.5625f * 0.01f);
+  EXPECT_FLOAT_EQ(u.alpha, std::min(0.5625f * 0.01f * 50.0f, 1.0f));
+  // A pixel whose taps are all unrendered contributes nothing.
+  const Upsampled none = upsampleAt(sub, st, alpha, l1, 7, 7);
+  EXPECT_FALSE(none.covered);
+  EXPECT_EQ(none.alpha, 0.0f);
+}
+
+class OddSizes : public ::testing::TestWithParam<std::pair<int, int>> {};
+
+TEST_P(OddSizes, RenderAndCoverEverything) {
+  const auto [w, h] = GetParam();
+  const auto r = renderScene("builtin:demo", ssaoSettings(w, h, 4));
+  const FrameResult& f = r.frame;
+  ASSERT_EQ(f.final().width, w);
+  ASSERT_EQ(f.final().height, h);
+  EXPECT_EQ(f.constants.paddedWidth % 8, 0);
+  EXPECT_EQ(f.constants.paddedHeight % 8, 0);
+  for (float v : f.final().data) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
+  for (float v : f.blend.alpha[3].data) ASSERT_EQ(v, 1.0f);
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, OddSizes,
+                         ::testing::Values(std::pair{1, 1}, std::pair{7, 5}, std::pair{1279, 719}, std::pair{9, 17}));
+
+bool sameBits(const ImageF& a, const ImageF& b) {
+  return a.data.size() == b.data.size() &&
+         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
+}
+
+TEST(Determinism, OneTwoAndEightThreadsGiveIdenticalBits) {
+  const Settings s = ssaoSettings(203, 117, 16);
+  std::vector<test::Rendered> runs;
+  for (size_t threads : {1u, 2u, 8u}) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
+    runs.push_back(renderScene("builtin:demo", s));
+  }
+  for (size_t k = 1; k < runs.size(); ++k) {
+    const FrameResult &a = runs[0].frame, &b = runs[k].frame;
+    EXPECT_TRUE(sameBits(a.final(), b.final()));
+    EXPECT_EQ(a.edges.combined.data, b.edges.combined.data);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const LevelResult &la = a.levels[static_cast<size_t>(l)], &lb = b.levels[static_cast<size_t>(l)];
+      EXPECT_TRUE(sameBits(la.gbuffer.depth, lb.gbuffer.depth)) << "level " << l;
+      EXPECT_TRUE(sameBits(la.gbuffer.normal, lb.gbuffer.normal)) << "level " << l;
+      EXPECT_TRUE(sameBits(la.masks.alpha, lb.masks.alpha)) << "level " << l;
+      EXPECT_EQ(la.masks.stencil.data, lb.masks.stencil.data) << "level " << l;
+      EXPECT_TRUE(sameBits(la.sub, lb.sub)) << "level " << l;
+    }
+  }
+}
+
+TEST(Levels, DisablingTheHalfLevelPoolsStraightIntoQuarter) {
+  Settings s = ssaoSettings(128, 96, 8);
+  s.levels[1].enabled = false;
+  const auto r = renderScene("builtin:boxes", s);
+  const FrameResult& f = r.frame;
+  EXPECT_TRUE(f.levels[1].masks.stencil.empty());
+  EXPECT_EQ(f.levels[1].shadedPixels, 0);
+  const ImageU8 pooled = maxPool(f.levels[0].masks.stencil, 4);
+  const ImageU8& quarter = f.levels[2].masks.stencil;
+  ASSERT_EQ(pooled.width, quarter.width);
+  for (size_t i = 0; i < pooled.data.size(); ++i) ASSERT_LE(pooled.data[i], quarter.data[i]);
+  for (float v : f.blend.alpha[1].data) (void)v;  // disabled: empty
+  EXPECT_TRUE(f.blend.alpha[1].empty());
+}
+
+TEST(Levels, ShadedPixelCountsAndIdealSpeedup) {
+  const auto r = renderScene("builtin:demo", ssaoSettings(160, 96, 8));
+  const FrameResult& f = r.frame;
+  int64_t total = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    EXPECT_EQ(f.levels[static_cast<size_t>(l)].shadedPixels, countSet(f.levels[static_cast<size_t>(l)].masks.stencil));
+    total += f.levels[static_cast<size_t>(l)].shadedPixels;
+  }
+  EXPECT_EQ(total, f.shadedPixelsTotal);
+  EXPECT_DOUBLE_EQ(f.idealSpeedup, 160.0 * 96.0 / static_cast<double>(total));
+  EXPECT_GT(f.idealSpeedup, 1.0);
+  EXPECT_EQ(f.levels[3].shadedPixels, 20 * 12);  // the coarsest level covers everything
+}
+
+TEST(Levels, UnshadedPixelsAreNeverEvaluated) {
+  // The raw sub-image is exactly 0 where the stencil is 0 (the effect never ran there) and
+  // an AO value in (0, 1] where it is 1.
+  const auto r = renderScene("builtin:boxes", ssaoSettings(128, 96, 8));
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelResult& lr = r.frame.levels[static_cast<size_t>(l)];
+    for (size_t i = 0; i < lr.raw.data.size(); ++i) {
+      if (!lr.masks.stencil.data[i]) ASSERT_EQ(lr.raw.data[i], 0.0f);
+      else ASSERT_GT(lr.raw.data[i], 0.0f);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mrr

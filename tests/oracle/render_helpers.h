@@ -1,0 +1,47 @@
+#pragma once
+// Renders a scene with the oracle for a test: one call, everything kept.
+#include <memory>
+#include <string>
+
+#include "common/params.h"
+#include "cpu_ref/pipeline.h"
+#include "scenes/builtin.h"
+#include "scenes/catalog.h"
+
+namespace mrr::test {
+
+struct Rendered {
+  std::unique_ptr<Scene> scene;
+  Camera camera;
+  std::unique_ptr<Renderer> renderer;
+  FrameResult frame;
+};
+
+inline Settings ssaoSettings(int w, int h, int samples = 16, Mode mode = Mode::Multires) {
+  Settings s = defaultSettings(Effect::Ssao);
+  s.width = w;
+  s.height = h;
+  s.ssao.samples = samples;
+  s.mode = mode;
+  return s;
+}
+
+inline Rendered renderScene(const std::string& sceneSpec, const Settings& s) {
+  Rendered r;
+  SceneRequest req;
+  req.scene = sceneSpec;
+  ResolvedScene rs = resolveScene(req);
+  r.scene = std::make_unique<Scene>(std::move(rs.scene));
+  r.camera = rs.camera;
+  r.renderer = std::make_unique<Renderer>(*r.scene);
+  r.frame = r.renderer->render(r.camera, makeConstants(s, r.scene->bounds().diagonal()));
+  return r;
+}
+
+inline int64_t countSet(const ImageU8& img) {
+  int64_t n = 0;
+  for (uint8_t v : img.data) n += v != 0;
+  return n;
+}
+
+}  // namespace mrr::test

@@ -1,0 +1,17 @@
+#pragma once
+// Helpers shared by the test binaries: a fresh scratch directory per test, the shared
+// scenes folder, and skipping (visibly) when a shared scene is absent.
+#include <string>
+
+namespace mrr::test {
+
+// A new empty directory under the build tree for the calling test (removed and re-made).
+std::string scratchDir();
+
+// Full path of a file in the shared scenes folder (MRR_SCENES_DIR or the CMake default).
+std::string sharedScene(const std::string& relative);
+
+// True when that file exists; tests call GTEST_SKIP() with a reason otherwise.
+bool haveSharedScene(const std::string& relative);
+
+}  // namespace mrr::test

@@ -4,6 +4,8 @@
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include <malloc.h>
+
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -237,6 +239,10 @@ int run(int argc, char** argv) {
 }  // namespace mrr
 
 int main(int argc, char** argv) {
+  // Keep freed image memory in the heap: frames allocate hundreds of MB of same-sized images,
+  // and returning them to the kernel makes every next frame page-fault them in again.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, -1);
   try {
     return mrr::run(argc, argv);
   } catch (const mrr::MrrError& e) {

@@ -28,24 +28,4 @@ View makeView(const Camera& camera, int width, int height, int paddedWidth, int 
   return v;
 }
 
-glm::vec3 View::directionToView(const glm::vec3& d) const {
-  return {glm::dot(d, right), glm::dot(d, up), -glm::dot(d, forward)};
-}
-
-glm::vec3 View::toView(const glm::vec3& world) const { return directionToView(world - eye); }
-
-glm::vec3 View::viewRay(float px, float py) const {
-  return {(px - cx) / focal, -(py - cy) / focal, -1.0f};
-}
-
-glm::vec3 View::worldRay(float px, float py) const {
-  const glm::vec3 d = viewRay(px, py);
-  return right * d.x + up * d.y + forward;
-}
-
-glm::vec2 View::project(const glm::vec3& p) const {
-  const float z = -p.z;
-  return {cx + focal * p.x / z, cy - focal * p.y / z};
-}
-
 }  // namespace mrr

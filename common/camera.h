@@ -23,14 +23,23 @@ struct View {
   glm::vec3 right{1, 0, 0}, up{0, 1, 0}, forward{0, 0, -1};  // world-space camera basis
 
   // World → view space.
-  glm::vec3 toView(const glm::vec3& world) const;
-  glm::vec3 directionToView(const glm::vec3& worldDir) const;
+  glm::vec3 toView(const glm::vec3& world) const { return directionToView(world - eye); }
+  glm::vec3 directionToView(const glm::vec3& d) const {
+    return {glm::dot(d, right), glm::dot(d, up), -glm::dot(d, forward)};
+  }
   // View-space direction (not normalised) through the full-res continuous point (px, py).
-  glm::vec3 viewRay(float px, float py) const;
-  // World-space direction (not normalised) through (px, py).
-  glm::vec3 worldRay(float px, float py) const;
+  glm::vec3 viewRay(float px, float py) const { return {(px - cx) / focal, -(py - cy) / focal, -1.0f}; }
+  // World-space direction (not normalised) through (px, py); its forward component is 1,
+  // so the hit distance along it is the linear view depth.
+  glm::vec3 worldRay(float px, float py) const {
+    const glm::vec3 d = viewRay(px, py);
+    return right * d.x + up * d.y + forward;
+  }
   // Full-res continuous pixel coordinates of a view-space point in front of the camera.
-  glm::vec2 project(const glm::vec3& viewPoint) const;
+  glm::vec2 project(const glm::vec3& p) const {
+    const float z = -p.z;
+    return {cx + focal * p.x / z, cy - focal * p.y / z};
+  }
 };
 
 View makeView(const Camera& camera, int width, int height, int paddedWidth, int paddedHeight);

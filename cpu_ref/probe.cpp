@@ -80,7 +80,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
       lj["c_raw"] = scalarOrVec(lr.raw, lx, ly);
       lj["c"] = scalarOrVec(lr.sub, lx, ly);
       SsaoDetail d;
-      ssaoAt(lr.gbuffer, f.view, lc, c.ssao, lx, ly, &d);
+      ssaoAt(lr.gbuffer, occluderPlanes(lr.gbuffer), f.view, lc, c.ssao, lx, ly, &d);
       lj["ssao"] = {{"samples", d.samples}, {"occluders", d.occluders}, {"occlusion", d.occlusion},
                     {"offscreen", d.offscreen}, {"background", d.background}, {"rotation_rad", d.rotation}};
     }

@@ -1,5 +1,6 @@
 #include "cpu_ref/ssao.h"
 
+#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@ namespace mrr {
 
 namespace {
 constexpr float kTwoPi = 6.28318530717958647692f;
+constexpr int kTile = 32;  // pixels per tile side: keeps the samples' texels in cache
 
 // GLSL's smoothstep(0, 1, x).
 float smoothstep01(float x) {
@@ -18,25 +20,41 @@ float smoothstep01(float x) {
   return t * t * (3.0f - 2.0f * t);
 }
 
-// Depth of the occluder seen along the sample's view ray: the ray meets the tangent plane of
-// the texel it projects to (position P_t, normal N_t). On a plane this is exact at any level,
-// where the texel-centre depth alone is off by up to half a texel of slope and makes coarse
-// levels occlude themselves (docs/method.md, "tangent-plane depth"). Grazing rays fall
-// back to the texel-centre depth.
-float occluderDepth(const glm::vec3& sample, const glm::vec3& texelPosition, const glm::vec3& texelNormal) {
-  const float along = glm::dot(texelNormal, sample);
-  if (along * along <= 0.01f * glm::dot(sample, sample)) return -texelPosition.z;  // |cos| <= 0.1
-  return -sample.z * (glm::dot(texelNormal, texelPosition) / along);
-}
-
 // SPEC §6 range check: an occluder much farther from the receiver than R counts less.
 float rangeCheck(float radius, float receiverDepth, float bufferDepth) {
   return smoothstep01(radius / std::max(std::fabs(receiverDepth - bufferDepth), 1e-6f));
 }
+
+// Depth of the occluder seen along the sample's view ray: the ray meets the tangent plane of
+// the texel it projects to (normal N_t, offset N_t·P_t). On a plane this is exact at any
+// level, where the texel-centre depth alone is off by up to half a texel of slope and makes
+// coarse levels occlude themselves (docs/method.md, "tangent-plane depth"). Rays within
+// ~6° of grazing fall back to the texel-centre depth.
+float occluderDepth(const glm::vec3& sample, const OccluderPlane& plane, float texelDepth) {
+  const float along = glm::dot(plane.normal, sample);
+  if (along * along <= 0.01f * glm::dot(sample, sample)) return texelDepth;  // |cos| <= 0.1
+  return -sample.z * (plane.offset / along);
+}
 }  // namespace
 
-float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, const Constants::Ssao& ssao,
-             int x, int y, SsaoDetail* detail) {
+std::vector<OccluderPlane> occluderPlanes(const GBuffer& g) {
+  std::vector<OccluderPlane> planes(g.depth.pixelCount());
+  tbb::parallel_for(0, g.height, [&](int y) {
+    for (int x = 0; x < g.width; ++x) {
+      OccluderPlane& p = planes[static_cast<size_t>(y) * g.width + x];
+      if (!g.hit.at(x, y)) {
+        p = {glm::vec3(0.0f), 1.0f};  // background: offset > 0 marks it
+      } else {
+        const glm::vec3 n = g.normalAt(x, y);
+        p = {n, glm::dot(n, g.positionAt(x, y))};  // ≤ 0: the normal faces the camera
+      }
+    }
+  });
+  return planes;
+}
+
+float ssaoAt(const GBuffer& g, const std::vector<OccluderPlane>& planes, const View& view, const LevelConstants& level,
+             const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail) {
   if (!g.hit.at(x, y)) return 1.0f;
   const glm::vec3 p = g.positionAt(x, y);
   const glm::vec3 n = g.normalAt(x, y);
@@ -51,8 +69,9 @@ float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, co
   }
   t = glm::normalize(t);
   const glm::vec3 b = glm::cross(n, t);
-  // 2. hemisphere samples: occluded when the depth buffer is in front by more than the bias
+  // 2. hemisphere samples: occluded when the occluder is in front by more than the bias
   const float invScale = 1.0f / static_cast<float>(level.scale);
+  const float width = static_cast<float>(g.width), height = static_cast<float>(g.height);
   const float receiverDepth = -p.z;
   float occlusion = 0.0f;
   SsaoDetail d;
@@ -65,18 +84,19 @@ float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, co
       ++d.offscreen;
       continue;
     }
-    const glm::vec2 px = view.project(s);
-    const float lx = std::floor(px.x * invScale), ly = std::floor(px.y * invScale);
-    if (!(lx >= 0.0f && ly >= 0.0f && lx < static_cast<float>(g.width) && ly < static_cast<float>(g.height))) {
+    const glm::vec2 px = view.project(s) * invScale;  // level coordinates
+    if (!(px.x >= 0.0f && px.y >= 0.0f && px.x < width && px.y < height)) {
       ++d.offscreen;
       continue;
     }
-    const int ix = static_cast<int>(lx), iy = static_cast<int>(ly);
-    if (!g.hit.at(ix, iy)) {
+    const int ix = static_cast<int>(px.x), iy = static_cast<int>(px.y);  // floor: both ≥ 0
+    const size_t texel = static_cast<size_t>(iy) * g.width + ix;
+    const OccluderPlane& plane = planes[texel];
+    if (plane.offset > 0.0f) {
       ++d.background;
       continue;
     }
-    const float bufferDepth = occluderDepth(s, g.positionAt(ix, iy), g.normalAt(ix, iy));
+    const float bufferDepth = occluderDepth(s, plane, g.depth.data[texel]);
     if (bufferDepth < sampleDepth - ssao.bias) {
       ++d.occluders;
       occlusion += rangeCheck(ssao.radius, receiverDepth, bufferDepth);
@@ -91,10 +111,13 @@ float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, co
 ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,
                   const Constants::Ssao& ssao) {
   ImageF out(g.width, g.height, 1, 0.0f);
-  tbb::parallel_for(0, g.height, [&](int y) {
-    for (int x = 0; x < g.width; ++x)
-      if (stencil.at(x, y)) out.at(x, y) = ssaoAt(g, view, level, ssao, x, y);
-  });
+  const std::vector<OccluderPlane> planes = occluderPlanes(g);
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, kTile, 0, g.width, kTile),
+                    [&](const tbb::blocked_range2d<int>& r) {
+                      for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+                        for (int x = r.cols().begin(); x != r.cols().end(); ++x)
+                          if (stencil.at(x, y)) out.at(x, y) = ssaoAt(g, planes, view, level, ssao, x, y);
+                    });
   return out;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 // Stage 4 — the SSAO sub-image (SPEC §4, §6): evaluated only where the stencil is set.
+#include <vector>
+
 #include "common/camera.h"
 #include "common/image.h"
 #include "common/params.h"
@@ -17,9 +19,16 @@ struct SsaoDetail {
   float rotation = 0.0f;   // per-pixel rotation angle, radians
 };
 
+// A texel as an occluder: its tangent plane, packed so one sample reads one 16-byte record.
+struct OccluderPlane {
+  glm::vec3 normal{0.0f};  // view space
+  float offset = 1.0f;     // N·P (≤ 0 on geometry); > 0 marks background
+};
+std::vector<OccluderPlane> occluderPlanes(const GBuffer& g);
+
 // AO at level pixel (x, y): 1 − occlusion / N; 1 on background (SPEC §1).
-float ssaoAt(const GBuffer& g, const View& view, const LevelConstants& level, const Constants::Ssao& ssao,
-             int x, int y, SsaoDetail* detail = nullptr);
+float ssaoAt(const GBuffer& g, const std::vector<OccluderPlane>& planes, const View& view, const LevelConstants& level,
+             const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail = nullptr);
 
 // The raw sub-image c_ℓ: AO where stencil = 1, 0 elsewhere (never read downstream).
 ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,

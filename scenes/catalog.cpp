@@ -27,7 +27,8 @@ const std::vector<SharedSceneInfo>& sharedSceneCatalog() {
       {"arcade", "sascha-arcade/subpass_scene_opaque.gltf", true,
        {view({0.0f, 3.5f, 9.5f}, {0.0f, 2.0f, 0.0f}, 60.0f)}},
       {"apartment", "dream-apartment/dream-apartment.glb", false,
-       {view({6, 1.5f, -6}, {12, 0.9f, -10.5f}, 60.0f)}},
+       {view({12.2f, 1.7f, -7.6f}, {7.0f, 0.8f, -4.0f}, 60.0f),   // kitchen and dining table
+        view({7.3f, 1.6f, -3.6f}, {12.0f, 0.8f, -7.5f}, 60.0f)}},  // kitchen island
   };
   return catalog;
 }

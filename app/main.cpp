@@ -204,7 +204,9 @@ int run(int argc, char** argv) {
   if (!fo.quiet) std::cerr << "[mrr] " << rs.scene.triangleCount() << " triangles; building BVH\n";
   const Renderer renderer(rs.scene);
   const Constants constants = makeConstants(settings, rs.scene.bounds().diagonal());
-  const FrameResult frame = renderer.render(rs.camera, constants, progress);
+  // The per-level blend images are debugging output: kept only when something shows them.
+  const bool keepStages = *probe || !stages.empty();
+  const FrameResult frame = renderer.render(rs.camera, constants, {keepStages, progress});
 
   if (*probe) {
     const nlohmann::json j = probePixel(frame, probePixelXY->first, probePixelXY->second);
@@ -217,7 +219,7 @@ int run(int argc, char** argv) {
     Settings full = settings;
     full.mode = Mode::Full;
     const FrameResult ref = renderer.render(rs.camera, makeConstants(full, rs.scene.bounds().diagonal()),
-                                            progressPrinter(fo.quiet, "reference"));
+                                            {false, progressPrinter(fo.quiet, "reference")});
     err = errorVsFull(frame, ref);
   }
   RunInfo info{rs.scene.name, rs.scene.credit, "cpu", threadCount(fo.threads)};

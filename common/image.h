@@ -3,8 +3,12 @@
 // writes these, so the oracle, the port's readback and the comparison share one layout.
 #include <tbb/parallel_for.h>
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
+#include <new>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -14,6 +18,10 @@ namespace mrr {
 // An allocator that leaves elements uninitialised on resize, so that a new image can be
 // filled in parallel: first touch of a large image is page faults, and a serial memset puts
 // them all on one core (it was a fifth of a 1080p frame).
+//
+// Large images are also backed by transparent huge pages where the kernel offers them
+// (madvise mode): 2 MiB pages mean 512× fewer faults on first touch, which in a VM cost
+// more than the stages themselves.
 template <class T>
 struct DefaultInitAllocator : std::allocator<T> {
   template <class U>
@@ -21,6 +29,21 @@ struct DefaultInitAllocator : std::allocator<T> {
     using other = DefaultInitAllocator<U>;
   };
   using std::allocator<T>::allocator;
+  static constexpr size_t kHugePage = size_t{2} << 20;
+
+  T* allocate(size_t n) {
+    const size_t bytes = n * sizeof(T);
+    if (bytes < 2 * kHugePage) return std::allocator<T>::allocate(n);
+    const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    void* p = std::aligned_alloc(kHugePage, rounded);
+    if (!p) throw std::bad_alloc();
+    madvise(p, rounded, MADV_HUGEPAGE);  // a hint: ignored where THP is off
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, size_t n) {
+    if (n * sizeof(T) < 2 * kHugePage) return std::allocator<T>::deallocate(p, n);
+    std::free(p);
+  }
   template <class U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;

@@ -36,7 +36,7 @@ Timed timedRender(const Renderer& r, const Camera& cam, const Constants& c, int 
   Timed t;
   std::map<std::string, std::vector<double>> samples;
   for (int i = 0; i <= repeats; ++i) {
-    FrameResult f = r.render(cam, c);
+    FrameResult f = r.render(cam, c, {false, {}});
     if (i == 0) continue;  // warm-up
     std::map<std::string, double> perStage;
     for (const StageTiming& s : f.timings) perStage[s.stage] += s.ms;

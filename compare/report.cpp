@@ -103,6 +103,7 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
     parts.push_back({"stencil" + L, toFloat(lr.masks.stencil), {"S"}});
     parts.push_back({"raw" + L, lr.raw, effectChannels("c_raw", lr.raw.channels)});
     parts.push_back({"sub" + L, lr.sub, effectChannels("c", lr.sub.channels)});
+    if (f.blend.upsampled[static_cast<size_t>(l)].empty()) continue;  // rendered without keepStages
     parts.push_back({"upsample" + L, f.blend.upsampled[static_cast<size_t>(l)],
                      effectChannels("c_hat", lr.sub.channels)});
     parts.push_back({"blendalpha" + L, f.blend.alpha[static_cast<size_t>(l)], {"alpha"}});

@@ -58,42 +58,49 @@ float blendStep(float alpha, float fine, float coarserComposite) {
   return alpha * fine + (1.0f - alpha) * coarserComposite;
 }
 
-BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
+BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, bool keepStages) {
   BlendResult r;
   const int w = c.width, h = c.height;
-  int channels = 1;
-  for (int l = 0; l < kLevelCount; ++l)
-    if (c.levels[static_cast<size_t>(l)].enabled) channels = levels[static_cast<size_t>(l)].sub->channels;
+  const int channels = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
   r.levelMap = ImageU8(w, h, 1, static_cast<uint8_t>(c.coarsestEnabled));
-  // From the coarsest enabled level C (c'_C = ĉ_C) to the finest.
-  int coarser = -1;
-  for (int l = c.coarsestEnabled; l >= 0; --l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    const LevelImages& in = levels[static_cast<size_t>(l)];
-    ImageF& up = r.upsampled[static_cast<size_t>(l)];
-    ImageF& al = r.alpha[static_cast<size_t>(l)];
-    ImageF& comp = r.composite[static_cast<size_t>(l)];
-    up = ImageF(w, h, channels);
-    al = ImageF(w, h, 1);
-    comp = ImageF(w, h, channels);
-    const ImageF* prev = coarser >= 0 ? &r.composite[static_cast<size_t>(coarser)] : nullptr;
-    tbb::parallel_for(0, h, [&](int y) {
-      for (int x = 0; x < w; ++x) {
+  r.final = ImageF(w, h, channels);
+  if (keepStages)
+    for (int l = 0; l < kLevelCount; ++l) {
+      if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+      r.upsampled[static_cast<size_t>(l)] = ImageF(w, h, channels);
+      r.alpha[static_cast<size_t>(l)] = ImageF(w, h, 1);
+      r.composite[static_cast<size_t>(l)] = ImageF(w, h, channels);
+    }
+  // One pass over the pixels; at each, the levels from the coarsest enabled C (c'_C = ĉ_C)
+  // to the finest, keeping the running composite in registers.
+  tbb::parallel_for(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      float composite[4] = {0, 0, 0, 0};
+      bool coarsest = true;
+      uint8_t finest = static_cast<uint8_t>(c.coarsestEnabled);
+      for (int l = c.coarsestEnabled; l >= 0; --l) {
+        const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+        if (!lc.enabled) continue;
+        const LevelImages& in = levels[static_cast<size_t>(l)];
         const Upsampled u = upsampleAt(*in.sub, *in.stencil, *in.alpha, lc, x, y);
-        // The coarsest level: α = 1 wherever it is covered (it is covered everywhere).
-        const float alpha = prev ? u.alpha : (u.covered ? 1.0f : 0.0f);
-        al.at(x, y) = alpha;
-        for (int ch = 0; ch < channels; ++ch) {
-          up.at(x, y, ch) = u.color[ch];
-          comp.at(x, y, ch) = prev ? blendStep(alpha, u.color[ch], prev->at(x, y, ch)) : u.color[ch];
+        // The coarsest level covers every pixel: it is the base the finer ones blend over.
+        const float alpha = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
+        for (int ch = 0; ch < channels; ++ch)
+          composite[ch] = coarsest ? u.color[ch] : blendStep(alpha, u.color[ch], composite[ch]);
+        if (!coarsest && alpha > 0.0f) finest = static_cast<uint8_t>(l);
+        coarsest = false;
+        if (keepStages) {
+          r.alpha[static_cast<size_t>(l)].at(x, y) = alpha;
+          for (int ch = 0; ch < channels; ++ch) {
+            r.upsampled[static_cast<size_t>(l)].at(x, y, ch) = u.color[ch];
+            r.composite[static_cast<size_t>(l)].at(x, y, ch) = composite[ch];
+          }
         }
-        if (prev && alpha > 0.0f) r.levelMap.at(x, y) = static_cast<uint8_t>(l);
       }
-    });
-    coarser = l;
-  }
-  r.final = r.composite[static_cast<size_t>(c.finestEnabled)];
+      for (int ch = 0; ch < channels; ++ch) r.final.at(x, y, ch) = composite[ch];
+      r.levelMap.at(x, y) = finest;
+    }
+  });
   return r;
 }
 

@@ -31,7 +31,7 @@ Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& al
 float blendStep(float alpha, float fine, float coarserComposite);
 
 struct BlendResult {
-  std::array<ImageF, kLevelCount> upsampled;  // ĉ_ℓ on W×H (empty for disabled levels)
+  std::array<ImageF, kLevelCount> upsampled;  // ĉ_ℓ on W×H (empty for disabled levels, or unless kept)
   std::array<ImageF, kLevelCount> alpha;      // α_ℓ on W×H
   std::array<ImageF, kLevelCount> composite;  // c'_ℓ on W×H
   ImageF final;                               // c'_finest
@@ -44,6 +44,8 @@ struct LevelImages {
   const ImageF* alpha = nullptr;     // a_ℓ
 };
 
-BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& constants);
+// The final image and level map; with `keepStages`, also every ĉ_ℓ, α_ℓ and c'_ℓ.
+BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& constants,
+                        bool keepStages = true);
 
 }  // namespace mrr

@@ -24,7 +24,8 @@ double FrameResult::timing(const std::string& stage) const {
 
 Renderer::Renderer(const Scene& scene) : scene_(scene), rays_(scene) { bvhBuildMs_ = msSince(buildStart_); }
 
-FrameResult Renderer::render(const Camera& camera, const Constants& c, const ProgressFn& progress) const {
+FrameResult Renderer::render(const Camera& camera, const Constants& c, const RenderOptions& options) const {
+  const ProgressFn& progress = options.progress;
   FrameResult f;
   f.constants = c;
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
@@ -75,7 +76,7 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Pro
       const LevelResult& lr = f.levels[static_cast<size_t>(l)];
       in[static_cast<size_t>(l)] = {&lr.sub, &lr.masks.stencil, &lr.masks.alpha};
     }
-    f.blend = blendLevels(in, c);
+    f.blend = blendLevels(in, c, options.keepStages);
   });
   // 6. The shaded image for viewing (SPEC §6).
   stage("shade", [&] {

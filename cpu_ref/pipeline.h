@@ -51,10 +51,17 @@ struct FrameResult {
 // Receives "stage name" as each stage starts (progress lines on stderr).
 using ProgressFn = std::function<void(const std::string&)>;
 
+struct RenderOptions {
+  // Keep the per-level full-res blend images (ĉ_ℓ, α_ℓ, c'_ℓ) for --stages and probe. The
+  // benchmark turns it off: they are debugging output, not part of the method's cost.
+  bool keepStages = true;
+  ProgressFn progress;
+};
+
 class Renderer {
  public:
   explicit Renderer(const Scene& scene);  // builds the BVH
-  FrameResult render(const Camera& camera, const Constants& constants, const ProgressFn& progress = {}) const;
+  FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const;
   const Scene& scene() const { return scene_; }
   double bvhBuildMs() const { return bvhBuildMs_; }
 

@@ -37,8 +37,8 @@ float occluderDepth(const glm::vec3& sample, const OccluderPlane& plane, float t
 }
 }  // namespace
 
-std::vector<OccluderPlane> occluderPlanes(const GBuffer& g) {
-  std::vector<OccluderPlane> planes(g.depth.pixelCount());
+OccluderPlanes occluderPlanes(const GBuffer& g) {
+  OccluderPlanes planes(g.depth.pixelCount());  // uninitialised: filled in parallel below
   tbb::parallel_for(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       OccluderPlane& p = planes[static_cast<size_t>(y) * g.width + x];
@@ -53,7 +53,7 @@ std::vector<OccluderPlane> occluderPlanes(const GBuffer& g) {
   return planes;
 }
 
-float ssaoAt(const GBuffer& g, const std::vector<OccluderPlane>& planes, const View& view, const LevelConstants& level,
+float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, const LevelConstants& level,
              const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail) {
   if (!g.hit.at(x, y)) return 1.0f;
   const glm::vec3 p = g.positionAt(x, y);
@@ -111,7 +111,7 @@ float ssaoAt(const GBuffer& g, const std::vector<OccluderPlane>& planes, const V
 ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,
                   const Constants::Ssao& ssao) {
   ImageF out(g.width, g.height, 1, 0.0f);
-  const std::vector<OccluderPlane> planes = occluderPlanes(g);
+  const OccluderPlanes planes = occluderPlanes(g);
   tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, kTile, 0, g.width, kTile),
                     [&](const tbb::blocked_range2d<int>& r) {
                       for (int y = r.rows().begin(); y != r.rows().end(); ++y)

@@ -21,13 +21,14 @@ struct SsaoDetail {
 
 // A texel as an occluder: its tangent plane, packed so one sample reads one 16-byte record.
 struct OccluderPlane {
-  glm::vec3 normal{0.0f};  // view space
-  float offset = 1.0f;     // N·P (≤ 0 on geometry); > 0 marks background
+  glm::vec3 normal;  // view space
+  float offset;      // N·P (≤ 0 on geometry); > 0 marks background
 };
-std::vector<OccluderPlane> occluderPlanes(const GBuffer& g);
+using OccluderPlanes = PixelVector<OccluderPlane>;
+OccluderPlanes occluderPlanes(const GBuffer& g);
 
 // AO at level pixel (x, y): 1 − occlusion / N; 1 on background (SPEC §1).
-float ssaoAt(const GBuffer& g, const std::vector<OccluderPlane>& planes, const View& view, const LevelConstants& level,
+float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, const LevelConstants& level,
              const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail = nullptr);
 
 // The raw sub-image c_ℓ: AO where stencil = 1, 0 elsewhere (never read downstream).

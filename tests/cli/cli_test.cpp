@@ -1,0 +1,571 @@
+// Tests of the command line: they run the real `mrr` binary (MRR_BINARY) on good and bad
+// input, with stdout and stderr captured to files in the test's scratch directory. Every
+// render is tiny (builtin scenes, 64x48 or smaller, 4 or 8 samples) so the file runs in seconds.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/image_io.h"
+#include "tests/test_support.h"
+
+namespace mrr {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ---- running the binary -----------------------------------------------------------------
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void writeFile(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << bytes;
+}
+
+std::string shellQuote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'')
+      out += "'\\''";
+    else
+      out += c;
+  }
+  return out + "'";
+}
+
+struct RunResult {
+  int status = -1;       // exit status (WEXITSTATUS), or -1 if it did not exit normally
+  bool exited = false;   // false: killed by a signal (a crash)
+  std::string out, err;  // captured stdout and stderr
+  std::string command;
+};
+
+// Runs `program args...` with stdout/stderr captured to files in `captureDir`.
+RunResult runProgram(const std::string& program, const std::vector<std::string>& args,
+                     const std::string& captureDir) {
+  RunResult r;
+  const std::string outPath = (fs::path(captureDir) / "captured.stdout").string();
+  const std::string errPath = (fs::path(captureDir) / "captured.stderr").string();
+  std::string cmd = shellQuote(program);
+  for (const std::string& a : args) cmd += " " + shellQuote(a);
+  r.command = cmd;
+  cmd += " >" + shellQuote(outPath) + " 2>" + shellQuote(errPath) + " </dev/null";
+  const int raw = std::system(cmd.c_str());
+  r.exited = raw != -1 && WIFEXITED(raw);
+  r.status = r.exited ? WEXITSTATUS(raw) : -1;
+  r.out = readFile(outPath);
+  r.err = readFile(errPath);
+  fs::remove(outPath);
+  fs::remove(errPath);
+  return r;
+}
+
+RunResult runMrr(const std::vector<std::string>& args, const std::string& captureDir) {
+  return runProgram(MRR_BINARY, args, captureDir);
+}
+
+std::string describe(const RunResult& r) {
+  return "command: " + r.command + "\nexit: " + std::to_string(r.status) + "\nstdout:\n" + r.out +
+         "\nstderr:\n" + r.err;
+}
+
+// Every file (recursively) under `dir`, as paths relative to it.
+std::set<std::string> listTree(const std::string& dir) {
+  std::set<std::string> names;
+  if (!fs::exists(dir)) return names;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    names.insert(fs::relative(e.path(), dir).string());
+  return names;
+}
+
+void expectNoTemporaries(const std::string& dir) {
+  for (const std::string& name : listTree(dir))
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << "temporary file left behind: " << dir << "/" << name;
+}
+
+bool nonEmptyFile(const std::string& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0;
+}
+
+// Common arguments for a tiny, quiet render.
+std::vector<std::string> tiny(std::vector<std::string> args, const std::string& size = "64x48",
+                              const std::string& samples = "4") {
+  args.insert(args.end(), {"--size", size, "--samples", samples, "--quiet"});
+  return args;
+}
+
+// ---- generated glTF files -----------------------------------------------------------------
+// The approach of tests/common/gltf_test.cpp (a document with one base64 buffer, or a GLB
+// assembled by hand), reduced to what these tests need.
+
+constexpr int kFloat = 5126;
+constexpr int kUnsignedInt = 5125;
+
+std::string base64(const std::vector<uint8_t>& bytes) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t b0 = bytes[i];
+    const uint32_t b1 = i + 1 < bytes.size() ? bytes[i + 1] : 0u;
+    const uint32_t b2 = i + 2 < bytes.size() ? bytes[i + 2] : 0u;
+    const uint32_t triple = (b0 << 16) | (b1 << 8) | b2;
+    out += kAlphabet[(triple >> 18) & 63];
+    out += kAlphabet[(triple >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(triple >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kAlphabet[triple & 63] : '=';
+  }
+  return out;
+}
+
+void appendU32(std::string& out, uint32_t value) {
+  for (int i = 0; i < 4; ++i) out += static_cast<char>((value >> (8 * i)) & 0xFFu);
+}
+
+template <class T>
+void appendBytes(std::vector<uint8_t>& bin, const std::vector<T>& values) {
+  while (bin.size() % 4 != 0) bin.push_back(0);
+  const auto* p = reinterpret_cast<const uint8_t*>(values.data());
+  bin.insert(bin.end(), p, p + values.size() * sizeof(T));
+}
+
+// A one-mesh glTF document (one triangle list) and its binary buffer.
+struct TriangleGltf {
+  json doc;
+  std::vector<uint8_t> bin;
+
+  TriangleGltf(const std::vector<float>& positions, const std::vector<uint32_t>& indices) {
+    appendBytes(bin, positions);
+    const size_t indexOffset = (bin.size() + 3) / 4 * 4;
+    appendBytes(bin, indices);
+    const size_t vertexCount = positions.size() / 3;
+    doc = {{"asset", {{"version", "2.0"}}},
+           {"scene", 0},
+           {"scenes", json::array({{{"nodes", {0}}}})},
+           {"nodes", json::array({{{"mesh", 0}}})},
+           {"meshes", json::array({{{"name", "tri"},
+                                    {"primitives", json::array({{{"attributes", {{"POSITION", 0}}},
+                                                                 {"indices", 1}}})}}})},
+           {"bufferViews", json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positions.size() * 4}},
+                                        {{"buffer", 0},
+                                         {"byteOffset", indexOffset},
+                                         {"byteLength", indices.size() * 4}}})},
+           {"accessors", json::array({{{"bufferView", 0},
+                                       {"componentType", kFloat},
+                                       {"type", "VEC3"},
+                                       {"count", vertexCount}},
+                                      {{"bufferView", 1},
+                                       {"componentType", kUnsignedInt},
+                                       {"type", "SCALAR"},
+                                       {"count", indices.size()}}})}};
+  }
+
+  json finished(bool glb) const {
+    json d = doc;
+    json buffer = {{"byteLength", bin.size()}};
+    if (!glb) buffer["uri"] = "data:application/octet-stream;base64," + base64(bin);
+    d["buffers"] = json::array({buffer});
+    return d;
+  }
+
+  std::string gltfText() const { return finished(false).dump(1); }
+
+  std::string glbBytes() const {
+    std::string text = finished(true).dump();
+    while (text.size() % 4 != 0) text += ' ';
+    std::string data(bin.begin(), bin.end());
+    while (data.size() % 4 != 0) data += '\0';
+    std::string out;
+    appendU32(out, 0x46546C67u);  // "glTF"
+    appendU32(out, 2);
+    appendU32(out, static_cast<uint32_t>(12 + 8 + text.size() + 8 + data.size()));
+    appendU32(out, static_cast<uint32_t>(text.size()));
+    appendU32(out, 0x4E4F534Au);  // "JSON"
+    out += text;
+    appendU32(out, static_cast<uint32_t>(data.size()));
+    appendU32(out, 0x004E4942u);  // "BIN\0"
+    out += data;
+    return out;
+  }
+};
+
+const std::vector<float> kTriangle = {-1, -1, 0, 1, -1, 0, 0, 1, 0};
+
+// Writes every input file the bad-input cases name into `in`.
+void writeBadInputs(const std::string& in) {
+  auto path = [&](const char* name) { return (fs::path(in) / name).string(); };
+  fs::create_directories(path("folder.gltf"));
+  fs::create_directories(path("isdir.exr"));
+  writeFile(path("empty.gltf"), "");
+  std::string magic = TriangleGltf(kTriangle, {0, 1, 2}).glbBytes();
+  magic.replace(0, 4, "gLTF");
+  writeFile(path("magic.glb"), magic);
+  const std::string glb = TriangleGltf(kTriangle, {0, 1, 2}).glbBytes();
+  writeFile(path("truncated.glb"), glb.substr(0, glb.size() / 2));
+  writeFile(path("notgltf.gltf"), R"({"hello": "world", "numbers": [1, 2, 3]})");
+  writeFile(path("badindex.gltf"), TriangleGltf(kTriangle, {0, 1, 7}).gltfText());
+  std::vector<float> nan = kTriangle;
+  nan[4] = std::numeric_limits<float>::quiet_NaN();
+  writeFile(path("nanposition.gltf"), TriangleGltf(nan, {0, 1, 2}).gltfText());
+  writeFile(path("nomeshes.gltf"), R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0})");
+}
+
+// ---- good runs ----------------------------------------------------------------------------
+
+class CliRenderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = test::scratchDir();
+    out = (fs::path(dir) / "out").string();
+    fs::create_directories(out);
+  }
+  std::string at(const std::string& name) const { return (fs::path(out) / name).string(); }
+
+  std::string dir, out;
+};
+
+TEST_F(CliRenderTest, RenderWritesEveryOutputAndAFullReport) {
+  const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--out", at("final.exr"), "--shaded",
+                                   at("shaded.png"), "--stages", at("stages.exr"), "--report", at("report.json"),
+                                   "--reference"}),
+                             dir);
+  ASSERT_TRUE(r.exited) << describe(r);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_EQ(r.err, "") << "--quiet run wrote to stderr\n" << describe(r);
+  for (const char* name : {"final.exr", "shaded.png", "stages.exr", "report.json"})
+    EXPECT_TRUE(nonEmptyFile(at(name))) << name;
+  EXPECT_EQ(listTree(out), (std::set<std::string>{"final.exr", "shaded.png", "stages.exr", "report.json"}));
+  expectNoTemporaries(out);
+
+  const json j = json::parse(readFile(at("report.json")));
+  for (const char* key : {"scene", "effect", "path", "mode", "width", "height", "samples", "threads", "levels",
+                          "shaded_pixels_total", "ideal_speedup", "timings_ms", "error_vs_full"})
+    EXPECT_TRUE(j.contains(key)) << "report lacks " << key << ":\n" << j.dump(2);
+  ASSERT_TRUE(j.contains("levels") && j.contains("width") && j.contains("error_vs_full"));
+  EXPECT_EQ(j["effect"], "ssao");
+  EXPECT_EQ(j["path"], "cpu");
+  EXPECT_EQ(j["mode"], "multires");
+  EXPECT_EQ(j["width"], 64);
+  EXPECT_EQ(j["height"], 48);
+  EXPECT_EQ(j["samples"], 4);
+  EXPECT_GE(j["threads"].get<int>(), 1);
+  ASSERT_TRUE(j["levels"].is_array());
+  ASSERT_EQ(j["levels"].size(), 4u);
+  int64_t sum = 0;
+  for (const json& level : j["levels"]) {
+    for (const char* key : {"scale", "enabled", "sigma2", "weight", "shaded_pixels"})
+      EXPECT_TRUE(level.contains(key)) << "level lacks " << key << ": " << level.dump();
+    sum += level.value("shaded_pixels", int64_t{0});
+  }
+  EXPECT_EQ(j["levels"][0]["scale"], 1);
+  EXPECT_EQ(j["levels"][3]["scale"], 8);
+  const int64_t total = j["shaded_pixels_total"].get<int64_t>();
+  EXPECT_EQ(total, sum);
+  ASSERT_GT(total, 0);
+  EXPECT_LT(total, 64 * 48) << "the demo scene should shade fewer pixels than full resolution";
+  EXPECT_NEAR(j["ideal_speedup"].get<double>(), 64.0 * 48.0 / static_cast<double>(total), 1e-9);
+  ASSERT_TRUE(j["timings_ms"].is_object());
+  ASSERT_TRUE(j["timings_ms"].contains("total")) << j["timings_ms"].dump();
+  EXPECT_GE(j["timings_ms"]["total"].get<double>(), 0.0);
+  const json& e = j["error_vs_full"];
+  for (const char* key : {"rms", "psnr", "ssim", "max_abs", "edge_band_rms"})
+    EXPECT_TRUE(e.contains(key)) << "error_vs_full lacks " << key << ": " << e.dump();
+  EXPECT_GE(e.value("rms", -1.0), 0.0);
+  EXPECT_LE(e.value("ssim", 2.0), 1.0);
+}
+
+// The part names every multires run writes, for all four levels where they apply.
+const std::vector<std::string> kExpectedParts = {
+    "gbuffer.L0", "gbuffer.L3",    "edges",          "mask.L1",      "mask.L3",  "alpha.L2",
+    "stencil.L3", "sub.L0",        "upsample.L0",    "blendalpha.L0", "composite.L0", "levelmap",
+    "final",      "shaded",        "raw.L1",         "composite.L3"};
+
+TEST_F(CliRenderTest, StagesExrHasEveryPartByName) {
+  const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--stages", at("stages.exr")}, "48x32"), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const std::vector<ExrPart> parts = readParts(at("stages.exr"));
+  std::set<std::string> names;
+  for (const ExrPart& p : parts) names.insert(p.name);
+  for (const std::string& name : kExpectedParts) EXPECT_TRUE(names.count(name)) << "no part " << name;
+  for (const ExrPart& p : parts) {
+    if (p.name == "final") {
+      EXPECT_EQ(p.image.width, 48);
+      EXPECT_EQ(p.image.height, 32);
+    }
+    if (p.name == "gbuffer.L3") {
+      EXPECT_EQ(p.image.width, 6);
+      EXPECT_EQ(p.image.height, 4);
+    }
+  }
+}
+
+TEST_F(CliRenderTest, OiiotoolListsTheStageParts) {
+  const char* found = std::getenv("PATH");
+  std::string oiiotool;
+  if (found) {
+    std::stringstream paths(found);
+    for (std::string p; std::getline(paths, p, ':');) {
+      const fs::path candidate = fs::path(p.empty() ? "." : p) / "oiiotool";
+      if (::access(candidate.c_str(), X_OK) == 0) {
+        oiiotool = candidate.string();
+        break;
+      }
+    }
+  }
+  if (oiiotool.empty()) GTEST_SKIP() << "oiiotool not on PATH (install openimageio-tools)";
+  const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--stages", at("stages.exr")}, "48x32"), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const RunResult info = runProgram(oiiotool, {"-a", "--info", "-v", at("stages.exr")}, dir);
+  ASSERT_EQ(info.status, 0) << describe(info);
+  // `oiiotool --info -v` prints each subimage's attributes, the part name as `name: "gbuffer.L0"`.
+  for (const std::string& name : kExpectedParts)
+    EXPECT_NE(info.out.find("name: \"" + name + "\""), std::string::npos) << "oiiotool does not list " << name
+                                                                          << "\n" << info.out;
+}
+
+TEST_F(CliRenderTest, FullModeShadesEveryPixel) {
+  const RunResult r =
+      runMrr(tiny({"render", "--scene", "builtin:demo", "--mode", "full", "--report", at("r.json")}), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const json j = json::parse(readFile(at("r.json")));
+  EXPECT_EQ(j["mode"], "full");
+  EXPECT_EQ(j["shaded_pixels_total"].get<int64_t>(), 64 * 48);
+  EXPECT_EQ(j["ideal_speedup"].get<double>(), 1.0);
+  EXPECT_FALSE(j.contains("error_vs_full")) << "no --reference given";
+}
+
+TEST_F(CliRenderTest, ThreadCountDoesNotChangeTheOutputBytes) {
+  const RunResult one = runMrr(
+      tiny({"render", "--scene", "builtin:demo", "--threads", "1", "--out", at("t1.exr")}, "97x61", "8"), dir);
+  ASSERT_EQ(one.status, 0) << describe(one);
+  const RunResult two = runMrr(
+      tiny({"render", "--scene", "builtin:demo", "--threads", "2", "--out", at("t2.exr")}, "97x61", "8"), dir);
+  ASSERT_EQ(two.status, 0) << describe(two);
+  const std::string a = readFile(at("t1.exr")), b = readFile(at("t2.exr"));
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a.size(), b.size());
+  EXPECT_TRUE(a == b) << "--threads 1 and --threads 2 wrote different .exr bytes";
+}
+
+TEST_F(CliRenderTest, PlaneHasIdealSpeedup64) {
+  const RunResult r = runMrr(tiny({"render", "--scene", "builtin:plane", "--report", at("r.json")}), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const json j = json::parse(readFile(at("r.json")));
+  EXPECT_EQ(j["shaded_pixels_total"].get<int64_t>(), 64 * 48 / 64);
+  EXPECT_DOUBLE_EQ(j["ideal_speedup"].get<double>(), 64.0);
+}
+
+TEST_F(CliRenderTest, PngOutIsWritten) {
+  const RunResult r = runMrr(tiny({"render", "--scene", "builtin:boxes", "--out", at("final.png")}, "32x24"), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const std::string bytes = readFile(at("final.png"));
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  EXPECT_EQ(listTree(out), (std::set<std::string>{"final.png"}));
+  const ImageF image = readImage(at("final.png"));
+  EXPECT_EQ(image.width, 32);
+  EXPECT_EQ(image.height, 24);
+}
+
+TEST_F(CliRenderTest, ProgressGoesToStderrWithoutQuiet) {
+  const RunResult r = runMrr({"render", "--scene", "builtin:plane", "--size", "16x16", "--samples", "4", "--report",
+                              at("r.json")},
+                             dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_EQ(r.out, "") << "render writes nothing to stdout";
+  EXPECT_NE(r.err.find("[mrr]"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("error"), std::string::npos) << r.err;
+}
+
+// ---- probe --------------------------------------------------------------------------------
+
+TEST_F(CliRenderTest, ProbePrintsEveryStageAsText) {
+  const RunResult r = runMrr(tiny({"probe", "--scene", "builtin:demo", "--pixel", "20,30"}), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  for (const char* word : {"pixel (20, 30)", "edges", "level 0", "level 3", "taps", "final"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << "probe output lacks \"" << word << "\":\n" << r.out;
+  EXPECT_EQ(listTree(out), std::set<std::string>{}) << "probe writes no files";
+}
+
+TEST_F(CliRenderTest, ProbeJsonParses) {
+  const RunResult r = runMrr(tiny({"probe", "--scene", "builtin:demo", "--pixel", "63,47", "--json"}), dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  json j;
+  ASSERT_NO_THROW(j = json::parse(r.out)) << r.out;
+  for (const char* key : {"pixel", "gbuffer", "edges", "levels", "final"})
+    EXPECT_TRUE(j.contains(key)) << "probe JSON lacks " << key << ":\n" << j.dump(2);
+  EXPECT_EQ(j["pixel"], json::array({63, 47}));
+  ASSERT_TRUE(j["levels"].is_array());
+  EXPECT_EQ(j["levels"].size(), 4u);
+  for (const json& level : j["levels"]) EXPECT_TRUE(level.contains("taps")) << level.dump();
+}
+
+// ---- bad input ----------------------------------------------------------------------------
+
+struct BadCase {
+  std::string name;                // the ctest name
+  std::vector<std::string> args;   // {in} and {out} stand for the input and output folders
+  std::string expectSubstring;     // must appear in stderr's one error line
+  bool cli11 = false;              // a CLI11 parse error: its own format, not "mrr: error:"
+};
+
+std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.name; }
+
+std::string substitute(std::string s, const std::string& in, const std::string& out) {
+  for (auto [key, value] : {std::pair<std::string, std::string>{"{in}", in}, {"{out}", out}})
+    for (size_t p; (p = s.find(key)) != std::string::npos;) s.replace(p, key.size(), value);
+  return s;
+}
+
+// A tiny render of `scene` to {out}/o.exr, with `extra` options.
+std::vector<std::string> renderArgs(const std::string& scene, std::vector<std::string> extra = {}) {
+  std::vector<std::string> args = {"render", "--scene", scene, "--out", "{out}/o.exr", "--size", "32x24",
+                                   "--samples", "4", "-q"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+// A tiny render of builtin:demo where `extra` replaces nothing (later options win in CLI11,
+// but each case only adds options not already given).
+std::vector<std::string> demoWith(std::vector<std::string> extra) {
+  std::vector<std::string> args = {"render", "--scene", "builtin:demo", "-q"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+const std::vector<BadCase> kBadCases = {
+    // scene files
+    {"MissingSceneFile", renderArgs("{in}/missing.gltf"), "missing.gltf"},
+    {"DirectoryAsScene", renderArgs("{in}/folder.gltf"), "folder.gltf"},
+    {"EmptyGltf", renderArgs("{in}/empty.gltf"), "empty.gltf"},
+    {"GlbWrongMagic", renderArgs("{in}/magic.glb"), "magic.glb"},
+    {"TruncatedGlb", renderArgs("{in}/truncated.glb"), "truncated.glb"},
+    {"JsonNotGltf", renderArgs("{in}/notgltf.gltf"), "notgltf.gltf"},
+    {"OutOfRangeIndex", renderArgs("{in}/badindex.gltf"), "badindex.gltf"},
+    {"NanPosition", renderArgs("{in}/nanposition.gltf"), "nanposition.gltf"},
+    {"EmptySceneNoMeshes", renderArgs("{in}/nomeshes.gltf"), "nomeshes.gltf"},
+    {"UnknownBuiltin", renderArgs("builtin:nosuch"), "builtin:nosuch"},
+    // sizes and counts
+    {"SizeZero", demoWith({"--out", "{out}/o.exr", "--size", "0x10"}), "--size 0x10"},
+    {"SizeNegative", demoWith({"--out", "{out}/o.exr", "--size", "-5x10"}), "--size -5x10"},
+    {"SizeNotANumber", demoWith({"--out", "{out}/o.exr", "--size", "abcx10"}), "--size abcx10"},
+    {"SizeTooLarge", demoWith({"--out", "{out}/o.exr", "--size", "16385x10"}), "16385"},
+    {"SamplesZero", demoWith({"--out", "{out}/o.exr", "--size", "16x16", "--samples", "0"}), "--samples 0"},
+    {"SamplesTooMany", demoWith({"--out", "{out}/o.exr", "--size", "16x16", "--samples", "1025"}), "--samples 1025"},
+    {"SamplesNotANumber", demoWith({"--out", "{out}/o.exr", "--size", "16x16", "--samples", "abc"}), "--samples",
+     true},
+    {"ThreadsNegative", renderArgs("builtin:demo", {"--threads", "-1"}), "--threads"},
+    // choices
+    {"UnknownEffect", renderArgs("builtin:demo", {"--effect", "foo"}), "--effect foo"},
+    {"UnknownMode", renderArgs("builtin:demo", {"--mode", "foo"}), "--mode foo"},
+    {"UnknownPath", renderArgs("builtin:demo", {"--path", "foo"}), "--path foo"},
+    {"GpuPathNotBuilt", renderArgs("builtin:demo", {"--path", "gpu"}), "--path gpu"},
+    {"DisableLevelZero", renderArgs("builtin:demo", {"--disable-level", "0"}), "--disable-level 0"},
+    {"CameraOutOfRange", renderArgs("builtin:demo", {"--camera", "5"}), "--camera 5"},
+    {"EyeWithoutTarget", renderArgs("builtin:demo", {"--eye", "0,1,5"}), "--target"},
+    // outputs
+    {"OutIntoMissingDirectory", demoWith({"--size", "16x16", "--out", "{out}/nodir/o.exr"}), "nodir"},
+    {"OutIsADirectory", demoWith({"--size", "16x16", "--out", "{in}/isdir.exr"}), "is a directory"},
+    {"OutUnsupportedExtension", demoWith({"--size", "16x16", "--out", "{out}/o.tiff"}), ".tiff"},
+    {"StagesNotExr", demoWith({"--size", "16x16", "--stages", "{out}/st.png"}), "--stages"},
+    {"NothingToWrite", demoWith({"--size", "16x16"}), "nothing to write"},
+    // probe
+    {"ProbePixelOutside", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q", "--pixel",
+                           "32,5"}, "--pixel 32,5"},
+    {"ProbePixelNegative", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                            "--pixel=-1,5"}, "--pixel -1,5"},
+    {"ProbePixelMalformed", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                             "--pixel", "12;7"}, "--pixel 12;7"},
+};
+
+class CliBadInputTest : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(CliBadInputTest, FailsWithOneLineAndWritesNothing) {
+  const BadCase& c = GetParam();
+  const std::string dir = test::scratchDir();
+  const std::string in = (fs::path(dir) / "in").string();
+  const std::string out = (fs::path(dir) / "out").string();
+  fs::create_directories(in);
+  fs::create_directories(out);
+  writeBadInputs(in);
+  const std::set<std::string> inBefore = listTree(in);
+
+  std::vector<std::string> args;
+  for (const std::string& a : c.args) args.push_back(substitute(a, in, out));
+  const RunResult r = runMrr(args, dir);
+
+  ASSERT_TRUE(r.exited) << "crashed\n" << describe(r);
+  EXPECT_NE(r.status, 0) << describe(r);
+  EXPECT_EQ(r.out, "") << "nothing on stdout for an error\n" << describe(r);
+  const std::string expect = substitute(c.expectSubstring, in, out);
+  if (c.cli11) {
+    // CLI11's own message: names the option, may add a "Run with --help" hint line.
+    EXPECT_NE(r.err.find(expect), std::string::npos) << describe(r);
+    EXPECT_EQ(r.err.find("mrr: error:"), std::string::npos) << describe(r);
+  } else {
+    ASSERT_FALSE(r.err.empty()) << describe(r);
+    EXPECT_EQ(r.err.back(), '\n') << describe(r);
+    const std::string line = r.err.back() == '\n' ? r.err.substr(0, r.err.size() - 1) : r.err;
+    EXPECT_EQ(line.find('\n'), std::string::npos) << "stderr is not exactly one line\n" << describe(r);
+    EXPECT_EQ(line.rfind("mrr: error: ", 0), 0u) << describe(r);
+    EXPECT_NE(line.find(expect), std::string::npos) << "error does not name \"" << expect << "\"\n" << describe(r);
+    EXPECT_EQ(r.status, 2) << "MrrError exits with status 2\n" << describe(r);
+  }
+  EXPECT_EQ(listTree(out), std::set<std::string>{}) << "output left behind\n" << describe(r);
+  EXPECT_EQ(listTree(in), inBefore) << "files created next to the inputs\n" << describe(r);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, CliBadInputTest, ::testing::ValuesIn(kBadCases),
+                         [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// A failing render must not remove or damage an output that already exists.
+TEST(CliOutputTest, FailedRunLeavesAnExistingOutputAlone) {
+  const std::string dir = test::scratchDir();
+  const std::string target = (fs::path(dir) / "keep.exr").string();
+  writeFile(target, "previous contents");
+  const RunResult r = runMrr({"render", "--scene", (fs::path(dir) / "missing.gltf").string(), "--out", target,
+                              "--size", "16x16", "--samples", "4", "-q"},
+                             dir);
+  EXPECT_EQ(r.status, 2) << describe(r);
+  EXPECT_EQ(readFile(target), "previous contents");
+  expectNoTemporaries(dir);
+}
+
+TEST(CliOutputTest, NoSubcommandIsAnError) {
+  const std::string dir = test::scratchDir();
+  const RunResult r = runMrr({}, dir);
+  ASSERT_TRUE(r.exited) << describe(r);
+  EXPECT_NE(r.status, 0) << describe(r);
+  EXPECT_FALSE(r.err.empty()) << describe(r);
+}
+
+TEST(CliOutputTest, HelpExitsZero) {
+  const std::string dir = test::scratchDir();
+  const RunResult r = runMrr({"render", "--help"}, dir);
+  EXPECT_EQ(r.status, 0) << describe(r);
+  for (const char* option : {"--scene", "--size", "--samples", "--out", "--stages", "--report", "--reference"})
+    EXPECT_NE(r.out.find(option), std::string::npos) << option << "\n" << r.out;
+}
+
+}  // namespace
+}  // namespace mrr

@@ -38,6 +38,7 @@ struct FrameOptions {
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
   float aoRadius = 0.0f;
+  bool texelDepth = false;
   std::optional<float> tauN, tauZ;
   std::vector<int> disabledLevels;
   bool quiet = false;
@@ -61,6 +62,8 @@ struct FrameOptions {
     app.add_flag("--flip-up", flipUp, "rotate the scene 180 degrees about X (files authored Y-down)");
     app.add_flag("--no-flip-up", noFlipUp, "do not flip, even where the scene catalogue would");
     app.add_option("--ao-radius", aoRadius, "SSAO radius in world units (0 = 3% of the scene diagonal)");
+    app.add_flag("--ao-texel-depth", texelDepth,
+                 "SSAO: compare against the texel-centre depth instead of the tangent plane (the classic test)");
     app.add_option("--tau-n", tauN, "normal-edge threshold on 1 - N.N (default 0.1)");
     app.add_option("--tau-z", tauZ, "depth-edge threshold on |second difference of 1/z| / (1/z) (default 0.02)");
     app.add_option("--disable-level", disabledLevels, "disable level 1, 2 or 3 (repeatable)");
@@ -75,6 +78,7 @@ struct FrameOptions {
     s.height = h;
     s.ssao.samples = samples;
     s.ssao.radius = aoRadius;
+    s.ssao.tangentPlaneDepth = !texelDepth;
     if (tauN) s.edges.normalThreshold = *tauN;
     if (tauZ) s.edges.depthThreshold = *tauZ;
     for (int l : disabledLevels) {

@@ -113,6 +113,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
                       ? s.ssao.radius
                       : SsaoSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
   c.ssao.bias = s.ssao.biasFraction * c.ssao.radius;
+  c.ssao.tangentPlaneDepth = s.ssao.tangentPlaneDepth;
   c.ssao.kernel = ssaoKernel(s.ssao.samples);
 
   c.bilateral.radius = s.bilateral.radius;

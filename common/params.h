@@ -38,6 +38,9 @@ struct SsaoSettings {
   int samples = 64;          // N [1, kMaxSsaoSamples]
   float radius = 0.0f;       // R, world units; 0 = auto: kAutoRadiusFraction × scene diagonal
   float biasFraction = 0.05f;  // depth bias as a fraction of R [0, 1]
+  // Occluder depth from the texel's tangent plane along the sample's ray (docs/spec.md §6.1),
+  // not the texel-centre depth: keeps coarse levels from occluding themselves on slopes.
+  bool tangentPlaneDepth = true;
   static constexpr float kAutoRadiusFraction = 0.03f;
 };
 
@@ -90,6 +93,7 @@ struct Constants {
     int samples = 0;
     float radius = 0.0f;
     float bias = 0.0f;
+    bool tangentPlaneDepth = true;
     std::vector<glm::vec3> kernel;  // tangent-space hemisphere samples (kernels.h)
   } ssao;
   struct Bilateral {

@@ -34,7 +34,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["padded_height"] = c.paddedHeight;
   j["samples"] = c.ssao.samples;
   j["threads"] = info.threads;
-  j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}};
+  j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}, {"tangent_plane_depth", c.ssao.tangentPlaneDepth}};
   j["edges"] = {{"tau_n", c.edges.normalThreshold}, {"tau_z", c.edges.depthThreshold}};
   nlohmann::json levels = nlohmann::json::array();
   for (int l = 0; l < kLevelCount; ++l) {

@@ -30,7 +30,8 @@ float rangeCheck(float radius, float receiverDepth, float bufferDepth) {
 // level, where the texel-centre depth alone is off by up to half a texel of slope and makes
 // coarse levels occlude themselves (docs/method.md, "tangent-plane depth"). Rays within
 // ~6° of grazing fall back to the texel-centre depth.
-float occluderDepth(const glm::vec3& sample, const OccluderPlane& plane, float texelDepth) {
+float occluderDepth(const glm::vec3& sample, const OccluderPlane& plane, float texelDepth, bool tangentPlane) {
+  if (!tangentPlane) return texelDepth;  // the classic depth-buffer test (for comparison)
   const float along = glm::dot(plane.normal, sample);
   if (along * along <= 0.01f * glm::dot(sample, sample)) return texelDepth;  // |cos| <= 0.1
   return -sample.z * (plane.offset / along);
@@ -96,7 +97,7 @@ float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, c
       ++d.background;
       continue;
     }
-    const float bufferDepth = occluderDepth(s, plane, g.depth.data[texel]);
+    const float bufferDepth = occluderDepth(s, plane, g.depth.data[texel], ssao.tangentPlaneDepth);
     if (bufferDepth < sampleDepth - ssao.bias) {
       ++d.occluders;
       occlusion += rangeCheck(ssao.radius, receiverDepth, bufferDepth);

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Regenerates every image in docs/images from mrr's own output (the README's stage picture,
+# the method walk-through in docs/method.md, and the shared scenes in docs/scenes.md).
+# Usage: scripts/make-doc-images.sh   (after scripts/build.sh; needs ../shared/scenes for the
+# scene thumbnails, and fonts-dejavu-core for the labels)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+mrr="$here/build/mrr"
+img="$here/docs/images"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$img"
+font=/usr/share/fonts/truetype/dejavu/DejaVuSans-Bold.ttf
+label() {  # label IN OUT TEXT
+  if [ -f "$font" ]; then
+    oiiotool "$1" --ch R,G,B --text:x=12:y=34:size=26:color=1,0.9,0.2:font="$font" "$3" -o "$2"
+  else
+    cp "$1" "$2"
+  fi
+}
+echo "[docs] demo scene stages" >&2
+common=(--scene builtin:demo --size 640x360 --samples 64 --quiet)
+"$mrr" render "${common[@]}" --out "$work/final.exr" --shaded "$work/shaded.png" --stages "$work/stages.exr"
+"$mrr" render "${common[@]}" --mode full --out "$work/reference.exr"
+bash "$here/scripts/stage-previews.sh" "$work/stages.exr" "$work"
+for f in final reference; do oiiotool "$work/$f.exr" --ch Y,Y,Y -d uint8 -o "$work/$f.png"; done
+oiiotool "$work/final.exr" "$work/reference.exr" --absdiff --mulc 10 --clamp:min=0:max=1 --ch Y,Y,Y -d uint8 -o "$work/diff.png"
+label "$work/shaded.png" "$work/l1.png" "scene (shaded)"
+label "$work/edges.png" "$work/l2.png" "1 edges: normal depth background"
+label "$work/levelmap.png" "$work/l3.png" "2 finest level per pixel"
+label "$work/stencil_L0.png" "$work/l4.png" "3 stencil S0 (full res)"
+label "$work/stencil_L2.png" "$work/l5.png" "3 stencil S2 (1/4 res)"
+label "$work/sub_L0.png" "$work/l6.png" "4 sub-image c0 (full res)"
+label "$work/sub_L3.png" "$work/l7.png" "4 sub-image c3 (1/8 res)"
+label "$work/final.png" "$work/l8.png" "5 blended result"
+label "$work/diff.png" "$work/l9.png" "|result - full| x10"
+oiiotool "$work"/l{1,2,3,4,5,6,7,8,9}.png --mosaic:pad=4 3x3 -d uint8 -o "$img/pipeline.png"
+for f in shaded edges levelmap stencil_L0 stencil_L1 stencil_L2 stencil_L3 alpha_L0 alpha_L1 alpha_L2 sub_L0 sub_L1 sub_L2 sub_L3 final reference diff; do
+  cp "$work/$f.png" "$img/demo_$f.png"
+done
+if [ -d "${MRR_SCENES_DIR:-$here/../shared/scenes}" ]; then
+  for s in cornell arcade apartment; do
+    echo "[docs] $s" >&2
+    "$mrr" render --scene "$s" --size 640x360 --samples 64 --quiet --shaded "$work/$s.png" --out "$work/${s}_ao.png" \
+      --stages "$work/${s}_stages.exr"
+    bash "$here/scripts/stage-previews.sh" "$work/${s}_stages.exr" "$work/${s}_prev" >/dev/null
+    oiiotool "$work/$s.png" "$work/${s}_ao.png" --ch 0,0,0 "$work/${s}_prev/edges.png" "$work/${s}_prev/levelmap.png" \
+      --mosaic:pad=4 4x1 --resize 1280x0 -d uint8 -o "$img/scene_$s.png" 2>/dev/null || \
+    oiiotool "$work/$s.png" "$work/${s}_prev/edges.png" "$work/${s}_prev/levelmap.png" --mosaic:pad=4 3x1 -d uint8 -o "$img/scene_$s.png"
+  done
+fi
+echo "[docs] wrote $(ls "$img" | wc -l) images to $img" >&2

@@ -6,6 +6,7 @@
 
 #include <malloc.h>
 
+#include <cctype>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -107,6 +108,29 @@ struct FrameOptions {
   }
 };
 
+// Checks that `path` ends in one of `extensions` (any case) and can be written, before any
+// work starts.
+void checkOutput(const std::string& path, const std::string& option, const std::vector<std::string>& extensions) {
+  std::string lower = path;
+  for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  bool ok = false;
+  std::string list;
+  for (const std::string& e : extensions) {
+    ok = ok || (lower.size() > e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0);
+    list += (list.empty() ? "" : " or ") + e;
+  }
+  require(ok, option + " " + path + ": expected a " + list + " file");
+  checkOutputPath(path, option);
+}
+
+// Two options naming one file would silently overwrite each other.
+void requireDistinct(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  for (size_t i = 0; i < outputs.size(); ++i)
+    for (size_t j = i + 1; j < outputs.size(); ++j)
+      require(outputs[i].second.empty() || outputs[i].second != outputs[j].second,
+              outputs[i].first + " and " + outputs[j].first + " name the same file " + outputs[i].second);
+}
+
 ProgressFn progressPrinter(bool quiet, const std::string& what) {
   if (quiet) return {};
   return [what](const std::string& stage) { std::cerr << "[mrr] " << what << ": " << stage << "\n"; };
@@ -161,19 +185,28 @@ int run(int argc, char** argv) {
   }
 
   if (*bench) {
-    if (quick) {
-      benchOpts.scenes = {"builtin:demo"};
-      benchOpts.sizes = {{320, 180}};
-      benchOpts.samples = {16, 64};
-      benchOpts.repeats = 1;
+    if (quick) {  // defaults for a run of seconds; options given explicitly still win
+      if (!bench->count("--scenes")) benchOpts.scenes = {"builtin:demo"};
+      if (!bench->count("--sizes")) benchOpts.sizes = {{320, 180}};
+      if (!bench->count("--samples")) benchOpts.samples = {16, 64};
+      if (!bench->count("--repeats")) benchOpts.repeats = 1;
     }
     if (!benchSizes.empty()) {
       benchOpts.sizes.clear();
       for (const auto& s : benchSizes) benchOpts.sizes.push_back(parseSize(s));
     }
     require(benchOpts.repeats >= 1 && benchOpts.repeats <= 100, "--repeats: must be in [1, 100]");
-    if (!benchOpts.jsonOut.empty()) checkOutputPath(benchOpts.jsonOut, "--json");
-    if (!benchOpts.markdownOut.empty()) checkOutputPath(benchOpts.markdownOut, "--markdown");
+    for (const auto& [w, h] : benchOpts.sizes)
+      require(w >= 1 && h >= 1 && w <= kMaxImageSize && h <= kMaxImageSize,
+              "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
+                  std::to_string(kMaxImageSize) + "]");
+    for (int n : benchOpts.samples)
+      require(n >= 1 && n <= kMaxSsaoSamples, "--samples " + std::to_string(n) + ": must be in [1, " +
+                                                  std::to_string(kMaxSsaoSamples) + "] for ssao");
+    require(benchOpts.threads >= 0 && benchOpts.threads <= 1024, "--threads: must be in [0, 1024]");
+    if (!benchOpts.jsonOut.empty()) checkOutput(benchOpts.jsonOut, "--json", {".json"});
+    if (!benchOpts.markdownOut.empty()) checkOutput(benchOpts.markdownOut, "--markdown", {".md"});
+    requireDistinct({{"--json", benchOpts.jsonOut}, {"--markdown", benchOpts.markdownOut}});
     return runBench(benchOpts, std::cout);
   }
 
@@ -191,13 +224,11 @@ int run(int argc, char** argv) {
   if (*render) {
     require(!out.empty() || !shaded.empty() || !stages.empty() || !report.empty(),
             "render: nothing to write (give --out, --shaded, --stages or --report)");
-    if (!out.empty()) checkOutputPath(out, "--out");
-    if (!shaded.empty()) checkOutputPath(shaded, "--shaded");
-    if (!stages.empty()) {
-      checkOutputPath(stages, "--stages");
-      require(stages.size() > 4 && stages.substr(stages.size() - 4) == ".exr", "--stages " + stages + ": must be an .exr file");
-    }
-    if (!report.empty()) checkOutputPath(report, "--report");
+    if (!out.empty()) checkOutput(out, "--out", {".exr", ".png"});
+    if (!shaded.empty()) checkOutput(shaded, "--shaded", {".exr", ".png"});
+    if (!stages.empty()) checkOutput(stages, "--stages", {".exr"});
+    if (!report.empty()) checkOutput(report, "--report", {".json"});
+    requireDistinct({{"--out", out}, {"--shaded", shaded}, {"--stages", stages}, {"--report", report}});
   }
 
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
@@ -247,7 +278,8 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   // Keep freed image memory in the heap: frames allocate hundreds of MB of same-sized images,
   // and returning them to the kernel makes every next frame page-fault them in again.
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  // (M_MMAP_THRESHOLD is capped at 32 MiB, so switch mmap off instead of raising it.)
+  mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, -1);
   try {
     return mrr::run(argc, argv);

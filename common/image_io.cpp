@@ -148,6 +148,9 @@ OIIO::ImageSpec floatSpec(const ImageF& image, const std::vector<std::string>& n
   for (int c = 0; c < image.channels; ++c)
     if (names[static_cast<size_t>(c)] == "A") spec.alpha_channel = c;
   spec.attribute("compression", "zip");  // lossless, so float data round-trips bit-exactly
+  // OIIO stamps the current time when no DateTime is set: the same render would then write
+  // different bytes a second later. A fixed value keeps outputs byte-reproducible.
+  spec.attribute("DateTime", "");
   return spec;
 }
 

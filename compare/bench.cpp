@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "common/image_io.h"
 #include "compare/report.h"
@@ -32,19 +33,25 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-Timed timedRender(const Renderer& r, const Camera& cam, const Constants& c, int repeats) {
-  Timed t;
-  std::map<std::string, std::vector<double>> samples;
-  for (int i = 0; i <= repeats; ++i) {
-    FrameResult f = r.render(cam, c, {false, {}});
-    if (i == 0) continue;  // warm-up
-    std::map<std::string, double> perStage;
-    for (const StageTiming& s : f.timings) perStage[s.stage] += s.ms;
-    for (const auto& [k, v] : perStage) samples[k].push_back(v);
-    t.frame = std::move(f);
-  }
-  for (auto& [k, v] : samples) t.medianMs[k] = median(v);
-  return t;
+// Renders the two modes alternately, `repeats` times each after one warm-up of each, so
+// that drift in the machine (other load, frequency, memory) hits both alike; the ratio of
+// medians is then a side-by-side figure.
+std::pair<Timed, Timed> timedPair(const Renderer& r, const Camera& cam, const Constants& a, const Constants& b,
+                                  int repeats) {
+  Timed ta, tb;
+  std::map<std::string, std::vector<double>> sa, sb;
+  for (int i = 0; i <= repeats; ++i)
+    for (auto [c, t, s] : {std::tuple{&a, &ta, &sa}, std::tuple{&b, &tb, &sb}}) {
+      FrameResult f = r.render(cam, *c, {false, {}});
+      if (i == 0) continue;  // warm-up
+      std::map<std::string, double> perStage;
+      for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
+      for (const auto& [k, v] : perStage) (*s)[k].push_back(v);
+      if (i == repeats) t->frame = std::move(f);  // keep only the last: the heap stays one frame big
+    }
+  for (auto& [k, v] : sa) ta.medianMs[k] = median(v);
+  for (auto& [k, v] : sb) tb.medianMs[k] = median(v);
+  return {std::move(ta), std::move(tb)};
 }
 
 // The method's own cost: everything but the full-res G-buffer, which a deferred renderer
@@ -79,7 +86,7 @@ int runBench(const BenchOptions& o, std::ostream& out) {
   nlohmann::json runs = nlohmann::json::array();
   std::ostringstream md;
   md << "Machine: " << machineName() << ", " << hw << " hardware threads; oracle (cpu_ref), " << threads
-     << " threads; median of " << o.repeats << " repeats after 1 warm-up.\n"
+     << " threads; median of " << o.repeats << " repeats after 1 warm-up, full and multires alternating.\n"
      << "Effect time = frame time minus the full-res G-buffer (shared by both modes). "
      << "Measured speedup = full effect time / multires effect time; ideal = W*H / shaded pixels.\n\n";
   md << "| scene | size | samples | full ms | multires ms | measured | ideal | measured/ideal | RMS | PSNR | SSIM | edge-band RMS | Mrays/s |\n"
@@ -116,8 +123,7 @@ int runBench(const BenchOptions& o, std::ostream& out) {
         Timed full, multi;
         {
           tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-          full = timedRender(*renderer, rs.camera, cf, o.repeats);
-          multi = timedRender(*renderer, rs.camera, cm, o.repeats);
+          std::tie(full, multi) = timedPair(*renderer, rs.camera, cf, cm, o.repeats);
         }
         const ErrorFigures err = errorVsFull(multi.frame, full.frame).effect;
         const double fullMs = effectMs(full.medianMs), multiMs = effectMs(multi.medianMs);
@@ -147,8 +153,7 @@ int runBench(const BenchOptions& o, std::ostream& out) {
           Timed full1, multi1;
           {
             tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
-            full1 = timedRender(*renderer, rs.camera, cf, o.repeats);
-            multi1 = timedRender(*renderer, rs.camera, cm, o.repeats);
+            std::tie(full1, multi1) = timedPair(*renderer, rs.camera, cf, cm, o.repeats);
           }
           for (auto [name, one, many] : {std::tuple{"full", &full1, &full}, std::tuple{"multires", &multi1, &multi}}) {
             const double t1 = one->medianMs.at("total"), tn = many->medianMs.at("total");

@@ -7,14 +7,23 @@
 
 namespace mrr {
 
+namespace {
+// floor(u) and u − floor(u) for u = (p + ½)/s − ½ = (2p + 1 − s) / 2s, in integers. Every
+// quantity here is a small dyadic rational, so float arithmetic (what a shader does with
+// floor()) gives exactly these values; integers just avoid a libm floor call per tap.
+void tapCoordinate(int p, int s, int& base, float& fraction) {
+  const int num = 2 * p + 1 - s, den = 2 * s;
+  base = num >= 0 ? num / den : -((-num + den - 1) / den);
+  fraction = static_cast<float>(num - base * den) / static_cast<float>(den);
+}
+}  // namespace
+
 BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
-  const float inv = 1.0f / static_cast<float>(level.scale);
   // u = (p + ½)/s − ½ in level coordinates
-  const float u = (static_cast<float>(px) + 0.5f) * inv - 0.5f;
-  const float v = (static_cast<float>(py) + 0.5f) * inv - 0.5f;
-  const float fx = std::floor(u), fy = std::floor(v);
-  const float tx = u - fx, ty = v - fy;
-  const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
+  int x0 = 0, y0 = 0;
+  float tx = 0.0f, ty = 0.0f;
+  tapCoordinate(px, level.scale, x0, tx);
+  tapCoordinate(py, level.scale, y0, ty);
   BilinearTaps t;
   const int xs[2] = {std::clamp(x0, 0, level.width - 1), std::clamp(x0 + 1, 0, level.width - 1)};
   const int ys[2] = {std::clamp(y0, 0, level.height - 1), std::clamp(y0 + 1, 0, level.height - 1)};
@@ -54,9 +63,80 @@ Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& al
   return u;
 }
 
+float alphaAt(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level, int px, int py) {
+  const BilinearTaps t = bilinearTaps(px, py, level);
+  float coverage = 0.0f, alphaHat = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    alphaHat += t.weight[k] * alpha.at(t.x[k], t.y[k]);
+    if (stencil.at(t.x[k], t.y[k])) coverage += t.weight[k];
+  }
+  return coverage > 0.0f ? std::min(alphaHat * level.weight, 1.0f) : 0.0f;  // as upsampleAt
+}
+
 float blendStep(float alpha, float fine, float coarserComposite) {
   return alpha * fine + (1.0f - alpha) * coarserComposite;
 }
+
+namespace {
+
+// The final image and level map without the per-level images, bit-identical to the full
+// pass below: levels are visited fine to coarse for their α first, and only the ones that
+// can change the result are upsampled. That is exact because blendStep(1, f, c) = f and
+// blendStep(0, f, c) = c in float arithmetic for finite values.
+void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, BlendResult& r) {
+  const int channels = r.final.channels;
+  // live_ℓ(q) = some a_ℓ > 0 within q's 3×3 neighbourhood: the bilinear taps of every
+  // full-res pixel inside level pixel q lie there, so where it is 0, α_ℓ = 0 exactly and the
+  // level is skipped with one byte read.
+  std::array<ImageU8, kLevelCount> live;
+  for (int l = 0; l < c.coarsestEnabled; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const ImageF& a = *levels[static_cast<size_t>(l)].alpha;
+    ImageU8& m = live[static_cast<size_t>(l)];
+    m = ImageU8(lc.width, lc.height);
+    tbb::parallel_for(0, lc.height, [&](int y) {
+      for (int x = 0; x < lc.width; ++x) {
+        uint8_t any = 0;
+        for (int j = std::max(y - 1, 0); j <= std::min(y + 1, lc.height - 1); ++j)
+          for (int i = std::max(x - 1, 0); i <= std::min(x + 1, lc.width - 1); ++i) any |= a.at(i, j) > 0.0f;
+        m.at(x, y) = any;
+      }
+    });
+  }
+  tbb::parallel_for(0, c.height, [&](int y) {
+    for (int x = 0; x < c.width; ++x) {
+      float alphas[kLevelCount] = {0, 0, 0, 0};
+      int base = c.coarsestEnabled;  // the finest level whose α is 1: nothing coarser shows
+      for (int l = 0; l < c.coarsestEnabled; ++l) {
+        const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+        if (!lc.enabled) continue;
+        if (!live[static_cast<size_t>(l)].at(x / lc.scale, y / lc.scale)) continue;  // α = 0
+        const LevelImages& in = levels[static_cast<size_t>(l)];
+        alphas[l] = alphaAt(*in.stencil, *in.alpha, lc, x, y);
+        if (alphas[l] == 1.0f) {
+          base = l;
+          break;
+        }
+      }
+      const LevelImages& b = levels[static_cast<size_t>(base)];
+      const Upsampled bu = upsampleAt(*b.sub, *b.stencil, *b.alpha, c.levels[static_cast<size_t>(base)], x, y);
+      float composite[4] = {bu.color[0], bu.color[1], bu.color[2], bu.color[3]};
+      uint8_t finest = static_cast<uint8_t>(base);
+      for (int l = base - 1; l >= 0; --l) {
+        if (!c.levels[static_cast<size_t>(l)].enabled || alphas[l] == 0.0f) continue;
+        const LevelImages& in = levels[static_cast<size_t>(l)];
+        const Upsampled u = upsampleAt(*in.sub, *in.stencil, *in.alpha, c.levels[static_cast<size_t>(l)], x, y);
+        for (int ch = 0; ch < channels; ++ch) composite[ch] = blendStep(alphas[l], u.color[ch], composite[ch]);
+        finest = static_cast<uint8_t>(l);
+      }
+      for (int ch = 0; ch < channels; ++ch) r.final.at(x, y, ch) = composite[ch];
+      r.levelMap.at(x, y) = finest;
+    }
+  });
+}
+
+}  // namespace
 
 BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, bool keepStages) {
   BlendResult r;
@@ -71,6 +151,10 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
       r.alpha[static_cast<size_t>(l)] = ImageF(w, h, 1);
       r.composite[static_cast<size_t>(l)] = ImageF(w, h, channels);
     }
+  if (!keepStages) {
+    blendFinalOnly(levels, c, r);
+    return r;
+  }
   // One pass over the pixels; at each, the levels from the coarsest enabled C (c'_C = ĉ_C)
   // to the finest, keeping the running composite in registers.
   tbb::parallel_for(0, h, [&](int y) {

@@ -27,6 +27,9 @@ struct Upsampled {
 Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
                      int px, int py);
 
+// α_ℓ(p) alone (the same value upsampleAt returns), for the final-only blend.
+float alphaAt(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level, int px, int py);
+
 // One blend step: c'_ℓ = α ĉ_ℓ + (1 − α) c'_{coarser} (SPEC §5, corrected Eq. 1).
 float blendStep(float alpha, float fine, float coarserComposite);
 

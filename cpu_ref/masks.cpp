@@ -23,22 +23,30 @@ ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
   const int r = static_cast<int>(weights.size() / 2);
   const int w = mask.width, h = mask.height;
   ImageF horizontal(w, h), out(w, h);
-  // 1. horizontal pass, clamp-to-edge
-  tbb::parallel_for(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      float sum = 0.0f;
+  // The same sum in the same order either way; the clamp is needed only near the border.
+  auto horizontalAt = [&](int x, int y) {
+    float sum = 0.0f;
+    if (x >= r && x < w - r) {
+      const uint8_t* row = &mask.at(x - r, y);
+      for (int i = 0; i <= 2 * r; ++i) sum += weights[static_cast<size_t>(i)] * static_cast<float>(row[i]);
+    } else {
       for (int i = -r; i <= r; ++i)
         sum += weights[static_cast<size_t>(i + r)] * static_cast<float>(mask.at(std::clamp(x + i, 0, w - 1), y));
-      horizontal.at(x, y) = sum;
     }
-  });
-  // 2. vertical pass, clamp-to-edge
+    return sum;
+  };
+  // 1. horizontal pass, clamp-to-edge
   tbb::parallel_for(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      float sum = 0.0f;
-      for (int i = -r; i <= r; ++i)
-        sum += weights[static_cast<size_t>(i + r)] * horizontal.at(x, std::clamp(y + i, 0, h - 1));
-      out.at(x, y) = sum;
+    for (int x = 0; x < w; ++x) horizontal.at(x, y) = horizontalAt(x, y);
+  });
+  // 2. vertical pass, clamp-to-edge, a row at a time so the inner loop runs along memory
+  tbb::parallel_for(0, h, [&](int y) {
+    float* dst = &out.at(0, y);
+    for (int x = 0; x < w; ++x) dst[x] = 0.0f;
+    for (int i = -r; i <= r; ++i) {
+      const float wi = weights[static_cast<size_t>(i + r)];
+      const float* src = &horizontal.at(0, std::clamp(y + i, 0, h - 1));
+      for (int x = 0; x < w; ++x) dst[x] += wi * src[x];
     }
   });
   return out;

@@ -60,8 +60,10 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    OccluderPlanes& planes = planes_[static_cast<size_t>(l)];
+    stage("planes.L" + std::to_string(l), [&] { occluderPlanes(lr.gbuffer, planes); });
     stage("effect.L" + std::to_string(l),
-          [&] { lr.raw = renderSsao(lr.gbuffer, lr.masks.stencil, f.view, lc, c.ssao); });
+          [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao); });
     stage("bilateral.L" + std::to_string(l),
           [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
     for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;

@@ -16,6 +16,7 @@
 #include "cpu_ref/edges.h"
 #include "cpu_ref/gbuffer.h"
 #include "cpu_ref/masks.h"
+#include "cpu_ref/ssao.h"
 
 namespace mrr {
 
@@ -70,6 +71,9 @@ class Renderer {
   double bvhBuildMs_ = 0.0;
   std::chrono::steady_clock::time_point buildStart_ = std::chrono::steady_clock::now();
   RayScene rays_;  // built after buildStart_ is taken (member order), timed in the constructor
+  // Scratch reused across frames, so a steady stream of frames does not page-fault it in
+  // again each time (render() is therefore not re-entrant).
+  mutable std::array<OccluderPlanes, kLevelCount> planes_;
 };
 
 }  // namespace mrr

@@ -12,7 +12,7 @@ namespace mrr {
 
 namespace {
 constexpr float kTwoPi = 6.28318530717958647692f;
-constexpr int kTile = 32;  // pixels per tile side: keeps the samples' texels in cache
+constexpr int kTile = 16;  // pixels per tile side: keeps the samples' texels in cache
 
 // GLSL's smoothstep(0, 1, x).
 float smoothstep01(float x) {
@@ -22,7 +22,11 @@ float smoothstep01(float x) {
 
 // SPEC §6 range check: an occluder much farther from the receiver than R counts less.
 float rangeCheck(float radius, float receiverDepth, float bufferDepth) {
-  return smoothstep01(radius / std::max(std::fabs(receiverDepth - bufferDepth), 1e-6f));
+  const float distance = std::fabs(receiverDepth - bufferDepth);
+  // Within R the ratio is ≥ 1 and smoothstep gives exactly 1: skip the division (the common
+  // case at creases, where most occluders are near).
+  if (distance <= radius) return 1.0f;
+  return smoothstep01(radius / distance);
 }
 
 // Depth of the occluder seen along the sample's view ray: the ray meets the tangent plane of
@@ -39,7 +43,13 @@ float occluderDepth(const glm::vec3& sample, const OccluderPlane& plane, float t
 }  // namespace
 
 OccluderPlanes occluderPlanes(const GBuffer& g) {
-  OccluderPlanes planes(g.depth.pixelCount());  // uninitialised: filled in parallel below
+  OccluderPlanes planes;
+  occluderPlanes(g, planes);
+  return planes;
+}
+
+void occluderPlanes(const GBuffer& g, OccluderPlanes& planes) {
+  planes.resize(g.depth.pixelCount());  // uninitialised: filled in parallel below
   tbb::parallel_for(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       OccluderPlane& p = planes[static_cast<size_t>(y) * g.width + x];
@@ -51,11 +61,15 @@ OccluderPlanes occluderPlanes(const GBuffer& g) {
       }
     }
   });
-  return planes;
 }
 
-float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, const LevelConstants& level,
-             const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail) {
+namespace {
+// The per-pixel evaluation. With kDetail the probe's counters are kept; without, they
+// compile away. Both compute the same AO bits. (A branch-free occlusion test was measured
+// slower here: it evaluates the range check for every sample.)
+template <bool kDetail>
+float ssaoEval(const GBuffer& g, const OccluderPlanes& planes, const View& view, const LevelConstants& level,
+               const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail) {
   if (!g.hit.at(x, y)) return 1.0f;
   const glm::vec3 p = g.positionAt(x, y);
   const glm::vec3 n = g.normalAt(x, y);
@@ -81,38 +95,42 @@ float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, c
   for (const glm::vec3& k : ssao.kernel) {
     const glm::vec3 s = p + ssao.radius * (t * k.x + b * k.y + n * k.z);
     const float sampleDepth = -s.z;
-    if (sampleDepth <= 0.0f) {
-      ++d.offscreen;
-      continue;
-    }
     const glm::vec2 px = view.project(s) * invScale;  // level coordinates
-    if (!(px.x >= 0.0f && px.y >= 0.0f && px.x < width && px.y < height)) {
-      ++d.offscreen;
+    if (!(sampleDepth > 0.0f && px.x >= 0.0f && px.y >= 0.0f && px.x < width && px.y < height)) {
+      if constexpr (kDetail) ++d.offscreen;
       continue;
     }
     const int ix = static_cast<int>(px.x), iy = static_cast<int>(px.y);  // floor: both ≥ 0
     const size_t texel = static_cast<size_t>(iy) * g.width + ix;
     const OccluderPlane& plane = planes[texel];
-    if (plane.offset > 0.0f) {
-      ++d.background;
+    if (plane.offset > 0.0f) {  // background never occludes
+      if constexpr (kDetail) ++d.background;
       continue;
     }
     const float bufferDepth = occluderDepth(s, plane, g.depth.data[texel], ssao.tangentPlaneDepth);
     if (bufferDepth < sampleDepth - ssao.bias) {
-      ++d.occluders;
+      if constexpr (kDetail) ++d.occluders;
       occlusion += rangeCheck(ssao.radius, receiverDepth, bufferDepth);
     }
   }
-  d.occlusion = occlusion;
-  if (detail) *detail = d;
+  if constexpr (kDetail) {
+    d.occlusion = occlusion;
+    *detail = d;
+  }
   // 3. AO = 1 − occlusion / N
   return 1.0f - occlusion / static_cast<float>(ssao.samples);
 }
+}  // namespace
 
-ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,
-                  const Constants::Ssao& ssao) {
+float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, const LevelConstants& level,
+             const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail) {
+  return detail ? ssaoEval<true>(g, planes, view, level, ssao, x, y, detail)
+                : ssaoEval<false>(g, planes, view, level, ssao, x, y, nullptr);
+}
+
+ImageF renderSsao(const GBuffer& g, const OccluderPlanes& planes, const ImageU8& stencil, const View& view,
+                  const LevelConstants& level, const Constants::Ssao& ssao) {
   ImageF out(g.width, g.height, 1, 0.0f);
-  const OccluderPlanes planes = occluderPlanes(g);
   tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, kTile, 0, g.width, kTile),
                     [&](const tbb::blocked_range2d<int>& r) {
                       for (int y = r.rows().begin(); y != r.rows().end(); ++y)

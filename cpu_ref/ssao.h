@@ -25,6 +25,8 @@ struct OccluderPlane {
   float offset;      // N·P (≤ 0 on geometry); > 0 marks background
 };
 using OccluderPlanes = PixelVector<OccluderPlane>;
+// Fills `planes` (resized to the level; its storage is reused from frame to frame).
+void occluderPlanes(const GBuffer& g, OccluderPlanes& planes);
 OccluderPlanes occluderPlanes(const GBuffer& g);
 
 // AO at level pixel (x, y): 1 − occlusion / N; 1 on background (SPEC §1).
@@ -32,7 +34,7 @@ float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, c
              const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail = nullptr);
 
 // The raw sub-image c_ℓ: AO where stencil = 1, 0 elsewhere (never read downstream).
-ImageF renderSsao(const GBuffer& g, const ImageU8& stencil, const View& view, const LevelConstants& level,
-                  const Constants::Ssao& ssao);
+ImageF renderSsao(const GBuffer& g, const OccluderPlanes& planes, const ImageU8& stencil, const View& view,
+                  const LevelConstants& level, const Constants::Ssao& ssao);
 
 }  // namespace mrr

@@ -159,7 +159,7 @@ TEST(TangentPlaneDepth, CoarseLevelsDoNotOccludeAPlane) {
     return sum / static_cast<double>(std::max<int64_t>(n, 1));
   };
   EXPECT_GT(meanRaw(exact.frame, 3), 0.999);
-  EXPECT_LT(meanRaw(classic.frame, 3), 0.97);  // measured 0.9; the bias alone cannot hide it
+  EXPECT_LT(meanRaw(classic.frame, 3), 0.97);  // measured 0.85; the bias alone cannot hide it
 }
 
 }  // namespace

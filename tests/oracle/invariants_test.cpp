@@ -208,3 +208,34 @@ TEST(Levels, UnshadedPixelsAreNeverEvaluated) {
 
 }  // namespace
 }  // namespace mrr
+
+namespace mrr {
+namespace {
+
+// The benchmark's final-only blend skips levels that cannot change a pixel; it must give
+// the same bits as the full pass that keeps every stage image.
+class EveryBuiltinFast : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EveryBuiltinFast, FinalOnlyBlendIsBitIdenticalToTheFullPass) {
+  const auto r = test::renderScene("builtin:" + GetParam(), test::ssaoSettings(123, 77, 8));
+  const FrameResult& f = r.frame;
+  std::array<LevelImages, kLevelCount> in;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    in[static_cast<size_t>(l)] = {&lr.sub, &lr.masks.stencil, &lr.masks.alpha};
+  }
+  for (bool dropHalf : {false, true}) {
+    Constants c = f.constants;
+    if (dropHalf) c.levels[1].enabled = false;  // also across a disabled level
+    const BlendResult full = blendLevels(in, c, true), fast = blendLevels(in, c, false);
+    ASSERT_EQ(full.final.data.size(), fast.final.data.size());
+    EXPECT_EQ(std::memcmp(full.final.data.data(), fast.final.data.data(), full.final.data.size() * sizeof(float)), 0);
+    EXPECT_EQ(full.levelMap.data, fast.levelMap.data);
+    EXPECT_TRUE(fast.upsampled[0].empty());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, EveryBuiltinFast, ::testing::ValuesIn(builtinSceneNames()));
+
+}  // namespace
+}  // namespace mrr

@@ -120,7 +120,7 @@ void checkOutput(const std::string& path, const std::string& option, const std::
     list += (list.empty() ? "" : " or ") + e;
   }
   require(ok, option + " " + path + ": expected a " + list + " file");
-  checkOutputPath(path, option);
+  checkOutputLocation(path, option);
 }
 
 // Two options naming one file would silently overwrite each other.

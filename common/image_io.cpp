@@ -154,6 +154,8 @@ OIIO::ImageSpec floatSpec(const ImageF& image, const std::vector<std::string>& n
   return spec;
 }
 
+}  // namespace
+
 // The part of checkOutputPath that does not look at the extension.
 void checkOutputLocation(const std::string& path, const std::string& what) {
   const std::string prefix = what + " " + path + ": ";
@@ -167,7 +169,6 @@ void checkOutputLocation(const std::string& path, const std::string& what) {
           prefix + "directory " + parent.string() + " is not writable");
 }
 
-}  // namespace
 
 void checkOutputPath(const std::string& path, const std::string& what) {
   const std::string prefix = what + " " + path + ": ";

@@ -12,6 +12,8 @@ namespace mrr {
 // Fails early, with one line, when `path` cannot be written: its directory is missing or
 // not writable, or the path is a directory. `what` names the option ("--out").
 void checkOutputPath(const std::string& path, const std::string& what);
+// The same checks without the extension rule (for text outputs of any kind).
+void checkOutputLocation(const std::string& path, const std::string& what);
 
 // Writes an image by extension: .exr as float32 with `channelNames` (one per channel;
 // empty = R,G,B,A or Y), .png as an opaque 8-bit preview (values clamped to [0,1],

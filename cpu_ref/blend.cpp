@@ -10,11 +10,12 @@ namespace mrr {
 namespace {
 // floor(u) and u − floor(u) for u = (p + ½)/s − ½ = (2p + 1 − s) / 2s, in integers. Every
 // quantity here is a small dyadic rational, so float arithmetic (what a shader does with
-// floor()) gives exactly these values; integers just avoid a libm floor call per tap.
-void tapCoordinate(int p, int s, int& base, float& fraction) {
+// floor()) gives exactly these values. 2s is a power of two: the floor division is an
+// arithmetic shift (C++20 defines >> on negative values as floor), the remainder a mask.
+void tapCoordinate(int p, int s, int shift, int& base, float& fraction) {
   const int num = 2 * p + 1 - s, den = 2 * s;
-  base = num >= 0 ? num / den : -((-num + den - 1) / den);
-  fraction = static_cast<float>(num - base * den) / static_cast<float>(den);
+  base = num >> shift;
+  fraction = static_cast<float>(num & (den - 1)) / static_cast<float>(den);
 }
 }  // namespace
 
@@ -22,8 +23,9 @@ BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
   // u = (p + ½)/s − ½ in level coordinates
   int x0 = 0, y0 = 0;
   float tx = 0.0f, ty = 0.0f;
-  tapCoordinate(px, level.scale, x0, tx);
-  tapCoordinate(py, level.scale, y0, ty);
+  const int shift = level.index + 1;  // 2s = 2^(ℓ+1)
+  tapCoordinate(px, level.scale, shift, x0, tx);
+  tapCoordinate(py, level.scale, shift, y0, ty);
   BilinearTaps t;
   const int xs[2] = {std::clamp(x0, 0, level.width - 1), std::clamp(x0 + 1, 0, level.width - 1)};
   const int ys[2] = {std::clamp(y0, 0, level.height - 1), std::clamp(y0 + 1, 0, level.height - 1)};

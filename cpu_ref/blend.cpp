@@ -19,7 +19,7 @@ void tapCoordinate(int p, int s, int shift, int& base, float& fraction) {
 }
 }  // namespace
 
-BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
+[[gnu::always_inline]] static inline BilinearTaps tapsOf(int px, int py, const LevelConstants& level) {
   // u = (p + ½)/s − ½ in level coordinates
   int x0 = 0, y0 = 0;
   float tx = 0.0f, ty = 0.0f;
@@ -39,9 +39,12 @@ BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
   return t;
 }
 
-Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
-                     int px, int py) {
-  const BilinearTaps t = bilinearTaps(px, py, level);
+BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) { return tapsOf(px, py, level); }
+
+// The blend's inner loop: inlined there (it runs up to four times per full-res pixel).
+[[gnu::always_inline]] static inline Upsampled upsampleImpl(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha,
+                                                     const LevelConstants& level, int px, int py) {
+  const BilinearTaps t = tapsOf(px, py, level);
   Upsampled u;
   float coverage = 0.0f;
   for (int k = 0; k < 4; ++k) {
@@ -65,14 +68,24 @@ Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& al
   return u;
 }
 
-float alphaAt(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level, int px, int py) {
-  const BilinearTaps t = bilinearTaps(px, py, level);
+Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
+                     int px, int py) {
+  return upsampleImpl(sub, stencil, alpha, level, px, py);
+}
+
+[[gnu::always_inline]] static inline float alphaImpl(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
+                                              int px, int py) {
+  const BilinearTaps t = tapsOf(px, py, level);
   float coverage = 0.0f, alphaHat = 0.0f;
   for (int k = 0; k < 4; ++k) {
     alphaHat += t.weight[k] * alpha.at(t.x[k], t.y[k]);
     if (stencil.at(t.x[k], t.y[k])) coverage += t.weight[k];
   }
   return coverage > 0.0f ? std::min(alphaHat * level.weight, 1.0f) : 0.0f;  // as upsampleAt
+}
+
+float alphaAt(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level, int px, int py) {
+  return alphaImpl(stencil, alpha, level, px, py);
 }
 
 float blendStep(float alpha, float fine, float coarserComposite) {
@@ -96,14 +109,20 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
     if (!lc.enabled) continue;
     const ImageF& a = *levels[static_cast<size_t>(l)].alpha;
     ImageU8& m = live[static_cast<size_t>(l)];
+    ImageU8 rows(lc.width, lc.height);  // 3-wide max along x of [a > 0], then along y
     m = ImageU8(lc.width, lc.height);
     tbb::parallel_for(0, lc.height, [&](int y) {
-      for (int x = 0; x < lc.width; ++x) {
-        uint8_t any = 0;
-        for (int j = std::max(y - 1, 0); j <= std::min(y + 1, lc.height - 1); ++j)
-          for (int i = std::max(x - 1, 0); i <= std::min(x + 1, lc.width - 1); ++i) any |= a.at(i, j) > 0.0f;
-        m.at(x, y) = any;
-      }
+      const float* src = &a.at(0, y);
+      uint8_t* dst = &rows.at(0, y);
+      for (int x = 0; x < lc.width; ++x)
+        dst[x] = (src[x] > 0.0f) | (x > 0 && src[x - 1] > 0.0f) | (x + 1 < lc.width && src[x + 1] > 0.0f);
+    });
+    tbb::parallel_for(0, lc.height, [&](int y) {
+      const uint8_t* mid = &rows.at(0, y);
+      const uint8_t* up = &rows.at(0, std::max(y - 1, 0));
+      const uint8_t* down = &rows.at(0, std::min(y + 1, lc.height - 1));
+      uint8_t* dst = &m.at(0, y);
+      for (int x = 0; x < lc.width; ++x) dst[x] = mid[x] | up[x] | down[x];
     });
   }
   tbb::parallel_for(0, c.height, [&](int y) {
@@ -113,22 +132,22 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
       for (int l = 0; l < c.coarsestEnabled; ++l) {
         const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
         if (!lc.enabled) continue;
-        if (!live[static_cast<size_t>(l)].at(x / lc.scale, y / lc.scale)) continue;  // α = 0
+        if (!live[static_cast<size_t>(l)].at(x >> lc.index, y >> lc.index)) continue;  // α = 0 (s = 2^ℓ)
         const LevelImages& in = levels[static_cast<size_t>(l)];
-        alphas[l] = alphaAt(*in.stencil, *in.alpha, lc, x, y);
+        alphas[l] = alphaImpl(*in.stencil, *in.alpha, lc, x, y);
         if (alphas[l] == 1.0f) {
           base = l;
           break;
         }
       }
       const LevelImages& b = levels[static_cast<size_t>(base)];
-      const Upsampled bu = upsampleAt(*b.sub, *b.stencil, *b.alpha, c.levels[static_cast<size_t>(base)], x, y);
+      const Upsampled bu = upsampleImpl(*b.sub, *b.stencil, *b.alpha, c.levels[static_cast<size_t>(base)], x, y);
       float composite[4] = {bu.color[0], bu.color[1], bu.color[2], bu.color[3]};
       uint8_t finest = static_cast<uint8_t>(base);
       for (int l = base - 1; l >= 0; --l) {
         if (!c.levels[static_cast<size_t>(l)].enabled || alphas[l] == 0.0f) continue;
         const LevelImages& in = levels[static_cast<size_t>(l)];
-        const Upsampled u = upsampleAt(*in.sub, *in.stencil, *in.alpha, c.levels[static_cast<size_t>(l)], x, y);
+        const Upsampled u = upsampleImpl(*in.sub, *in.stencil, *in.alpha, c.levels[static_cast<size_t>(l)], x, y);
         for (int ch = 0; ch < channels; ++ch) composite[ch] = blendStep(alphas[l], u.color[ch], composite[ch]);
         finest = static_cast<uint8_t>(l);
       }
@@ -168,7 +187,7 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
         const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
         if (!lc.enabled) continue;
         const LevelImages& in = levels[static_cast<size_t>(l)];
-        const Upsampled u = upsampleAt(*in.sub, *in.stencil, *in.alpha, lc, x, y);
+        const Upsampled u = upsampleImpl(*in.sub, *in.stencil, *in.alpha, lc, x, y);
         // The coarsest level covers every pixel: it is the base the finer ones blend over.
         const float alpha = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
         for (int ch = 0; ch < channels; ++ch)

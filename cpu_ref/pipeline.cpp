@@ -62,8 +62,13 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
     OccluderPlanes& planes = planes_[static_cast<size_t>(l)];
     stage("planes.L" + std::to_string(l), [&] { occluderPlanes(lr.gbuffer, planes); });
+    // Long stages (over ~2·10⁸ samples, seconds on 2 cores) also report their tenths.
+    std::function<void(double)> tenths;
+    const double work = static_cast<double>(lc.width) * lc.height * c.ssao.samples;
+    if (progress && work > 2e8)
+      tenths = [&, l](double done) { progress("effect.L" + std::to_string(l) + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%"); };
     stage("effect.L" + std::to_string(l),
-          [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao); });
+          [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
     stage("bilateral.L" + std::to_string(l),
           [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
     for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;

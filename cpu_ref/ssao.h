@@ -1,5 +1,6 @@
 #pragma once
 // Stage 4 — the SSAO sub-image (SPEC §4, §6): evaluated only where the stencil is set.
+#include <functional>
 #include <vector>
 
 #include "common/camera.h"
@@ -34,7 +35,9 @@ float ssaoAt(const GBuffer& g, const OccluderPlanes& planes, const View& view, c
              const Constants::Ssao& ssao, int x, int y, SsaoDetail* detail = nullptr);
 
 // The raw sub-image c_ℓ: AO where stencil = 1, 0 elsewhere (never read downstream).
+// `onProgress(fraction)` is called (from any thread) each time another tenth is done.
 ImageF renderSsao(const GBuffer& g, const OccluderPlanes& planes, const ImageU8& stencil, const View& view,
-                  const LevelConstants& level, const Constants::Ssao& ssao);
+                  const LevelConstants& level, const Constants::Ssao& ssao,
+                  const std::function<void(double)>& onProgress = {});
 
 }  // namespace mrr

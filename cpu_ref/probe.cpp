@@ -121,6 +121,7 @@ std::string formatProbe(const nlohmann::json& j) {
       << e["background"]["background_neighbour"] << ")\n"
       << "              E = " << e["E"] << "\n";
   }
+  o << "levels, fine to coarse (the blend runs coarse to fine: c'_l = alpha * c_hat_l + (1 - alpha) * c'_coarser)\n";
   for (const auto& l : j["levels"]) {
     o << "level " << l["level"] << " (1/" << l["scale"] << ")";
     if (!l["enabled"].get<bool>()) {

@@ -32,7 +32,7 @@ struct FrameOptions {
   std::string mode = "multires";
   std::string path = "cpu";
   std::string size = "1280x720";
-  int samples = 64;
+  std::optional<int> samples;
   int threads = 0;
   std::optional<int> camera;
   std::string eye, target;
@@ -40,6 +40,9 @@ struct FrameOptions {
   bool flipUp = false, noFlipUp = false;
   float aoRadius = 0.0f;
   bool texelDepth = false;
+  std::optional<int> shadowMapSize;
+  std::optional<float> lightAngle;
+  float giRadius = 0.0f;
   std::optional<float> tauN, tauZ;
   std::vector<int> disabledLevels;
   bool quiet = false;
@@ -50,11 +53,13 @@ struct FrameOptions {
     app.add_option("--scene", scene,
                    "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path. Built-ins:" + builtins)
         ->capture_default_str();
-    app.add_option("--effect", effect, "ssao")->capture_default_str();
+    app.add_option("--effect", effect, "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)")->capture_default_str();
     app.add_option("--mode", mode, "multires (the method) or full (the reference)")->capture_default_str();
     app.add_option("--path", path, "cpu (the oracle); gpu is not built yet")->capture_default_str();
     app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
-    app.add_option("--samples", samples, "effect samples per pixel (ssao: 1..1024)")->capture_default_str();
+    app.add_option("--samples", samples,
+                   "samples per pixel (default ssao 64, ssm 196, ssgi 288; ssao 1..1024, ssm a square n*n up to 1024, "
+                   "ssgi 1..8192)");
     app.add_option("--threads", threads, "worker threads (0 = all cores); results are identical for any count");
     app.add_option("--camera", camera, "index into the scene's cameras");
     app.add_option("--eye", eye, "camera position x,y,z (with --target)");
@@ -63,6 +68,9 @@ struct FrameOptions {
     app.add_flag("--flip-up", flipUp, "rotate the scene 180 degrees about X (files authored Y-down)");
     app.add_flag("--no-flip-up", noFlipUp, "do not flip, even where the scene catalogue would");
     app.add_option("--ao-radius", aoRadius, "SSAO radius in world units (0 = 3% of the scene diagonal)");
+    app.add_option("--shadow-map-size", shadowMapSize, "ssm/ssgi: shadow map texels per side (default 2048)");
+    app.add_option("--light-angle", lightAngle, "ssm: the light's angular diameter in radians (default 0.05)");
+    app.add_option("--gi-radius", giRadius, "ssgi: sample radius in world units (0 = 6% of the scene diagonal)");
     app.add_flag("--ao-texel-depth", texelDepth,
                  "SSAO: compare against the texel-centre depth instead of the tangent plane (the classic test)");
     app.add_option("--tau-n", tauN, "normal-edge threshold on 1 - N.N (default 0.1)");
@@ -77,8 +85,11 @@ struct FrameOptions {
     const auto [w, h] = parseSize(size);
     s.width = w;
     s.height = h;
-    s.ssao.samples = samples;
+    if (samples) s.setSamples(*samples);
     s.ssao.radius = aoRadius;
+    s.ssgi.radius = giRadius;
+    if (shadowMapSize) s.ssm.shadowMapSize = *shadowMapSize;
+    if (lightAngle) s.ssm.lightAngle = *lightAngle;
     s.ssao.tangentPlaneDepth = !texelDepth;
     if (tauN) s.edges.normalThreshold = *tauN;
     if (tauZ) s.edges.depthThreshold = *tauZ;
@@ -171,7 +182,10 @@ int run(int argc, char** argv) {
   auto* bench = app.add_subcommand("bench", "the oracle's speed/accuracy benchmark (full vs multires, side by side)");
   bench->add_option("--scenes", benchOpts.scenes, "scenes to run")->capture_default_str();
   bench->add_option("--sizes", benchSizes, "sizes WxH (default 1280x720 1920x1080)");
-  bench->add_option("--samples", benchOpts.samples, "SSAO sample counts")->capture_default_str();
+  bench->add_option("--effects", benchOpts.effects, "effects: ssao ssm ssgi")->capture_default_str();
+  bench->add_option("--samples", benchOpts.samples,
+                    "sample counts for every effect (default per effect: ssao 16 64 256, ssm 100 196 324, ssgi 24 80 288)");
+  bench->add_flag("--no-scaling", [&](int64_t) { benchOpts.scaling = false; }, "skip the 1-thread runs");
   bench->add_option("--repeats", benchOpts.repeats, "timed repeats per configuration")->capture_default_str();
   bench->add_option("--threads", benchOpts.threads, "threads (0 = all cores)");
   bench->add_option("--json", benchOpts.jsonOut, "write all figures as JSON");
@@ -200,9 +214,13 @@ int run(int argc, char** argv) {
       require(w >= 1 && h >= 1 && w <= kMaxImageSize && h <= kMaxImageSize,
               "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
                   std::to_string(kMaxImageSize) + "]");
-    for (int n : benchOpts.samples)
-      require(n >= 1 && n <= kMaxSsaoSamples, "--samples " + std::to_string(n) + ": must be in [1, " +
-                                                  std::to_string(kMaxSsaoSamples) + "] for ssao");
+    for (const std::string& e : benchOpts.effects) {
+      Settings probeSettings = defaultSettings(parseEffect(e));  // validates the name
+      for (int n : benchOpts.samples) {
+        probeSettings.setSamples(n);
+        validateSettings(probeSettings);
+      }
+    }
     require(benchOpts.threads >= 0 && benchOpts.threads <= 1024, "--threads: must be in [0, 1024]");
     if (!benchOpts.jsonOut.empty()) checkOutput(benchOpts.jsonOut, "--json", {".json"});
     if (!benchOpts.markdownOut.empty()) checkOutput(benchOpts.markdownOut, "--markdown", {".md"});

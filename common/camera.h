@@ -27,6 +27,9 @@ struct View {
   glm::vec3 directionToView(const glm::vec3& d) const {
     return {glm::dot(d, right), glm::dot(d, up), -glm::dot(d, forward)};
   }
+  // View → world space.
+  glm::vec3 toWorld(const glm::vec3& v) const { return eye + directionToWorld(v); }
+  glm::vec3 directionToWorld(const glm::vec3& v) const { return right * v.x + up * v.y - forward * v.z; }
   // View-space direction (not normalised) through the full-res continuous point (px, py).
   glm::vec3 viewRay(float px, float py) const { return {(px - cx) / focal, -(py - cy) / focal, -1.0f}; }
   // World-space direction (not normalised) through (px, py); its forward component is 1,

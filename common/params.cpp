@@ -10,6 +10,8 @@ namespace mrr {
 std::string toString(Effect effect) {
   switch (effect) {
     case Effect::Ssao: return "ssao";
+    case Effect::Ssm: return "ssm";
+    case Effect::Ssgi: return "ssgi";
   }
   return "?";
 }
@@ -18,7 +20,9 @@ std::string toString(Mode mode) { return mode == Mode::Full ? "full" : "multires
 
 Effect parseEffect(const std::string& name) {
   if (name == "ssao") return Effect::Ssao;
-  throw MrrError("--effect " + name + ": unknown effect (expected ssao)");
+  if (name == "ssm") return Effect::Ssm;
+  if (name == "ssgi") return Effect::Ssgi;
+  throw MrrError("--effect " + name + ": unknown effect (expected ssao, ssm or ssgi)");
 }
 
 Mode parseMode(const std::string& name) {
@@ -36,9 +40,50 @@ Settings defaultSettings(Effect effect) {
       s.levels = {{{true, 0.924f, 100.0f}, {true, 1.848f, 50.0f}, {true, 3.696f, 20.0f},
                    {true, 0.0f, 1.0f}}};
       break;
+    case Effect::Ssm:
+      s.levels = {{{true, 0.924f, 1000.0f}, {true, 1.848f, 1000.0f}, {true, 3.696f, 1000.0f},
+                   {true, 0.0f, 1.0f}}};
+      break;
+    case Effect::Ssgi:  // the paper drops the half level for SSGI
+      s.levels = {{{true, 0.924f, 1000.0f}, {false, 0.0f, 0.0f}, {true, 0.924f, 100.0f},
+                   {true, 0.0f, 1.0f}}};
+      break;
   }
   return s;
 }
+
+int Settings::samples() const {
+  switch (effect) {
+    case Effect::Ssm: return ssm.samples;
+    case Effect::Ssgi: return ssgi.samples;
+    case Effect::Ssao: break;
+  }
+  return ssao.samples;
+}
+
+void Settings::setSamples(int n) {
+  switch (effect) {
+    case Effect::Ssm: ssm.samples = n; return;
+    case Effect::Ssgi: ssgi.samples = n; return;
+    case Effect::Ssao: ssao.samples = n; return;
+  }
+}
+
+int Constants::samples() const {
+  switch (effect) {
+    case Effect::Ssm: return ssm.samples;
+    case Effect::Ssgi: return ssgi.samples;
+    case Effect::Ssao: break;
+  }
+  return ssao.samples;
+}
+
+namespace {
+int squareRoot(int n) {
+  int r = static_cast<int>(std::lround(std::sqrt(static_cast<double>(n))));
+  return r * r == n ? r : -1;
+}
+}  // namespace
 
 void validateSettings(const Settings& s) {
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
@@ -48,6 +93,19 @@ void validateSettings(const Settings& s) {
   require(s.ssao.samples >= 1 && s.ssao.samples <= kMaxSsaoSamples,
           "--samples " + std::to_string(s.ssao.samples) + ": must be in [1, " +
               std::to_string(kMaxSsaoSamples) + "] for ssao");
+  require(s.ssm.samples >= 1 && s.ssm.samples <= kMaxSsmSamples && squareRoot(s.ssm.samples) > 0,
+          "--samples " + std::to_string(s.ssm.samples) + ": must be a square n*n in [1, " +
+              std::to_string(kMaxSsmSamples) + "] for ssm (PCF over an n x n grid, e.g. 196 = 14*14)");
+  require(s.ssgi.samples >= 1 && s.ssgi.samples <= kMaxSsgiSamples,
+          "--samples " + std::to_string(s.ssgi.samples) + ": must be in [1, " +
+              std::to_string(kMaxSsgiSamples) + "] for ssgi");
+  require(s.ssm.shadowMapSize >= 16 && s.ssm.shadowMapSize <= kMaxShadowMapSize,
+          "--shadow-map-size " + std::to_string(s.ssm.shadowMapSize) + ": must be in [16, " +
+              std::to_string(kMaxShadowMapSize) + "]");
+  require(s.ssm.lightAngle > 0.0f && s.ssm.lightAngle <= 0.5f, "--light-angle: must be in (0, 0.5] radians");
+  require(s.ssm.blockerGrid >= 1 && s.ssm.blockerGrid <= 16, "blocker grid: must be in [1, 16]");
+  require(s.ssm.biasTexels >= 0.0f && s.ssm.biasTexels <= 16.0f, "shadow bias: must be in [0, 16] texels");
+  require(std::isfinite(s.ssgi.radius) && s.ssgi.radius >= 0.0f, "--gi-radius: must be a finite value >= 0");
   require(std::isfinite(s.ssao.radius) && s.ssao.radius >= 0.0f,
           "--ao-radius: must be a finite value >= 0 (0 = automatic)");
   require(s.ssao.biasFraction >= 0.0f && s.ssao.biasFraction <= 1.0f,
@@ -115,6 +173,20 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   c.ssao.bias = s.ssao.biasFraction * c.ssao.radius;
   c.ssao.tangentPlaneDepth = s.ssao.tangentPlaneDepth;
   c.ssao.kernel = ssaoKernel(s.ssao.samples);
+
+  c.ssm.samples = s.ssm.samples;
+  c.ssm.grid = squareRoot(s.ssm.samples);
+  c.ssm.shadowMapSize = s.ssm.shadowMapSize;
+  c.ssm.tanHalfAngle = std::tan(0.5f * s.ssm.lightAngle);
+  c.ssm.blockerGrid = s.ssm.blockerGrid;
+  c.ssm.biasTexels = s.ssm.biasTexels;
+
+  c.ssgi.samples = s.ssgi.samples;
+  c.ssgi.radius = s.ssgi.radius > 0.0f ? s.ssgi.radius
+                                       : SsgiSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
+  c.ssgi.patchArea = 3.14159265f * c.ssgi.radius * c.ssgi.radius / static_cast<float>(s.ssgi.samples);
+  c.ssgi.minDistance2 = 0.0625f * c.ssgi.radius * c.ssgi.radius;
+  c.ssgi.kernel = ssaoKernel(s.ssgi.samples, 0x51a61u);
 
   c.bilateral.radius = s.bilateral.radius;
   c.bilateral.sigmaDepth = s.bilateral.sigmaDepth;

@@ -11,7 +11,7 @@
 
 namespace mrr {
 
-enum class Effect { Ssao };
+enum class Effect { Ssao, Ssm, Ssgi };
 enum class Mode { Multires, Full };
 
 std::string toString(Effect effect);
@@ -22,6 +22,9 @@ Mode parseMode(const std::string& name);
 constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
 constexpr int kMaxImageSize = 16384;     // per side; beyond it the G-buffers alone exceed RAM
 constexpr int kMaxSsaoSamples = 1024;    // the paper stops at 256
+constexpr int kMaxSsmSamples = 1024;     // PCF taps, a square n² (the paper: 10² .. 18²)
+constexpr int kMaxSsgiSamples = 8192;    // the paper goes to 4224
+constexpr int kMaxShadowMapSize = 8192;
 
 struct LevelSettings {
   bool enabled = true;
@@ -44,6 +47,20 @@ struct SsaoSettings {
   static constexpr float kAutoRadiusFraction = 0.03f;
 };
 
+struct SsmSettings {
+  int samples = 196;             // PCF taps N = n² [1, kMaxSsmSamples], a perfect square
+  int shadowMapSize = 2048;      // texels per side of the light's orthographic shadow map [16, 8192]
+  float lightAngle = 0.05f;      // angular diameter of the light, radians (0, 0.5]: sets penumbra widths
+  int blockerGrid = 6;           // blocker search taps per side [1, 16]
+  float biasTexels = 1.5f;       // receiver offset along its normal and depth bias, in texels [0, 16]
+};
+
+struct SsgiSettings {
+  int samples = 288;             // N [1, kMaxSsgiSamples] (the paper: 24, 80, 288, 1088, 4224)
+  float radius = 0.0f;           // R, world units; 0 = auto: kAutoRadiusFraction × scene diagonal
+  static constexpr float kAutoRadiusFraction = 0.06f;
+};
+
 struct BilateralSettings {
   int radius = 2;              // taps each side [0, 8]; 0 disables the blur
   float sigmaSpatial = 1.5f;   // spatial Gaussian σ, level pixels
@@ -59,7 +76,13 @@ struct Settings {
   std::array<LevelSettings, kLevelCount> levels{};
   EdgeSettings edges;
   SsaoSettings ssao;
+  SsmSettings ssm;
+  SsgiSettings ssgi;
   BilateralSettings bilateral;
+
+  // The sample count of the selected effect (what --samples sets).
+  int samples() const;
+  void setSamples(int n);
 };
 
 // The paper's defaults for an effect (Table 1; SPEC §3).
@@ -96,12 +119,31 @@ struct Constants {
     bool tangentPlaneDepth = true;
     std::vector<glm::vec3> kernel;  // tangent-space hemisphere samples (kernels.h)
   } ssao;
+  struct Ssm {
+    int samples = 0;
+    int grid = 0;                // n, with n² = samples
+    int shadowMapSize = 0;
+    float tanHalfAngle = 0.0f;   // penumbra width per unit of receiver-blocker distance, halved
+    int blockerGrid = 0;
+    float biasTexels = 0.0f;
+  } ssm;
+  struct Ssgi {
+    int samples = 0;
+    float radius = 0.0f;
+    float patchArea = 0.0f;          // A_s = π R² / N (Ritschel et al. 2009)
+    float minDistance2 = 0.0f;       // (R/4)²: the sender distance is clamped to it
+    std::vector<glm::vec3> kernel;   // same generator as SSAO's
+  } ssgi;
   struct Bilateral {
     int radius = 0;
     float sigmaDepth = 0.0f;
     float normalPower = 0.0f;
     std::vector<float> spatial;  // (2r+1)² spatial weights, row-major
   } bilateral;
+
+  int samples() const;  // of the selected effect
+  int channels() const { return effect == Effect::Ssgi ? 3 : 1; }
+  bool needsShadowMap() const { return effect != Effect::Ssao; }
 
   // The enabled level coarser than ℓ that ℓ blends over, or -1 for the coarsest.
   int nextCoarserEnabled(int level) const;

@@ -89,13 +89,27 @@ int runBench(const BenchOptions& o, std::ostream& out) {
      << " threads; median of " << o.repeats << " repeats after 1 warm-up, full and multires alternating.\n"
      << "Effect time = frame time minus the full-res G-buffer (shared by both modes). "
      << "Measured speedup = full effect time / multires effect time; ideal = W*H / shaded pixels.\n\n";
-  md << "| scene | size | samples | full ms | multires ms | measured | ideal | measured/ideal | RMS | PSNR | SSIM | edge-band RMS | Mrays/s |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  md << "| scene | effect | size | samples | full ms | multires ms | measured | ideal | measured/ideal | RMS | PSNR | SSIM | edge-band RMS | Mrays/s |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::ostringstream stagesMd, scalingMd;
-  stagesMd << "| scene | size | samples | mode | stage medians (ms) |\n|---|---|---|---|---|\n";
-  scalingMd << "| scene | size | samples | mode | 1 thread ms | " << threads << " threads ms | scaling |\n|---|---|---|---|---|---|---|\n";
+  stagesMd << "| scene | effect | size | samples | mode | stage medians (ms) |\n|---|---|---|---|---|---|\n";
+  scalingMd << "| scene | effect | size | samples | mode | 1 thread ms | " << threads
+            << " threads ms | scaling |\n|---|---|---|---|---|---|---|---|\n";
+  auto samplesFor = [&](Effect e) {
+    if (!o.samples.empty()) return o.samples;
+    switch (e) {
+      case Effect::Ssm: return std::vector<int>{100, 196, 324};
+      case Effect::Ssgi: return std::vector<int>{24, 80, 288};
+      case Effect::Ssao: break;
+    }
+    return std::vector<int>{16, 64, 256};
+  };
+  std::vector<Effect> effects;
+  for (const std::string& e : o.effects) effects.push_back(parseEffect(e));
+  size_t perScene = 0;
+  for (Effect e : effects) perScene += samplesFor(e).size();
 
-  const size_t totalSteps = o.scenes.size() * o.sizes.size() * o.samples.size();
+  const size_t totalSteps = o.scenes.size() * o.sizes.size() * perScene;
   size_t step = 0;
   for (const std::string& sceneName : o.scenes) {
     SceneRequest req;
@@ -108,15 +122,18 @@ int runBench(const BenchOptions& o, std::ostream& out) {
       renderer = std::make_unique<Renderer>(rs.scene);
     }
     const float diag = rs.scene.bounds().diagonal();
-    for (const auto& [w, h] : o.sizes)
-      for (int n : o.samples) {
+    for (Effect effect : effects)
+    for (const auto& [w, h] : o.sizes) {
+      const std::vector<int> counts = samplesFor(effect);
+      for (int n : counts) {
         ++step;
-        std::cerr << "[bench] " << step << "/" << totalSteps << "  " << sceneName << " " << w << "x" << h << " ssao-" << n
-                  << "\n";
-        Settings s = defaultSettings(Effect::Ssao);
+        const std::string eff = toString(effect);
+        std::cerr << "[bench] " << step << "/" << totalSteps << "  " << sceneName << " " << w << "x" << h << " " << eff
+                  << "-" << n << "\n";
+        Settings s = defaultSettings(effect);
         s.width = w;
         s.height = h;
-        s.ssao.samples = n;
+        s.setSamples(n);
         Settings sFull = s;
         sFull.mode = Mode::Full;
         const Constants cm = makeConstants(s, diag), cf = makeConstants(sFull, diag);
@@ -130,17 +147,17 @@ int runBench(const BenchOptions& o, std::ostream& out) {
         const double measured = fullMs / multiMs, ideal = multi.frame.idealSpeedup;
         const double rays = static_cast<double>(cf.paddedWidth) * cf.paddedHeight;
         const double mrays = rays / (full.medianMs["gbuffer.L0"] * 1e3);
-        md << "| " << sceneName << " | " << w << "x" << h << " | " << n << " | " << fixed(fullMs, 1) << " | "
+        md << "| " << sceneName << " | " << eff << " | " << w << "x" << h << " | " << n << " | " << fixed(fullMs, 1) << " | "
            << fixed(multiMs, 1) << " | " << fixed(measured, 2) << "x | " << fixed(ideal, 2) << "x | "
            << fixed(100.0 * measured / ideal, 0) << "% | " << fixed(err.rms, 5) << " | " << fixed(err.psnr, 1) << " | "
            << fixed(err.ssim, 4) << " | " << fixed(err.edgeBandRms, 5) << " | " << fixed(mrays, 1) << " |\n";
         for (const Timed* t : {&full, &multi}) {
-          stagesMd << "| " << sceneName << " | " << w << "x" << h << " | " << n << " | "
+          stagesMd << "| " << sceneName << " | " << eff << " | " << w << "x" << h << " | " << n << " | "
                    << toString(t->frame.constants.mode) << " | ";
           for (const StageTiming& st : t->frame.timings) stagesMd << st.stage << " " << fixed(t->medianMs.at(st.stage), 1) << "; ";
           stagesMd << "|\n";
         }
-        nlohmann::json run = {{"scene", sceneName}, {"width", w}, {"height", h}, {"samples", n},
+        nlohmann::json run = {{"scene", sceneName}, {"effect", eff}, {"width", w}, {"height", h}, {"samples", n},
                               {"threads", threads}, {"repeats", o.repeats},
                               {"full_ms", full.medianMs}, {"multires_ms", multi.medianMs},
                               {"full_effect_ms", fullMs}, {"multires_effect_ms", multiMs},
@@ -148,7 +165,7 @@ int runBench(const BenchOptions& o, std::ostream& out) {
                               {"shaded_pixels", multi.frame.shadedPixelsTotal}, {"primary_mrays_per_s", mrays},
                               {"rms", err.rms}, {"psnr", err.psnr}, {"ssim", err.ssim}, {"max_abs", err.maxAbs},
                               {"edge_band_rms", err.edgeBandRms}};
-        if (n == o.scalingSamples && threads > 1) {
+        if (o.scaling && n == counts[counts.size() / 2] && threads > 1) {
           std::cerr << "[bench]   thread scaling 1 vs " << threads << "\n";
           Timed full1, multi1;
           {
@@ -157,13 +174,14 @@ int runBench(const BenchOptions& o, std::ostream& out) {
           }
           for (auto [name, one, many] : {std::tuple{"full", &full1, &full}, std::tuple{"multires", &multi1, &multi}}) {
             const double t1 = one->medianMs.at("total"), tn = many->medianMs.at("total");
-            scalingMd << "| " << sceneName << " | " << w << "x" << h << " | " << n << " | " << name << " | "
+            scalingMd << "| " << sceneName << " | " << eff << " | " << w << "x" << h << " | " << n << " | " << name << " | "
                       << fixed(t1, 1) << " | " << fixed(tn, 1) << " | " << fixed(t1 / tn, 2) << "x |\n";
             run[std::string("scaling_") + name] = {{"one_thread_ms", t1}, {"n_threads_ms", tn}};
           }
         }
         runs.push_back(run);
       }
+    }
   }
   std::ostringstream all;
   all << md.str() << "\nPer-stage medians:\n\n" << stagesMd.str() << "\nThread scaling (frame total):\n\n" << scalingMd.str();

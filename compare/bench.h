@@ -13,9 +13,10 @@ namespace mrr {
 struct BenchOptions {
   std::vector<std::string> scenes = {"arcade", "apartment"};
   std::vector<std::pair<int, int>> sizes = {{1280, 720}, {1920, 1080}};
-  std::vector<int> samples = {16, 64, 256};
+  std::vector<std::string> effects = {"ssao"};
+  std::vector<int> samples;  // empty: per effect, ssao 16/64/256, ssm 100/196/324, ssgi 24/80/288
   int repeats = 3;           // median of this many timed runs, after one warm-up
-  int scalingSamples = 64;   // the sample count at which 1-thread vs N-thread is measured
+  bool scaling = true;       // also measure 1 thread against N, at each effect's middle sample count
   int threads = 0;           // N (0 = all cores)
   std::string jsonOut;       // optional: all figures as JSON
   std::string markdownOut;   // optional: the tables as Markdown

@@ -32,9 +32,21 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["height"] = c.height;
   j["padded_width"] = c.paddedWidth;
   j["padded_height"] = c.paddedHeight;
-  j["samples"] = c.ssao.samples;
+  j["samples"] = c.samples();
   j["threads"] = info.threads;
-  j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}, {"tangent_plane_depth", c.ssao.tangentPlaneDepth}};
+  switch (c.effect) {
+    case Effect::Ssao:
+      j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}, {"tangent_plane_depth", c.ssao.tangentPlaneDepth}};
+      break;
+    case Effect::Ssm:
+      j["ssm"] = {{"pcf_grid", c.ssm.grid}, {"shadow_map_size", c.ssm.shadowMapSize},
+                  {"tan_half_light_angle", c.ssm.tanHalfAngle}, {"blocker_grid", c.ssm.blockerGrid},
+                  {"bias_texels", c.ssm.biasTexels}};
+      break;
+    case Effect::Ssgi:
+      j["ssgi"] = {{"radius", c.ssgi.radius}, {"patch_area", c.ssgi.patchArea}, {"shadow_map_size", c.ssm.shadowMapSize}};
+      break;
+  }
   j["edges"] = {{"tau_n", c.edges.normalThreshold}, {"tau_z", c.edges.depthThreshold}};
   nlohmann::json levels = nlohmann::json::array();
   for (int l = 0; l < kLevelCount; ++l) {
@@ -81,17 +93,28 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
     parts.push_back({"gbuffer" + L, gb, {"depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "albedo.R", "albedo.G",
                                           "albedo.B", "hit"}});
   }
+  if (!f.shadowMap.depth.empty()) {
+    ImageF depth = f.shadowMap.depth;  // misses as +inf would wreck viewers: write -1
+    for (float& v : depth.data)
+      if (v == ShadowMap::kNoBlocker) v = -1.0f;
+    parts.push_back({"shadowmap", depth, {"depth"}});
+    parts.push_back({"shadowtest", toFloat(crop(f.shadowLit, c.width, c.height)), {"lit"}});
+  }
   if (c.mode == Mode::Multires) {
     const EdgeImages& e = f.edges;
-    ImageF edges(c.width, c.height, 4);
+    const bool shadow = !e.shadow.empty();
+    ImageF edges(c.width, c.height, shadow ? 5 : 4);
     for (int y = 0; y < c.height; ++y)
       for (int x = 0; x < c.width; ++x) {
         edges.at(x, y, 0) = e.normal.at(x, y);
         edges.at(x, y, 1) = e.depth.at(x, y);
         edges.at(x, y, 2) = e.background.at(x, y);
         edges.at(x, y, 3) = e.combined.at(x, y);
+        if (shadow) edges.at(x, y, 4) = e.shadow.at(x, y);
       }
-    parts.push_back({"edges", edges, {"normal", "depth", "background", "E"}});
+    std::vector<std::string> names = {"normal", "depth", "background", "E"};
+    if (shadow) names.push_back("shadow");
+    parts.push_back({"edges", edges, names});
   }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];

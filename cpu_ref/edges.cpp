@@ -15,7 +15,7 @@ float secondDifference(float dMinus, float d, float dPlus) {
 }
 }  // namespace
 
-EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y) {
+EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y, const ImageU8* shadowLit) {
   EdgeDecision e;
   e.hit = g.hit.at(x, y) != 0;
   if (!e.hit) return e;  // background pixels carry no edge; their hit neighbours do
@@ -43,25 +43,36 @@ EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y
     e.takenY = true;
     e.depthSecondY = secondDifference(inv(x, y - 1), d, inv(x, y + 1));
   }
+  // 4. shadow edge: the one-tap shadow test differs from a hit 4-neighbour's (SPEC §2)
+  if (shadowLit) {
+    e.lit = shadowLit->at(x, y);
+    for (int k = 0; k < 4; ++k) {
+      const int qx = x + dx[k], qy = y + dy[k];
+      if (g.hit.contains(qx, qy) && g.hit.at(qx, qy) && shadowLit->at(qx, qy) != e.lit) e.shadowNeighbourDiffers = true;
+    }
+  }
   e.normal = e.normalMax > settings.normalThreshold;
+  e.shadow = e.shadowNeighbourDiffers;
   e.depth = std::max(e.depthSecondX, e.depthSecondY) > settings.depthThreshold;
   e.background = e.backgroundNeighbour;
   return e;
 }
 
-EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings) {
+EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings, const ImageU8* shadowLit) {
   EdgeImages out;
+  if (shadowLit) out.shadow = ImageU8(g.width, g.height);
   out.normal = ImageU8(g.width, g.height);
   out.depth = ImageU8(g.width, g.height);
   out.background = ImageU8(g.width, g.height);
   out.combined = ImageU8(g.width, g.height);
   tbb::parallel_for(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
-      const EdgeDecision e = edgeAt(g, settings, x, y);
+      const EdgeDecision e = edgeAt(g, settings, x, y, shadowLit);
       out.normal.at(x, y) = e.normal;
       out.depth.at(x, y) = e.depth;
       out.background.at(x, y) = e.background;
-      out.combined.at(x, y) = e.normal || e.depth || e.background;  // 4. E = OR of the kinds
+      if (shadowLit) out.shadow.at(x, y) = e.shadow;
+      out.combined.at(x, y) = e.normal || e.depth || e.background || e.shadow;  // 5. E = OR of the kinds
     }
   });
   return out;

@@ -10,6 +10,7 @@ struct EdgeImages {
   ImageU8 normal;      // first derivative of N above τ_n
   ImageU8 depth;       // second derivative of 1/z above τ_z
   ImageU8 background;  // a hit pixel with a background 4-neighbour
+  ImageU8 shadow;      // a hit pixel whose one-tap shadow test differs from a hit 4-neighbour's (SSM only)
   ImageU8 combined;    // E = OR of the kinds
 };
 
@@ -21,10 +22,13 @@ struct EdgeDecision {
   float depthSecondY = 0.0f;   // same along y
   bool takenX = false, takenY = false;  // whether each second difference was computable
   bool backgroundNeighbour = false;
-  bool normal = false, depth = false, background = false;
+  int lit = -1;                          // the one-tap shadow test (1 lit, 0 shadowed), -1 if not used
+  bool shadowNeighbourDiffers = false;
+  bool normal = false, depth = false, background = false, shadow = false;
 };
 
-EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y);
-EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings);
+// `shadowLit` (the one-tap test per pixel) enables the shadow kind; null for SSAO and SSGI.
+EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y, const ImageU8* shadowLit = nullptr);
+EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings, const ImageU8* shadowLit = nullptr);
 
 }  // namespace mrr

@@ -1,13 +1,12 @@
 #include "cpu_ref/gbuffer.h"
 
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 
 #include <cstring>
 #include <limits>
 #include <string>
 
 #include "common/error.h"
+#include "cpu_ref/rays.h"
 
 namespace mrr {
 
@@ -60,64 +59,34 @@ GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstan
   g.hit = ImageU8(g.width, g.height, 1);
   const Scene& scene = rays.scene();
   const float s = static_cast<float>(level.scale);
-  constexpr int kTile = 4;  // 4×4 = one 16-wide packet
-
-  tbb::parallel_for(
-      tbb::blocked_range2d<int>(0, (g.height + kTile - 1) / kTile, 0, (g.width + kTile - 1) / kTile),
-      [&](const tbb::blocked_range2d<int>& r) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        alignas(64) RTCRayHit16 packet;
-        alignas(64) int valid[16];
-        for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
-          for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx) {
-            for (int i = 0; i < 16; ++i) {
-              const int x = tx * kTile + i % kTile, y = ty * kTile + i / kTile;
-              valid[i] = (x < g.width && y < g.height) ? -1 : 0;
-              // SPEC §0: level pixel (x, y) samples the full-res point ((x+½)s, (y+½)s).
-              const glm::vec3 d = view.worldRay((static_cast<float>(x) + 0.5f) * s,
-                                                (static_cast<float>(y) + 0.5f) * s);
-              packet.ray.org_x[i] = view.eye.x;
-              packet.ray.org_y[i] = view.eye.y;
-              packet.ray.org_z[i] = view.eye.z;
-              packet.ray.dir_x[i] = d.x;
-              packet.ray.dir_y[i] = d.y;
-              packet.ray.dir_z[i] = d.z;
-              packet.ray.tnear[i] = 0.0f;
-              packet.ray.tfar[i] = std::numeric_limits<float>::infinity();
-              packet.ray.time[i] = 0.0f;
-              packet.ray.mask[i] = 0xffffffffu;
-              packet.ray.id[i] = static_cast<unsigned>(i);
-              packet.ray.flags[i] = 0;
-              packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-              packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-            }
-            rtcIntersect16(valid, rays.handle(), &context, &packet);
-            for (int i = 0; i < 16; ++i) {
-              const int x = tx * kTile + i % kTile, y = ty * kTile + i / kTile;
-              if (!valid[i] || packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-              const Mesh& mesh = scene.meshes[packet.hit.geomID[i]];
-              const size_t tri = 3 * static_cast<size_t>(packet.hit.primID[i]);
-              const uint32_t i0 = mesh.indices[tri], i1 = mesh.indices[tri + 1], i2 = mesh.indices[tri + 2];
-              const float u = packet.hit.u[i], v = packet.hit.v[i], w = 1.0f - u - v;
-              // Position and normal by barycentric interpolation, as a rasteriser would.
-              const glm::vec3 pw = w * mesh.positions[i0] + u * mesh.positions[i1] + v * mesh.positions[i2];
-              const glm::vec3 nw = w * mesh.normals[i0] + u * mesh.normals[i1] + v * mesh.normals[i2];
-              const glm::vec3 p = view.toView(pw);
-              glm::vec3 n = view.directionToView(nw);
-              const float len = glm::length(n);
-              n = len > 0.0f ? n / len : -glm::normalize(p);
-              if (glm::dot(n, p) > 0.0f) n = -n;  // SPEC §1: flip to face the camera
-              g.hit.at(x, y) = 1;
-              g.depth.at(x, y) = -p.z;
-              for (int c = 0; c < 3; ++c) {
-                g.position.at(x, y, c) = p[c];
-                g.normal.at(x, y, c) = n[c];
-                g.albedo.at(x, y, c) = mesh.baseColor[c];
-              }
-            }
-          }
+  castGrid(
+      rays.handle(), g.width, g.height,
+      [&](int x, int y, glm::vec3& origin, glm::vec3& direction) {
+        // SPEC §0: level pixel (x, y) samples the full-res point ((x+½)s, (y+½)s).
+        origin = view.eye;
+        direction = view.worldRay((static_cast<float>(x) + 0.5f) * s, (static_cast<float>(y) + 0.5f) * s);
+      },
+      [&](int x, int y, const RayHit& hit) {
+        if (hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+        const Mesh& mesh = scene.meshes[hit.geomID];
+        const size_t tri = 3 * static_cast<size_t>(hit.primID);
+        const uint32_t i0 = mesh.indices[tri], i1 = mesh.indices[tri + 1], i2 = mesh.indices[tri + 2];
+        const float w = 1.0f - hit.u - hit.v;
+        // Position and normal by barycentric interpolation, as a rasteriser would.
+        const glm::vec3 pw = w * mesh.positions[i0] + hit.u * mesh.positions[i1] + hit.v * mesh.positions[i2];
+        const glm::vec3 nw = w * mesh.normals[i0] + hit.u * mesh.normals[i1] + hit.v * mesh.normals[i2];
+        const glm::vec3 p = view.toView(pw);
+        glm::vec3 n = view.directionToView(nw);
+        const float len = glm::length(n);
+        n = len > 0.0f ? n / len : -glm::normalize(p);
+        if (glm::dot(n, p) > 0.0f) n = -n;  // SPEC §1: flip to face the camera
+        g.hit.at(x, y) = 1;
+        g.depth.at(x, y) = -p.z;
+        for (int c = 0; c < 3; ++c) {
+          g.position.at(x, y, c) = p[c];
+          g.normal.at(x, y, c) = n[c];
+          g.albedo.at(x, y, c) = mesh.baseColor[c];
+        }
       });
   return g;
 }

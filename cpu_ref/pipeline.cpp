@@ -4,6 +4,8 @@
 
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/shade.h"
+#include "cpu_ref/ssgi.h"
+#include "cpu_ref/ssm.h"
 #include "cpu_ref/ssao.h"
 
 namespace mrr {
@@ -29,6 +31,7 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
   FrameResult f;
   f.constants = c;
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
+  f.light = scene_.light;
   const auto frameStart = Clock::now();
   auto stage = [&](const std::string& name, auto&& body) {
     if (progress) progress(name);
@@ -45,10 +48,19 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
           [&] { f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, lc); });
   }
 
+  // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
+  if (c.needsShadowMap()) {
+    stage("shadowmap", [&] { f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), c.ssm.shadowMapSize); });
+    stage("shadowtest", [&] {
+      f.shadowLit = shadowTestImage(f.levels[0].gbuffer, f.shadowMap, f.view, c.ssm.biasTexels);
+    });
+  }
+
   // 2–3. Edges, mask pyramid, blur, stencils (SPEC §2–3); `full` shades every pixel.
   std::array<MaskLevel, kLevelCount> masks;
   if (c.mode == Mode::Multires) {
-    stage("edges", [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges); });
+    const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
+    stage("edges", [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges, shadowEdges); });
     stage("masks", [&] { masks = buildMasks(f.edges.combined, c); });
   } else {
     masks = fullModeMasks(c);
@@ -60,17 +72,32 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    OccluderPlanes& planes = planes_[static_cast<size_t>(l)];
-    stage("planes.L" + std::to_string(l), [&] { occluderPlanes(lr.gbuffer, planes); });
-    // Long stages (over ~2·10⁸ samples, seconds on 2 cores) also report their tenths.
-    std::function<void(double)> tenths;
-    const double work = static_cast<double>(lc.width) * lc.height * c.ssao.samples;
-    if (progress && work > 2e8)
-      tenths = [&, l](double done) { progress("effect.L" + std::to_string(l) + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%"); };
-    stage("effect.L" + std::to_string(l),
-          [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
-    stage("bilateral.L" + std::to_string(l),
-          [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
+    const std::string L = ".L" + std::to_string(l);
+    switch (c.effect) {
+      case Effect::Ssao: {
+        OccluderPlanes& planes = planes_[static_cast<size_t>(l)];
+        stage("planes" + L, [&] { occluderPlanes(lr.gbuffer, planes); });
+        // Long stages (over ~2·10⁸ samples, seconds on 2 cores) also report their tenths.
+        std::function<void(double)> tenths;
+        const double work = static_cast<double>(lc.width) * lc.height * c.ssao.samples;
+        if (progress && work > 2e8)
+          tenths = [&](double done) { progress("effect" + L + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%"); };
+        stage("effect" + L, [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
+        stage("bilateral" + L, [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
+        break;
+      }
+      case Effect::Ssm:
+        stage("effect" + L, [&] { lr.raw = renderSsm(lr.gbuffer, f.shadowMap, lr.masks.stencil, f.view, c.ssm); });
+        lr.sub = lr.raw;  // PCF is its own filter: no blur (the paper blurs SSAO only)
+        break;
+      case Effect::Ssgi: {
+        ImageF direct;
+        stage("direct" + L, [&] { direct = directLight(lr.gbuffer, f.shadowMap, f.view, scene_.light, c.ssm.biasTexels); });
+        stage("effect" + L, [&] { lr.raw = renderSsgi(lr.gbuffer, direct, lr.masks.stencil, f.view, lc, c.ssgi); });
+        lr.sub = lr.raw;
+        break;
+      }
+    }
     for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;
     f.shadedPixelsTotal += lr.shadedPixels;
   }
@@ -87,7 +114,7 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
   });
   // 6. The shaded image for viewing (SPEC §6).
   stage("shade", [&] {
-    f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.view, scene_.light, c.effect);
+    f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, scene_.light, c.effect);
   });
   f.timings.push_back({"total", msSince(frameStart)});
   return f;

@@ -16,6 +16,7 @@
 #include "cpu_ref/edges.h"
 #include "cpu_ref/gbuffer.h"
 #include "cpu_ref/masks.h"
+#include "cpu_ref/shadowmap.h"
 #include "cpu_ref/ssao.h"
 
 namespace mrr {
@@ -36,7 +37,10 @@ struct StageTiming {
 struct FrameResult {
   Constants constants;
   View view;
-  EdgeImages edges;  // on the padded full-res grid (multires mode only)
+  DirectionalLight light;  // the scene's light, as rendered
+  ShadowMap shadowMap;  // SSM and SSGI
+  ImageU8 shadowLit;    // the one-tap shadow test on the full-res grid (SSM, SSGI)
+  EdgeImages edges;     // on the padded full-res grid (multires mode only)
   std::array<LevelResult, kLevelCount> levels;
   BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
   int64_t shadedPixelsTotal = 0;

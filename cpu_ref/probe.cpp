@@ -5,6 +5,8 @@
 
 #include "common/error.h"
 #include "cpu_ref/ssao.h"
+#include "cpu_ref/ssgi.h"
+#include "cpu_ref/ssm.h"
 
 namespace mrr {
 
@@ -49,7 +51,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
                   {"albedo", vec(g0.albedo, x, y)}};
 
   if (c.mode == Mode::Multires) {
-    const EdgeDecision e = edgeAt(g0, c.edges, x, y);
+    const EdgeDecision e = edgeAt(g0, c.edges, x, y, c.effect == Effect::Ssm ? &f.shadowLit : nullptr);
     j["edges"] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {"tau_n", c.edges.normalThreshold}}},
                   {"depth",
                    {{"edge", e.depth},
@@ -57,7 +59,9 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
                     {"second_diff_y", e.takenY ? nlohmann::json(e.depthSecondY) : nlohmann::json("n/a")},
                     {"tau_z", c.edges.depthThreshold}}},
                   {"background", {{"edge", e.background}, {"background_neighbour", e.backgroundNeighbour}}},
-                  {"E", e.normal || e.depth || e.background}};
+                  {"E", e.normal || e.depth || e.background || e.shadow}};
+    if (e.lit >= 0)
+      j["edges"]["shadow"] = {{"edge", e.shadow}, {"lit", e.lit}, {"neighbour_differs", e.shadowNeighbourDiffers}};
   }
 
   nlohmann::json levels = nlohmann::json::array();
@@ -79,10 +83,34 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     if (lr.masks.stencil.at(lx, ly)) {
       lj["c_raw"] = scalarOrVec(lr.raw, lx, ly);
       lj["c"] = scalarOrVec(lr.sub, lx, ly);
-      SsaoDetail d;
-      ssaoAt(lr.gbuffer, occluderPlanes(lr.gbuffer), f.view, lc, c.ssao, lx, ly, &d);
-      lj["ssao"] = {{"samples", d.samples}, {"occluders", d.occluders}, {"occlusion", d.occlusion},
-                    {"offscreen", d.offscreen}, {"background", d.background}, {"rotation_rad", d.rotation}};
+      switch (c.effect) {
+        case Effect::Ssao: {
+          SsaoDetail d;
+          ssaoAt(lr.gbuffer, occluderPlanes(lr.gbuffer), f.view, lc, c.ssao, lx, ly, &d);
+          lj["ssao"] = {{"samples", d.samples}, {"occluders", d.occluders}, {"occlusion", d.occlusion},
+                        {"offscreen", d.offscreen}, {"background", d.background}, {"rotation_rad", d.rotation}};
+          break;
+        }
+        case Effect::Ssm: {
+          SsmDetail d;
+          ssmAt(lr.gbuffer, f.shadowMap, f.view, c.ssm, lx, ly, &d);
+          lj["ssm"] = {{"receiver_depth", d.receiverDepth}, {"search_texels", d.searchTexels},
+                       {"blockers", d.blockers}, {"search_taps", d.searchTaps}, {"blocker_depth", d.blockerDepth},
+                       {"penumbra_width", d.penumbraWorld}, {"filter_texels", d.filterTexels},
+                       {"lit_taps", d.litTaps}, {"pcf_taps", d.pcfTaps}};
+          break;
+        }
+        case Effect::Ssgi: {
+          SsgiDetail d;
+          const ImageF direct = directLight(lr.gbuffer, f.shadowMap, f.view, f.light, c.ssm.biasTexels);
+          ssgiAt(lr.gbuffer, direct, f.view, lc, c.ssgi, lx, ly, &d);
+          lj["ssgi"] = {{"samples", d.samples}, {"senders", d.senders}, {"offscreen", d.offscreen},
+                        {"background", d.background},
+                        {"strongest_sender", {d.strongestTexel.x, d.strongestTexel.y}},
+                        {"strongest_contribution", {d.strongest.x, d.strongest.y, d.strongest.z}}};
+          break;
+        }
+      }
     }
     const BilinearTaps t = bilinearTaps(x, y, lc);
     nlohmann::json taps = nlohmann::json::array();
@@ -113,6 +141,9 @@ std::string formatProbe(const nlohmann::json& j) {
     << fmt(g["albedo"]) << "\n";
   if (j.contains("edges")) {
     const auto& e = j["edges"];
+    if (e.contains("shadow"))
+      o << "shadow test   lit " << e["shadow"]["lit"] << "  (a 4-neighbour differs: " << e["shadow"]["neighbour_differs"]
+        << ") -> shadow edge " << e["shadow"]["edge"] << "\n";
     o << "edges         normal " << e["normal"]["edge"] << "  (max 1-N.N " << fmt(e["normal"]["max_1_minus_dot"])
       << " vs tau_n " << fmt(e["normal"]["tau_n"]) << ")\n"
       << "              depth  " << e["depth"]["edge"] << "  (|d2(1/z)|/(1/z) x " << fmt(e["depth"]["second_diff_x"])
@@ -132,10 +163,25 @@ std::string formatProbe(const nlohmann::json& j) {
     if (l.contains("M")) o << "  M " << l["M"];
     o << "  a " << fmt(l["a"]) << "  S " << l["S"] << "  (sigma2 " << fmt(l["sigma2"]) << ", w " << fmt(l["w"]) << ")\n";
     if (l.contains("c")) {
-      const auto& s = l["ssao"];
-      o << "    shaded: c_raw " << fmt(l["c_raw"]) << " -> bilateral c " << fmt(l["c"]) << "   (" << s["occluders"]
-        << "/" << s["samples"] << " samples occlude, weight " << fmt(s["occlusion"]) << "; " << s["offscreen"]
-        << " off-screen, " << s["background"] << " on background)\n";
+      o << "    shaded: c_raw " << fmt(l["c_raw"]) << " -> c " << fmt(l["c"]) << "   ";
+      if (l.contains("ssao")) {
+        const auto& s = l["ssao"];
+        o << "(" << s["occluders"] << "/" << s["samples"] << " samples occlude, weight " << fmt(s["occlusion"]) << "; "
+          << s["offscreen"] << " off-screen, " << s["background"] << " on background)\n";
+      } else if (l.contains("ssm")) {
+        const auto& s = l["ssm"];
+        o << "(receiver depth " << fmt(s["receiver_depth"]) << "; blocker search +-" << fmt(s["search_texels"])
+          << " texels: " << s["blockers"] << "/" << s["search_taps"] << " blockers, mean depth " << fmt(s["blocker_depth"])
+          << "; penumbra " << fmt(s["penumbra_width"]) << " -> PCF +-" << fmt(s["filter_texels"]) << " texels, "
+          << s["lit_taps"] << "/" << s["pcf_taps"] << " taps lit)\n";
+      } else if (l.contains("ssgi")) {
+        const auto& s = l["ssgi"];
+        o << "(" << s["senders"] << "/" << s["samples"] << " samples are senders; " << s["offscreen"] << " off-screen, "
+          << s["background"] << " on background; strongest sender " << fmt(s["strongest_sender"]) << " gives "
+          << fmt(s["strongest_contribution"]) << ")\n";
+      } else {
+        o << "\n";
+      }
     } else {
       o << "    not shaded at this level\n";
     }

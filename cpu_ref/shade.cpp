@@ -7,14 +7,24 @@
 namespace mrr {
 
 namespace {
-constexpr float kAmbient = 0.45f;  // share of the light that is ambient (what AO scales)
-constexpr float kDirect = 0.55f;   // share that is direct (scaled by N·L)
 constexpr float kSky[3] = {0.62f, 0.70f, 0.80f};
+
+// The light a pixel receives, per effect (the header lists the formulas).
+glm::vec3 lighting(Effect effect, const glm::vec3& lightColor, float nl, const ImageF& e, const ImageU8& lit, int x,
+                   int y) {
+  switch (effect) {
+    case Effect::Ssm: return lightColor * (0.25f + 0.75f * nl * e.at(x, y));
+    case Effect::Ssgi:
+      return lightColor * (0.1f + 0.9f * nl * static_cast<float>(lit.at(x, y))) +
+             glm::vec3(e.at(x, y, 0), e.at(x, y, 1), e.at(x, y, 2));
+    case Effect::Ssao: break;
+  }
+  return lightColor * (0.45f * e.at(x, y) + 0.55f * nl);
+}
 }  // namespace
 
-ImageF shadeFinal(const GBuffer& g0, const ImageF& effect, const View& view, const DirectionalLight& light,
-                  Effect effectKind) {
-  (void)effectKind;  // SSAO: the effect scales the ambient term
+ImageF shadeFinal(const GBuffer& g0, const ImageF& effect, const ImageU8& shadowLit, const View& view,
+                  const DirectionalLight& light, Effect effectKind) {
   ImageF out(effect.width, effect.height, 3);
   const glm::vec3 toLight = -glm::normalize(view.directionToView(light.direction));
   tbb::parallel_for(0, effect.height, [&](int y) {
@@ -23,10 +33,10 @@ ImageF shadeFinal(const GBuffer& g0, const ImageF& effect, const View& view, con
         for (int c = 0; c < 3; ++c) out.at(x, y, c) = kSky[c];
         continue;
       }
-      // 1. direct: Lambert N·L; 2. ambient: scaled by AO
+      // 1. direct: Lambert N·L; 2. the effect's term
       const float nl = std::max(glm::dot(g0.normalAt(x, y), toLight), 0.0f);
-      const float lighting = kAmbient * effect.at(x, y) + kDirect * nl;
-      for (int c = 0; c < 3; ++c) out.at(x, y, c) = g0.albedo.at(x, y, c) * light.color[c] * lighting;
+      const glm::vec3 l = lighting(effectKind, light.color, nl, effect, shadowLit, x, y);
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = g0.albedo.at(x, y, c) * l[c];
     }
   });
   return out;

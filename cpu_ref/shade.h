@@ -9,9 +9,12 @@
 
 namespace mrr {
 
-// Linear RGB, W×H: albedo × light × (kAmbient · AO + kDirect · max(N·L, 0)); background is
-// a constant sky colour.
-ImageF shadeFinal(const GBuffer& g0, const ImageF& effect, const View& view, const DirectionalLight& light,
-                  Effect effectKind);
+// Linear RGB, W×H; background is a constant sky colour. Per effect:
+//   SSAO: albedo × light × (0.45 · AO + 0.55 · N·L)
+//   SSM:  albedo × light × (0.25 + 0.75 · N·L · V)
+//   SSGI: albedo × (light × (0.1 + 0.9 · N·L · one-tap shadow) + indirect)
+// `shadowLit` is the one-tap test (SSGI; empty otherwise).
+ImageF shadeFinal(const GBuffer& g0, const ImageF& effect, const ImageU8& shadowLit, const View& view,
+                  const DirectionalLight& light, Effect effectKind);
 
 }  // namespace mrr

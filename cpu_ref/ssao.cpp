@@ -7,12 +7,11 @@
 #include <atomic>
 #include <cmath>
 
-#include "common/hash.h"
+#include "cpu_ref/hemisphere.h"
 
 namespace mrr {
 
 namespace {
-constexpr float kTwoPi = 6.28318530717958647692f;
 constexpr int kTile = 16;  // pixels per tile side: keeps the samples' texels in cache
 
 // GLSL's smoothstep(0, 1, x).
@@ -75,16 +74,7 @@ float ssaoEval(const GBuffer& g, const OccluderPlanes& planes, const View& view,
   const glm::vec3 p = g.positionAt(x, y);
   const glm::vec3 n = g.normalAt(x, y);
   // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
-  const float angle = kTwoPi * hashToUnit(pixelHash(static_cast<uint32_t>(x), static_cast<uint32_t>(y),
-                                                    static_cast<uint32_t>(level.index)));
-  glm::vec3 r(std::cos(angle), std::sin(angle), 0.0f);
-  glm::vec3 t = r - n * glm::dot(r, n);
-  if (glm::dot(t, t) < 1e-6f) {  // r ∥ n: take the perpendicular in-plane direction
-    r = glm::vec3(-std::sin(angle), std::cos(angle), 0.0f);
-    t = r - n * glm::dot(r, n);
-  }
-  t = glm::normalize(t);
-  const glm::vec3 b = glm::cross(n, t);
+  const SampleFrame frame = sampleFrame(n, x, y, level.index);
   // 2. hemisphere samples: occluded when the occluder is in front by more than the bias
   const float invScale = 1.0f / static_cast<float>(level.scale);
   const float width = static_cast<float>(g.width), height = static_cast<float>(g.height);
@@ -92,9 +82,9 @@ float ssaoEval(const GBuffer& g, const OccluderPlanes& planes, const View& view,
   float occlusion = 0.0f;
   SsaoDetail d;
   d.samples = ssao.samples;
-  d.rotation = angle;
+  d.rotation = frame.angle;
   for (const glm::vec3& k : ssao.kernel) {
-    const glm::vec3 s = p + ssao.radius * (t * k.x + b * k.y + n * k.z);
+    const glm::vec3 s = p + ssao.radius * frame.apply(k);
     const float sampleDepth = -s.z;
     const glm::vec2 px = view.project(s) * invScale;  // level coordinates
     if (!(sampleDepth > 0.0f && px.x >= 0.0f && px.y >= 0.0f && px.x < width && px.y < height)) {

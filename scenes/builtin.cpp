@@ -157,6 +157,28 @@ Scene demo() {
                 lookAt({4.8f, 4.2f, 7.5f}, {-0.4f, 1.0f, -1.8f}, 60.0f));
 }
 
+// Two thin slabs over a ground plane, one low and one high, under a near-vertical light:
+// umbrae, fully lit ground, and penumbrae that widen with the blocker's height (SSM tests).
+Scene shadows() {
+  MeshBuilder ground("ground", glm::vec3(0.8f)), slabs("slabs", glm::vec3(0.6f, 0.6f, 0.7f));
+  ground.quad({-12, 0, -12}, {-12, 0, 12}, {12, 0, 12}, {12, 0, -12});
+  slabs.box({-3.0f, 0.5f, 0.0f}, {1.0f, 0.05f, 1.0f});
+  slabs.box({3.0f, 2.5f, 0.0f}, {1.0f, 0.05f, 1.0f});
+  Scene s = finish("shadows", {ground, slabs}, lookAt({0, 9, 7}, {0, 0, 0}, 55.0f));
+  s.light.direction = glm::normalize(glm::vec3(0.15f, -1.0f, 0.1f));
+  return s;
+}
+
+// A pure red wall standing on a white floor (SSGI tests: colour bleeding, red and never green).
+Scene redwall() {
+  MeshBuilder floor("floor", glm::vec3(1.0f)), wall("red wall", glm::vec3(1.0f, 0.0f, 0.0f));
+  floor.quad({-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6});
+  wall.quad({-6, 0, -2}, {6, 0, -2}, {6, 4, -2}, {-6, 4, -2});
+  Scene s = finish("redwall", {floor, wall}, lookAt({0, 3.5f, 6}, {0, 0.5f, -1}, 55.0f));
+  s.light.direction = glm::normalize(glm::vec3(0.2f, -0.6f, -1.0f));  // lights the wall's front
+  return s;
+}
+
 struct Entry {
   const char* name;
   const char* description;
@@ -170,6 +192,8 @@ const Entry kEntries[] = {
     {"corner", "floor and two walls: creases are normal edges", corner},
     {"steps", "a staircase: depth edges and creases", steps},
     {"boxes", "two boxes in a room: silhouettes and contact occlusion", boxes},
+    {"shadows", "two slabs at different heights over a ground: umbra, penumbra width (ssm)", shadows},
+    {"redwall", "a red wall on a white floor: colour bleeding (ssgi)", redwall},
 };
 
 }  // namespace

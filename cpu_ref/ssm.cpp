@@ -1,0 +1,76 @@
+#include "cpu_ref/ssm.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+namespace mrr {
+
+namespace {
+constexpr float kMaxSearchTexels = 64.0f;  // caps the blocker search (and so the penumbra)
+
+// Offset of tap i of an n-tap regular grid spanning [−half, half] (texel centres of the grid).
+float gridOffset(int i, int n, float half) {
+  return ((static_cast<float>(i) + 0.5f) / static_cast<float>(n) * 2.0f - 1.0f) * half;
+}
+
+// Penumbra width of a directional light of angular diameter θ (Fernando 2005, adapted to
+// parallel light): (d_receiver − d_blocker) · 2 tan(θ/2).
+float penumbraWidth(float receiverDepth, float blockerDepth, float tanHalfAngle) {
+  return (receiverDepth - blockerDepth) * 2.0f * tanHalfAngle;
+}
+}  // namespace
+
+float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y,
+            SsmDetail* detail) {
+  if (!g.hit.at(x, y)) return 1.0f;
+  const Receiver r = receiverAt(map, view.toWorld(g.positionAt(x, y)), view.directionToWorld(g.normalAt(x, y)),
+                                ssm.biasTexels);
+  SsmDetail d;
+  d.receiverDepth = r.depth;
+  // 1. blocker search: the widest penumbra a blocker at the light plane could cast
+  d.searchTexels = std::clamp(r.depth * ssm.tanHalfAngle / map.texel, 0.5f, kMaxSearchTexels);
+  float blockerSum = 0.0f;
+  for (int j = 0; j < ssm.blockerGrid; ++j)
+    for (int i = 0; i < ssm.blockerGrid; ++i) {
+      const float b = map.depthAt(r.u + gridOffset(i, ssm.blockerGrid, d.searchTexels),
+                                  r.v + gridOffset(j, ssm.blockerGrid, d.searchTexels));
+      ++d.searchTaps;
+      if (b < r.depth) {
+        blockerSum += b;
+        ++d.blockers;
+      }
+    }
+  if (d.blockers == 0) {  // nothing in front anywhere in the search region: fully lit
+    if (detail) *detail = d;
+    return 1.0f;
+  }
+  d.blockerDepth = blockerSum / static_cast<float>(d.blockers);
+  // 2. penumbra width from the receiver and mean blocker depths
+  d.penumbraWorld = penumbraWidth(r.depth, d.blockerDepth, ssm.tanHalfAngle);
+  d.filterTexels = std::clamp(0.5f * d.penumbraWorld / map.texel, 0.5f, kMaxSearchTexels);
+  // 3. PCF over an n×n grid: the fraction of taps that see the light
+  for (int j = 0; j < ssm.grid; ++j)
+    for (int i = 0; i < ssm.grid; ++i) {
+      const float b = map.depthAt(r.u + gridOffset(i, ssm.grid, d.filterTexels),
+                                  r.v + gridOffset(j, ssm.grid, d.filterTexels));
+      d.litTaps += r.depth <= b;
+    }
+  d.pcfTaps = ssm.grid * ssm.grid;
+  if (detail) *detail = d;
+  return static_cast<float>(d.litTaps) / static_cast<float>(d.pcfTaps);
+}
+
+ImageF renderSsm(const GBuffer& g, const ShadowMap& map, const ImageU8& stencil, const View& view,
+                 const Constants::Ssm& ssm) {
+  ImageF out(g.width, g.height, 1, 0.0f);
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, 16, 0, g.width, 16), [&](const tbb::blocked_range2d<int>& r) {
+    for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+      for (int x = r.cols().begin(); x != r.cols().end(); ++x)
+        if (stencil.at(x, y)) out.at(x, y) = ssmAt(g, map, view, ssm, x, y);
+  });
+  return out;
+}
+
+}  // namespace mrr

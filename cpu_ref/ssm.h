@@ -1,0 +1,31 @@
+#pragma once
+// Stage 4 for soft shadows — PCSS (Fernando 2005) on the directional light's shadow map
+// (SPEC §6 SSM): blocker search, penumbra width, then PCF over an n×n grid. Output: the
+// visibility V in [0, 1], evaluated only where the stencil is set.
+#include "common/camera.h"
+#include "common/image.h"
+#include "common/params.h"
+#include "cpu_ref/gbuffer.h"
+#include "cpu_ref/shadowmap.h"
+
+namespace mrr {
+
+// What decided one pixel, for `mrr probe`.
+struct SsmDetail {
+  float receiverDepth = 0.0f;   // biased distance from the light plane
+  float searchTexels = 0.0f;    // blocker-search half-width
+  int blockers = 0;             // blocker-search taps in front of the receiver
+  int searchTaps = 0;
+  float blockerDepth = 0.0f;    // their mean distance from the light plane
+  float penumbraWorld = 0.0f;   // penumbra width, world units (full width)
+  float filterTexels = 0.0f;    // PCF half-width
+  int litTaps = 0, pcfTaps = 0;
+};
+
+float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y,
+            SsmDetail* detail = nullptr);
+
+ImageF renderSsm(const GBuffer& g, const ShadowMap& map, const ImageU8& stencil, const View& view,
+                 const Constants::Ssm& ssm);
+
+}  // namespace mrr

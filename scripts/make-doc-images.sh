@@ -38,7 +38,36 @@ oiiotool "$work"/l{1,2,3,4,5,6,7,8,9}.png --mosaic:pad=4 3x3 -d uint8 -o "$img/p
 for f in shaded edges levelmap stencil_L0 stencil_L1 stencil_L2 stencil_L3 alpha_L0 alpha_L1 alpha_L2 sub_L0 sub_L1 sub_L2 sub_L3 final reference diff; do
   cp "$work/$f.png" "$img/demo_$f.png"
 done
+# SSM and SSGI on the apartment: the same nine pictures per effect.
+effect_mosaic() {  # effect samples gain
+  local e="$1" n="$2" g="$3" d="$work/$1"
+  mkdir -p "$d"
+  local c=(--scene apartment --effect "$e" --samples "$n" --size 640x360 --quiet)
+  "$mrr" render "${c[@]}" --out "$d/final.exr" --shaded "$d/shaded.png" --stages "$d/stages.exr"
+  "$mrr" render "${c[@]}" --mode full --out "$d/reference.exr"
+  GAIN="$g" bash "$here/scripts/stage-previews.sh" "$d/stages.exr" "$d" >/dev/null
+  local ch=Y,Y,Y
+  [ "$e" = ssgi ] && ch=R,G,B
+  oiiotool "$d/final.exr" --ch "$ch" --mulc "$g" --clamp:min=0:max=1 -d uint8 -o "$d/final.png"
+  oiiotool "$d/reference.exr" --ch "$ch" --mulc "$g" --clamp:min=0:max=1 -d uint8 -o "$d/reference.png"
+  oiiotool "$d/final.exr" "$d/reference.exr" --absdiff --ch "$ch" --mulc 10 --clamp:min=0:max=1 -d uint8 -o "$d/diff.png"
+  local edges="1 edges: normal depth background"
+  [ "$e" = ssm ] && edges="1 edges: normal depth shadow"
+  label "$d/shaded.png" "$d/l1.png" "$e: scene (shaded)"
+  label "$d/edges.png" "$d/l2.png" "$edges"
+  label "$d/levelmap.png" "$d/l3.png" "2 finest level per pixel"
+  label "$d/stencil_L0.png" "$d/l4.png" "3 stencil S0 (full res)"
+  label "$d/sub_L0.png" "$d/l5.png" "4 sub-image c0 (full res)"
+  label "$d/sub_L3.png" "$d/l6.png" "4 sub-image c3 (1/8 res)"
+  label "$d/final.png" "$d/l7.png" "5 blended result"
+  label "$d/reference.png" "$d/l8.png" "full resolution"
+  label "$d/diff.png" "$d/l9.png" "|result - full| x10"
+  oiiotool "$d"/l{1,2,3,4,5,6,7,8,9}.png --mosaic:pad=4 3x3 -d uint8 -o "$img/pipeline_$e.png"
+}
 if [ -d "${MRR_SCENES_DIR:-$here/../shared/scenes}" ]; then
+  echo "[docs] apartment ssm, ssgi" >&2
+  effect_mosaic ssm 196 1
+  effect_mosaic ssgi 288 4
   for s in cornell arcade apartment; do
     echo "[docs] $s" >&2
     "$mrr" render --scene "$s" --size 640x360 --samples 64 --quiet --shaded "$work/$s.png" --out "$work/${s}_ao.png" \

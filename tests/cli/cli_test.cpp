@@ -418,6 +418,34 @@ TEST_F(CliRenderTest, PlaneHasIdealSpeedup64) {
   EXPECT_DOUBLE_EQ(j["ideal_speedup"].get<double>(), 64.0);
 }
 
+TEST_F(CliRenderTest, EveryEffectRendersWithStagesReportAndProbeTerms) {
+  for (const std::string effect : {"ssm", "ssgi"}) {
+    const std::string samples = effect == "ssm" ? "16" : "8";
+    const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--effect", effect, "--out", at(effect + ".exr"),
+                                     "--shaded", at(effect + ".png"), "--stages", at(effect + "_stages.exr"),
+                                     "--report", at(effect + ".json"), "--reference"},
+                                    "64x48", samples),
+                               dir);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json j = json::parse(readFile(at(effect + ".json")));
+    EXPECT_EQ(j["effect"], effect);
+    EXPECT_EQ(j["samples"].get<int>(), std::stoi(samples));
+    EXPECT_TRUE(j.contains("error_vs_full"));
+    EXPECT_TRUE(j.contains(effect));  // the effect's own parameters
+    std::set<std::string> names;
+    for (const ExrPart& p : readParts(at(effect + "_stages.exr"))) names.insert(p.name);
+    EXPECT_TRUE(names.count("shadowmap") && names.count("shadowtest")) << effect;
+    EXPECT_EQ(readImage(at(effect + ".exr")).channels, effect == "ssgi" ? 3 : 1);
+    const RunResult probe =
+        runMrr(tiny({"probe", "--scene", "builtin:demo", "--effect", effect, "--pixel", "30,30"}, "64x48", samples), dir);
+    ASSERT_EQ(probe.status, 0) << describe(probe);
+    EXPECT_NE(probe.out.find(effect == "ssm" ? "penumbra" : "senders"), std::string::npos) << probe.out;
+  }
+  // SSGI keeps the paper's levels: the half level is off.
+  const json gi = json::parse(readFile(at("ssgi.json")));
+  EXPECT_FALSE(gi["levels"][1]["enabled"].get<bool>());
+}
+
 TEST_F(CliRenderTest, PngOutIsWritten) {
   const RunResult r = runMrr(tiny({"render", "--scene", "builtin:boxes", "--out", at("final.png")}, "32x24"), dir);
   ASSERT_EQ(r.status, 0) << describe(r);
@@ -521,6 +549,10 @@ const std::vector<BadCase> kBadCases = {
     {"SizeTrailingX", demoWith({"--out", "{out}/o.exr", "--size", "16x16x"}), "--size 16x16x"},
     // choices
     {"UnknownEffect", renderArgs("builtin:demo", {"--effect", "foo"}), "--effect foo"},
+    {"SsmSamplesNotSquare", renderArgs("builtin:demo", {"--effect", "ssm", "--samples", "150"}), "square"},
+    {"SsgiSamplesTooMany", renderArgs("builtin:demo", {"--effect", "ssgi", "--samples", "9000"}), "--samples 9000"},
+    {"ShadowMapTooSmall", renderArgs("builtin:demo", {"--effect", "ssm", "--shadow-map-size", "8"}), "--shadow-map-size"},
+    {"LightAngleZero", renderArgs("builtin:demo", {"--effect", "ssm", "--light-angle", "0"}), "--light-angle"},
     {"UnknownMode", renderArgs("builtin:demo", {"--mode", "foo"}), "--mode foo"},
     {"UnknownPath", renderArgs("builtin:demo", {"--path", "foo"}), "--path foo"},
     {"GpuPathNotBuilt", renderArgs("builtin:demo", {"--path", "gpu"}), "--path gpu"},

@@ -59,7 +59,8 @@ struct FrameOptions {
     app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
     app.add_option("--samples", samples,
                    "samples per pixel (default ssao 64, ssm 196, ssgi 288; ssao 1..1024, ssm a square n*n up to 1024, "
-                   "ssgi 1..8192)");
+                   "ssgi 1..8192)")
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.add_option("--threads", threads, "worker threads (0 = all cores); results are identical for any count");
     app.add_option("--camera", camera, "index into the scene's cameras");
     app.add_option("--eye", eye, "camera position x,y,z (with --target)");

@@ -2,7 +2,8 @@
 # The README's main job: on the built-in demo scene, render the method (multires) and the
 # full-resolution reference with the CPU oracle, compare them, and write everything to
 # out/demo/: final and shaded images, every stage (multi-part EXR and PNG previews), the JSON
-# report with error figures, and a probe of one pixel. Needs nothing outside the repo.
+# report with error figures, and a probe of one pixel; then the same for SSM and SSGI in
+# out/demo/ssm/ and out/demo/ssgi/. Needs nothing outside the repo.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/build.sh"
@@ -22,6 +23,15 @@ bash "$here/scripts/stage-previews.sh" "$out/stages.exr" "$out"
 oiiotool "$out/final.exr" "$out/reference.exr" --absdiff --mulc 10 --clamp:min=0:max=1 -d uint8 -o "$out/difference_x10.png"
 w="${size%x*}"; h="${size#*x}"
 "$mrr" probe "${common[@]}" --quiet --pixel "$((w / 2)),$((h / 2))" > "$out/probe_center.txt"
+# The paper's other two effects on the same scene, each in its own folder.
+for e in ssm ssgi; do
+  echo "== $e" >&2
+  mkdir -p "$out/$e"
+  "$mrr" render --scene builtin:demo --effect "$e" --size "$size" --mode multires --reference --quiet \
+    --out "$out/$e/final.exr" --shaded "$out/$e/shaded.png" --stages "$out/$e/stages.exr" --report "$out/$e/report.json"
+  bash "$here/scripts/stage-previews.sh" "$out/$e/stages.exr" "$out/$e"
+  python3 -c "import json,sys; r=json.load(open(sys.argv[1])); e=r['error_vs_full']; print(f\"{r['effect']}-{r['samples']}: ideal speedup {r['ideal_speedup']:.2f}x, RMS vs full {e['rms']:.5f}, SSIM {e['ssim']:.4f}\")" "$out/$e/report.json"
+done
 echo "== report: $out/report.json" >&2
 python3 - "$out/report.json" <<'PY' || cat "$out/report.json"
 import json, sys

@@ -1,18 +1,16 @@
 #include "cpu_ref/ssao.h"
 
-#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "cpu_ref/hemisphere.h"
+#include "cpu_ref/stencil.h"
 
 namespace mrr {
 
 namespace {
-constexpr int kTile = 16;  // pixels per tile side: keeps the samples' texels in cache
 
 // GLSL's smoothstep(0, 1, x).
 float smoothstep01(float x) {
@@ -123,20 +121,8 @@ ImageF renderSsao(const GBuffer& g, const OccluderPlanes& planes, const ImageU8&
                   const LevelConstants& level, const Constants::Ssao& ssao,
                   const std::function<void(double)>& onProgress) {
   ImageF out(g.width, g.height, 1, 0.0f);
-  const int64_t total = static_cast<int64_t>(g.width) * g.height;
-  std::atomic<int64_t> pixelsDone{0};
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, kTile, 0, g.width, kTile),
-                    [&](const tbb::blocked_range2d<int>& r) {
-                      for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-                        for (int x = r.cols().begin(); x != r.cols().end(); ++x)
-                          if (stencil.at(x, y)) out.at(x, y) = ssaoAt(g, planes, view, level, ssao, x, y);
-                      if (!onProgress) return;
-                      // Report each tenth once, from whichever thread crosses it.
-                      const auto pixels = static_cast<int64_t>(r.rows().size() * r.cols().size());
-                      const int64_t before = pixelsDone.fetch_add(pixels), after = before + pixels;
-                      if (10 * after / total > 10 * before / total)
-                        onProgress(static_cast<double>(after) / static_cast<double>(total));
-                    });
+  forEachStencilled(
+      stencil, [&](int x, int y) { out.at(x, y) = ssaoAt(g, planes, view, level, ssao, x, y); }, onProgress);
   return out;
 }
 

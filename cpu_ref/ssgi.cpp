@@ -1,11 +1,11 @@
 #include "cpu_ref/ssgi.h"
 
-#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 
 #include "cpu_ref/hemisphere.h"
+#include "cpu_ref/stencil.h"
 
 namespace mrr {
 
@@ -92,13 +92,9 @@ glm::vec3 ssgiAt(const GBuffer& g, const ImageF& direct, const View& view, const
 ImageF renderSsgi(const GBuffer& g, const ImageF& direct, const ImageU8& stencil, const View& view,
                   const LevelConstants& level, const Constants::Ssgi& ssgi) {
   ImageF out(g.width, g.height, 3, 0.0f);
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, 16, 0, g.width, 16), [&](const tbb::blocked_range2d<int>& r) {
-    for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-      for (int x = r.cols().begin(); x != r.cols().end(); ++x)
-        if (stencil.at(x, y)) {
-          const glm::vec3 e = ssgiAt(g, direct, view, level, ssgi, x, y);
-          for (int c = 0; c < 3; ++c) out.at(x, y, c) = e[c];
-        }
+  forEachStencilled(stencil, [&](int x, int y) {
+    const glm::vec3 e = ssgiAt(g, direct, view, level, ssgi, x, y);
+    for (int c = 0; c < 3; ++c) out.at(x, y, c) = e[c];
   });
   return out;
 }

@@ -1,9 +1,9 @@
 #include "cpu_ref/ssm.h"
 
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
+
+#include "cpu_ref/stencil.h"
 
 namespace mrr {
 
@@ -65,11 +65,7 @@ float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Cons
 ImageF renderSsm(const GBuffer& g, const ShadowMap& map, const ImageU8& stencil, const View& view,
                  const Constants::Ssm& ssm) {
   ImageF out(g.width, g.height, 1, 0.0f);
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, 16, 0, g.width, 16), [&](const tbb::blocked_range2d<int>& r) {
-    for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-      for (int x = r.cols().begin(); x != r.cols().end(); ++x)
-        if (stencil.at(x, y)) out.at(x, y) = ssmAt(g, map, view, ssm, x, y);
-  });
+  forEachStencilled(stencil, [&](int x, int y) { out.at(x, y) = ssmAt(g, map, view, ssm, x, y); });
   return out;
 }
 

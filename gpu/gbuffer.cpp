@@ -1,0 +1,186 @@
+#include "gpu/gbuffer.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+
+#include "common/error.h"
+#include "gpu/program.h"
+
+namespace mrr::gpu {
+
+Framebuffer::Framebuffer(int width, int height, int colorTargets, bool withDepth) : width_(width), height_(height) {
+  glGenFramebuffers(1, &fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  textures_.resize(static_cast<size_t>(colorTargets));
+  glGenTextures(colorTargets, textures_.data());
+  std::vector<GLenum> buffers;
+  for (int i = 0; i < colorTargets; ++i) {
+    glBindTexture(GL_TEXTURE_2D, textures_[static_cast<size_t>(i)]);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), GL_TEXTURE_2D,
+                           textures_[static_cast<size_t>(i)], 0);
+    buffers.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  }
+  if (withDepth) {
+    glGenRenderbuffers(1, &depth_);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+  }
+  glDrawBuffers(colorTargets, buffers.data());
+  require(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE, "gpu: framebuffer incomplete");
+  checkGl("framebuffer");
+}
+
+Framebuffer::~Framebuffer() {
+  glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+  if (depth_) glDeleteRenderbuffers(1, &depth_);
+  glDeleteFramebuffers(1, &fbo_);
+}
+
+void Framebuffer::bind() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, width_, height_);
+}
+
+ImageF Framebuffer::read(int i) const {
+  ImageF out(width_, height_, 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, out.data.data());
+  checkGl("readback");
+  return out;
+}
+
+GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
+  for (const Mesh& mesh : scene.meshes) {
+    MeshGl m;
+    m.color = mesh.baseColor;
+    m.indexCount = static_cast<int>(mesh.indices.size());
+    glGenVertexArrays(1, &m.vao);
+    glBindVertexArray(m.vao);
+    glGenBuffers(1, &m.positions);
+    glBindBuffer(GL_ARRAY_BUFFER, m.positions);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.positions.size() * sizeof(glm::vec3)),
+                 mesh.positions.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    glGenBuffers(1, &m.normals);
+    glBindBuffer(GL_ARRAY_BUFFER, m.normals);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.normals.size() * sizeof(glm::vec3)),
+                 mesh.normals.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(1);
+    glGenBuffers(1, &m.indices);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.indices);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
+                 mesh.indices.data(), GL_STATIC_DRAW);
+    meshes_.push_back(m);
+  }
+  glBindVertexArray(0);
+  glGenVertexArrays(1, &emptyVao_);
+  checkGl("upload");
+}
+
+unsigned GpuScene::program(const std::string& stage, const std::string& vertex, const std::string& fragment) const {
+  auto it = programs_.find(stage);
+  if (it == programs_.end()) it = programs_.emplace(stage, compileProgram(stage, vertex, fragment)).first;
+  return it->second;
+}
+
+void GpuScene::drawFullscreen() const {
+  glBindVertexArray(emptyVao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+GpuScene::~GpuScene() {
+  for (const auto& [stage, program] : programs_) glDeleteProgram(program);
+  glDeleteVertexArrays(1, &emptyVao_);
+  for (MeshGl& m : meshes_) {
+    glDeleteBuffers(1, &m.positions);
+    glDeleteBuffers(1, &m.normals);
+    glDeleteBuffers(1, &m.indices);
+    glDeleteVertexArrays(1, &m.vao);
+  }
+}
+
+void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target) {
+  const unsigned program = scene.program("gbuffer", "gbuffer.vert", "gbuffer.frag");
+  // World → view, as View::toView: rows are right, up, −forward.
+  const glm::vec3 r = view.right, u = view.up, f = view.forward, e = view.eye;
+  const float worldToView[16] = {r.x, u.x, -f.x, 0, r.y, u.y, -f.y, 0, r.z, u.z, -f.z, 0,
+                                 -glm::dot(r, e), -glm::dot(u, e), glm::dot(f, e), 1};
+  const float wp = static_cast<float>(view.paddedWidth), hp = static_cast<float>(view.paddedHeight);
+  // Near and far from the bounds: the G-buffer's depth comes from the interpolated position,
+  // so the depth buffer only has to order surfaces.
+  const Bounds& b = scene.bounds();
+  float nearest = 3.0e38f, farthest = 0.0f;
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 c((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    const float z = glm::dot(c - e, f);
+    nearest = std::min(nearest, z);
+    farthest = std::max(farthest, z);
+  }
+  const float farZ = std::max(farthest * 1.01f, 1e-3f);
+  const float nearZ = std::max(nearest * 0.99f, farZ * 1e-5f);
+  target.bind();
+  glUseProgram(program);
+  glUniformMatrix4fv(glGetUniformLocation(program, "worldToView"), 1, GL_FALSE, worldToView);
+  glUniform4f(glGetUniformLocation(program, "projection"), 2.0f * view.focal / wp, 2.0f * view.cx / wp - 1.0f,
+              -2.0f * view.focal / hp, 2.0f * view.cy / hp - 1.0f);
+  glUniform2f(glGetUniformLocation(program, "depthMapping"), -(farZ + nearZ) / (farZ - nearZ),
+              -2.0f * farZ * nearZ / (farZ - nearZ));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  const float zero[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  const GLint albedo = glGetUniformLocation(program, "albedo");
+  for (const GpuScene::MeshGl& m : scene.meshes()) {
+    glUniform3f(albedo, m.color.x, m.color.y, m.color.z);
+    glBindVertexArray(m.vao);
+    glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  glDisable(GL_DEPTH_TEST);
+  (void)level;
+  checkGl("gbuffer");
+}
+
+GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level) {
+  Framebuffer target(level.width, level.height, 3, true);
+  drawGBuffer(scene, view, level, target);
+  const ImageF ph = target.read(0), nd = target.read(1), al = target.read(2);
+  GBuffer g;
+  g.width = level.width;
+  g.height = level.height;
+  g.depth = ImageF(g.width, g.height, 1);
+  g.position = ImageF(g.width, g.height, 3);
+  g.normal = ImageF(g.width, g.height, 3);
+  g.albedo = ImageF(g.width, g.height, 3);
+  g.hit = ImageU8(g.width, g.height, 1);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const bool hit = ph.at(x, y, 3) > 0.5f;
+      g.hit.at(x, y) = hit;
+      if (!hit) continue;
+      g.depth.at(x, y) = nd.at(x, y, 3);
+      for (int c = 0; c < 3; ++c) {
+        g.position.at(x, y, c) = ph.at(x, y, c);
+        g.normal.at(x, y, c) = nd.at(x, y, c);
+        g.albedo.at(x, y, c) = al.at(x, y, c);
+      }
+    }
+  return g;
+}
+
+}  // namespace mrr::gpu

@@ -1,0 +1,78 @@
+#include "gpu/program.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <cstring>
+#include <vector>
+
+#include "common/error.h"
+#include "gpu/shader_sources.h"
+
+namespace mrr::gpu {
+
+const char* shaderSource(const std::string& name) {
+  for (const ShaderFile& f : kShaderFiles)
+    if (name == f.name) return f.text;
+  throw MrrError("gpu: no shader named " + name);
+}
+
+namespace {
+std::string oneLine(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+GLuint compile(const std::string& stage, const std::string& name, GLenum type) {
+  const GLuint shader = glCreateShader(type);
+  const char* text = shaderSource(name);
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::vector<char> log(static_cast<size_t>(std::max(length, 1)));
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    glDeleteShader(shader);
+    throw MrrError("gpu: stage " + stage + ": " + name + " does not compile: " + oneLine(log.data()));
+  }
+  return shader;
+}
+}  // namespace
+
+unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName) {
+  const GLuint vs = compile(stage, vertexName, GL_VERTEX_SHADER);
+  const GLuint fs = compile(stage, fragmentName, GL_FRAGMENT_SHADER);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::vector<char> log(static_cast<size_t>(std::max(length, 1)));
+    glGetProgramInfoLog(program, length, nullptr, log.data());
+    glDeleteProgram(program);
+    throw MrrError("gpu: stage " + stage + ": link failed: " + oneLine(log.data()));
+  }
+  return program;
+}
+
+void checkGl(const std::string& stage) {
+  const GLenum e = glGetError();
+  require(e == GL_NO_ERROR, "gpu: stage " + stage + ": GL error 0x" + [&] {
+    char b[16];
+    std::snprintf(b, sizeof b, "%04x", e);
+    return std::string(b);
+  }());
+}
+
+}  // namespace mrr::gpu

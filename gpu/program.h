@@ -1,0 +1,18 @@
+#pragma once
+// Shader programs for the port: GLSL 3.30 sources are compiled into the binary from
+// gpu/shaders/ (one file per stage, named like the cpu_ref/ file it mirrors).
+#include <string>
+
+namespace mrr::gpu {
+
+// The text of gpu/shaders/<name> (e.g. "gbuffer.frag"); throws MrrError if unknown.
+const char* shaderSource(const std::string& name);
+
+// Compiles and links; a compile or link error throws MrrError with the stage name and the
+// driver's log on one line.
+unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName);
+
+// Throws MrrError naming `stage` when glGetError reports an error (checked after every stage).
+void checkGl(const std::string& stage);
+
+}  // namespace mrr::gpu

@@ -1,0 +1,50 @@
+#version 330 core
+// Stage 2 — edge image E (SPEC §2), mirrors cpu_ref/edges.cpp: each kind kept apart.
+uniform sampler2D positionHit;  // G-buffer L0: view position, hit
+uniform sampler2D normalDepth;  // G-buffer L0: view normal, depth
+uniform float normalThreshold;  // τ_n
+uniform float depthThreshold;   // τ_z
+layout(location = 0) out vec4 edges;  // (normal, depth, background, E)
+
+bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
+bool isHit(ivec2 q) { return texelFetch(positionHit, q, 0).w > 0.5; }
+bool usable(ivec2 q, ivec2 size) { return inside(q, size) && isHit(q); }
+float inverseDepth(ivec2 q) { return 1.0 / texelFetch(normalDepth, q, 0).w; }
+
+// Relative second difference of d = 1/z along one axis: 0 on any plane.
+float secondDifference(float dMinus, float d, float dPlus) { return abs(dMinus - 2.0 * d + dPlus) / d; }
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  ivec2 size = textureSize(positionHit, 0);
+  if (!isHit(p)) {  // background pixels carry no edge; their hit neighbours do
+    edges = vec4(0.0);
+    return;
+  }
+  vec3 n = texelFetch(normalDepth, p, 0).xyz;
+  ivec2 offsets[4] = ivec2[4](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+  // 1. normal edge: first derivative, max over the 4-neighbours inside the image.
+  float normalMax = 0.0;
+  bool backgroundNeighbour = false;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q = p + offsets[k];
+    if (!inside(q, size)) continue;  // no edge comes from the border
+    if (!isHit(q)) {
+      backgroundNeighbour = true;  // 3. background edge
+      continue;
+    }
+    normalMax = max(normalMax, 1.0 - dot(n, texelFetch(normalDepth, q, 0).xyz));
+  }
+  // 2. depth edge: second difference of 1/z, where both neighbours exist and are hits.
+  float d = inverseDepth(p);
+  float secondX = 0.0, secondY = 0.0;
+  if (usable(p - ivec2(1, 0), size) && usable(p + ivec2(1, 0), size))
+    secondX = secondDifference(inverseDepth(p - ivec2(1, 0)), d, inverseDepth(p + ivec2(1, 0)));
+  if (usable(p - ivec2(0, 1), size) && usable(p + ivec2(0, 1), size))
+    secondY = secondDifference(inverseDepth(p - ivec2(0, 1)), d, inverseDepth(p + ivec2(0, 1)));
+  bool normalEdge = normalMax > normalThreshold;
+  bool depthEdge = max(secondX, secondY) > depthThreshold;
+  // 4. E = OR of the kinds
+  edges = vec4(float(normalEdge), float(depthEdge), float(backgroundNeighbour),
+               float(normalEdge || depthEdge || backgroundNeighbour));
+}

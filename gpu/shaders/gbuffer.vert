@@ -1,0 +1,20 @@
+#version 330 core
+// Stage 1 — G-buffer (SPEC §1), mirrors cpu_ref/gbuffer.cpp: each level is rasterised at its
+// own size, sampling level pixel centres ((x+½)s, (y+½)s) of the padded full-res grid.
+layout(location = 0) in vec3 worldPosition;
+layout(location = 1) in vec3 worldNormal;
+uniform mat4 worldToView;
+// Full-res pixel of a view point: px = cx + f x/(−z), py = cy − f y/(−z), mapped so that GL's
+// row 0 is image row 0 (readback needs no flip): (2f/Wp, 2cx/Wp − 1, −2f/Hp, 2cy/Hp − 1).
+uniform vec4 projection;
+uniform vec2 depthMapping;  // z_clip = A z + B (standard perspective depth for near/far)
+out vec3 viewPosition;
+out vec3 viewNormal;
+void main() {
+  vec4 p = worldToView * vec4(worldPosition, 1.0);
+  viewPosition = p.xyz;
+  viewNormal = mat3(worldToView) * worldNormal;
+  float w = -p.z;
+  gl_Position = vec4(projection.x * p.x + projection.y * w, projection.z * p.y + projection.w * w,
+                     depthMapping.x * p.z + depthMapping.y, w);
+}

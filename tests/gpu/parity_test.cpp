@@ -10,6 +10,7 @@
 #include "gpu/context.h"
 #include "gpu/edges.h"
 #include "gpu/gbuffer.h"
+#include "gpu/masks.h"
 #include "tests/oracle/render_helpers.h"
 #include "tests/test_support.h"
 
@@ -23,6 +24,8 @@ constexpr double kDepthRelative = 1e-3;        // interpolation of view position
 constexpr double kNormalDot = 0.9999;
 constexpr double kEdgeMismatchShare = 0.02;    // inherited from G-buffer edge pixels
 constexpr double kSameInputEdgeShare = 0.002;  // same G-buffer: only values within rounding of τ
+constexpr float kAlphaAbsolute = 1e-6f;        // same mask: the blur's float sums, same order
+constexpr double kStencilMismatchShare = 0.05; // end to end: an edge pixel moved dilates by r_ℓ
 
 class GpuParity : public ::testing::TestWithParam<std::string> {
  protected:
@@ -83,6 +86,23 @@ TEST_P(GpuParity, GBufferAndEdgesMatchTheOracle) {
   const double pixels = static_cast<double>(port.combined.data.size());
   EXPECT_LE(vsOracle / pixels, kEdgeMismatchShare);
   EXPECT_LE(vsSameInput / pixels, kSameInputEdgeShare);
+  // Masks: the port's from its own edges against the oracle's from the same edges (exact but
+  // for float rounding in the blur), and the stencils against the oracle's end to end.
+  const auto portMasks = gpu::buildMasks(scene, port.combined, f.constants);
+  const auto oracleSameInput = buildMasks(port.combined, f.constants);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const MaskLevel &a = portMasks[static_cast<size_t>(l)], &b = oracleSameInput[static_cast<size_t>(l)];
+    EXPECT_EQ(a.mask.data, b.mask.data) << "M level " << l;
+    if (!f.constants.levels[static_cast<size_t>(l)].enabled) continue;
+    EXPECT_EQ(a.stencil.data, b.stencil.data) << "S level " << l;
+    float worst = 0.0f;
+    for (size_t i = 0; i < a.alpha.data.size(); ++i) worst = std::max(worst, std::fabs(a.alpha.data[i] - b.alpha.data[i]));
+    EXPECT_LE(worst, kAlphaAbsolute) << "a level " << l;
+    int64_t off = 0;
+    const ImageU8& oracle = f.levels[static_cast<size_t>(l)].masks.stencil;
+    for (size_t i = 0; i < oracle.data.size(); ++i) off += a.stencil.data[i] != oracle.data[i];
+    EXPECT_LE(static_cast<double>(off) / static_cast<double>(oracle.data.size()), kStencilMismatchShare) << "S level " << l;
+  }
   RecordProperty("renderer", context_->renderer());
 }
 

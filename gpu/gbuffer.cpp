@@ -30,8 +30,8 @@ Framebuffer::Framebuffer(int width, int height, int colorTargets, bool withDepth
   if (withDepth) {
     glGenRenderbuffers(1, &depth_);
     glBindRenderbuffer(GL_RENDERBUFFER, depth_);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);  // depth, and the stencil S_ℓ
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_);
   }
   glDrawBuffers(colorTargets, buffers.data());
   require(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE, "gpu: framebuffer incomplete");
@@ -47,6 +47,21 @@ Framebuffer::~Framebuffer() {
 void Framebuffer::bind() const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, width_, height_);
+}
+
+unsigned uploadTexture(const ImageF& image) {
+  static const GLenum formats[5] = {0, GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
+  static const GLenum layouts[5] = {0, GL_RED, GL_RG, GL_RGB, GL_RGBA};
+  unsigned texture = 0;
+  glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(formats[image.channels]), image.width, image.height, 0,
+               layouts[image.channels], GL_FLOAT, image.data.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // no mipmaps: else incomplete, reads 0
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  checkGl("upload texture");
+  return texture;
 }
 
 ImageF Framebuffer::read(int i) const {

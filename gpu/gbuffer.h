@@ -31,6 +31,9 @@ class Framebuffer {
   std::vector<unsigned> textures_;
 };
 
+// A float image as a texture (1–4 channels, nearest filtering); the caller deletes it.
+unsigned uploadTexture(const ImageF& image);
+
 class GpuScene {
  public:
   explicit GpuScene(const Scene& scene);

@@ -63,13 +63,7 @@ std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const Image
   const Pass pass{scene, scene.program("masks", "fullscreen.vert", "masks.frag")};
   // Upload E as a float texture (the G-buffer's edge pass renders it; a readback round trip
   // keeps this stage testable on its own inputs).
-  std::vector<float> e(edges.data.begin(), edges.data.end());
-  unsigned edgeTexture = 0;
-  glGenTextures(1, &edgeTexture);
-  glBindTexture(GL_TEXTURE_2D, edgeTexture);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, edges.width, edges.height, 0, GL_RED, GL_FLOAT, e.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // no mipmaps: else incomplete, reads 0
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  const unsigned edgeTexture = uploadTexture(toFloat(edges));
   std::array<std::unique_ptr<Framebuffer>, kLevelCount> mask, stencil;
   std::array<MaskLevel, kLevelCount> out;
   // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels too

@@ -27,7 +27,12 @@ std::string oneLine(std::string s) {
 
 GLuint compile(const std::string& stage, const std::string& name, GLenum type) {
   const GLuint shader = glCreateShader(type);
-  const char* text = shaderSource(name);
+  // GLSL 3.30 has no #include: paste common.glsl where a shader asks for it.
+  std::string source = shaderSource(name);
+  const std::string include = "#include \"common.glsl\"";
+  if (const size_t at = source.find(include); at != std::string::npos)
+    source.replace(at, include.size(), shaderSource("common.glsl"));
+  const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
   glCompileShader(shader);
   GLint ok = 0;

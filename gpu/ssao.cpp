@@ -1,0 +1,82 @@
+#include "gpu/ssao.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include "gpu/program.h"
+
+namespace mrr::gpu {
+
+ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,
+                  const LevelConstants& level, const Constants::Ssao& ssao) {
+  Framebuffer target(level.width, level.height, 1, true);
+  target.bind();
+  const float zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, zero);
+  glClearStencil(0);
+  glClear(GL_STENCIL_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  // 1. S_ℓ into the stencil buffer
+  const unsigned mask = uploadTexture(toFloat(stencil));
+  const unsigned fill = scene.program("stencil", "fullscreen.vert", "stencil.frag");
+  glUseProgram(fill);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, mask);
+  glUniform1i(glGetUniformLocation(fill, "stencilMask"), 0);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  scene.drawFullscreen();
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  // 2. the effect where the stencil is 1
+  ImageF kernelImage(static_cast<int>(ssao.kernel.size()), 1, 3);
+  for (size_t i = 0; i < ssao.kernel.size(); ++i)
+    for (int c = 0; c < 3; ++c) kernelImage.data[3 * i + static_cast<size_t>(c)] = ssao.kernel[i][c];
+  const unsigned kernel = uploadTexture(kernelImage);
+  const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
+  glUseProgram(program);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(0));
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(1));
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, kernel);
+  glUniform1i(glGetUniformLocation(program, "positionHit"), 0);
+  glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
+  glUniform1i(glGetUniformLocation(program, "kernel"), 2);
+  glUniform1i(glGetUniformLocation(program, "samples"), ssao.samples);
+  glUniform1i(glGetUniformLocation(program, "level"), level.index);
+  glUniform1f(glGetUniformLocation(program, "invScale"), 1.0f / static_cast<float>(level.scale));
+  glUniform3f(glGetUniformLocation(program, "camera"), view.focal, view.cx, view.cy);
+  glUniform1f(glGetUniformLocation(program, "radius"), ssao.radius);
+  glUniform1f(glGetUniformLocation(program, "bias"), ssao.bias);
+  glUniform1i(glGetUniformLocation(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
+  scene.drawFullscreen();
+  glDisable(GL_STENCIL_TEST);
+  checkGl("ssao");
+  const ImageF rgba = target.read(0);
+  ImageF out(level.width, level.height);
+  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = rgba.data[4 * i];
+  glDeleteTextures(1, &mask);
+  glDeleteTextures(1, &kernel);
+  return out;
+}
+
+std::vector<uint32_t> hashGrid(const GpuScene& scene, int width, int height, int level) {
+  Framebuffer target(width, height, 1, false);
+  target.bind();
+  const unsigned program = scene.program("hash", "fullscreen.vert", "hash.frag");
+  glUseProgram(program);
+  glUniform1i(glGetUniformLocation(program, "level"), level);
+  scene.drawFullscreen();
+  checkGl("hash");
+  const ImageF halves = target.read(0);
+  std::vector<uint32_t> out(static_cast<size_t>(width) * height);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = (static_cast<uint32_t>(halves.data[4 * i]) << 16) | static_cast<uint32_t>(halves.data[4 * i + 1]);
+  return out;
+}
+
+}  // namespace mrr::gpu

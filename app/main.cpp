@@ -19,6 +19,7 @@
 #include "compare/bench.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
+#include "gpu/pipeline.h"
 #include "scenes/builtin.h"
 #include "scenes/catalog.h"
 
@@ -31,6 +32,7 @@ struct FrameOptions {
   std::string effect = "ssao";
   std::string mode = "multires";
   std::string path = "cpu";
+  int glDevice = -1;
   std::string size = "1280x720";
   std::optional<int> samples;
   int threads = 0;
@@ -55,7 +57,9 @@ struct FrameOptions {
         ->capture_default_str();
     app.add_option("--effect", effect, "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)")->capture_default_str();
     app.add_option("--mode", mode, "multires (the method) or full (the reference)")->capture_default_str();
-    app.add_option("--path", path, "cpu (the oracle); gpu is not built yet")->capture_default_str();
+    app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL; ssao so far)")
+        ->capture_default_str();
+    app.add_option("--gl-device", glDevice, "gpu: the EGL device index (default: the first that gives GL 3.3 core)");
     app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
     app.add_option("--samples", samples,
                    "samples per pixel (default ssao 64, ssm 196, ssgi 288; ssao 1..1024, ssm a square n*n up to 1024, "
@@ -116,7 +120,6 @@ struct FrameOptions {
 
   void checkPath() const {
     require(path == "cpu" || path == "gpu", "--path " + path + ": unknown path (expected cpu or gpu)");
-    require(path == "cpu", "--path gpu: the OpenGL port is not built yet (issue 5); use --path cpu");
   }
 };
 
@@ -256,11 +259,24 @@ int run(int argc, char** argv) {
   if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   if (!fo.quiet) std::cerr << "[mrr] " << rs.scene.triangleCount() << " triangles; building BVH\n";
-  const Renderer renderer(rs.scene);
   const Constants constants = makeConstants(settings, rs.scene.bounds().diagonal());
+  // The oracle, or the port: both fill the same FrameResult, so everything after is shared.
+  std::unique_ptr<Renderer> cpu;
+  std::unique_ptr<gpu::GpuRenderer> port;
+  if (fo.path == "gpu") {
+    require(settings.effect == Effect::Ssao, "--path gpu: " + toString(settings.effect) +
+                                                 " is not ported yet (ssao is; use --path cpu)");
+    port = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice);
+    if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port->renderer() << "\n";
+  } else {
+    cpu = std::make_unique<Renderer>(rs.scene);
+  }
+  auto renderWith = [&](const Constants& k, const RenderOptions& o) {
+    return port ? port->render(rs.camera, k, o) : cpu->render(rs.camera, k, o);
+  };
   // The per-level blend images are debugging output: kept only when something shows them.
   const bool keepStages = *probe || !stages.empty();
-  const FrameResult frame = renderer.render(rs.camera, constants, {keepStages, progress});
+  const FrameResult frame = renderWith(constants, {keepStages, progress});
 
   if (*probe) {
     const nlohmann::json j = probePixel(frame, probePixelXY->first, probePixelXY->second);
@@ -272,11 +288,12 @@ int run(int argc, char** argv) {
   if (reference) {
     Settings full = settings;
     full.mode = Mode::Full;
-    const FrameResult ref = renderer.render(rs.camera, makeConstants(full, rs.scene.bounds().diagonal()),
-                                            {false, progressPrinter(fo.quiet, "reference")});
+    const FrameResult ref = renderWith(makeConstants(full, rs.scene.bounds().diagonal()),
+                                       {false, progressPrinter(fo.quiet, "reference")});
     err = errorVsFull(frame, ref);
   }
-  RunInfo info{rs.scene.name, rs.scene.credit, "cpu", threadCount(fo.threads)};
+  RunInfo info{rs.scene.name, rs.scene.credit, fo.path, threadCount(fo.threads), {}};
+  if (port) info.renderer = port->renderer();
   if (!out.empty()) writeFinal(out, frame);
   if (!shaded.empty()) writeShaded(shaded, frame);
   if (!stages.empty()) writeMultiPartExr(stages, stageParts(frame), constants.width, constants.height);

@@ -61,7 +61,12 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   nlohmann::json timings = nlohmann::json::object();
   for (const StageTiming& t : f.timings) timings[t.stage] = t.ms;
   j["timings_ms"] = timings;
-  j["timing_method"] = "wall clock (steady_clock) around each stage";
+  if (info.path == "gpu") {
+    j["renderer"] = info.renderer;
+    j["timing_method"] = "glFinish + wall clock around each stage, readback included (timer queries are wrong on llvmpipe)";
+  } else {
+    j["timing_method"] = "wall clock (steady_clock) around each stage";
+  }
   if (err) {
     j["error_vs_full"] = figuresJson(err->effect);  // psnr null = identical images
     j["error_vs_full_shaded"] = figuresJson(err->shaded);

@@ -18,6 +18,7 @@ struct RunInfo {
   std::string credit;
   std::string path = "cpu";
   int threads = 0;
+  std::string renderer;  // gpu: GL_RENDERER
 };
 
 // SPEC §10 figures of `frame` against `reference` (a Mode::Full frame, same samples), on the

@@ -3,6 +3,7 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include "gpu/bilateral.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -13,21 +14,8 @@ ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const Image
   target.bind();
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
-  glClearStencil(0);
-  glClear(GL_STENCIL_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   // 1. S_ℓ into the stencil buffer
-  const unsigned mask = uploadTexture(toFloat(stencil));
-  const unsigned fill = scene.program("stencil", "fullscreen.vert", "stencil.frag");
-  glUseProgram(fill);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, mask);
-  glUniform1i(glGetUniformLocation(fill, "stencilMask"), 0);
-  glEnable(GL_STENCIL_TEST);
-  glStencilFunc(GL_ALWAYS, 1, 0xff);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  scene.drawFullscreen();
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  fillStencil(scene, stencil);
   // 2. the effect where the stencil is 1
   ImageF kernelImage(static_cast<int>(ssao.kernel.size()), 1, 3);
   for (size_t i = 0; i < ssao.kernel.size(); ++i)
@@ -35,8 +23,6 @@ ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const Image
   const unsigned kernel = uploadTexture(kernelImage);
   const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
   glUseProgram(program);
-  glStencilFunc(GL_EQUAL, 1, 0xff);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, gbuffer.texture(0));
   glActiveTexture(GL_TEXTURE1);
@@ -59,7 +45,6 @@ ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const Image
   const ImageF rgba = target.read(0);
   ImageF out(level.width, level.height);
   for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = rgba.data[4 * i];
-  glDeleteTextures(1, &mask);
   glDeleteTextures(1, &kernel);
   return out;
 }

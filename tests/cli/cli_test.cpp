@@ -555,7 +555,7 @@ const std::vector<BadCase> kBadCases = {
     {"LightAngleZero", renderArgs("builtin:demo", {"--effect", "ssm", "--light-angle", "0"}), "--light-angle"},
     {"UnknownMode", renderArgs("builtin:demo", {"--mode", "foo"}), "--mode foo"},
     {"UnknownPath", renderArgs("builtin:demo", {"--path", "foo"}), "--path foo"},
-    {"GpuPathNotBuilt", renderArgs("builtin:demo", {"--path", "gpu"}), "--path gpu"},
+    {"GpuPathUnportedEffect", renderArgs("builtin:demo", {"--path", "gpu", "--effect", "ssm"}), "not ported yet"},
     {"DisableLevelZero", renderArgs("builtin:demo", {"--disable-level", "0"}), "--disable-level 0"},
     {"CameraOutOfRange", renderArgs("builtin:demo", {"--camera", "5"}), "--camera 5"},
     {"DisableLevelFour", renderArgs("builtin:demo", {"--disable-level", "4"}), "--disable-level 4"},

@@ -12,6 +12,8 @@
 #include "gpu/edges.h"
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
+#include "gpu/pipeline.h"
+#include "common/error.h"
 #include "gpu/ssao.h"
 #include "common/hash.h"
 #include "cpu_ref/ssao.h"
@@ -175,6 +177,56 @@ TEST(GpuContext, ReportsTheRendererOrSaysWhyNot) {
   gpu::GlContext context;
   EXPECT_FALSE(context.renderer().empty());
   std::cerr << "GL renderer: " << context.renderer() << " via " << context.platform() << "\n";
+}
+
+}  // namespace
+}  // namespace mrr
+
+namespace mrr {
+namespace {
+
+// End to end: the port's final SSAO image against the oracle's, same scene and camera. The
+// difference is what the G-buffer's triangle-edge pixels pass down the cascade.
+constexpr double kFinalRms = 2e-3;
+constexpr double kFinalShareOver = 0.01;  // of pixels with |Δ| > 1e-3
+constexpr float kFinalPixelThreshold = 1e-3f;
+
+TEST(GpuPipeline, SsaoFinalImageMatchesTheOracle) {
+  std::string why;
+  if (!gpu::glAvailable(&why)) {
+    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
+    GTEST_SKIP() << why;
+  }
+  for (Mode mode : {Mode::Multires, Mode::Full}) {
+    const Settings s = test::ssaoSettings(203, 117, 16, mode);
+    const auto r = test::renderScene("builtin:demo", s);
+    const gpu::GpuRenderer port(*r.scene);
+    const FrameResult g = port.render(r.camera, r.frame.constants);
+    ASSERT_EQ(g.final().data.size(), r.frame.final().data.size());
+    double sum2 = 0.0;
+    int64_t over = 0;
+    for (size_t i = 0; i < g.final().data.size(); ++i) {
+      const float d = std::fabs(g.final().data[i] - r.frame.final().data[i]);
+      sum2 += static_cast<double>(d) * d;
+      over += d > kFinalPixelThreshold;
+    }
+    const double n = static_cast<double>(g.final().data.size());
+    EXPECT_LE(std::sqrt(sum2 / n), kFinalRms) << toString(mode);
+    EXPECT_LE(static_cast<double>(over) / n, kFinalShareOver) << toString(mode);
+    // Same stencils (up to inherited edge pixels): the ideal speedups agree closely.
+    EXPECT_NEAR(g.idealSpeedup, r.frame.idealSpeedup, 0.05 * r.frame.idealSpeedup);
+  }
+}
+
+TEST(GpuPipeline, UnportedEffectsSayWhy) {
+  std::string why;
+  if (!gpu::glAvailable(&why)) GTEST_SKIP() << why;
+  const auto r = test::renderScene("builtin:plane", test::ssaoSettings(16, 16, 4));
+  const gpu::GpuRenderer port(*r.scene);
+  Settings s = defaultSettings(Effect::Ssm);
+  s.width = s.height = 16;
+  s.setSamples(4);
+  EXPECT_THROW(port.render(r.camera, makeConstants(s, 1.0f)), MrrError);
 }
 
 }  // namespace

@@ -2,8 +2,9 @@
 # The README's main job: on the built-in demo scene, render the method (multires) and the
 # full-resolution reference with the CPU oracle, compare them, and write everything to
 # out/demo/: final and shaded images, every stage (multi-part EXR and PNG previews), the JSON
-# report with error figures, and a probe of one pixel; then the same for SSM and SSGI in
-# out/demo/ssm/ and out/demo/ssgi/. Needs nothing outside the repo.
+# report with error figures, and a probe of one pixel; the same frame through the GL port,
+# compared with the oracle; then SSM and SSGI in out/demo/ssm/ and out/demo/ssgi/. Needs
+# nothing outside the repo.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/build.sh"
@@ -19,6 +20,17 @@ echo "== multires (the method) and full (the reference), compared" >&2
 "$mrr" render "${common[@]}" --mode multires --quiet --out "$out/final.png"
 "$mrr" render "${common[@]}" --mode full --quiet --out "$out/reference.png"
 bash "$here/scripts/stage-previews.sh" "$out/stages.exr" "$out"
+# The port: the same frame through OpenGL 3.3 (headless EGL; Mesa's llvmpipe here), and how
+# far it is from the oracle — every stage of it is in gpu_stages.exr beside stages.exr.
+if "$mrr" render "${common[@]}" --path gpu --mode multires --quiet --out "$out/gpu_final.exr" \
+     --stages "$out/gpu_stages.exr" --report "$out/gpu_report.json" 2> "$out/gpu_error.txt"; then
+  rm -f "$out/gpu_error.txt"
+  oiiotool "$out/gpu_final.exr" "$out/final.exr" --diff > "$out/cpu_vs_gpu.txt" 2>&1 || true
+  echo "== oracle vs port (final SSAO image):" >&2
+  grep -E "RMS|Max error|pixels" "$out/cpu_vs_gpu.txt" | head -3 >&2
+else
+  echo "== no GL port run: $(cat "$out/gpu_error.txt")" >&2
+fi
 # The difference, scaled ×10 so it can be seen.
 oiiotool "$out/final.exr" "$out/reference.exr" --absdiff --mulc 10 --clamp:min=0:max=1 -d uint8 -o "$out/difference_x10.png"
 w="${size%x*}"; h="${size#*x}"

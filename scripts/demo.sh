@@ -25,9 +25,13 @@ bash "$here/scripts/stage-previews.sh" "$out/stages.exr" "$out"
 if "$mrr" render "${common[@]}" --path gpu --mode multires --quiet --out "$out/gpu_final.exr" \
      --stages "$out/gpu_stages.exr" --report "$out/gpu_report.json" 2> "$out/gpu_error.txt"; then
   rm -f "$out/gpu_error.txt"
-  oiiotool "$out/gpu_final.exr" "$out/final.exr" --diff > "$out/cpu_vs_gpu.txt" 2>&1 || true
+  # PASS: under 1% of pixels differ by more than 1e-3 (triangle-edge pixels of the G-buffer
+  # differ between ray casting and rasterisation); issue 6 brings the per-stage table.
+  { oiiotool "$out/gpu_final.exr" "$out/final.exr" --diff || true
+    oiiotool --fail 1 --failpercent 0 --warn 0.001 --warnpercent 1 "$out/gpu_final.exr" "$out/final.exr" --diff | tail -1 || true
+  } > "$out/cpu_vs_gpu.txt" 2>&1
   echo "== oracle vs port (final SSAO image):" >&2
-  grep -E "RMS|Max error|pixels" "$out/cpu_vs_gpu.txt" | head -3 >&2
+  { grep -E "RMS|Max error|pixels" "$out/cpu_vs_gpu.txt" | head -3; tail -1 "$out/cpu_vs_gpu.txt"; } >&2
 else
   echo "== no GL port run: $(cat "$out/gpu_error.txt")" >&2
 fi

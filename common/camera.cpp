@@ -1,10 +1,20 @@
 #include "common/camera.h"
 
+#include <glm/trigonometric.hpp>
+
 #include <cmath>
 
 #include "common/error.h"
 
 namespace mrr {
+
+Camera lookAt(const glm::vec3& eye, const glm::vec3& target, float fovDegrees) {
+  Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.yfov = glm::radians(fovDegrees);
+  return c;
+}
 
 View makeView(const Camera& camera, int width, int height, int paddedWidth, int paddedHeight) {
   View v;

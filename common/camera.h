@@ -12,6 +12,9 @@ struct Camera {
   float yfov = 0.9f;  // vertical field of view of the W×H image, radians, (0, π)
 };
 
+// A camera at `eye` looking at `target`, Y up, with a vertical field of view in degrees.
+Camera lookAt(const glm::vec3& eye, const glm::vec3& target, float fovDegrees);
+
 // Everything a stage needs to turn full-res pixels into rays and view points into pixels.
 // View space: x right, y up, looking down −z; linear depth z = −p.z > 0.
 struct View {

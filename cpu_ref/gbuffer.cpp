@@ -49,14 +49,7 @@ RayScene::~RayScene() {
 }
 
 GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstants& level) {
-  GBuffer g;
-  g.width = level.width;
-  g.height = level.height;
-  g.depth = ImageF(g.width, g.height, 1);
-  g.position = ImageF(g.width, g.height, 3);
-  g.normal = ImageF(g.width, g.height, 3);
-  g.albedo = ImageF(g.width, g.height, 3);
-  g.hit = ImageU8(g.width, g.height, 1);
+  GBuffer g(level.width, level.height);
   const Scene& scene = rays.scene();
   const float s = static_cast<float>(level.scale);
   castGrid(

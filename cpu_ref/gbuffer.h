@@ -12,6 +12,10 @@
 namespace mrr {
 
 struct GBuffer {
+  GBuffer() = default;
+  GBuffer(int w, int h)  // all background
+      : width(w), height(h), depth(w, h, 1), position(w, h, 3), normal(w, h, 3), albedo(w, h, 3), hit(w, h, 1) {}
+
   int width = 0, height = 0;
   ImageF depth;     // linear view depth z > 0 (0 on background)
   ImageF position;  // view-space position, 3 channels

@@ -17,6 +17,19 @@ double msSince(Clock::time_point t0) {
 }
 }  // namespace
 
+void FrameResult::countShadedPixels() {
+  shadedPixelsTotal = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    LevelResult& lr = levels[static_cast<size_t>(l)];
+    lr.shadedPixels = 0;
+    if (!constants.levels[static_cast<size_t>(l)].enabled) continue;
+    for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;
+    shadedPixelsTotal += lr.shadedPixels;
+  }
+  idealSpeedup = static_cast<double>(constants.width) * constants.height /
+                 static_cast<double>(std::max<int64_t>(shadedPixelsTotal, 1));
+}
+
 double FrameResult::timing(const std::string& stage) const {
   double ms = 0.0;
   for (const StageTiming& t : timings)
@@ -98,10 +111,8 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
         break;
       }
     }
-    for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;
-    f.shadedPixelsTotal += lr.shadedPixels;
   }
-  f.idealSpeedup = static_cast<double>(c.width) * c.height / static_cast<double>(std::max<int64_t>(f.shadedPixelsTotal, 1));
+  f.countShadedPixels();
 
   // 5. Upsample and blend, coarse to fine (SPEC §5).
   stage("blend", [&] {

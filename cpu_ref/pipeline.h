@@ -50,6 +50,8 @@ struct FrameResult {
   ImageF shaded;      // W×H linear RGB for viewing (SPEC §6)
 
   const ImageF& final() const { return blend.final; }
+  // |S_ℓ| per level, their sum and the ideal speedup W·H / Σ|S_ℓ| (SPEC §4), from the stencils.
+  void countShadedPixels();
   double timing(const std::string& stage) const;
 };
 

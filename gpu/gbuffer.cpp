@@ -175,14 +175,7 @@ GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConsta
   Framebuffer target(level.width, level.height, 3, true);
   drawGBuffer(scene, view, level, target);
   const ImageF ph = target.read(0), nd = target.read(1), al = target.read(2);
-  GBuffer g;
-  g.width = level.width;
-  g.height = level.height;
-  g.depth = ImageF(g.width, g.height, 1);
-  g.position = ImageF(g.width, g.height, 3);
-  g.normal = ImageF(g.width, g.height, 3);
-  g.albedo = ImageF(g.width, g.height, 3);
-  g.hit = ImageU8(g.width, g.height, 1);
+  GBuffer g(level.width, level.height);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const bool hit = ph.at(x, y, 3) > 0.5f;

@@ -64,10 +64,8 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& c, const 
     stage("bilateral" + L, [&] {
       lr.sub = bilateralBlur(gpuScene_, lr.raw, lr.masks.stencil, *gbuffers[static_cast<size_t>(l)], c.bilateral);
     });
-    for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;
-    f.shadedPixelsTotal += lr.shadedPixels;
   }
-  f.idealSpeedup = static_cast<double>(c.width) * c.height / static_cast<double>(std::max<int64_t>(f.shadedPixelsTotal, 1));
+  f.countShadedPixels();
   // 6. Upsample and blend, coarse to fine.
   stage("blend", [&] {
     std::array<LevelImages, kLevelCount> in;

@@ -65,14 +65,6 @@ struct MeshBuilder {
   }
 };
 
-Camera lookAt(glm::vec3 eye, glm::vec3 target, float fovDegrees) {
-  Camera c;
-  c.eye = eye;
-  c.target = target;
-  c.yfov = glm::radians(fovDegrees);
-  return c;
-}
-
 Scene finish(std::string name, std::vector<MeshBuilder> parts, Camera camera) {
   Scene s;
   s.name = "builtin:" + name;

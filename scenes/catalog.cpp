@@ -9,26 +9,16 @@
 
 namespace mrr {
 
-namespace {
-Camera view(glm::vec3 eye, glm::vec3 target, float fovDegrees) {
-  Camera c;
-  c.eye = eye;
-  c.target = target;
-  c.yfov = glm::radians(fovDegrees);
-  return c;
-}
-}  // namespace
-
 const std::vector<SharedSceneInfo>& sharedSceneCatalog() {
   // Cameras chosen by looking at the renders (docs/scenes.md); the first is the default.
   static const std::vector<SharedSceneInfo> catalog = {
       {"cornell", "cornell-box/CornellBox-Original.gltf", false,
-       {view({0, 1, 3.5f}, {0, 1, 0}, 45.0f)}},
+       {lookAt({0, 1, 3.5f}, {0, 1, 0}, 45.0f)}},
       {"arcade", "sascha-arcade/subpass_scene_opaque.gltf", true,
-       {view({0.0f, 3.5f, 9.5f}, {0.0f, 2.0f, 0.0f}, 60.0f)}},
+       {lookAt({0.0f, 3.5f, 9.5f}, {0.0f, 2.0f, 0.0f}, 60.0f)}},
       {"apartment", "dream-apartment/dream-apartment.glb", false,
-       {view({12.2f, 1.7f, -7.6f}, {7.0f, 0.8f, -4.0f}, 60.0f),   // kitchen and dining table
-        view({7.3f, 1.6f, -3.6f}, {12.0f, 0.8f, -7.5f}, 60.0f)}},  // kitchen island
+       {lookAt({12.2f, 1.7f, -7.6f}, {7.0f, 0.8f, -4.0f}, 60.0f),   // kitchen and dining table
+        lookAt({7.3f, 1.6f, -3.6f}, {12.0f, 0.8f, -7.5f}, 60.0f)}},  // kitchen island
   };
   return catalog;
 }

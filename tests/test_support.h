@@ -1,7 +1,9 @@
 #pragma once
 // Helpers shared by the test binaries: a fresh scratch directory per test, the shared
 // scenes folder, and skipping (visibly) when a shared scene is absent.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace mrr::test {
 
@@ -13,5 +15,8 @@ std::string sharedScene(const std::string& relative);
 
 // True when that file exists; tests call GTEST_SKIP() with a reason otherwise.
 bool haveSharedScene(const std::string& relative);
+
+// Standard base64 (RFC 4648, with padding), for glTF data URIs written by tests.
+std::string base64(const std::vector<uint8_t>& bytes);
 
 }  // namespace mrr::test

@@ -53,11 +53,13 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     levels.push_back({{"level", l}, {"scale", lc.scale}, {"enabled", lc.enabled}, {"width", lc.width},
                       {"height", lc.height}, {"sigma2", lc.sigma2}, {"weight", lc.weight},
-                      {"shaded_pixels", f.levels[static_cast<size_t>(l)].shadedPixels}});
+                      {"shaded_pixels", f.levels[static_cast<size_t>(l)].shadedPixels},
+                      {"shaded_pixels_4x2_blocks", f.levels[static_cast<size_t>(l)].shadedBlockPixels}});
   }
   j["levels"] = levels;
   j["shaded_pixels_total"] = f.shadedPixelsTotal;
   j["ideal_speedup"] = f.idealSpeedup;
+  j["ideal_speedup_4x2_blocks"] = f.blockIdealSpeedup;  // llvmpipe shades whole 4×2 blocks
   nlohmann::json timings = nlohmann::json::object();
   for (const StageTiming& t : f.timings) timings[t.stage] = t.ms;
   j["timings_ms"] = timings;

@@ -19,15 +19,26 @@ double msSince(Clock::time_point t0) {
 
 void FrameResult::countShadedPixels() {
   shadedPixelsTotal = 0;
+  int64_t blockTotal = 0;
   for (int l = 0; l < kLevelCount; ++l) {
     LevelResult& lr = levels[static_cast<size_t>(l)];
-    lr.shadedPixels = 0;
+    lr.shadedPixels = lr.shadedBlockPixels = 0;
     if (!constants.levels[static_cast<size_t>(l)].enabled) continue;
-    for (uint8_t s : lr.masks.stencil.data) lr.shadedPixels += s;
+    const ImageU8& s = lr.masks.stencil;
+    for (uint8_t v : s.data) lr.shadedPixels += v;
+    for (int by = 0; by < s.height; by += 2)
+      for (int bx = 0; bx < s.width; bx += 4) {
+        bool any = false;
+        for (int y = by; y < std::min(by + 2, s.height); ++y)
+          for (int x = bx; x < std::min(bx + 4, s.width); ++x) any = any || s.at(x, y);
+        lr.shadedBlockPixels += any ? 8 : 0;
+      }
     shadedPixelsTotal += lr.shadedPixels;
+    blockTotal += lr.shadedBlockPixels;
   }
-  idealSpeedup = static_cast<double>(constants.width) * constants.height /
-                 static_cast<double>(std::max<int64_t>(shadedPixelsTotal, 1));
+  const double pixels = static_cast<double>(constants.width) * constants.height;
+  idealSpeedup = pixels / static_cast<double>(std::max<int64_t>(shadedPixelsTotal, 1));
+  blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
 double FrameResult::timing(const std::string& stage) const {

@@ -27,6 +27,7 @@ struct LevelResult {
   ImageF raw;        // the effect before the bilateral blur
   ImageF sub;        // c_ℓ, after the bilateral blur
   int64_t shadedPixels = 0;  // |S_ℓ|
+  int64_t shadedBlockPixels = 0;  // 8 × the 4×2 blocks holding any S_ℓ = 1: what llvmpipe shades
 };
 
 struct StageTiming {
@@ -45,6 +46,9 @@ struct FrameResult {
   BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
   int64_t shadedPixelsTotal = 0;
   double idealSpeedup = 1.0;  // W·H / Σ|S_ℓ| (SPEC §4)
+  // The same over whole 4×2 blocks: llvmpipe skips a block only when all eight fail the
+  // stencil (PLATFORM.md), so this is the most a stencilled pass can gain there.
+  double blockIdealSpeedup = 1.0;
   std::vector<StageTiming> timings;  // in pipeline order; "total" last
 
   ImageF shaded;      // W×H linear RGB for viewing (SPEC §6)

@@ -23,6 +23,7 @@ TEST(Analytic, OpenPlaneHasNoEdgesAoOneAndIdealSpeedup64) {
   EXPECT_EQ(f.levels[2].shadedPixels, 0);
   EXPECT_EQ(f.levels[3].shadedPixels, 8 * 6);
   EXPECT_DOUBLE_EQ(f.idealSpeedup, 64.0);
+  EXPECT_DOUBLE_EQ(f.blockIdealSpeedup, 64.0);  // 8×6 level pixels are six whole 4×2 blocks
 }
 
 TEST(Analytic, OpenPlaneFullModeIsAlsoOne) {

@@ -191,6 +191,14 @@ TEST(Levels, ShadedPixelCountsAndIdealSpeedup) {
   EXPECT_DOUBLE_EQ(f.idealSpeedup, 160.0 * 96.0 / static_cast<double>(total));
   EXPECT_GT(f.idealSpeedup, 1.0);
   EXPECT_EQ(f.levels[3].shadedPixels, 20 * 12);  // the coarsest level covers everything
+  // Whole 4×2 blocks (llvmpipe's unit) cover at least the shaded pixels, at most 8× them.
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    EXPECT_GE(lr.shadedBlockPixels, lr.shadedPixels);
+    EXPECT_LE(lr.shadedBlockPixels, 8 * lr.shadedPixels);
+    EXPECT_EQ(lr.shadedBlockPixels % 8, 0);
+  }
+  EXPECT_LE(f.blockIdealSpeedup, f.idealSpeedup);
 }
 
 TEST(Levels, UnshadedPixelsAreNeverEvaluated) {

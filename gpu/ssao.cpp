@@ -3,7 +3,7 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
-#include "gpu/bilateral.h"
+#include "gpu/stencil.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {

@@ -33,9 +33,7 @@ ImageF bilateralBlur(const GpuScene& scene, const ImageF& raw, const ImageU8& st
   scene.drawFullscreen();
   glDisable(GL_STENCIL_TEST);
   checkGl("bilateral");
-  const ImageF rgba = target.read(0);
-  ImageF out(raw.width, raw.height);
-  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = rgba.data[4 * i];
+  ImageF out = target.read(0, 1);
   glDeleteTextures(1, &image);
   glDeleteTextures(1, &mask);
   return out;

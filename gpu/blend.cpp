@@ -9,15 +9,6 @@
 
 namespace mrr::gpu {
 
-namespace {
-ImageF channels(const ImageF& rgba, int n) {
-  ImageF out(rgba.width, rgba.height, n);
-  for (size_t i = 0; i < rgba.pixelCount(); ++i)
-    for (int c = 0; c < n; ++c) out.data[i * static_cast<size_t>(n) + static_cast<size_t>(c)] = rgba.data[4 * i + static_cast<size_t>(c)];
-  return out;
-}
-}  // namespace
-
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const int channelCount = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
@@ -45,9 +36,9 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLe
     glUniform1f(glGetUniformLocation(program, "weight"), lc.weight);
     scene.drawFullscreen();
     checkGl("blend");
-    r.upsampled[static_cast<size_t>(l)] = channels(target->read(0), channelCount);
-    r.alpha[static_cast<size_t>(l)] = channels(target->read(1), 1);
-    r.composite[static_cast<size_t>(l)] = channels(target->read(2), channelCount);
+    r.upsampled[static_cast<size_t>(l)] = target->read(0, channelCount);
+    r.alpha[static_cast<size_t>(l)] = target->read(1, 1);
+    r.composite[static_cast<size_t>(l)] = target->read(2, channelCount);
     if (previous)  // the finest level with α > 0 wins the level map, as on the host
       for (size_t i = 0; i < r.levelMap.data.size(); ++i)
         if (r.alpha[static_cast<size_t>(l)].data[i] > 0.0f) r.levelMap.data[i] = static_cast<uint8_t>(l);

@@ -74,6 +74,15 @@ ImageF Framebuffer::read(int i) const {
   return out;
 }
 
+ImageF Framebuffer::read(int i, int channels) const {
+  const ImageF rgba = read(i);
+  ImageF out(rgba.width, rgba.height, channels);
+  for (size_t p = 0; p < out.pixelCount(); ++p)
+    for (int c = 0; c < channels; ++c)
+      out.data[p * static_cast<size_t>(channels) + static_cast<size_t>(c)] = rgba.data[4 * p + static_cast<size_t>(c)];
+  return out;
+}
+
 GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
   for (const Mesh& mesh : scene.meshes) {
     MeshGl m;

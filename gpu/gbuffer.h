@@ -22,6 +22,7 @@ class Framebuffer {
   void bind() const;
   unsigned texture(int i) const { return textures_[static_cast<size_t>(i)]; }
   ImageF read(int i) const;  // RGBA float, row 0 = image row 0
+  ImageF read(int i, int channels) const;  // the first `channels` of target i
   int width() const { return width_; }
   int height() const { return height_; }
 

@@ -44,13 +44,6 @@ struct Pass {
   }
 };
 
-ImageF channel0(const Framebuffer& f) {
-  const ImageF rgba = f.read(0);
-  ImageF out(rgba.width, rgba.height);
-  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = rgba.data[4 * i];
-  return out;
-}
-
 ImageU8 toMask(const ImageF& f) {
   ImageU8 out(f.width, f.height);
   for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = f.data[i] > 0.5f;
@@ -71,7 +64,7 @@ std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const Image
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const unsigned source = l == 0 ? edgeTexture : mask[static_cast<size_t>(l - 1)]->texture(0);
     mask[static_cast<size_t>(l)] = pass.run(1, lc.width, lc.height, source, 0, l == 0 ? 1 : 2);
-    out[static_cast<size_t>(l)].mask = toMask(channel0(*mask[static_cast<size_t>(l)]));
+    out[static_cast<size_t>(l)].mask = toMask(mask[static_cast<size_t>(l)]->read(0, 1));
   }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -86,7 +79,7 @@ std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const Image
     const auto horizontal =
         pass.run(2, lc.width, lc.height, mask[static_cast<size_t>(l)]->texture(0), 0, 1, {1, 0}, &lc.gaussian);
     const auto alpha = pass.run(2, lc.width, lc.height, horizontal->texture(0), 0, 1, {0, 1}, &lc.gaussian);
-    ml.alpha = channel0(*alpha);
+    ml.alpha = alpha->read(0, 1);
     stencil[static_cast<size_t>(l)] = pass.run(3, lc.width, lc.height, alpha->texture(0));
   }
   // 4. coverage closure, fine to coarse, across disabled levels
@@ -100,7 +93,7 @@ std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const Image
   }
   for (int l = 0; l < kLevelCount; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled && l != c.coarsestEnabled)
-      out[static_cast<size_t>(l)].stencil = toMask(channel0(*stencil[static_cast<size_t>(l)]));
+      out[static_cast<size_t>(l)].stencil = toMask(stencil[static_cast<size_t>(l)]->read(0, 1));
   glDeleteTextures(1, &edgeTexture);
   return out;
 }

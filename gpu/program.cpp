@@ -25,6 +25,16 @@ std::string oneLine(std::string s) {
   return s;
 }
 
+// The info log of a shader or a program, on one line.
+template <class GetIv, class GetLog>
+std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
+  GLint length = 0;
+  getIv(object, GL_INFO_LOG_LENGTH, &length);
+  std::vector<char> log(static_cast<size_t>(std::max(length, 1)));
+  getLog(object, length, nullptr, log.data());
+  return oneLine(log.data());
+}
+
 GLuint compile(const std::string& stage, const std::string& name, GLenum type) {
   const GLuint shader = glCreateShader(type);
   // GLSL 3.30 has no #include: paste common.glsl where a shader asks for it.
@@ -38,12 +48,9 @@ GLuint compile(const std::string& stage, const std::string& name, GLenum type) {
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::vector<char> log(static_cast<size_t>(std::max(length, 1)));
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
-    throw MrrError("gpu: stage " + stage + ": " + name + " does not compile: " + oneLine(log.data()));
+    throw MrrError("gpu: stage " + stage + ": " + name + " does not compile: " + log);
   }
   return shader;
 }
@@ -61,12 +68,9 @@ unsigned compileProgram(const std::string& stage, const std::string& vertexName,
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::vector<char> log(static_cast<size_t>(std::max(length, 1)));
-    glGetProgramInfoLog(program, length, nullptr, log.data());
+    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
-    throw MrrError("gpu: stage " + stage + ": link failed: " + oneLine(log.data()));
+    throw MrrError("gpu: stage " + stage + ": link failed: " + log);
   }
   return program;
 }

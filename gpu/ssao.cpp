@@ -42,9 +42,7 @@ ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const Image
   scene.drawFullscreen();
   glDisable(GL_STENCIL_TEST);
   checkGl("ssao");
-  const ImageF rgba = target.read(0);
-  ImageF out(level.width, level.height);
-  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = rgba.data[4 * i];
+  ImageF out = target.read(0, 1);
   glDeleteTextures(1, &kernel);
   return out;
 }

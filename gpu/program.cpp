@@ -35,15 +35,15 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
   return oneLine(log.data());
 }
 
-GLuint compile(const std::string& stage, const std::string& name, GLenum type) {
+GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type) {
   const GLuint shader = glCreateShader(type);
   // GLSL 3.30 has no #include: paste common.glsl where a shader asks for it.
-  std::string source = shaderSource(name);
+  std::string source = text;
   const std::string include = "#include \"common.glsl\"";
   if (const size_t at = source.find(include); at != std::string::npos)
     source.replace(at, include.size(), shaderSource("common.glsl"));
-  const char* text = source.c_str();
-  glShaderSource(shader, 1, &text, nullptr);
+  const char* sourceText = source.c_str();
+  glShaderSource(shader, 1, &sourceText, nullptr);
   glCompileShader(shader);
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
@@ -57,8 +57,19 @@ GLuint compile(const std::string& stage, const std::string& name, GLenum type) {
 }  // namespace
 
 unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName) {
-  const GLuint vs = compile(stage, vertexName, GL_VERTEX_SHADER);
-  const GLuint fs = compile(stage, fragmentName, GL_FRAGMENT_SHADER);
+  return compileProgramFromSource(stage, vertexName, shaderSource(vertexName), fragmentName, shaderSource(fragmentName));
+}
+
+unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName, const std::string& vertexText,
+                                  const std::string& fragmentName, const std::string& fragmentText) {
+  const GLuint vs = compile(stage, vertexName, vertexText, GL_VERTEX_SHADER);
+  GLuint fs = 0;
+  try {
+    fs = compile(stage, fragmentName, fragmentText, GL_FRAGMENT_SHADER);
+  } catch (...) {
+    glDeleteShader(vs);
+    throw;
+  }
   const GLuint program = glCreateProgram();
   glAttachShader(program, vs);
   glAttachShader(program, fs);

@@ -12,6 +12,10 @@ const char* shaderSource(const std::string& name);
 // driver's log on one line.
 unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName);
 
+// The same from source text (what compileProgram uses; tests feed it broken shaders).
+unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName, const std::string& vertexText,
+                                  const std::string& fragmentName, const std::string& fragmentText);
+
 // Throws MrrError naming `stage` when glGetError reports an error (checked after every stage).
 void checkGl(const std::string& stage);
 

@@ -13,6 +13,7 @@
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
 #include "gpu/pipeline.h"
+#include "gpu/program.h"
 #include "common/error.h"
 #include "gpu/ssao.h"
 #include "common/hash.h"
@@ -221,6 +222,30 @@ TEST(GpuPipeline, UnportedEffectsSayWhy) {
   s.width = s.height = 16;
   s.setSamples(4);
   EXPECT_THROW(port.render(r.camera, makeConstants(s, 1.0f)), MrrError);
+}
+
+}  // namespace
+}  // namespace mrr
+
+namespace mrr {
+namespace {
+
+// A driver error names the stage and carries the driver's log, on one line (issue 5).
+TEST(GpuProgram, CompileErrorNamesTheStageAndTheDriversLog) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  gpu::GlContext context;
+  const std::string broken = "#version 330 core\nout vec4 c;\nvoid main() { c = undefinedThing; }\n";
+  try {
+    gpu::compileProgramFromSource("planted", "fullscreen.vert", gpu::shaderSource("fullscreen.vert"), "broken.frag",
+                                  broken);
+    FAIL() << "a broken shader compiled";
+  } catch (const MrrError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("stage planted"), std::string::npos) << what;
+    EXPECT_NE(what.find("broken.frag"), std::string::npos) << what;
+    EXPECT_NE(what.find("undefinedThing"), std::string::npos) << what;  // the driver's log
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
 }
 
 }  // namespace

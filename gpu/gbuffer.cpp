@@ -83,6 +83,20 @@ ImageF Framebuffer::read(int i, int channels) const {
   return out;
 }
 
+namespace {
+// A vec3 vertex attribute at `location` of the bound vertex array.
+unsigned uploadAttribute(unsigned location, const std::vector<glm::vec3>& values) {
+  unsigned buffer = 0;
+  glGenBuffers(1, &buffer);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(values.size() * sizeof(glm::vec3)), values.data(),
+               GL_STATIC_DRAW);
+  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(location);
+  return buffer;
+}
+}  // namespace
+
 GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
   for (const Mesh& mesh : scene.meshes) {
     MeshGl m;
@@ -90,18 +104,8 @@ GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
     m.indexCount = static_cast<int>(mesh.indices.size());
     glGenVertexArrays(1, &m.vao);
     glBindVertexArray(m.vao);
-    glGenBuffers(1, &m.positions);
-    glBindBuffer(GL_ARRAY_BUFFER, m.positions);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.positions.size() * sizeof(glm::vec3)),
-                 mesh.positions.data(), GL_STATIC_DRAW);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(0);
-    glGenBuffers(1, &m.normals);
-    glBindBuffer(GL_ARRAY_BUFFER, m.normals);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.normals.size() * sizeof(glm::vec3)),
-                 mesh.normals.data(), GL_STATIC_DRAW);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(1);
+    m.positions = uploadAttribute(0, mesh.positions);
+    m.normals = uploadAttribute(1, mesh.normals);
     glGenBuffers(1, &m.indices);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.indices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
@@ -183,8 +187,12 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
 GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level) {
   Framebuffer target(level.width, level.height, 3, true);
   drawGBuffer(scene, view, level, target);
+  return readGBuffer(target);
+}
+
+GBuffer readGBuffer(const Framebuffer& target) {
   const ImageF ph = target.read(0), nd = target.read(1), al = target.read(2);
-  GBuffer g(level.width, level.height);
+  GBuffer g(target.width(), target.height());
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const bool hit = ph.at(x, y, 3) > 0.5f;

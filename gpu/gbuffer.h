@@ -65,7 +65,10 @@ class GpuScene {
 // Renders level `level`'s G-buffer into `target` (3 colour targets + depth, level-sized).
 void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target);
 
-// The same, read back into the oracle's structure.
+// Reads drawn G-buffer targets back into the oracle's structure.
+GBuffer readGBuffer(const Framebuffer& target);
+
+// Draw and read back in one call.
 GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level);
 
 }  // namespace mrr::gpu

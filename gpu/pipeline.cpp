@@ -42,7 +42,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& c, const 
     stage("gbuffer.L" + std::to_string(l), [&] {
       gbuffers[static_cast<size_t>(l)] = std::make_unique<Framebuffer>(lc.width, lc.height, 3, true);
       drawGBuffer(gpuScene_, f.view, lc, *gbuffers[static_cast<size_t>(l)]);
-      f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(gpuScene_, f.view, lc);  // readback
+      f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
     });
   }
   // 2–3. Edges, masks, stencils.

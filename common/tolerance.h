@@ -1,0 +1,46 @@
+#pragma once
+// The one tolerance table for the port against the oracle (SPEC §8): every rule has a
+// per-pixel threshold, the share of pixels allowed over it, an RMS bound, and why. Tests
+// read it; `compare` (issue 6) will too. No tolerance is written anywhere else.
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace mrr {
+
+struct ToleranceRule {
+  std::string_view stage;
+  double pixelThreshold;  // |Δ| above it counts as a differing pixel (the stage's own unit)
+  double shareOver;       // share of pixels allowed over the threshold
+  double rmsBound;        // bound on the RMS of Δ (infinity: not used)
+  std::string_view why;
+};
+
+inline constexpr double kNoRms = std::numeric_limits<double>::infinity();
+
+// ".same_input" rules compare the port's stage with the oracle's stage run on the port's own
+// inputs (cascade awareness); the others compare end to end with the oracle.
+inline constexpr ToleranceRule kTolerances[] = {
+    {"gbuffer.hit", 0.5, 0.01, kNoRms,
+     "triangle-edge pixels: ray casting and rasterisation pick different triangles"},
+    {"gbuffer.depth", 1e-3, 0.01, kNoRms,
+     "relative |Δz|/z: perspective-correct interpolation vs barycentrics of the hit"},
+    {"gbuffer.normal", 1e-4, 0.01, kNoRms, "1 − N·N': interpolation order of the vertex normals"},
+    {"edges", 0.5, 0.02, kNoRms, "inherited from the G-buffer's triangle-edge pixels"},
+    {"edges.same_input", 0.5, 0.002, kNoRms, "only derivatives within rounding of τ_n or τ_z may flip"},
+    {"masks.same_input", 0.5, 0.0, kNoRms, "max-pools and stencils of the same edges are exact"},
+    {"alpha.same_input", 1e-6, 0.0, kNoRms, "the blur sums the same weights in the same order in float"},
+    {"stencil", 0.5, 0.05, kNoRms, "one edge pixel moved upstream dilates by r_ℓ in S_ℓ"},
+    {"ssao.same_input", 1e-4, 0.02, 2e-3,
+     "GLSL sin/cos differ from libm in the last bits: a sample at a texel border may change texel"},
+    {"final", 1e-3, 0.01, 2e-3, "end to end: the G-buffer's triangle-edge pixels, passed down the cascade"},
+};
+
+inline const ToleranceRule& tolerance(std::string_view stage) {
+  for (const ToleranceRule& r : kTolerances)
+    if (r.stage == stage) return r;
+  throw std::out_of_range("no tolerance rule for stage " + std::string(stage));
+}
+
+}  // namespace mrr

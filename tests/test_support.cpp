@@ -43,4 +43,27 @@ std::string base64(const std::vector<uint8_t>& bytes) {
   return out;
 }
 
+std::string glbFile(const std::string& json, const std::vector<uint8_t>& bin) {
+  auto appendU32 = [](std::string& out, uint32_t value) {
+    for (int i = 0; i < 4; ++i) out += static_cast<char>((value >> (8 * i)) & 0xFFu);
+  };
+  std::string text = json;
+  while (text.size() % 4 != 0) text += ' ';
+  std::string data(bin.begin(), bin.end());
+  while (data.size() % 4 != 0) data += '\0';
+  std::string out;
+  appendU32(out, 0x46546C67u);  // "glTF"
+  appendU32(out, 2);
+  appendU32(out, static_cast<uint32_t>(12 + 8 + text.size() + (data.empty() ? 0 : 8 + data.size())));
+  appendU32(out, static_cast<uint32_t>(text.size()));
+  appendU32(out, 0x4E4F534Au);  // "JSON"
+  out += text;
+  if (!data.empty()) {
+    appendU32(out, static_cast<uint32_t>(data.size()));
+    appendU32(out, 0x004E4942u);  // "BIN\0"
+    out += data;
+  }
+  return out;
+}
+
 }  // namespace mrr::test

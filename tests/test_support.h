@@ -19,4 +19,7 @@ bool haveSharedScene(const std::string& relative);
 // Standard base64 (RFC 4648, with padding), for glTF data URIs written by tests.
 std::string base64(const std::vector<uint8_t>& bytes);
 
+// A binary glTF (.glb): a JSON chunk and, when `bin` is not empty, a BIN chunk.
+std::string glbFile(const std::string& json, const std::vector<uint8_t>& bin);
+
 }  // namespace mrr::test

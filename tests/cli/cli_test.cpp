@@ -138,10 +138,6 @@ std::vector<std::string> tiny(std::vector<std::string> args, const std::string& 
 constexpr int kFloat = 5126;
 constexpr int kUnsignedInt = 5125;
 
-void appendU32(std::string& out, uint32_t value) {
-  for (int i = 0; i < 4; ++i) out += static_cast<char>((value >> (8 * i)) & 0xFFu);
-}
-
 template <class T>
 void appendBytes(std::vector<uint8_t>& bin, const std::vector<T>& values) {
   while (bin.size() % 4 != 0) bin.push_back(0);
@@ -190,23 +186,7 @@ struct TriangleGltf {
 
   std::string gltfText() const { return finished(false).dump(1); }
 
-  std::string glbBytes() const {
-    std::string text = finished(true).dump();
-    while (text.size() % 4 != 0) text += ' ';
-    std::string data(bin.begin(), bin.end());
-    while (data.size() % 4 != 0) data += '\0';
-    std::string out;
-    appendU32(out, 0x46546C67u);  // "glTF"
-    appendU32(out, 2);
-    appendU32(out, static_cast<uint32_t>(12 + 8 + text.size() + 8 + data.size()));
-    appendU32(out, static_cast<uint32_t>(text.size()));
-    appendU32(out, 0x4E4F534Au);  // "JSON"
-    out += text;
-    appendU32(out, static_cast<uint32_t>(data.size()));
-    appendU32(out, 0x004E4942u);  // "BIN\0"
-    out += data;
-    return out;
-  }
+  std::string glbBytes() const { return test::glbFile(finished(true).dump(), bin); }
 };
 
 const std::vector<float> kTriangle = {-1, -1, 0, 1, -1, 0, 0, 1, 0};

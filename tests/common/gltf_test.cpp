@@ -35,10 +35,6 @@ void writeFile(const std::string& path, const std::string& text) {
   out << text;
 }
 
-void appendU32(std::string& out, uint32_t value) {
-  for (int i = 0; i < 4; ++i) out += static_cast<char>((value >> (8 * i)) & 0xFFu);
-}
-
 // Builds a glTF document and its one binary buffer.
 class GltfBuilder {
  public:
@@ -122,25 +118,7 @@ class GltfBuilder {
     return path;
   }
 
-  std::string glbBytes() const {
-    std::string text = finished(true).dump();
-    while (text.size() % 4 != 0) text += ' ';
-    std::string data(bin.begin(), bin.end());
-    while (data.size() % 4 != 0) data += '\0';
-    std::string out;
-    appendU32(out, 0x46546C67u);  // "glTF"
-    appendU32(out, 2);
-    appendU32(out, static_cast<uint32_t>(12 + 8 + text.size() + (data.empty() ? 0 : 8 + data.size())));
-    appendU32(out, static_cast<uint32_t>(text.size()));
-    appendU32(out, 0x4E4F534Au);  // "JSON"
-    out += text;
-    if (!data.empty()) {
-      appendU32(out, static_cast<uint32_t>(data.size()));
-      appendU32(out, 0x004E4942u);  // "BIN\0"
-      out += data;
-    }
-    return out;
-  }
+  std::string glbBytes() const { return test::glbFile(finished(true).dump(), bin); }
 
   std::string writeGlb(const std::string& dir, const std::string& name) const {
     const std::string path = (fs::path(dir) / name).string();

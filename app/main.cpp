@@ -16,6 +16,7 @@
 #include "app/options.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/memory.h"
 #include "compare/bench.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
@@ -47,6 +48,7 @@ struct FrameOptions {
   float giRadius = 0.0f;
   std::optional<float> tauN, tauZ;
   std::vector<int> disabledLevels;
+  std::optional<double> memoryLimitGiB;
   bool quiet = false;
 
   void add(CLI::App& app) {
@@ -57,7 +59,7 @@ struct FrameOptions {
         ->capture_default_str();
     app.add_option("--effect", effect, "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)")->capture_default_str();
     app.add_option("--mode", mode, "multires (the method) or full (the reference)")->capture_default_str();
-    app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL; ssao so far)")
+    app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL)")
         ->capture_default_str();
     app.add_option("--gl-device", glDevice, "gpu: the EGL device index (default: the first that gives GL 3.3 core)");
     app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
@@ -81,6 +83,8 @@ struct FrameOptions {
     app.add_option("--tau-n", tauN, "normal-edge threshold on 1 - N.N (default 0.1)");
     app.add_option("--tau-z", tauZ, "depth-edge threshold on |second difference of 1/z| / (1/z) (default 0.02)");
     app.add_option("--disable-level", disabledLevels, "disable level 1, 2 or 3 (repeatable)");
+    app.add_option("--memory-limit", memoryLimitGiB,
+                   "GiB the run may plan to use (default: MRR_MEMORY_LIMIT, else 3/4 of physical memory)");
     app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
   }
 
@@ -253,6 +257,18 @@ int run(int argc, char** argv) {
     requireDistinct({{"--out", out}, {"--shaded", shaded}, {"--stages", stages}, {"--report", report}});
   }
 
+  // The memory check up front, before the scene is loaded or anything allocated: sizes alone
+  // decide it (the scene's diagonal only scales radii).
+  const bool keepStages = *probe || !stages.empty();
+  int64_t memoryEstimate = estimateFrameBytes(makeConstants(settings, 1.0f), keepStages);
+  if (reference) {
+    Settings full = settings;
+    full.mode = Mode::Full;
+    memoryEstimate += estimateFrameBytes(makeConstants(full, 1.0f), false);
+  }
+  requireMemory(memoryEstimate, memoryLimit(fo.memoryLimitGiB),
+                "a " + fo.size + " " + toString(settings.effect) + " frame" + (reference ? " and its reference" : ""));
+
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
                          static_cast<size_t>(threadCount(fo.threads)));
   const ProgressFn progress = progressPrinter(fo.quiet, toString(settings.mode));
@@ -264,8 +280,6 @@ int run(int argc, char** argv) {
   std::unique_ptr<Renderer> cpu;
   std::unique_ptr<gpu::GpuRenderer> port;
   if (fo.path == "gpu") {
-    require(settings.effect == Effect::Ssao, "--path gpu: " + toString(settings.effect) +
-                                                 " is not ported yet (ssao is; use --path cpu)");
     port = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice);
     if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port->renderer() << "\n";
   } else {
@@ -275,7 +289,6 @@ int run(int argc, char** argv) {
     return port ? port->render(rs.camera, k, o) : cpu->render(rs.camera, k, o);
   };
   // The per-level blend images are debugging output: kept only when something shows them.
-  const bool keepStages = *probe || !stages.empty();
   const FrameResult frame = renderWith(constants, {keepStages, progress});
 
   if (*probe) {
@@ -294,6 +307,8 @@ int run(int argc, char** argv) {
   }
   RunInfo info{rs.scene.name, rs.scene.credit, fo.path, threadCount(fo.threads), {}};
   if (port) info.renderer = port->renderer();
+  info.memoryEstimateBytes = memoryEstimate;
+  info.peakResidentBytes = peakResidentBytes();
   if (!out.empty()) writeFinal(out, frame);
   if (!shaded.empty()) writeShaded(shaded, frame);
   if (!stages.empty()) writeMultiPartExr(stages, stageParts(frame), constants.width, constants.height);
@@ -317,6 +332,7 @@ int main(int argc, char** argv) {
   // (M_MMAP_THRESHOLD is capped at 32 MiB, so switch mmap off instead of raising it.)
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, -1);
+  mrr::removeTemporariesOnInterrupt();
   try {
     return mrr::run(argc, argv);
   } catch (const mrr::MrrError& e) {

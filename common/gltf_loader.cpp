@@ -34,6 +34,8 @@ constexpr float kMaxLightScale = 10.0f;
 constexpr size_t kMaxCreditLines = 6;
 // Deeper node chains than this are garbage (and would exhaust the stack).
 constexpr int kMaxNodeDepth = 1000;
+// One file is read whole into memory, and tinygltf takes its size as a 32-bit count.
+constexpr uintmax_t kMaxFileBytes = 2000000000;
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -151,7 +153,8 @@ struct LocalPrimitive {
 
 class Loader {
  public:
-  Loader(const std::string& path, const tinygltf::Model& model) : path_(path), model_(model) {}
+  Loader(const std::string& path, const tinygltf::Model& model, bool quiet)
+      : path_(path), model_(model), quiet_(quiet) {}
 
   Scene build() {
     checkRequiredExtensions();
@@ -168,7 +171,7 @@ class Loader {
   }
 
   void warn(const std::string& message) const {
-    std::cerr << "mrr: warning: " << path_ << ": " << message << "\n";
+    if (!quiet_) std::cerr << "mrr: warning: " << path_ << ": " << message << "\n";
   }
 
   void checkRequiredExtensions() const {
@@ -570,6 +573,7 @@ class Loader {
 
   const std::string& path_;
   const tinygltf::Model& model_;
+  const bool quiet_;
   Scene scene_;
   std::vector<std::optional<std::vector<LocalPrimitive>>> meshCache_;
   std::vector<char> onStack_;
@@ -618,6 +622,60 @@ std::string readCredit(const fs::path& file) {
 
 }  // namespace
 
+namespace {
+
+// tinygltf's file callbacks for in-memory parsing without a folder: every external buffer
+// is refused, so fuzzed bytes can never make the loader read a file of the machine.
+// (FileExists says yes so that tinygltf goes on to the read, which fails with the reason.)
+bool noFileExists(const std::string&, void*) { return true; }
+std::string noExpand(const std::string& path, void*) { return path; }
+bool noReadWholeFile(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+  if (err) *err += "external file \"" + path + "\" not allowed here\n";
+  return false;
+}
+bool noWriteWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+
+// The one path from bytes to a validated scene: tinygltf, then mrr's Loader and checks.
+Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name, const std::string& baseDir,
+                bool binary, const LoadOptions& options) {
+  require(!bytes.empty(), name + ": empty file, not a valid glTF file");
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = false;
+  try {
+    tinygltf::TinyGLTF gltf;
+    gltf.SetImageLoader(skipImage, nullptr);
+    if (baseDir.empty())
+      gltf.SetFsCallbacks({noFileExists, noExpand, noReadWholeFile, noWriteWholeFile, nullptr});
+    const auto size = static_cast<unsigned int>(std::min<size_t>(bytes.size(), 0xffffffffu));
+    ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, baseDir)
+                : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
+                                           baseDir);
+  } catch (const std::exception& e) {
+    throw MrrError(name + ": not a valid glTF file: " + oneLine(e.what()));
+  }
+  if (!ok) {
+    const std::string reason = oneLine(err);
+    throw MrrError(name + ": not a valid glTF file: " + (reason.empty() ? "tinygltf failed" : reason));
+  }
+  if (!oneLine(warn).empty() && !options.quiet) std::cerr << "mrr: warning: " << name << ": " << oneLine(warn) << "\n";
+
+  Scene scene;
+  try {
+    scene = Loader(name, model, options.quiet).build();
+  } catch (const MrrError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // bad_alloc from an absurd but in-bounds count, or anything else unexpected.
+    throw MrrError(name + ": cannot load: " + oneLine(e.what()));
+  }
+  if (options.flipUp) flipUp(scene);
+  validateScene(scene, name);
+  return scene;
+}
+
+}  // namespace
+
 Scene loadGltf(const std::string& path, const LoadOptions& options) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
@@ -631,37 +689,26 @@ Scene loadGltf(const std::string& path, const LoadOptions& options) {
   const auto size = fs::file_size(path, ec);
   require(!ec, path + ": cannot read the file size (" + ec.message() + ")");
   require(size > 0, path + ": empty file, not a valid glTF file");
+  require(size <= kMaxFileBytes, path + ": " + std::to_string(size) + " bytes, over the limit of " +
+                                     std::to_string(kMaxFileBytes) + " for one glTF file");
 
-  tinygltf::Model model;
-  std::string err, warn;
-  bool ok = false;
-  try {
-    tinygltf::TinyGLTF gltf;
-    gltf.SetImageLoader(skipImage, nullptr);
-    ok = extension == ".glb" ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
-                             : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
-  } catch (const std::exception& e) {
-    throw MrrError(path + ": not a valid glTF file: " + oneLine(e.what()));
+  std::vector<unsigned char> bytes(static_cast<size_t>(size));
+  {
+    std::ifstream in(path, std::ios::binary);
+    require(in.good(), path + ": cannot open for reading");
+    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    require(in.gcount() == static_cast<std::streamsize>(bytes.size()), path + ": cannot read the whole file");
   }
-  if (!ok) {
-    const std::string reason = oneLine(err);
-    throw MrrError(path + ": not a valid glTF file: " + (reason.empty() ? "tinygltf failed" : reason));
-  }
-  if (!oneLine(warn).empty()) std::cerr << "mrr: warning: " << path << ": " << oneLine(warn) << "\n";
-
-  Scene scene;
-  try {
-    scene = Loader(path, model).build();
-  } catch (const MrrError&) {
-    throw;
-  } catch (const std::exception& e) {
-    // bad_alloc from an absurd but in-bounds count, or anything else unexpected.
-    throw MrrError(path + ": cannot load: " + oneLine(e.what()));
-  }
+  std::string baseDir = fs::path(path).parent_path().string();
+  if (baseDir.empty()) baseDir = ".";
+  Scene scene = parseGltf(bytes, path, baseDir, extension == ".glb", options);
   scene.credit = readCredit(fs::path(path));
-  if (options.flipUp) flipUp(scene);
-  validateScene(scene, path);
   return scene;
+}
+
+Scene loadGltfFromMemory(const std::vector<unsigned char>& bytes, const std::string& name, bool binary,
+                         const LoadOptions& options) {
+  return parseGltf(bytes, name, "", binary, options);
 }
 
 }  // namespace mrr

@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "common/scene.h"
 
@@ -7,6 +8,7 @@ namespace mrr {
 
 struct LoadOptions {
   bool flipUp = false;  // rotate 180° about X after loading (files authored Y-down)
+  bool quiet = false;   // no warnings on stderr (the fuzzer)
 };
 
 // Loads a glTF 2.0 file (.gltf or .glb) through tinygltf into the world-space scene model:
@@ -20,5 +22,11 @@ struct LoadOptions {
 // Any problem (missing file, not glTF, truncated, bad accessor, indices out of range,
 // NaN/Inf, nothing to render) throws MrrError with one line naming the file.
 Scene loadGltf(const std::string& path, const LoadOptions& options = {});
+
+// The same from bytes in memory (`binary`: a .glb). `name` stands for the file in messages.
+// External files are refused — only data: URIs and the GLB's own chunk resolve — so this is
+// the whole path from untrusted bytes to a validated scene (tests/fuzz/ drives it).
+Scene loadGltfFromMemory(const std::vector<unsigned char>& bytes, const std::string& name, bool binary,
+                         const LoadOptions& options = {});
 
 }  // namespace mrr

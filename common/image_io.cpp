@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -113,11 +114,64 @@ ImageU8 pngPreview(const std::string& path, const ImageF& image, bool srgb) {
   return out;
 }
 
+// The temporary files being written right now, where a signal handler can find them: fixed
+// slots of plain chars (nothing a handler may not touch), claimed and released atomically.
+struct InFlight {
+  static constexpr size_t kSlots = 32;
+  static constexpr size_t kPathBytes = 4096;
+  std::atomic<bool> used[kSlots] = {};
+  std::atomic<bool> ready[kSlots] = {};
+  char path[kSlots][kPathBytes] = {};
+};
+InFlight& inFlight() {
+  static InFlight registry;
+  return registry;
+}
+
+// Holds a temporary path in the registry for the lifetime of one write.
+class InFlightGuard {
+ public:
+  explicit InFlightGuard(const std::string& temporary) {
+    InFlight& r = inFlight();
+    if (temporary.size() >= InFlight::kPathBytes) return;
+    for (size_t i = 0; i < InFlight::kSlots; ++i) {
+      bool expected = false;
+      if (r.used[i].compare_exchange_strong(expected, true)) {
+        std::memcpy(r.path[i], temporary.c_str(), temporary.size() + 1);
+        r.ready[i].store(true);
+        slot_ = static_cast<int>(i);
+        return;
+      }
+    }
+  }
+  ~InFlightGuard() {
+    if (slot_ < 0) return;
+    InFlight& r = inFlight();
+    r.ready[static_cast<size_t>(slot_)].store(false);
+    r.used[static_cast<size_t>(slot_)].store(false);
+  }
+  InFlightGuard(const InFlightGuard&) = delete;
+  InFlightGuard& operator=(const InFlightGuard&) = delete;
+
+ private:
+  int slot_ = -1;
+};
+
+extern "C" void removeTemporariesAndDie(int signal) {
+  InFlight& r = inFlight();
+  for (size_t i = 0; i < InFlight::kSlots; ++i)
+    if (r.ready[i].load()) ::unlink(r.path[i]);  // async-signal-safe
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
 // Runs `body` on a fresh temporary name and moves the file into place; any failure
-// removes the temporary file so no partial output remains.
+// removes the temporary file so no partial output remains, and so does SIGINT or SIGTERM
+// once removeTemporariesOnInterrupt() is installed.
 template <class Body>
 void writeAtomically(const std::string& path, Body&& body) {
   const std::string temporary = temporaryPathFor(path);
+  InFlightGuard guard(temporary);
   try {
     body(temporary);
   } catch (...) {
@@ -180,6 +234,11 @@ void checkOutputPath(const std::string& path, const std::string& what) {
           prefix + "unsupported extension \"" + ext +
               "\" (use .exr or .png for images, .json for reports)");
   checkOutputLocation(path, what);
+}
+
+void removeTemporariesOnInterrupt() {
+  inFlight();  // constructed now, never inside the handler
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, removeTemporariesAndDie);
 }
 
 std::string temporaryPathFor(const std::string& path) {

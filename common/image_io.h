@@ -40,6 +40,11 @@ ImageF readImage(const std::string& path);
 // Writes text (JSON reports) atomically.
 void writeTextFile(const std::string& path, const std::string& text);
 
+// On SIGINT, SIGTERM or SIGHUP: removes the temporary files of the writes in flight, then
+// dies of that signal as usual (a shell sees 128 + n). main() installs it once, so an
+// interrupted run leaves no partial file behind (tests/cli: the kill tests).
+void removeTemporariesOnInterrupt();
+
 // The temporary name used for `path` (same directory, same extension); exposed for tests.
 std::string temporaryPathFor(const std::string& path);
 

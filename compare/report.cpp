@@ -34,6 +34,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["padded_height"] = c.paddedHeight;
   j["samples"] = c.samples();
   j["threads"] = info.threads;
+  j["memory"] = {{"estimate_bytes", info.memoryEstimateBytes}, {"peak_resident_bytes", info.peakResidentBytes}};
   switch (c.effect) {
     case Effect::Ssao:
       j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}, {"tangent_plane_depth", c.ssao.tangentPlaneDepth}};

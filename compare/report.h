@@ -19,6 +19,8 @@ struct RunInfo {
   std::string path = "cpu";
   int threads = 0;
   std::string renderer;  // gpu: GL_RENDERER
+  int64_t memoryEstimateBytes = 0;  // the up-front estimate (common/memory.h)
+  int64_t peakResidentBytes = 0;    // measured when the report is written
 };
 
 // SPEC §10 figures of `frame` against `reference` (a Mode::Full frame, same samples), on the

@@ -48,6 +48,29 @@ double FrameResult::timing(const std::string& stage) const {
   return ms;
 }
 
+int64_t estimateFrameBytes(const Constants& c, bool keepStages) {
+  const int64_t channels = c.channels();
+  int64_t bytes = 0;
+  for (const LevelConstants& lc : c.levels) {
+    if (!lc.enabled) continue;
+    const int64_t pixels = static_cast<int64_t>(lc.width) * lc.height;
+    int64_t perPixel = 4 + 12 + 12 + 12 + 1;  // G-buffer: depth, position, normal, albedo, hit
+    perPixel += 1 + 4 + 1;                    // M_ℓ, a_ℓ, S_ℓ
+    perPixel += 2 * 4 * channels;             // raw and blurred sub-image
+    if (c.effect == Effect::Ssao) perPixel += 16;  // occluder planes
+    if (c.effect == Effect::Ssgi) perPixel += 12;  // direct light
+    bytes += pixels * perPixel;
+  }
+  const int64_t padded = static_cast<int64_t>(c.paddedWidth) * c.paddedHeight;
+  const int64_t pixels = static_cast<int64_t>(c.width) * c.height;
+  bytes += padded * 5;                          // edge kinds and E
+  bytes += pixels * (4 * channels + 1 + 12 + 1);  // final, level map, shaded, one-tap shadow test
+  if (keepStages) bytes += pixels * kLevelCount * (8 * channels + 4);  // ĉ_ℓ, c'_ℓ, α_ℓ
+  if (c.needsShadowMap()) bytes += static_cast<int64_t>(c.ssm.shadowMapSize) * c.ssm.shadowMapSize * 4;
+  bytes += pixels * 12;  // the largest image being written (an 8-bit or float copy of it)
+  return bytes;
+}
+
 Renderer::Renderer(const Scene& scene) : scene_(scene), rays_(scene) { bvhBuildMs_ = msSince(buildStart_); }
 
 FrameResult Renderer::render(const Camera& camera, const Constants& c, const RenderOptions& options) const {

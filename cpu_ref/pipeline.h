@@ -69,6 +69,12 @@ struct RenderOptions {
   ProgressFn progress;
 };
 
+// The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred
+// sub-images and per-effect scratch; the full-res edges, blend, level map and shaded image;
+// the shadow map), plus the full-res images written out. An estimate made from the sizes
+// alone, before anything is allocated: the memory check up front (common/memory.h).
+int64_t estimateFrameBytes(const Constants& constants, bool keepStages);
+
 class Renderer {
  public:
   explicit Renderer(const Scene& scene);  // builds the BVH

@@ -1,7 +1,7 @@
 #pragma once
 // A plain row-major image with interleaved channels. Every stage of both paths reads and
 // writes these, so the oracle, the port's readback and the comparison share one layout.
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <sys/mman.h>
 
@@ -68,7 +68,7 @@ struct Image {
   Image(int w, int h, int c = 1, T fill = T{}) : width(w), height(h), channels(c) {
     data.resize(static_cast<size_t>(w) * h * c);
     constexpr size_t kChunk = size_t{1} << 16;
-    tbb::parallel_for(size_t{0}, (data.size() + kChunk - 1) / kChunk, [&](size_t chunk) {
+    parallelFor(size_t{0}, (data.size() + kChunk - 1) / kChunk, [&](size_t chunk) {
       const size_t end = std::min(data.size(), (chunk + 1) * kChunk);
       for (size_t i = chunk * kChunk; i < end; ++i) data[i] = fill;
     });

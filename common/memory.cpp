@@ -24,7 +24,11 @@ int64_t fromGiB(double gib, const std::string& name) {
 }  // namespace
 
 MemoryLimit memoryLimit(std::optional<double> optionGiB) {
-  if (optionGiB) return {fromGiB(*optionGiB, "--memory-limit " + std::to_string(*optionGiB)), "--memory-limit"};
+  if (optionGiB) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", *optionGiB);
+    return {fromGiB(*optionGiB, std::string("--memory-limit ") + text), "--memory-limit"};
+  }
   if (const char* env = std::getenv("MRR_MEMORY_LIMIT"); env && *env) {
     char* end = nullptr;
     const double gib = std::strtod(env, &end);

@@ -1,7 +1,7 @@
 #include "common/metrics.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <array>
@@ -37,7 +37,7 @@ void requireComparable(const ImageF& test, const ImageF& ref, const char* what) 
 template <class RowValue>
 double sumRows(int rows, RowValue&& rowValue) {
   std::vector<double> partial(static_cast<size_t>(rows), 0.0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
+  parallelFor(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y != r.end(); ++y) partial[static_cast<size_t>(y)] = rowValue(y);
   });
   double total = 0.0;
@@ -134,7 +134,7 @@ double ssimChannel(const ImageF& test, const ImageF& ref, int channel, const Win
   const int strips = (ay.outputs + kStrip - 1) / kStrip;
   std::vector<double> rowSums(static_cast<size_t>(ay.outputs), 0.0);
 
-  tbb::parallel_for(0, strips, [&](int strip) {
+  parallelFor(0, strips, [&](int strip) {
     const int oy0 = strip * kStrip;
     const int oy1 = std::min(ay.outputs, oy0 + kStrip);
     const int yBegin = ay.first[static_cast<size_t>(oy0)];
@@ -220,7 +220,7 @@ double maxAbsError(const ImageF& test, const ImageF& ref) {
   requireComparable(test, ref, "max |error|");
   const size_t rowLength = static_cast<size_t>(test.width) * test.channels;
   std::vector<double> rowMax(static_cast<size_t>(test.height), 0.0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, test.height), [&](const tbb::blocked_range<int>& r) {
+  parallelFor(tbb::blocked_range<int>(0, test.height), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y != r.end(); ++y) {
       const size_t begin = static_cast<size_t>(y) * rowLength;
       double m = 0.0;
@@ -272,7 +272,7 @@ ImageU8 transitionBand(const ImageU8& labels, int radius) {
     return false;
   };
   ImageU8 transition(w, h, 1, 0);
-  tbb::parallel_for(0, h, [&](int y) {
+  parallelFor(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const bool t = (x > 0 && differs(x, y, x - 1, y)) || (x + 1 < w && differs(x, y, x + 1, y)) ||
                      (y > 0 && differs(x, y, x, y - 1)) || (y + 1 < h && differs(x, y, x, y + 1));
@@ -295,10 +295,10 @@ ImageU8 transitionBand(const ImageU8& labels, int radius) {
     }
   };
   ImageU8 rows(w, h, 1, 0);
-  tbb::parallel_for(0, h, [&](int y) {
+  parallelFor(0, h, [&](int y) {
     dilateLine(&transition.at(0, y), &rows.at(0, y), w, 1);
   });
-  tbb::parallel_for(0, w, [&](int x) {
+  parallelFor(0, w, [&](int x) {
     dilateLine(&rows.at(x, 0), &band.at(x, 0), h, static_cast<size_t>(w));
   });
   return band;
@@ -313,7 +313,7 @@ double maskedRms(const ImageF& test, const ImageF& ref, const ImageU8& band) {
   const int channels = test.channels;
   std::vector<double> rowSum(static_cast<size_t>(test.height), 0.0);
   std::vector<int64_t> rowCount(static_cast<size_t>(test.height), 0);
-  tbb::parallel_for(0, test.height, [&](int y) {
+  parallelFor(0, test.height, [&](int y) {
     double s = 0.0;
     int64_t n = 0;
     for (int x = 0; x < test.width; ++x) {

@@ -35,6 +35,21 @@ inline constexpr ToleranceRule kTolerances[] = {
     {"ssao.same_input", 1e-4, 0.02, 2e-3,
      "GLSL sin/cos differ from libm in the last bits: a sample at a texel border may change texel"},
     {"final", 1e-3, 0.01, 2e-3, "end to end: the G-buffer's triangle-edge pixels, passed down the cascade"},
+    {"shadowmap.depth", 1e-3, 0.005, kNoRms,
+     "|Δ| in texels: a texel centre a triangle edge passes through may hit another surface (arcade 1024²: 0.24%)"},
+    {"shadowtest", 0.5, 0.002, kNoRms, "inherited: G-buffer triangle-edge pixels and the map's edge texels"},
+    {"shadowtest.same_input", 0.5, 0.0005, kNoRms,
+     "only a receiver within rounding of its texel's stored depth, or of a texel border, may flip"},
+    {"ssm", 0.05, 0.005, 3e-2,
+     "inherited: receivers at G-buffer edge pixels, or taps on the map's edge texels, flip (arcade 0.24%)"},
+    {"ssm.same_input", 1e-6, 0.002, 1e-3,
+     "GLSL division may round differently on other drivers: a PCF tap on a texel border can move by one texel"},
+    {"ssgi.direct.same_input", 1e-5, 0.0005, 1e-4,
+     "GLSL dot and normalise round differently in the last bits; the one-tap test may flip at a border"},
+    {"ssgi", 0.02, 0.02, 2e-2,
+     "inherited: every receiver whose samples land on a G-buffer edge texel gets another sender (arcade: 1.2%)"},
+    {"ssgi.same_input", 1e-4, 0.005, 1e-4,
+     "GLSL sin/cos differ from libm in the last bits: a sample at a texel border may change sender"},
 };
 
 inline const ToleranceRule& tolerance(std::string_view stage) {

@@ -1,7 +1,7 @@
 #include "cpu_ref/bilateral.h"
 
 #include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -41,7 +41,7 @@ ImageF bilateralBlur(const ImageF& image, const ImageU8& stencil, const GBuffer&
   if (b.radius == 0) return image;
   ImageF out = image;
   const int r = b.radius, side = 2 * r + 1;
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, image.height, 32, 0, image.width, 32),
+  parallelFor(tbb::blocked_range2d<int>(0, image.height, 32, 0, image.width, 32),
                     [&](const tbb::blocked_range2d<int>& range) {
                       for (int y = range.rows().begin(); y != range.rows().end(); ++y)
                         for (int x = range.cols().begin(); x != range.cols().end(); ++x) {

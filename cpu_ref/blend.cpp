@@ -1,6 +1,6 @@
 #include "cpu_ref/blend.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -111,13 +111,13 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
     ImageU8& m = live[static_cast<size_t>(l)];
     ImageU8 rows(lc.width, lc.height);  // 3-wide max along x of [a > 0], then along y
     m = ImageU8(lc.width, lc.height);
-    tbb::parallel_for(0, lc.height, [&](int y) {
+    parallelFor(0, lc.height, [&](int y) {
       const float* src = &a.at(0, y);
       uint8_t* dst = &rows.at(0, y);
       for (int x = 0; x < lc.width; ++x)
         dst[x] = (src[x] > 0.0f) | (x > 0 && src[x - 1] > 0.0f) | (x + 1 < lc.width && src[x + 1] > 0.0f);
     });
-    tbb::parallel_for(0, lc.height, [&](int y) {
+    parallelFor(0, lc.height, [&](int y) {
       const uint8_t* mid = &rows.at(0, y);
       const uint8_t* up = &rows.at(0, std::max(y - 1, 0));
       const uint8_t* down = &rows.at(0, std::min(y + 1, lc.height - 1));
@@ -125,7 +125,7 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
       for (int x = 0; x < lc.width; ++x) dst[x] = mid[x] | up[x] | down[x];
     });
   }
-  tbb::parallel_for(0, c.height, [&](int y) {
+  parallelFor(0, c.height, [&](int y) {
     for (int x = 0; x < c.width; ++x) {
       float alphas[kLevelCount] = {0, 0, 0, 0};
       int base = c.coarsestEnabled;  // the finest level whose α is 1: nothing coarser shows
@@ -178,7 +178,7 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
   }
   // One pass over the pixels; at each, the levels from the coarsest enabled C (c'_C = ĉ_C)
   // to the finest, keeping the running composite in registers.
-  tbb::parallel_for(0, h, [&](int y) {
+  parallelFor(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       float composite[4] = {0, 0, 0, 0};
       bool coarsest = true;

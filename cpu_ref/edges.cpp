@@ -1,6 +1,6 @@
 #include "cpu_ref/edges.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -65,7 +65,7 @@ EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings, const Ima
   out.depth = ImageU8(g.width, g.height);
   out.background = ImageU8(g.width, g.height);
   out.combined = ImageU8(g.width, g.height);
-  tbb::parallel_for(0, g.height, [&](int y) {
+  parallelFor(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       const EdgeDecision e = edgeAt(g, settings, x, y, shadowLit);
       out.normal.at(x, y) = e.normal;

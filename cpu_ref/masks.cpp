@@ -1,6 +1,6 @@
 #include "cpu_ref/masks.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 
@@ -8,7 +8,7 @@ namespace mrr {
 
 ImageU8 maxPool(const ImageU8& src, int factor) {
   ImageU8 out(src.width / factor, src.height / factor);
-  tbb::parallel_for(0, out.height, [&](int y) {
+  parallelFor(0, out.height, [&](int y) {
     for (int x = 0; x < out.width; ++x) {
       uint8_t m = 0;
       for (int j = 0; j < factor; ++j)
@@ -36,11 +36,11 @@ ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
     return sum;
   };
   // 1. horizontal pass, clamp-to-edge
-  tbb::parallel_for(0, h, [&](int y) {
+  parallelFor(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) horizontal.at(x, y) = horizontalAt(x, y);
   });
   // 2. vertical pass, clamp-to-edge, a row at a time so the inner loop runs along memory
-  tbb::parallel_for(0, h, [&](int y) {
+  parallelFor(0, h, [&](int y) {
     float* dst = &out.at(0, y);
     for (int x = 0; x < w; ++x) dst[x] = 0.0f;
     for (int i = -r; i <= r; ++i) {

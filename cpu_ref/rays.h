@@ -3,7 +3,7 @@
 // coherent), tiles in parallel. Shared by the G-buffer and the shadow map.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <glm/glm.hpp>
 
@@ -24,7 +24,7 @@ struct RayHit {
 template <class MakeRay, class OnHit>
 void castGrid(RTCScene scene, int width, int height, const MakeRay& makeRay, const OnHit& onHit) {
   constexpr int kTile = 4;
-  tbb::parallel_for(
+  parallelFor(
       tbb::blocked_range2d<int>(0, (height + kTile - 1) / kTile, 0, (width + kTile - 1) / kTile),
       [&](const tbb::blocked_range2d<int>& r) {
         RTCIntersectContext context;

@@ -1,6 +1,6 @@
 #include "cpu_ref/shade.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 
@@ -27,7 +27,7 @@ ImageF shadeFinal(const GBuffer& g0, const ImageF& effect, const ImageU8& shadow
                   const DirectionalLight& light, Effect effectKind) {
   ImageF out(effect.width, effect.height, 3);
   const glm::vec3 toLight = -glm::normalize(view.directionToView(light.direction));
-  tbb::parallel_for(0, effect.height, [&](int y) {
+  parallelFor(0, effect.height, [&](int y) {
     for (int x = 0; x < effect.width; ++x) {
       if (!g0.hit.at(x, y)) {
         for (int c = 0; c < 3; ++c) out.at(x, y, c) = kSky[c];

@@ -1,6 +1,6 @@
 #include "cpu_ref/shadowmap.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 namespace mrr {
 
-ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, const Bounds& bounds, int size) {
+ShadowMap shadowMapFrame(const DirectionalLight& light, const Bounds& bounds, int size) {
   ShadowMap m;
   m.size = size;
   // 1. light basis: forward along the light, right/up spanning the light plane
@@ -31,6 +31,12 @@ ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, c
   m.texel = extent / static_cast<float>(size);
   const float u0 = 0.5f * (lo.x + hi.x) - 0.5f * extent, v0 = 0.5f * (lo.y + hi.y) - 0.5f * extent;
   m.origin = m.right * u0 + m.up * v0 + m.forward * (lo.z - margin);
+  m.farDepth = (hi.z - lo.z) + 2.0f * margin;  // every hit lies in [margin, hi.z − lo.z + margin]
+  return m;
+}
+
+ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, const Bounds& bounds, int size) {
+  ShadowMap m = shadowMapFrame(light, bounds, size);
   // 3. one ray per texel centre, from the light plane along the light
   m.depth = ImageF(size, size, 1, ShadowMap::kNoBlocker);
   castGrid(
@@ -57,7 +63,7 @@ Receiver receiverAt(const ShadowMap& map, const glm::vec3& worldPosition, const 
 
 ImageU8 shadowTestImage(const GBuffer& g, const ShadowMap& map, const View& view, float biasTexels) {
   ImageU8 lit(g.width, g.height, 1, 1);
-  tbb::parallel_for(0, g.height, [&](int y) {
+  parallelFor(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       if (!g.hit.at(x, y)) continue;
       const Receiver r =

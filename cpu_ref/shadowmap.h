@@ -15,6 +15,7 @@ namespace mrr {
 struct ShadowMap {
   int size = 0;
   float texel = 0.0f;              // world units per texel
+  float farDepth = 0.0f;           // distance from the light plane to the bounds' farthest corner
   glm::vec3 origin{0.0f};          // corner of texel (0, 0) on the light plane
   glm::vec3 right{1, 0, 0}, up{0, 0, 1}, forward{0, -1, 0};  // forward = the light's direction
   ImageF depth;                    // distance from the light plane to the first hit; kNoBlocker on a miss
@@ -32,6 +33,11 @@ struct ShadowMap {
     return depth.at(static_cast<int>(u), static_cast<int>(v));
   }
 };
+
+// The light's frame fitted to the bounds (steps 1–2 of renderShadowMap): basis, origin, texel
+// size and depth range, with `depth` left empty. Shared by the oracle and the GL port
+// (gpu/shadowmap.cpp), so both render the same map texel for texel.
+ShadowMap shadowMapFrame(const DirectionalLight& light, const Bounds& bounds, int size);
 
 ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, const Bounds& bounds, int size);
 

@@ -1,6 +1,6 @@
 #include "cpu_ref/ssao.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +48,7 @@ OccluderPlanes occluderPlanes(const GBuffer& g) {
 
 void occluderPlanes(const GBuffer& g, OccluderPlanes& planes) {
   planes.resize(g.depth.pixelCount());  // uninitialised: filled in parallel below
-  tbb::parallel_for(0, g.height, [&](int y) {
+  parallelFor(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       OccluderPlane& p = planes[static_cast<size_t>(y) * g.width + x];
       if (!g.hit.at(x, y)) {

@@ -1,6 +1,6 @@
 #include "cpu_ref/ssgi.h"
 
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <algorithm>
 
@@ -28,7 +28,7 @@ ImageF directLight(const GBuffer& g, const ShadowMap& map, const View& view, con
                    float biasTexels) {
   ImageF out(g.width, g.height, 3, 0.0f);
   const glm::vec3 toLight = -glm::normalize(view.directionToView(light.direction));
-  tbb::parallel_for(0, g.height, [&](int y) {
+  parallelFor(0, g.height, [&](int y) {
     for (int x = 0; x < g.width; ++x) {
       if (!g.hit.at(x, y)) continue;
       const glm::vec3 n = g.normalAt(x, y);

@@ -11,9 +11,7 @@ namespace {
 constexpr float kMaxSearchTexels = 64.0f;  // caps the blocker search (and so the penumbra)
 
 // Offset of tap i of an n-tap regular grid spanning [−half, half] (texel centres of the grid).
-float gridOffset(int i, int n, float half) {
-  return ((static_cast<float>(i) + 0.5f) / static_cast<float>(n) * 2.0f - 1.0f) * half;
-}
+float gridOffset(int i, int n, float half) { return gridTapFactor(i, n) * half; }
 
 // Penumbra width of a directional light of angular diameter θ (Fernando 2005, adapted to
 // parallel light): (d_receiver − d_blocker) · 2 tan(θ/2).

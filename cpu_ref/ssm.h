@@ -22,6 +22,12 @@ struct SsmDetail {
   int litTaps = 0, pcfTaps = 0;
 };
 
+// Tap i of an n-tap regular grid over [−h, h] sits at gridTapFactor(i, n) · h (texel centres of
+// the grid). The GL port takes these factors from the host, so its taps land on the same bits.
+inline float gridTapFactor(int i, int n) {
+  return (static_cast<float>(i) + 0.5f) / static_cast<float>(n) * 2.0f - 1.0f;
+}
+
 float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y,
             SsmDetail* detail = nullptr);
 

@@ -4,7 +4,7 @@
 // pixels' samples read stay in cache. (Gathering the set pixels into a list first was
 // measured: no faster on sparse stencils, 3–10% slower on dense ones.)
 #include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
+#include "common/parallel.h"
 
 #include <atomic>
 #include <cstdint>
@@ -21,7 +21,7 @@ void forEachStencilled(const ImageU8& stencil, const Shade& shade,
   constexpr int kTile = 16;
   const int64_t total = static_cast<int64_t>(stencil.width) * stencil.height;
   std::atomic<int64_t> done{0};
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, stencil.height, kTile, 0, stencil.width, kTile),
+  parallelFor(tbb::blocked_range2d<int>(0, stencil.height, kTile, 0, stencil.width, kTile),
                     [&](const tbb::blocked_range2d<int>& r) {
                       for (int y = r.rows().begin(); y != r.rows().end(); ++y)
                         for (int x = r.cols().begin(); x != r.cols().end(); ++x)

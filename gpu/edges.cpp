@@ -7,9 +7,13 @@
 
 namespace mrr::gpu {
 
-EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings) {
-  const unsigned program = scene.program("edges", "fullscreen.vert", "edges.frag");
-  Framebuffer target(gbuffer0.width(), gbuffer0.height(), 1, false);
+EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                       unsigned shadowLitTexture) {
+  const bool shadowEdges = shadowLitTexture != 0;
+  const unsigned program =
+      shadowEdges ? scene.program("edges.shadow", "fullscreen.vert", "edges.frag", "#define SHADOW_EDGES\n")
+                  : scene.program("edges", "fullscreen.vert", "edges.frag");
+  Framebuffer target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false);
   target.bind();
   glUseProgram(program);
   glActiveTexture(GL_TEXTURE0);
@@ -20,10 +24,20 @@ EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const
   glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
   glUniform1f(glGetUniformLocation(program, "normalThreshold"), settings.normalThreshold);
   glUniform1f(glGetUniformLocation(program, "depthThreshold"), settings.depthThreshold);
+  if (shadowEdges) {
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, shadowLitTexture);
+    glUniform1i(glGetUniformLocation(program, "shadowLit"), 2);
+  }
   scene.drawFullscreen();
   checkGl("edges");
   const ImageF e = target.read(0);
   EdgeImages out;
+  if (shadowEdges) {
+    const ImageF shadow = target.read(1, 1);
+    out.shadow = ImageU8(e.width, e.height);
+    for (size_t i = 0; i < shadow.data.size(); ++i) out.shadow.data[i] = shadow.data[i] > 0.5f;
+  }
   out.normal = ImageU8(e.width, e.height);
   out.depth = ImageU8(e.width, e.height);
   out.background = ImageU8(e.width, e.height);

@@ -7,6 +7,9 @@
 
 namespace mrr::gpu {
 
-EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings);
+// `shadowLitTexture` (the one-tap test per pixel, lit in R: gpu/shadowmap.h drawShadowTest or an
+// uploaded image) enables the shadow kind; 0 for SSAO and SSGI, as the oracle's null shadowLit.
+EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                       unsigned shadowLitTexture = 0);
 
 }  // namespace mrr::gpu

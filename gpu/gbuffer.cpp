@@ -64,6 +64,13 @@ unsigned uploadTexture(const ImageF& image) {
   return texture;
 }
 
+unsigned uploadKernel(const std::vector<glm::vec3>& kernel) {
+  ImageF image(static_cast<int>(kernel.size()), 1, 3);
+  for (size_t i = 0; i < kernel.size(); ++i)
+    for (int c = 0; c < 3; ++c) image.data[3 * i + static_cast<size_t>(c)] = kernel[i][c];
+  return uploadTexture(image);
+}
+
 ImageF Framebuffer::read(int i) const {
   ImageF out(width_, height_, 4);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
@@ -117,9 +124,10 @@ GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
   checkGl("upload");
 }
 
-unsigned GpuScene::program(const std::string& stage, const std::string& vertex, const std::string& fragment) const {
+unsigned GpuScene::program(const std::string& stage, const std::string& vertex, const std::string& fragment,
+                           const std::string& defines) const {
   auto it = programs_.find(stage);
-  if (it == programs_.end()) it = programs_.emplace(stage, compileProgram(stage, vertex, fragment)).first;
+  if (it == programs_.end()) it = programs_.emplace(stage, compileProgram(stage, vertex, fragment, defines)).first;
   return it->second;
 }
 

@@ -35,6 +35,9 @@ class Framebuffer {
 // A float image as a texture (1–4 channels, nearest filtering); the caller deletes it.
 unsigned uploadTexture(const ImageF& image);
 
+// A host sample kernel (kernels.h) as an N×1 RGB32F texture; the caller deletes it.
+unsigned uploadKernel(const std::vector<glm::vec3>& kernel);
+
 class GpuScene {
  public:
   explicit GpuScene(const Scene& scene);
@@ -50,8 +53,10 @@ class GpuScene {
   const std::vector<MeshGl>& meshes() const { return meshes_; }
   const Bounds& bounds() const { return bounds_; }
 
-  // The program of a stage, compiled on first use in this context and kept.
-  unsigned program(const std::string& stage, const std::string& vertex, const std::string& fragment) const;
+  // The program of a stage, compiled on first use in this context and kept (keyed by stage,
+  // so each variant of a file, with its own `defines`, needs its own stage name).
+  unsigned program(const std::string& stage, const std::string& vertex, const std::string& fragment,
+                   const std::string& defines = "") const;
   // Draws the full-screen triangle (image-space passes).
   void drawFullscreen() const;
 

@@ -14,7 +14,7 @@ namespace mrr::gpu {
 class GpuRenderer {
  public:
   explicit GpuRenderer(const Scene& scene, int deviceIndex = -1);
-  // SSAO only so far; SSM and SSGI throw MrrError (issue 5).
+  // SSAO, SSM and SSGI, in multires and full mode.
   FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const;
   const std::string& renderer() const { return context_.renderer(); }
 

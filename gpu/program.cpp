@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "gpu/faults.h"
 #include "gpu/shader_sources.h"
 
 namespace mrr::gpu {
@@ -35,13 +36,26 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
   return oneLine(log.data());
 }
 
-GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type) {
+GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type,
+               const std::string& defines) {
   const GLuint shader = glCreateShader(type);
-  // GLSL 3.30 has no #include: paste common.glsl where a shader asks for it.
+  // GLSL 3.30 has no #include: paste gpu/shaders/<file> where a line starts with
+  // #include "<file>" (common.glsl, shadowmap.glsl). Pasted text is not searched again.
   std::string source = text;
-  const std::string include = "#include \"common.glsl\"";
-  if (const size_t at = source.find(include); at != std::string::npos)
-    source.replace(at, include.size(), shaderSource("common.glsl"));
+  const std::string include = "\n#include \"";
+  for (size_t at = source.find(include); at != std::string::npos; at = source.find(include, at)) {
+    const size_t start = at + 1, close = source.find('"', start + include.size() - 1);
+    require(close != std::string::npos, "gpu: stage " + stage + ": " + name + ": unterminated #include");
+    const std::string file = source.substr(start + include.size() - 1, close - start - include.size() + 1);
+    const std::string pasted = applyPlantedFault(file, shaderSource(file));
+    source.replace(start, close + 1 - start, pasted);
+    at = start + pasted.size();
+  }
+  // Defines (one "#define X" line each) go right after the #version line.
+  if (!defines.empty()) {
+    const size_t eol = source.find('\n');
+    source.insert(eol == std::string::npos ? source.size() : eol + 1, defines);
+  }
   const char* sourceText = source.c_str();
   glShaderSource(shader, 1, &sourceText, nullptr);
   glCompileShader(shader);
@@ -56,16 +70,20 @@ GLuint compile(const std::string& stage, const std::string& name, const std::str
 }
 }  // namespace
 
-unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName) {
-  return compileProgramFromSource(stage, vertexName, shaderSource(vertexName), fragmentName, shaderSource(fragmentName));
+unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName,
+                        const std::string& defines) {
+  // A planted fault (MRR_GPU_FAULT, gpu/faults.h) patches the text here, and only here.
+  return compileProgramFromSource(stage, vertexName, applyPlantedFault(vertexName, shaderSource(vertexName)),
+                                  fragmentName, applyPlantedFault(fragmentName, shaderSource(fragmentName)), defines);
 }
 
-unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName, const std::string& vertexText,
-                                  const std::string& fragmentName, const std::string& fragmentText) {
-  const GLuint vs = compile(stage, vertexName, vertexText, GL_VERTEX_SHADER);
+unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName,
+                                  const std::string& vertexText, const std::string& fragmentName,
+                                  const std::string& fragmentText, const std::string& defines) {
+  const GLuint vs = compile(stage, vertexName, vertexText, GL_VERTEX_SHADER, defines);
   GLuint fs = 0;
   try {
-    fs = compile(stage, fragmentName, fragmentText, GL_FRAGMENT_SHADER);
+    fs = compile(stage, fragmentName, fragmentText, GL_FRAGMENT_SHADER, defines);
   } catch (...) {
     glDeleteShader(vs);
     throw;

@@ -9,12 +9,15 @@ namespace mrr::gpu {
 const char* shaderSource(const std::string& name);
 
 // Compiles and links; a compile or link error throws MrrError with the stage name and the
-// driver's log on one line.
-unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName);
+// driver's log on one line. `defines` ("#define X\n" lines) go after each #version line, so
+// one file can hold a stage's variants (e.g. ssgi.frag: the direct light and the gather).
+unsigned compileProgram(const std::string& stage, const std::string& vertexName, const std::string& fragmentName,
+                        const std::string& defines = "");
 
 // The same from source text (what compileProgram uses; tests feed it broken shaders).
-unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName, const std::string& vertexText,
-                                  const std::string& fragmentName, const std::string& fragmentText);
+unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName,
+                                  const std::string& vertexText, const std::string& fragmentName,
+                                  const std::string& fragmentText, const std::string& defines = "");
 
 // Throws MrrError naming `stage` when glGetError reports an error (checked after every stage).
 void checkGl(const std::string& stage);

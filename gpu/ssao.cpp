@@ -17,10 +17,7 @@ ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const Image
   // 1. S_ℓ into the stencil buffer
   fillStencil(scene, stencil);
   // 2. the effect where the stencil is 1
-  ImageF kernelImage(static_cast<int>(ssao.kernel.size()), 1, 3);
-  for (size_t i = 0; i < ssao.kernel.size(); ++i)
-    for (int c = 0; c < 3; ++c) kernelImage.data[3 * i + static_cast<size_t>(c)] = ssao.kernel[i][c];
-  const unsigned kernel = uploadTexture(kernelImage);
+  const unsigned kernel = uploadKernel(ssao.kernel);
   const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
   glUseProgram(program);
   glActiveTexture(GL_TEXTURE0);

@@ -1,16 +1,62 @@
 #!/usr/bin/env bash
-# The oracle's unit and invariant tests under AddressSanitizer + UndefinedBehaviorSanitizer
-# (leak checking on), in build-asan/. Any finding fails: UBSan does not recover. CI runs it
-# after the README's test command.
+# The sanitizer builds (docs/hardening.md). Any finding fails: UBSan does not recover, ASan
+# and TSan exit non-zero. CI runs this after the README's test command.
+#  1. ASan + UBSan (build-asan/, leak checking on): the unit and oracle tests, then a small
+#     render of every built-in scene with every effect on both paths (cpu and gpu: the GL
+#     port on llvmpipe, when an EGL device is there).
+#  2. TSan (build-tsan/): the oracle's threaded stages at 1, 2 and 8 threads, every effect
+#     (the thread-count determinism tests). Suppressions, each with its reason, are in
+#     tests/tsan.supp and tests/lsan.supp; none matches a frame of mrr's own code.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/install-deps.sh"
+jobs="$(nproc)"
+
+echo "== ASan+UBSan build" >&2
 flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
 cmake -S "$here" -B "$here/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMRR_BUILD_BENCH=OFF \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
-cmake --build "$here/build-asan" -j"$(nproc)" --target common_tests oracle_tests
+cmake --build "$here/build-asan" -j"$jobs" --target common_tests oracle_tests mrr
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
+export LSAN_OPTIONS="suppressions=$here/tests/lsan.supp:print_suppressions=0"
 for t in common_tests oracle_tests; do
   echo "== $t under ASan+UBSan" >&2
   "$here/build-asan/tests/$t" --gtest_brief=1
 done
+scratch="$(mktemp -d)"
+trap 'rm -rf "$scratch"' EXIT
+mrr="$here/build-asan/mrr"
+paths=(cpu)
+if "$mrr" render --scene builtin:plane --path gpu --size 8x8 --samples 1 -q --out "$scratch/probe.exr" 2>/dev/null; then
+  paths+=(gpu)
+elif [ "${MRR_REQUIRE_GL:-0}" = 1 ]; then
+  echo "test-sanitizers: no EGL device for the gpu path (MRR_REQUIRE_GL=1)" >&2
+  "$mrr" render --scene builtin:plane --path gpu --size 8x8 --samples 1 -q --out "$scratch/probe.exr"
+  exit 1
+fi
+scenes=$("$mrr" render --help | grep -o 'builtin:[a-z][a-z]*' | sort -u)
+for path in "${paths[@]}"; do
+  for scene in $scenes; do
+    for effect in ssao ssm ssgi; do
+      echo "== render $scene $effect --path $path under ASan+UBSan" >&2
+      "$mrr" render --scene "$scene" --effect "$effect" --path "$path" --size 48x32 --samples 4 \
+        --shadow-map-size 256 -q --out "$scratch/o.exr" --stages "$scratch/s.exr" --report "$scratch/r.json"
+    done
+  done
+done
+
+echo "== TSan build" >&2
+cmake -S "$here" -B "$here/build-tsan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMRR_BUILD_BENCH=OFF \
+  -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" >/dev/null
+cmake --build "$here/build-tsan" -j"$jobs" --target oracle_tests planted_race
+echo "== TSan must report the planted race" >&2
+if TSAN_OPTIONS="halt_on_error=1" "$here/build-tsan/tests/planted_race" >"$scratch/race.txt" 2>&1 ||
+  ! grep -q "ThreadSanitizer: data race" "$scratch/race.txt"; then
+  cat "$scratch/race.txt" >&2
+  echo "test-sanitizers: TSan did not report the planted race in tests/sanitizers/planted_race.cpp" >&2
+  exit 1
+fi
+echo "== oracle threads (1, 2, 8) under TSan" >&2
+TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$here/tests/tsan.supp" \
+  "$here/build-tsan/tests/oracle_tests" --gtest_brief=1 --gtest_filter='*OneTwoAndEightThreads*'
+echo "test-sanitizers: clean" >&2

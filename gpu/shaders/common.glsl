@@ -7,3 +7,19 @@ uint pcgHash(uint v) {
 }
 uint pixelHash(uint x, uint y, uint level) { return pcgHash(x + pcgHash(y + pcgHash(level))); }
 float hashToUnit(uint h) { return float(h >> 8u) * (1.0 / 16777216.0); }
+
+// The per-pixel sample frame shared by SSAO and SSGI (SPEC §6, §7), mirrors
+// cpu_ref/hemisphere.h: sampleFrame. The host kernel lives in a tangent frame (t, b, n),
+// rotated about the normal by an angle from the hash of (x, y, level).
+void sampleFrame(vec3 n, ivec2 pixel, int level, out vec3 t, out vec3 b) {
+  // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
+  float angle = 6.28318530717958647692 * hashToUnit(pixelHash(uint(pixel.x), uint(pixel.y), uint(level)));
+  vec3 r = vec3(cos(angle), sin(angle), 0.0);
+  vec3 tangent = r - n * dot(r, n);
+  if (dot(tangent, tangent) < 1e-6) {  // r ∥ n: take the perpendicular in-plane direction
+    r = vec3(-sin(angle), cos(angle), 0.0);
+    tangent = r - n * dot(r, n);
+  }
+  t = normalize(tangent);
+  b = cross(n, t);
+}

@@ -1,10 +1,16 @@
 #version 330 core
-// Stage 2 — edge image E (SPEC §2), mirrors cpu_ref/edges.cpp: each kind kept apart.
+// Stage 2 — edge image E (SPEC §2), mirrors cpu_ref/edges.cpp: each kind kept apart. With
+// SHADOW_EDGES (SSM) the shadow kind is on too, written to a second target.
 uniform sampler2D positionHit;  // G-buffer L0: view position, hit
 uniform sampler2D normalDepth;  // G-buffer L0: view normal, depth
 uniform float normalThreshold;  // τ_n
 uniform float depthThreshold;   // τ_z
 layout(location = 0) out vec4 edges;  // (normal, depth, background, E)
+#ifdef SHADOW_EDGES
+uniform sampler2D shadowLit;    // the one-tap shadow test per pixel (shadowmap.frag, SHADOW_TEST)
+layout(location = 1) out vec4 shadowEdge;  // (shadow edge, 0, 0, 1)
+bool litAt(ivec2 q) { return texelFetch(shadowLit, q, 0).r > 0.5; }
+#endif
 
 bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
 bool isHit(ivec2 q) { return texelFetch(positionHit, q, 0).w > 0.5; }
@@ -19,6 +25,9 @@ void main() {
   ivec2 size = textureSize(positionHit, 0);
   if (!isHit(p)) {  // background pixels carry no edge; their hit neighbours do
     edges = vec4(0.0);
+#ifdef SHADOW_EDGES
+    shadowEdge = vec4(0.0);
+#endif
     return;
   }
   vec3 n = texelFetch(normalDepth, p, 0).xyz;
@@ -42,9 +51,19 @@ void main() {
     secondX = secondDifference(inverseDepth(p - ivec2(1, 0)), d, inverseDepth(p + ivec2(1, 0)));
   if (usable(p - ivec2(0, 1), size) && usable(p + ivec2(0, 1), size))
     secondY = secondDifference(inverseDepth(p - ivec2(0, 1)), d, inverseDepth(p + ivec2(0, 1)));
+  bool shadowDiffers = false;
+#ifdef SHADOW_EDGES
+  // 4. shadow edge: the one-tap shadow test differs from a hit 4-neighbour's
+  bool lit = litAt(p);
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q = p + offsets[k];
+    if (usable(q, size) && litAt(q) != lit) shadowDiffers = true;
+  }
+  shadowEdge = vec4(float(shadowDiffers), 0.0, 0.0, 1.0);
+#endif
   bool normalEdge = normalMax > normalThreshold;
   bool depthEdge = max(secondX, secondY) > depthThreshold;
-  // 4. E = OR of the kinds
+  // 5. E = OR of the kinds
   edges = vec4(float(normalEdge), float(depthEdge), float(backgroundNeighbour),
-               float(normalEdge || depthEdge || backgroundNeighbour));
+               float(normalEdge || depthEdge || backgroundNeighbour || shadowDiffers));
 }

@@ -44,15 +44,8 @@ void main() {
   vec3 p = ph.xyz;
   vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
   // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
-  float angle = 6.28318530717958647692 * hashToUnit(pixelHash(uint(pixel.x), uint(pixel.y), uint(level)));
-  vec3 r = vec3(cos(angle), sin(angle), 0.0);
-  vec3 t = r - n * dot(r, n);
-  if (dot(t, t) < 1e-6) {
-    r = vec3(-sin(angle), cos(angle), 0.0);
-    t = r - n * dot(r, n);
-  }
-  t = normalize(t);
-  vec3 b = cross(n, t);
+  vec3 t, b;
+  sampleFrame(n, pixel, level, t, b);
   // 2. hemisphere samples: occluded when the occluder is in front by more than the bias
   vec2 size = vec2(textureSize(positionHit, 0));
   float receiverDepth = -p.z;

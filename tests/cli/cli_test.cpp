@@ -500,6 +500,7 @@ struct BadCase {
   std::string expectSubstring;     // must appear in stderr's one error line
   bool cli11 = false;              // a CLI11 parse error: its own format, not "mrr: error:"
   RunEnv how = {};                 // environment, privileges
+  bool needsGl = false;            // needs a working EGL device to reach the failure
 };
 
 std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.name; }
@@ -595,6 +596,11 @@ const std::vector<BadCase> kBadCases = {
      "--memory-limit"},
     {"MemoryLimitEnvironmentGarbage", demoWith({"--size", "16x16", "--out", "{out}/o.exr"}), "MRR_MEMORY_LIMIT=lots",
      false, {.env = {"MRR_MEMORY_LIMIT=lots"}}},
+    // planted shader faults (gpu/faults.h): a compile error, reported with the stage and file
+    {"GpuShaderCompileError", renderArgs("builtin:demo", {"--path", "gpu"}), "gbuffer.frag does not compile", false,
+     {.env = {"MRR_GPU_FAULT=compile-error"}}, true},
+    {"GpuUnknownPlantedFault", renderArgs("builtin:demo", {"--path", "gpu"}), "MRR_GPU_FAULT=nosuch", false,
+     {.env = {"MRR_GPU_FAULT=nosuch"}}, true},
     // probe
     {"ProbePixelOutside", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q", "--pixel",
                            "32,5"}, "--pixel 32,5"},
@@ -611,9 +617,26 @@ const std::vector<BadCase> kBadCases = {
 
 class CliBadInputTest : public ::testing::TestWithParam<BadCase> {};
 
+// Whether the GL path works here (an EGL device with GL 3.3 core), asked of the binary once.
+bool glAvailable(const std::string& dir) {
+  static const bool available = [&] {
+    return runMrr({"render", "--scene", "builtin:plane", "--path", "gpu", "--size", "8x8", "--samples", "1", "-q",
+                   "--out", (fs::path(dir) / "gl-probe.exr").string()},
+                  dir)
+               .status == 0;
+  }();
+  return available;
+}
+
 TEST_P(CliBadInputTest, FailsWithOneLineAndWritesNothing) {
   const BadCase& c = GetParam();
   const std::string dir = test::scratchDir();
+  if (c.needsGl && !glAvailable(dir)) {
+    const char* require = std::getenv("MRR_REQUIRE_GL");
+    if (require && std::string(require) == "1") FAIL() << "no EGL device, and MRR_REQUIRE_GL=1";
+    GTEST_SKIP() << "no EGL device with GL 3.3 core here: this case needs the GL path to start";
+  }
+  fs::remove(fs::path(dir) / "gl-probe.exr");
   const std::string in = (fs::path(dir) / "in").string();
   const std::string out = (fs::path(dir) / "out").string();
   fs::create_directories(in);
@@ -644,6 +667,23 @@ TEST_P(CliBadInputTest, FailsWithOneLineAndWritesNothing) {
   }
   EXPECT_EQ(listTree(out), std::set<std::string>{}) << "output left behind\n" << describe(r);
   EXPECT_EQ(listTree(in), inBefore) << "files created next to the inputs\n" << describe(r);
+
+  // scripts/bad-inputs-doc.sh collects every case's command and message for docs/hardening.md.
+  if (const char* log = std::getenv("MRR_BAD_INPUT_LOG"); log && *log) {
+    auto placeholders = [&](std::string text) {
+      for (auto [value, key] : {std::pair<std::string, std::string>{in, "IN"}, {out, "OUT"}})
+        for (size_t p; (p = text.find(value)) != std::string::npos;) text.replace(p, value.size(), key);
+      for (size_t p; (p = text.find('|')) != std::string::npos;) text.replace(p, 1, "\\|");
+      return text;
+    };
+    std::string command = "mrr";
+    for (const std::string& a : c.args) command += " " + substitute(a, "IN", "OUT");
+    for (const std::string& e : c.how.env) command = e + " " + command;
+    if (c.how.unprivileged) command += " (as a user without write access)";
+    std::string first = r.err.substr(0, r.err.find('\n'));
+    std::ofstream(log, std::ios::app) << "| " << c.name << " | `" << placeholders(command) << "` | "
+                                      << r.status << " | " << placeholders(first) << " |\n";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, CliBadInputTest, ::testing::ValuesIn(kBadCases),

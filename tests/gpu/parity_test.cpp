@@ -8,17 +8,22 @@
 #include <cstdlib>
 #include <memory>
 
+#include "common/error.h"
+#include "common/hash.h"
+#include "common/tolerance.h"
+#include "cpu_ref/ssao.h"
+#include "cpu_ref/ssgi.h"
+#include "cpu_ref/ssm.h"
 #include "gpu/context.h"
 #include "gpu/edges.h"
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
 #include "gpu/pipeline.h"
 #include "gpu/program.h"
-#include "common/error.h"
+#include "gpu/shadowmap.h"
 #include "gpu/ssao.h"
-#include "common/hash.h"
-#include "common/tolerance.h"
-#include "cpu_ref/ssao.h"
+#include "gpu/ssgi.h"
+#include "gpu/ssm.h"
 #include "tests/oracle/render_helpers.h"
 #include "tests/test_support.h"
 
@@ -213,16 +218,6 @@ TEST(GpuPipeline, SsaoFinalImageMatchesTheOracle) {
   }
 }
 
-TEST(GpuPipeline, UnportedEffectsSayWhy) {
-  MRR_REQUIRE_GL_OR_SKIP();
-  const auto r = test::renderScene("builtin:plane", test::ssaoSettings(16, 16, 4));
-  const gpu::GpuRenderer port(*r.scene);
-  Settings s = defaultSettings(Effect::Ssm);
-  s.width = s.height = 16;
-  s.setSamples(4);
-  EXPECT_THROW(port.render(r.camera, makeConstants(s, 1.0f)), MrrError);
-}
-
 }  // namespace
 }  // namespace mrr
 
@@ -244,6 +239,273 @@ TEST(GpuProgram, CompileErrorNamesTheStageAndTheDriversLog) {
     EXPECT_NE(what.find("broken.frag"), std::string::npos) << what;
     EXPECT_NE(what.find("undefinedThing"), std::string::npos) << what;  // the driver's log
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace mrr
+
+// ---------------------------------------------------------------------------------------------
+// SSM and SSGI (issue 5): the shadow map, its one-tap test, the shadow edges, the SSM and SSGI
+// sub-images, each against the oracle's stage end to end and against the oracle's stage run on
+// the port's own inputs; then the final image of both effects in both modes.
+namespace mrr {
+namespace {
+
+// The figures of one comparison: |Δ| over every channel of the pixels compared.
+struct Figures {
+  double maxAbs = 0.0, rms = 0.0, shareOver = 0.0;
+  int64_t pixels = 0;
+};
+
+std::ostream& operator<<(std::ostream& o, const Figures& f) {
+  return o << "max|d| " << f.maxAbs << "  rms " << f.rms << "  over " << 100.0 * f.shareOver << "% of " << f.pixels;
+}
+
+// Compares a and b where include(pixel) holds; a pixel is "over" when any channel's |Δ| is.
+template <class Include>
+Figures compare(const ImageF& a, const ImageF& b, double threshold, Include include) {
+  EXPECT_EQ(a.data.size(), b.data.size());
+  Figures f;
+  double sum2 = 0.0;
+  int64_t over = 0;
+  const size_t ch = static_cast<size_t>(a.channels);
+  for (size_t p = 0; p < a.pixelCount(); ++p) {
+    if (!include(p)) continue;
+    ++f.pixels;
+    bool isOver = false;
+    for (size_t c = 0; c < ch; ++c) {
+      const double d = std::fabs(static_cast<double>(a.data[p * ch + c]) - b.data[p * ch + c]);
+      f.maxAbs = std::max(f.maxAbs, d);
+      sum2 += d * d;
+      isOver = isOver || d > threshold;
+    }
+    over += isOver;
+  }
+  const double n = static_cast<double>(std::max<int64_t>(f.pixels, 1));
+  f.rms = std::sqrt(sum2 / (n * static_cast<double>(ch)));
+  f.shareOver = static_cast<double>(over) / n;
+  return f;
+}
+
+Figures compare(const ImageU8& a, const ImageU8& b) {
+  return compare(toFloat(a), toFloat(b), 0.5, [](size_t) { return true; });
+}
+
+// Checks the figures against a rule of common/tolerance.h and prints them (the figures are the
+// result, not only pass/fail: SPEC §8).
+void expectWithin(const Figures& f, const ToleranceRule& rule, const std::string& what) {
+  std::cerr << "[parity] " << what << " (" << rule.stage << "): " << f << "\n";
+  EXPECT_LE(f.shareOver, rule.shareOver) << what << ": " << f;
+  EXPECT_LE(f.rms, rule.rmsBound) << what << ": " << f;
+}
+
+const ToleranceRule& kMapDepth = tolerance("shadowmap.depth");
+const ToleranceRule& kShadowTest = tolerance("shadowtest");
+const ToleranceRule& kShadowTestSame = tolerance("shadowtest.same_input");
+const ToleranceRule& kSsm = tolerance("ssm");
+const ToleranceRule& kSsmSame = tolerance("ssm.same_input");
+const ToleranceRule& kDirectSame = tolerance("ssgi.direct.same_input");
+const ToleranceRule& kSsgi = tolerance("ssgi");
+const ToleranceRule& kSsgiSame = tolerance("ssgi.same_input");
+
+Settings shadowSettings(Effect effect, int w, int h, Mode mode = Mode::Multires) {
+  Settings s = defaultSettings(effect);
+  s.width = w;
+  s.height = h;
+  s.mode = mode;
+  s.ssm.samples = 64;  // PCF 8×8
+  s.ssm.shadowMapSize = 1024;
+  s.ssgi.samples = 48;
+  return s;
+}
+
+// A built-in's name, or a shared scene's catalogue name ("cornell", "arcade"), and a size.
+struct ShadowCase {
+  std::string scene;
+  int width, height;
+};
+void PrintTo(const ShadowCase& c, std::ostream* os) { *os << c.scene << " " << c.width << "x" << c.height; }
+
+class GpuShadowParity : public ::testing::TestWithParam<ShadowCase> {
+ protected:
+  void SetUp() override {
+    MRR_REQUIRE_GL_OR_SKIP();
+    const ShadowCase& p = GetParam();
+    const std::string file = p.scene == "cornell"  ? "cornell-box/CornellBox-Original.gltf"
+                             : p.scene == "arcade" ? "sascha-arcade/subpass_scene_opaque.gltf"
+                                                   : "";
+    if (!file.empty() && !test::haveSharedScene(file))
+      GTEST_SKIP() << "shared scene missing: " << test::sharedScene(file);
+    spec_ = file.empty() ? "builtin:" + p.scene : p.scene;
+    context_ = std::make_unique<gpu::GlContext>();
+  }
+  std::string spec_;
+  std::unique_ptr<gpu::GlContext> context_;
+};
+
+TEST_P(GpuShadowParity, SsmStagesMatchTheOracle) {
+  const ShadowCase& p = GetParam();
+  const auto r = test::renderScene(spec_, shadowSettings(Effect::Ssm, p.width, p.height));
+  const FrameResult& f = r.frame;
+  const Constants& c = f.constants;
+  const gpu::GpuScene scene(*r.scene);
+  const std::string name = p.scene + " ssm";
+
+  // 1. The shadow map: the same frame (one shared function), then the depths texel by texel.
+  ShadowMap map = shadowMapFrame(r.scene->light, scene.bounds(), c.ssm.shadowMapSize);
+  EXPECT_EQ(map.origin, f.shadowMap.origin);
+  EXPECT_EQ(map.right, f.shadowMap.right);
+  EXPECT_EQ(map.up, f.shadowMap.up);
+  EXPECT_EQ(map.forward, f.shadowMap.forward);
+  EXPECT_EQ(map.texel, f.shadowMap.texel);
+  const gpu::ShadowMapTarget mapTarget(c.ssm.shadowMapSize);
+  gpu::drawShadowMap(scene, map, mapTarget);
+  map.depth = mapTarget.read();
+  {
+    // In texels; a texel only one path hits counts as over.
+    ImageF a = map.depth, b = f.shadowMap.depth;
+    int64_t hits = 0;
+    for (size_t i = 0; i < a.data.size(); ++i) {
+      const bool ha = a.data[i] != ShadowMap::kNoBlocker, hb = b.data[i] != ShadowMap::kNoBlocker;
+      hits += ha || hb;
+      a.data[i] = ha ? a.data[i] / map.texel : 1e9f;
+      b.data[i] = hb ? b.data[i] / map.texel : (ha ? 0.0f : 1e9f);
+    }
+    ASSERT_GT(hits, 0) << "nothing in the shadow map";
+    const Figures fig = compare(a, b, kMapDepth.pixelThreshold, [&](size_t i) {
+      return map.depth.data[i] != ShadowMap::kNoBlocker || f.shadowMap.depth.data[i] != ShadowMap::kNoBlocker;
+    });
+    std::cerr << "[parity] " << name << " shadow map (" << kMapDepth.stage << "): over " << 100.0 * fig.shareOver
+              << "% of " << fig.pixels << " covered texels\n";
+    EXPECT_LE(fig.shareOver, kMapDepth.shareOver);
+  }
+
+  // 2. The one-tap test at full res: on the port's G-buffer and map against the oracle's
+  // function on the same inputs, and against the oracle's end to end.
+  const LevelConstants& l0 = c.levels[0];
+  gpu::Framebuffer g0(l0.width, l0.height, 3, true);
+  gpu::drawGBuffer(scene, f.view, l0, g0);
+  const GBuffer g0Read = gpu::readGBuffer(g0);
+  const gpu::Framebuffer litTarget(l0.width, l0.height, 1, false);
+  gpu::drawShadowTest(scene, g0, map, mapTarget.texture(), f.view, c.ssm.biasTexels, litTarget);
+  const ImageU8 lit = gpu::readShadowTest(litTarget);
+  expectWithin(compare(lit, shadowTestImage(g0Read, map, f.view, c.ssm.biasTexels)), kShadowTestSame,
+               name + " shadow test, same input");
+  expectWithin(compare(lit, f.shadowLit), kShadowTest, name + " shadow test vs oracle");
+
+  // 3. Shadow edges: from the port's lit image, against the oracle's edges from the same.
+  const EdgeImages edges = gpu::detectEdges(scene, g0, c.edges, litTarget.texture(0));
+  const EdgeImages edgesSame = detectEdges(g0Read, c.edges, &lit);
+  ASSERT_FALSE(edges.shadow.data.empty());
+  expectWithin(compare(edges.shadow, edgesSame.shadow), kEdgesSame, name + " shadow edges, same input");
+  expectWithin(compare(edges.combined, edgesSame.combined), kEdgesSame, name + " E with shadow edges, same input");
+  expectWithin(compare(edges.shadow, f.edges.shadow), kEdges, name + " shadow edges vs oracle");
+  // Not vacuous: where the oracle finds shadow edges the port does too ("shadows" has them).
+  EXPECT_EQ(test::countSet(edges.shadow) > 0, test::countSet(f.edges.shadow) > 0);
+  if (p.scene == "shadows") EXPECT_GT(test::countSet(edges.shadow), 100) << "the shadow scene without shadow edges";
+
+  // 4. SSM per level with the oracle's stencil: the port on its own G-buffer and map against
+  // the oracle's renderSsm on the same (nearly exact), and against the oracle's sub-image.
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    gpu::Framebuffer gl(lc.width, lc.height, 3, true);
+    gpu::drawGBuffer(scene, f.view, lc, gl);
+    const GBuffer g = gpu::readGBuffer(gl);
+    const ImageU8& stencil = f.levels[static_cast<size_t>(l)].masks.stencil;
+    const ImageF port = gpu::renderSsm(scene, gl, stencil, map, mapTarget.texture(), f.view, lc, c.ssm);
+    for (size_t i = 0; i < port.data.size(); ++i)
+      if (!stencil.data[i]) ASSERT_EQ(port.data[i], 0.0f) << "level " << l << ": a masked fragment was shaded";
+    const auto shaded = [&](size_t i) { return stencil.data[i] != 0; };
+    const std::string L = name + " L" + std::to_string(l);
+    if (p.scene == "shadows" && l == 0) {  // not vacuous: the edge band holds umbra and penumbra
+      int64_t umbra = 0, penumbra = 0;
+      for (size_t i = 0; i < port.data.size(); ++i) {
+        umbra += shaded(i) && port.data[i] == 0.0f;
+        penumbra += shaded(i) && port.data[i] > 0.0f && port.data[i] < 1.0f;
+      }
+      EXPECT_GT(umbra, 10);
+      EXPECT_GT(penumbra, 40);
+    }
+    expectWithin(compare(port, renderSsm(g, map, stencil, f.view, c.ssm), kSsmSame.pixelThreshold, shaded), kSsmSame,
+                 L + " same input");
+    expectWithin(compare(port, f.levels[static_cast<size_t>(l)].raw, kSsm.pixelThreshold, shaded), kSsm,
+                 L + " vs oracle");
+  }
+}
+
+TEST_P(GpuShadowParity, SsgiStagesMatchTheOracle) {
+  const ShadowCase& p = GetParam();
+  const auto r = test::renderScene(spec_, shadowSettings(Effect::Ssgi, p.width, p.height));
+  const FrameResult& f = r.frame;
+  const Constants& c = f.constants;
+  const gpu::GpuScene scene(*r.scene);
+  const std::string name = p.scene + " ssgi";
+  ShadowMap map = shadowMapFrame(r.scene->light, scene.bounds(), c.ssm.shadowMapSize);
+  const gpu::ShadowMapTarget mapTarget(c.ssm.shadowMapSize);
+  gpu::drawShadowMap(scene, map, mapTarget);
+  map.depth = mapTarget.read();
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    gpu::Framebuffer gl(lc.width, lc.height, 3, true);
+    gpu::drawGBuffer(scene, f.view, lc, gl);
+    const GBuffer g = gpu::readGBuffer(gl);
+    const std::string L = name + " L" + std::to_string(l);
+    // 1. the direct light every pixel sends, against the oracle's on the same G-buffer and map
+    const gpu::Framebuffer directTarget(lc.width, lc.height, 1, false);
+    gpu::drawDirectLight(scene, gl, map, mapTarget.texture(), f.view, r.scene->light, c.ssm.biasTexels, directTarget);
+    const ImageF direct = directTarget.read(0, 3);
+    expectWithin(compare(direct, directLight(g, map, f.view, r.scene->light, c.ssm.biasTexels),
+                         kDirectSame.pixelThreshold, [](size_t) { return true; }),
+                 kDirectSame, L + " direct, same input");
+    // 2. the gather with the oracle's stencil: against the oracle's on the port's G-buffer and
+    // direct light (nearly exact), and against the oracle's sub-image end to end.
+    const ImageU8& stencil = f.levels[static_cast<size_t>(l)].masks.stencil;
+    const ImageF port = gpu::renderSsgi(scene, gl, directTarget.texture(0), stencil, f.view, lc, c.ssgi);
+    for (size_t i = 0; i < stencil.data.size(); ++i)
+      if (!stencil.data[i])
+        for (int ch = 0; ch < 3; ++ch)
+          ASSERT_EQ(port.data[3 * i + static_cast<size_t>(ch)], 0.0f)
+              << "level " << l << ": a masked fragment was shaded";
+    const auto shaded = [&](size_t i) { return stencil.data[i] != 0; };
+    expectWithin(compare(port, renderSsgi(g, direct, stencil, f.view, lc, c.ssgi), kSsgiSame.pixelThreshold, shaded),
+                 kSsgiSame, L + " same input");
+    expectWithin(compare(port, f.levels[static_cast<size_t>(l)].raw, kSsgi.pixelThreshold, shaded), kSsgi,
+                 L + " vs oracle");
+  }
+}
+
+// The built-ins made for the effects, the demo, and two shared scenes at 320×180.
+INSTANTIATE_TEST_SUITE_P(Scenes, GpuShadowParity,
+                         ::testing::Values(ShadowCase{"shadows", 161, 97}, ShadowCase{"redwall", 161, 97},
+                                           ShadowCase{"demo", 160, 90}, ShadowCase{"cornell", 320, 180},
+                                           ShadowCase{"arcade", 320, 180}),
+                         [](const ::testing::TestParamInfo<ShadowCase>& info) { return info.param.scene; });
+
+// End to end: the port's final SSM and SSGI images against the oracle's, both modes, and the
+// same stages in the same order in the timings.
+TEST(GpuPipeline, SsmAndSsgiFinalImagesMatchTheOracle) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  for (const auto& [sceneName, effect] : {std::pair{"shadows", Effect::Ssm}, std::pair{"redwall", Effect::Ssgi},
+                                          std::pair{"redwall", Effect::Ssm}, std::pair{"shadows", Effect::Ssgi}}) {
+    for (Mode mode : {Mode::Multires, Mode::Full}) {
+      const auto r = test::renderScene(std::string("builtin:") + sceneName, shadowSettings(effect, 203, 117, mode));
+      const gpu::GpuRenderer port(*r.scene);
+      const FrameResult g = port.render(r.camera, r.frame.constants);
+      const std::string what = std::string(sceneName) + " " + toString(effect) + " " + toString(mode);
+      ASSERT_EQ(g.final().data.size(), r.frame.final().data.size()) << what;
+      expectWithin(compare(g.final(), r.frame.final(), kFinal.pixelThreshold, [](size_t) { return true; }), kFinal,
+                   what + " final");
+      expectWithin(compare(g.shaded, r.frame.shaded, kFinal.pixelThreshold, [](size_t) { return true; }), kFinal,
+                   what + " shaded");
+      EXPECT_NEAR(g.idealSpeedup, r.frame.idealSpeedup, 0.05 * r.frame.idealSpeedup) << what;
+      ASSERT_EQ(g.timings.size(), r.frame.timings.size()) << what;
+      for (size_t i = 0; i < g.timings.size(); ++i) EXPECT_EQ(g.timings[i].stage, r.frame.timings[i].stage) << what;
+      EXPECT_EQ(g.shadowMap.size, r.frame.constants.ssm.shadowMapSize) << what;
+      EXPECT_EQ(g.shadowLit.width, r.frame.shadowLit.width) << what;
+    }
   }
 }
 

@@ -1,0 +1,57 @@
+#include "gpu/faults.h"
+
+#include <cstdlib>
+
+#include "common/error.h"
+#include "gpu/program.h"
+
+namespace mrr::gpu {
+
+const std::vector<ShaderFault>& shaderFaults() {
+  static const std::vector<ShaderFault> faults = {
+      {"compile-error", "gbuffer.frag", "void main() {", "void main() { planted syntax error",
+       "a syntax error: the driver refuses the G-buffer shader", "compile"},
+      {"half-pixel", "blend.frag", "vec2 u = (vec2(p) + 0.5) / float(scale) - 0.5;",
+       "vec2 u = (vec2(p) + 0.5) / float(scale);", "upsampling taps off by half a level pixel (the −½ dropped)",
+       "blend"},
+      {"blend-weight", "blend.frag", "alpha = min(alphaHat * weight, 1.0);", "alpha = min(alphaHat * weight * 0.5, 1.0);",
+       "the blend weight w_ℓ halved", "blend"},
+      {"uncorrected-blend", "blend.frag", "vec3 below = coarsest ? vec3(0.0) : texelFetch(coarser, p, 0).rgb;",
+       "vec3 below = vec3(0.0);",
+       "the paper's printed Eq. 1: blends with c'_{i-1}, the finer composite, not yet written (0)", "blend"},
+      {"unmasked-bilinear", "blend.frag", "if (texelFetch(stencilMask, q, 0).r < 0.5) continue;", "",
+       "bilinear upsampling that ignores S_ℓ (reads unrendered texels)", "blend"},
+      {"ssao-bias-sign", "ssao.frag", "if (bufferDepth < sampleDepth - bias)", "if (bufferDepth < sampleDepth + bias)",
+       "the SSAO depth bias with its sign flipped", "effect"},
+      {"pcf-one-short", "ssm.frag", "if (r.depth <= b) ++litTaps;",
+       "if (r.depth <= b && !(i == grid - 1 && j == grid - 1)) ++litTaps;",
+       "a PCF grid one sample short (the last tap never counts as lit)", "effect"},
+      {"ssgi-no-ndotl", "ssgi.frag", "float nl = max(dot(n, toLight), 0.0);", "float nl = 1.0;",
+       "SSGI senders without the N·L term", "direct"},
+  };
+  return faults;
+}
+
+const ShaderFault* plantedFault() {
+  const char* name = std::getenv("MRR_GPU_FAULT");
+  if (!name || !*name) return nullptr;
+  std::string known;
+  for (const ShaderFault& f : shaderFaults()) {
+    if (f.name == name) return &f;
+    known += (known.empty() ? "" : ", ") + f.name;
+  }
+  throw MrrError(std::string("MRR_GPU_FAULT=") + name + ": no such planted fault (known: " + known + ")");
+}
+
+std::string applyPlantedFault(const std::string& file, const std::string& text) {
+  const ShaderFault* fault = plantedFault();
+  if (!fault || fault->file != file) return text;
+  const size_t at = text.find(fault->find);
+  require(at != std::string::npos, "MRR_GPU_FAULT=" + fault->name + ": its text is no longer in gpu/shaders/" +
+                                       file + " (update gpu/faults.cpp)");
+  std::string out = text;
+  out.replace(at, fault->find.size(), fault->replace);
+  return out;
+}
+
+}  // namespace mrr::gpu

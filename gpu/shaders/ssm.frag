@@ -1,0 +1,66 @@
+#version 330 core
+// Stage 4 for soft shadows — PCSS (Fernando 2005) on the light's shadow map (SPEC §6 SSM,
+// docs/spec.md §6.4), mirrors cpu_ref/ssm.cpp: ssmAt. Drawn with the stencil test, so it runs
+// only where S_ℓ = 1. Output: the visibility V in [0, 1].
+#include "shadowmap.glsl"
+uniform sampler2D positionHit;  // level G-buffer: view position, hit
+uniform sampler2D normalDepth;  // level G-buffer: view normal, depth
+uniform float tanHalfAngle;     // tan(θ/2) of the light's angular diameter θ
+uniform int blockerGrid;        // blocker-search taps per side
+uniform int grid;               // PCF taps per side, n (N = n²)
+// Tap i of an n-tap grid over [−h, h] sits at factor_i · h; the factors come from the
+// host (cpu_ref/ssm.h: gridTapFactor), so both paths place every tap on the same bits.
+uniform float blockerFactors[16];
+uniform float pcfFactors[32];
+layout(location = 0) out vec4 visibility;
+
+const float kMaxSearchTexels = 64.0;  // caps the blocker search (and so the penumbra)
+
+// Offset of a tap of a regular grid spanning [−h, h] (texel centres of the grid).
+float gridOffset(float factor, float halfWidth) { return factor * halfWidth; }
+
+// Penumbra width of a directional light of angular diameter θ (Fernando 2005, adapted to
+// parallel light): (d_receiver − d_blocker) · 2 tan(θ/2).
+float penumbraWidth(float receiverDepth, float blockerDepth) {
+  return (receiverDepth - blockerDepth) * 2.0 * tanHalfAngle;
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec4 ph = texelFetch(positionHit, pixel, 0);
+  if (ph.w < 0.5) {
+    visibility = vec4(1.0);
+    return;
+  }
+  vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
+  Receiver r = receiverAt(viewToWorld(ph.xyz), viewDirectionToWorld(n));
+  // 1. blocker search: the widest penumbra a blocker at the light plane could cast
+  float searchTexels = clamp(r.depth * tanHalfAngle / mapTexel, 0.5, kMaxSearchTexels);
+  float blockerSum = 0.0;
+  int blockers = 0;
+  for (int j = 0; j < blockerGrid; ++j)
+    for (int i = 0; i < blockerGrid; ++i) {
+      float b = depthAt(r.u + gridOffset(blockerFactors[i], searchTexels),
+                        r.v + gridOffset(blockerFactors[j], searchTexels));
+      if (b < r.depth) {
+        blockerSum += b;
+        ++blockers;
+      }
+    }
+  if (blockers == 0) {  // nothing in front anywhere in the search region: fully lit
+    visibility = vec4(1.0);
+    return;
+  }
+  float blockerDepth = blockerSum / float(blockers);
+  // 2. penumbra width from the receiver and mean blocker depths
+  float penumbraWorld = penumbraWidth(r.depth, blockerDepth);
+  float filterTexels = clamp(0.5 * penumbraWorld / mapTexel, 0.5, kMaxSearchTexels);
+  // 3. PCF over an n×n grid: the fraction of taps that see the light
+  int litTaps = 0;
+  for (int j = 0; j < grid; ++j)
+    for (int i = 0; i < grid; ++i) {
+      float b = depthAt(r.u + gridOffset(pcfFactors[i], filterTexels), r.v + gridOffset(pcfFactors[j], filterTexels));
+      if (r.depth <= b) ++litTaps;
+    }
+  visibility = vec4(float(litTaps) / float(grid * grid), 0.0, 0.0, 1.0);
+}

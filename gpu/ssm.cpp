@@ -1,0 +1,59 @@
+#include "gpu/ssm.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <vector>
+
+#include "common/error.h"
+#include "cpu_ref/ssm.h"
+#include "gpu/program.h"
+#include "gpu/shadowmap.h"
+#include "gpu/stencil.h"
+
+namespace mrr::gpu {
+
+namespace {
+constexpr int kMaxBlockerGrid = 16;  // ssm.frag: blockerFactors[16] (validateSettings: [1, 16])
+constexpr int kMaxPcfGrid = 32;      // ssm.frag: pcfFactors[32] (kMaxSsmSamples = 1024 = 32²)
+
+// The n tap factors of a grid (cpu_ref/ssm.h: gridTapFactor) as a uniform array.
+void setTapFactors(unsigned program, const char* name, int n) {
+  std::vector<float> factors(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) factors[static_cast<size_t>(i)] = gridTapFactor(i, n);
+  glUniform1fv(glGetUniformLocation(program, name), n, factors.data());
+}
+}  // namespace
+
+ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
+                 unsigned mapTexture, const View& view, const LevelConstants& level, const Constants::Ssm& ssm) {
+  require(ssm.blockerGrid >= 1 && ssm.blockerGrid <= kMaxBlockerGrid && ssm.grid >= 1 && ssm.grid <= kMaxPcfGrid,
+          "gpu: ssm grid sizes outside the shader's arrays");
+  Framebuffer target(level.width, level.height, 1, true);
+  target.bind();
+  const float zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, zero);
+  // 1. S_ℓ into the stencil buffer
+  fillStencil(scene, stencil);
+  // 2. PCSS where the stencil is 1
+  const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
+  glUseProgram(program);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(0));
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(1));
+  glUniform1i(glGetUniformLocation(program, "positionHit"), 0);
+  glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
+  bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
+  glUniform1f(glGetUniformLocation(program, "tanHalfAngle"), ssm.tanHalfAngle);
+  glUniform1i(glGetUniformLocation(program, "blockerGrid"), ssm.blockerGrid);
+  glUniform1i(glGetUniformLocation(program, "grid"), ssm.grid);
+  setTapFactors(program, "blockerFactors", ssm.blockerGrid);
+  setTapFactors(program, "pcfFactors", ssm.grid);
+  scene.drawFullscreen();
+  glDisable(GL_STENCIL_TEST);
+  checkGl("ssm");
+  return target.read(0, 1);
+}
+
+}  // namespace mrr::gpu

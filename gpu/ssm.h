@@ -1,0 +1,17 @@
+#pragma once
+// The port's stage 4 for soft shadows (gpu/shaders/ssm.frag), mirroring cpu_ref/ssm.cpp: PCSS
+// on the light's shadow map, drawn with the stencil test (S_ℓ in the stencil buffer), so the
+// effect runs only where it is set.
+#include "common/camera.h"
+#include "common/params.h"
+#include "cpu_ref/shadowmap.h"
+#include "gpu/gbuffer.h"
+
+namespace mrr::gpu {
+
+// The raw sub-image c_ℓ = V (0 where S_ℓ = 0), from the level's G-buffer targets and the map
+// (`map` gives the frame, `mapTexture` the depths on the GPU).
+ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
+                 unsigned mapTexture, const View& view, const LevelConstants& level, const Constants::Ssm& ssm);
+
+}  // namespace mrr::gpu

@@ -8,6 +8,7 @@
 
 #include <cctype>
 #include <csignal>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <new>
@@ -18,6 +19,9 @@
 #include "common/image_io.h"
 #include "common/memory.h"
 #include "compare/bench.h"
+#include "compare/html_report.h"
+#include "compare/parity.h"
+#include "compare/probe_both.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
 #include "gpu/pipeline.h"
@@ -59,7 +63,7 @@ struct FrameOptions {
         ->capture_default_str();
     app.add_option("--effect", effect, "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)")->capture_default_str();
     app.add_option("--mode", mode, "multires (the method) or full (the reference)")->capture_default_str();
-    app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL)")
+    app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both")
         ->capture_default_str();
     app.add_option("--gl-device", glDevice, "gpu: the EGL device index (default: the first that gives GL 3.3 core)");
     app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
@@ -122,8 +126,10 @@ struct FrameOptions {
     return r;
   }
 
-  void checkPath() const {
-    require(path == "cpu" || path == "gpu", "--path " + path + ": unknown path (expected cpu or gpu)");
+  void checkPath(bool bothAllowed = false) const {
+    if (bothAllowed && path == "both") return;
+    require(path == "cpu" || path == "gpu",
+            "--path " + path + ": unknown path (expected cpu or gpu" + (bothAllowed ? ", or both" : "") + ")");
   }
 };
 
@@ -159,6 +165,66 @@ int threadCount(int requested) {
   return requested > 0 ? requested : tbb::this_task_arena::max_concurrency();
 }
 
+// `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
+// Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input.
+int runCompare(FrameOptions& fo, const std::string& reportDir) {
+  fo.checkPath();
+  std::vector<std::string> effects = {fo.effect};
+  if (fo.effect == "all") effects = {"ssao", "ssm", "ssgi"};
+  std::vector<Settings> settings;
+  for (const std::string& e : effects) {
+    FrameOptions one = fo;
+    one.effect = e;
+    settings.push_back(one.settings());
+  }
+  require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");
+  if (!reportDir.empty()) checkOutputLocation((std::filesystem::path(reportDir) / "index.html").string(), "--report");
+  int64_t memory = 0;
+  for (const Settings& s : settings) memory = std::max(memory, 2 * estimateFrameBytes(makeConstants(s, 1.0f), true));
+  requireMemory(memory, memoryLimit(fo.memoryLimitGiB), "comparing a " + fo.size + " frame on both paths");
+
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
+                         static_cast<size_t>(threadCount(fo.threads)));
+  if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
+  const ResolvedScene rs = resolveScene(fo.sceneRequest());
+  const Renderer cpu(rs.scene);
+  const gpu::GpuRenderer port(rs.scene, fo.glDevice);
+  if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port.renderer() << "\n";
+  bool pass = true;
+  // Frames are kept for the HTML report (two frames with every stage per effect).
+  std::vector<std::unique_ptr<FrameResult>> kept;
+  std::vector<ComparedFrame> compared;
+  for (const Settings& s : settings) {
+    const Constants k = makeConstants(s, rs.scene.bounds().diagonal());
+    auto oracle = std::make_unique<FrameResult>(cpu.render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle")}));
+    auto ported = std::make_unique<FrameResult>(port.render(rs.camera, k, {true, progressPrinter(fo.quiet, "port")}));
+    ParityResult result = compareFrames(*oracle, *ported, rs.scene.light);
+    std::cout << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
+              << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs port ("
+              << port.renderer() << ")\n"
+              << formatParityTable(result) << "\n";
+    pass = pass && result.pass();
+    if (!reportDir.empty()) {
+      std::string probe = "mrr probe --path both --scene " + fo.scene + " --effect " + toString(s.effect) + " --mode " +
+                          toString(s.mode) + " --size " + fo.size + " --samples " + std::to_string(k.samples());
+      compared.push_back({toString(s.effect), oracle.get(), ported.get(), std::move(result), probe});
+      kept.push_back(std::move(oracle));
+      kept.push_back(std::move(ported));
+    }
+  }
+  if (!reportDir.empty()) {
+    std::string command = "mrr compare --scene " + fo.scene + " --effect " + fo.effect + " --mode " + fo.mode +
+                          " --size " + fo.size;
+    if (fo.samples) command += " --samples " + std::to_string(*fo.samples);
+    const std::string label = fo.scene == rs.scene.name
+                                  ? rs.scene.name
+                                  : fo.scene + " (" + std::filesystem::path(rs.scene.name).filename().string() + ")";
+    writeCompareReport(reportDir, {label, rs.scene.credit, port.renderer(), command}, compared);
+    if (!fo.quiet) std::cerr << "[mrr] wrote " << (std::filesystem::path(reportDir) / "index.html").string() << "\n";
+  }
+  return pass ? 0 : 1;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"mrr: multi-resolution rendering of expensive screen-space lighting (Besenthal et al.), "
                "CPU oracle"};
@@ -183,6 +249,12 @@ int run(int argc, char** argv) {
   probeOpts.add(*probe);
   probe->add_option("--pixel", pixel, "X,Y of the full-res pixel")->required();
   probe->add_flag("--json", json, "print JSON instead of text");
+
+  FrameOptions compareOpts;
+  std::string compareReportDir;
+  auto* compare = app.add_subcommand("compare", "run the oracle and the GL port on one frame and compare every stage");
+  compareOpts.add(*compare);
+  compare->add_option("--report", compareReportDir, "also write a self-contained HTML report into this folder");
 
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes;
@@ -236,8 +308,10 @@ int run(int argc, char** argv) {
     return runBench(benchOpts, std::cout);
   }
 
+  if (*compare) return runCompare(compareOpts, compareReportDir);
+
   FrameOptions& fo = *render ? renderOpts : probeOpts;
-  fo.checkPath();
+  fo.checkPath(probe->parsed());
   const Settings settings = fo.settings();
   require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");
   std::optional<std::pair<int, int>> probePixelXY;
@@ -279,6 +353,16 @@ int run(int argc, char** argv) {
   // The oracle, or the port: both fill the same FrameResult, so everything after is shared.
   std::unique_ptr<Renderer> cpu;
   std::unique_ptr<gpu::GpuRenderer> port;
+  if (fo.path == "both") {  // probe only: the oracle and the port side by side
+    const Renderer oracleRenderer(rs.scene);
+    const gpu::GpuRenderer portRenderer(rs.scene, fo.glDevice);
+    const FrameResult o = oracleRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "oracle")});
+    const FrameResult p = portRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port")});
+    const nlohmann::json jo = probePixel(o, probePixelXY->first, probePixelXY->second);
+    const nlohmann::json jp = probePixel(p, probePixelXY->first, probePixelXY->second);
+    std::cout << (json ? probeBothJson(jo, jp).dump(2) + "\n" : formatProbeSideBySide(jo, jp, portRenderer.renderer()));
+    return 0;
+  }
   if (fo.path == "gpu") {
     port = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice);
     if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port->renderer() << "\n";

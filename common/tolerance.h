@@ -1,7 +1,7 @@
 #pragma once
 // The one tolerance table for the port against the oracle (SPEC §8): every rule has a
 // per-pixel threshold, the share of pixels allowed over it, an RMS bound, and why. Tests
-// read it; `compare` (issue 6) will too. No tolerance is written anywhere else.
+// and `mrr compare` (compare/parity.cpp) read it. No tolerance is written anywhere else.
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -34,16 +34,23 @@ inline constexpr ToleranceRule kTolerances[] = {
     {"stencil", 0.5, 0.05, kNoRms, "one edge pixel moved upstream dilates by r_ℓ in S_ℓ"},
     {"ssao.same_input", 1e-4, 0.02, 2e-3,
      "GLSL sin/cos differ from libm in the last bits: a sample at a texel border may change texel"},
+    {"ssao", 0.05, 0.02, 2e-2,
+     "inherited: receivers at G-buffer triangle-edge pixels, and samples landing on them, change"},
+    {"bilateral.same_input", 1e-5, 0.0, 1e-6, "the same taps and weights summed in the same order in float"},
+    {"blend.same_input", 1e-5, 0.0, 1e-6,
+     "the same four taps, weights and erratum-corrected blend in float; only last-bit rounding may differ"},
     {"final", 1e-3, 0.01, 2e-3, "end to end: the G-buffer's triangle-edge pixels, passed down the cascade"},
-    {"shadowmap.depth", 1e-3, 0.005, kNoRms,
-     "|Δ| in texels: a texel centre a triangle edge passes through may hit another surface (arcade 1024²: 0.24%)"},
+    {"shadowmap.depth", 1e-2, 0.005, kNoRms,
+     "|Δ| in texels (the bias is in texels too): raster vs ray depth rounding is ~1e-3 texel at 2048²; a texel centre "
+     "a triangle edge passes through may hit another surface (arcade 1024²: 0.24%)"},
     {"shadowtest", 0.5, 0.002, kNoRms, "inherited: G-buffer triangle-edge pixels and the map's edge texels"},
     {"shadowtest.same_input", 0.5, 0.0005, kNoRms,
      "only a receiver within rounding of its texel's stored depth, or of a texel border, may flip"},
     {"ssm", 0.05, 0.005, 3e-2,
      "inherited: receivers at G-buffer edge pixels, or taps on the map's edge texels, flip (arcade 0.24%)"},
-    {"ssm.same_input", 1e-6, 0.002, 1e-3,
-     "GLSL division may round differently on other drivers: a PCF tap on a texel border can move by one texel"},
+    {"ssm.same_input", 1e-6, 0.002, 1e-2,
+     "GLSL division may round the filter width differently: a PCF tap on a texel border moves by one texel, and a "
+     "pixel whose taps straddle the shadow's edge changes by k/N (arcade 320x180: one pixel, by 4/16)"},
     {"ssgi.direct.same_input", 1e-5, 0.0005, 1e-4,
      "GLSL dot and normalise round differently in the last bits; the one-tap test may flip at a border"},
     {"ssgi", 0.02, 0.02, 2e-2,

@@ -24,13 +24,10 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLe
     auto target = std::make_unique<Framebuffer>(c.width, c.height, 3, false);
     target->bind();
     glUseProgram(program);
-    const unsigned textures[4] = {sub, stencil, alpha, previous ? previous->texture(2) : sub};
-    const char* names[4] = {"sub", "stencilMask", "alphaMask", "coarser"};
-    for (int i = 0; i < 4; ++i) {
-      glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
-      glBindTexture(GL_TEXTURE_2D, textures[i]);
-      glUniform1i(glGetUniformLocation(program, names[i]), i);
-    }
+    bindTextures(program, {{"sub", sub},
+                           {"stencilMask", stencil},
+                           {"alphaMask", alpha},
+                           {"coarser", previous ? previous->texture(2) : sub}});
     glUniform1i(glGetUniformLocation(program, "coarsest"), previous ? 0 : 1);
     glUniform1i(glGetUniformLocation(program, "scale"), lc.scale);
     glUniform1f(glGetUniformLocation(program, "weight"), lc.weight);

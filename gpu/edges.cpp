@@ -16,18 +16,11 @@ EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const
   Framebuffer target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false);
   target.bind();
   glUseProgram(program);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, gbuffer0.texture(0));
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, gbuffer0.texture(1));
-  glUniform1i(glGetUniformLocation(program, "positionHit"), 0);
-  glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
+  bindTextures(program, {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}});
   glUniform1f(glGetUniformLocation(program, "normalThreshold"), settings.normalThreshold);
   glUniform1f(glGetUniformLocation(program, "depthThreshold"), settings.depthThreshold);
   if (shadowEdges) {
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, shadowLitTexture);
-    glUniform1i(glGetUniformLocation(program, "shadowLit"), 2);
+    bindTextures(program, {{"shadowLit", shadowLitTexture}}, 2);
   }
   scene.drawFullscreen();
   checkGl("edges");

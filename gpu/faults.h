@@ -15,7 +15,7 @@ struct ShaderFault {
   std::string find;     // exact text in that file
   std::string replace;  // what it becomes
   std::string what;     // the bug, in one line
-  std::string stage;    // the first stage whose output it changes (or "compile")
+  std::string stage;    // the first stage `mrr compare` flags (its row name's prefix), or "compile"
 };
 
 const std::vector<ShaderFault>& shaderFaults();

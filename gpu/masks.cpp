@@ -32,12 +32,8 @@ struct Pass {
       glUniform1i(glGetUniformLocation(program, "radius"), static_cast<int>(weights->size() / 2));
       glUniform1fv(glGetUniformLocation(program, "weights"), static_cast<GLsizei>(weights->size()), weights->data());
     }
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, source);
-    glUniform1i(glGetUniformLocation(program, "source"), 0);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, previous ? previous : source);
-    glUniform1i(glGetUniformLocation(program, "previous"), 1);
+    bindTextures(program, {{"source", source}});
+    bindTextures(program, {{"previous", previous ? previous : source}}, 1);
     scene.drawFullscreen();
     checkGl("masks");
     return target;

@@ -104,6 +104,22 @@ unsigned compileProgramFromSource(const std::string& stage, const std::string& v
   return program;
 }
 
+void bindTextures(unsigned program, std::initializer_list<std::pair<const char*, unsigned>> samplers, int firstUnit) {
+  int unit = firstUnit;
+  for (const auto& [name, texture] : samplers) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glUniform1i(glGetUniformLocation(program, name), unit);
+    ++unit;
+  }
+}
+
+void setLevelUniforms(unsigned program, const View& view, const LevelConstants& level) {
+  glUniform1i(glGetUniformLocation(program, "level"), level.index);
+  glUniform1f(glGetUniformLocation(program, "invScale"), 1.0f / static_cast<float>(level.scale));
+  glUniform3f(glGetUniformLocation(program, "camera"), view.focal, view.cx, view.cy);
+}
+
 void checkGl(const std::string& stage) {
   const GLenum e = glGetError();
   require(e == GL_NO_ERROR, "gpu: stage " + stage + ": GL error 0x" + [&] {

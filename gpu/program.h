@@ -1,7 +1,12 @@
 #pragma once
 // Shader programs for the port: GLSL 3.30 sources are compiled into the binary from
 // gpu/shaders/ (one file per stage, named like the cpu_ref/ file it mirrors).
+#include <initializer_list>
 #include <string>
+#include <utility>
+
+#include "common/camera.h"
+#include "common/params.h"
 
 namespace mrr::gpu {
 
@@ -18,6 +23,15 @@ unsigned compileProgram(const std::string& stage, const std::string& vertexName,
 unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName,
                                   const std::string& vertexText, const std::string& fragmentName,
                                   const std::string& fragmentText, const std::string& defines = "");
+
+// Binds each texture to the next texture unit from `firstUnit` on and points the named
+// sampler uniform of `program` at it (the program must be in use).
+void bindTextures(unsigned program, std::initializer_list<std::pair<const char*, unsigned>> samplers,
+                  int firstUnit = 0);
+
+// The uniforms every level pass shares: level (ℓ, for the hash), invScale (1/s_ℓ) and camera
+// (focal length and principal point, to project view points to pixels).
+void setLevelUniforms(unsigned program, const View& view, const LevelConstants& level);
 
 // Throws MrrError naming `stage` when glGetError reports an error (checked after every stage).
 void checkGl(const std::string& stage);

@@ -107,9 +107,7 @@ void bindShadowMap(unsigned program, const ShadowMap& map, unsigned mapTexture, 
   setVec3(program, "viewRight", view.right);
   setVec3(program, "viewUp", view.up);
   setVec3(program, "viewForward", view.forward);
-  glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
-  glBindTexture(GL_TEXTURE_2D, mapTexture);
-  glUniform1i(glGetUniformLocation(program, "shadowMap"), unit);
+  bindTextures(program, {{"shadowMap", mapTexture}}, unit);
 }
 
 void drawShadowTest(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
@@ -117,12 +115,7 @@ void drawShadowTest(const GpuScene& scene, const Framebuffer& gbuffer0, const Sh
   const unsigned program = scene.program("shadowtest", "fullscreen.vert", "shadowmap.frag", "#define SHADOW_TEST\n");
   target.bind();
   glUseProgram(program);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, gbuffer0.texture(0));
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, gbuffer0.texture(1));
-  glUniform1i(glGetUniformLocation(program, "positionHit"), 0);
-  glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
+  bindTextures(program, {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}});
   bindShadowMap(program, map, mapTexture, 2, view, biasTexels);
   scene.drawFullscreen();
   checkGl("shadowtest");

@@ -10,36 +10,16 @@ namespace mrr::gpu {
 
 ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,
                   const LevelConstants& level, const Constants::Ssao& ssao) {
-  Framebuffer target(level.width, level.height, 1, true);
-  target.bind();
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-  // 1. S_ℓ into the stencil buffer
-  fillStencil(scene, stencil);
-  // 2. the effect where the stencil is 1
   const unsigned kernel = uploadKernel(ssao.kernel);
   const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
-  glUseProgram(program);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(0));
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(1));
-  glActiveTexture(GL_TEXTURE2);
-  glBindTexture(GL_TEXTURE_2D, kernel);
-  glUniform1i(glGetUniformLocation(program, "positionHit"), 0);
-  glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
-  glUniform1i(glGetUniformLocation(program, "kernel"), 2);
-  glUniform1i(glGetUniformLocation(program, "samples"), ssao.samples);
-  glUniform1i(glGetUniformLocation(program, "level"), level.index);
-  glUniform1f(glGetUniformLocation(program, "invScale"), 1.0f / static_cast<float>(level.scale));
-  glUniform3f(glGetUniformLocation(program, "camera"), view.focal, view.cx, view.cy);
-  glUniform1f(glGetUniformLocation(program, "radius"), ssao.radius);
-  glUniform1f(glGetUniformLocation(program, "bias"), ssao.bias);
-  glUniform1i(glGetUniformLocation(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
-  scene.drawFullscreen();
-  glDisable(GL_STENCIL_TEST);
-  checkGl("ssao");
-  ImageF out = target.read(0, 1);
+  ImageF out = drawStencilled(scene, stencil, program, 1, "ssao", [&] {
+    bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}, {"kernel", kernel}});
+    setLevelUniforms(program, view, level);
+    glUniform1i(glGetUniformLocation(program, "samples"), ssao.samples);
+    glUniform1f(glGetUniformLocation(program, "radius"), ssao.radius);
+    glUniform1f(glGetUniformLocation(program, "bias"), ssao.bias);
+    glUniform1i(glGetUniformLocation(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
+  });
   glDeleteTextures(1, &kernel);
   return out;
 }

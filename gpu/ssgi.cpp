@@ -14,12 +14,8 @@ void drawDirectLight(const GpuScene& scene, const Framebuffer& gbuffer, const Sh
   const unsigned program = scene.program("direct", "fullscreen.vert", "ssgi.frag", "#define DIRECT_LIGHT\n");
   target.bind();
   glUseProgram(program);
-  const char* names[3] = {"positionHit", "normalDepth", "albedo"};
-  for (int i = 0; i < 3; ++i) {
-    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
-    glBindTexture(GL_TEXTURE_2D, gbuffer.texture(i));
-    glUniform1i(glGetUniformLocation(program, names[i]), i);
-  }
+  bindTextures(program,
+               {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}, {"albedo", gbuffer.texture(2)}});
   bindShadowMap(program, map, mapTexture, 3, view, biasTexels);
   // the same expression as the oracle's directLight, so both shade with the same bits
   const glm::vec3 toLight = -glm::normalize(view.directionToView(light.direction));
@@ -38,34 +34,19 @@ ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const Shad
 
 ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,
                   const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi) {
-  Framebuffer target(level.width, level.height, 1, true);
-  target.bind();
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-  // 1. S_ℓ into the stencil buffer
-  fillStencil(scene, stencil);
-  // 2. the gather where the stencil is 1
   const unsigned kernel = uploadKernel(ssgi.kernel);
   const unsigned program = scene.program("ssgi", "fullscreen.vert", "ssgi.frag");
-  glUseProgram(program);
-  const unsigned textures[4] = {gbuffer.texture(0), gbuffer.texture(1), directTexture, kernel};
-  const char* names[4] = {"positionHit", "normalDepth", "direct", "kernel"};
-  for (int i = 0; i < 4; ++i) {
-    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(i));
-    glBindTexture(GL_TEXTURE_2D, textures[i]);
-    glUniform1i(glGetUniformLocation(program, names[i]), i);
-  }
-  glUniform1i(glGetUniformLocation(program, "samples"), ssgi.samples);
-  glUniform1i(glGetUniformLocation(program, "level"), level.index);
-  glUniform1f(glGetUniformLocation(program, "invScale"), 1.0f / static_cast<float>(level.scale));
-  glUniform3f(glGetUniformLocation(program, "camera"), view.focal, view.cx, view.cy);
-  glUniform1f(glGetUniformLocation(program, "radius"), ssgi.radius);
-  glUniform1f(glGetUniformLocation(program, "patchArea"), ssgi.patchArea);
-  glUniform1f(glGetUniformLocation(program, "minDistance2"), ssgi.minDistance2);
-  scene.drawFullscreen();
-  glDisable(GL_STENCIL_TEST);
-  checkGl("ssgi");
-  ImageF out = target.read(0, 3);
+  ImageF out = drawStencilled(scene, stencil, program, 3, "ssgi", [&] {
+    bindTextures(program, {{"positionHit", gbuffer.texture(0)},
+                           {"normalDepth", gbuffer.texture(1)},
+                           {"direct", directTexture},
+                           {"kernel", kernel}});
+    setLevelUniforms(program, view, level);
+    glUniform1i(glGetUniformLocation(program, "samples"), ssgi.samples);
+    glUniform1f(glGetUniformLocation(program, "radius"), ssgi.radius);
+    glUniform1f(glGetUniformLocation(program, "patchArea"), ssgi.patchArea);
+    glUniform1f(glGetUniformLocation(program, "minDistance2"), ssgi.minDistance2);
+  });
   glDeleteTextures(1, &kernel);
   return out;
 }

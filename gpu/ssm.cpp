@@ -26,34 +26,20 @@ void setTapFactors(unsigned program, const char* name, int n) {
 }  // namespace
 
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
-                 unsigned mapTexture, const View& view, const LevelConstants& level, const Constants::Ssm& ssm) {
+                 unsigned mapTexture, const View& view, const LevelConstants& /*level: S_ℓ has its size*/,
+                 const Constants::Ssm& ssm) {
   require(ssm.blockerGrid >= 1 && ssm.blockerGrid <= kMaxBlockerGrid && ssm.grid >= 1 && ssm.grid <= kMaxPcfGrid,
           "gpu: ssm grid sizes outside the shader's arrays");
-  Framebuffer target(level.width, level.height, 1, true);
-  target.bind();
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-  // 1. S_ℓ into the stencil buffer
-  fillStencil(scene, stencil);
-  // 2. PCSS where the stencil is 1
   const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
-  glUseProgram(program);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(0));
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, gbuffer.texture(1));
-  glUniform1i(glGetUniformLocation(program, "positionHit"), 0);
-  glUniform1i(glGetUniformLocation(program, "normalDepth"), 1);
-  bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
-  glUniform1f(glGetUniformLocation(program, "tanHalfAngle"), ssm.tanHalfAngle);
-  glUniform1i(glGetUniformLocation(program, "blockerGrid"), ssm.blockerGrid);
-  glUniform1i(glGetUniformLocation(program, "grid"), ssm.grid);
-  setTapFactors(program, "blockerFactors", ssm.blockerGrid);
-  setTapFactors(program, "pcfFactors", ssm.grid);
-  scene.drawFullscreen();
-  glDisable(GL_STENCIL_TEST);
-  checkGl("ssm");
-  return target.read(0, 1);
+  return drawStencilled(scene, stencil, program, 1, "ssm", [&] {
+    bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}});
+    bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
+    glUniform1f(glGetUniformLocation(program, "tanHalfAngle"), ssm.tanHalfAngle);
+    glUniform1i(glGetUniformLocation(program, "blockerGrid"), ssm.blockerGrid);
+    glUniform1i(glGetUniformLocation(program, "grid"), ssm.grid);
+    setTapFactors(program, "blockerFactors", ssm.blockerGrid);
+    setTapFactors(program, "pcfFactors", ssm.grid);
+  });
 }
 
 }  // namespace mrr::gpu

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Installs mrr's build and run dependencies on Debian 12 (all from Debian's own packages).
+# `install-deps.sh test` adds what only the tests need: Chromium (the compare report's
+# browser test) and clang with its fuzzer runtime (scripts/fuzz.sh).
 # Safe to run repeatedly; skips apt when every package is already installed.
 set -euo pipefail
 pkgs=(
@@ -9,6 +11,9 @@ pkgs=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
 )
+if [ "${1:-}" = test ]; then
+  pkgs+=(chromium clang libclang-rt-14-dev)
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -3,5 +3,6 @@
 # The shared glTF scenes are read from ../shared/scenes (override: MRR_SCENES_DIR).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$here/scripts/install-deps.sh" test
 bash "$here/scripts/build.sh"
 ctest --test-dir "$here/build" --output-on-failure -j"$(nproc)" "$@"

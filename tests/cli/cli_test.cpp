@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -813,6 +815,123 @@ TEST(CliInterruptTest, SigtermWhileRenderingLeavesNoFile) {
   ASSERT_TRUE(WIFSIGNALED(status)) << "status " << status;
   EXPECT_EQ(WTERMSIG(status), SIGTERM);
   EXPECT_EQ(listTree(out), std::set<std::string>{});
+}
+
+// ---- compare: the oracle against the port, every stage (needs an EGL device) -----------------
+
+#define MRR_REQUIRE_GL_FOR_CLI(dir)                                                                   \
+  do {                                                                                              \
+    if (!glAvailable(dir)) {                                                                        \
+      const char* require = std::getenv("MRR_REQUIRE_GL");                                          \
+      if (require && std::string(require) == "1") FAIL() << "no EGL device, and MRR_REQUIRE_GL=1"; \
+      GTEST_SKIP() << "no EGL device with GL 3.3 core here";                                        \
+    }                                                                                               \
+  } while (0)
+
+int countOf(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+class CliCompareTest : public ::testing::TestWithParam<std::string> {};
+
+// Every scene × the three effects × both modes, at a small size: every stage within the
+// tolerance table (UPSTREAM rows, inherited differences, are allowed and shown).
+TEST_P(CliCompareTest, EveryStagePassesForEveryEffectAndMode) {
+  const std::string dir = test::scratchDir();
+  MRR_REQUIRE_GL_FOR_CLI(dir);
+  std::string scene = GetParam();
+  const std::map<std::string, std::string> shared = {{"cornell", "cornell-box/CornellBox-Original.gltf"},
+                                                     {"arcade", "sascha-arcade/subpass_scene_opaque.gltf"},
+                                                     {"apartment", "dream-apartment/dream-apartment.glb"}};
+  if (shared.count(scene) && !test::haveSharedScene(shared.at(scene)))
+    GTEST_SKIP() << "shared scene missing: " << test::sharedScene(shared.at(scene));
+  if (!shared.count(scene)) scene = "builtin:" + scene;
+  for (const char* mode : {"multires", "full"}) {
+    const RunResult r = runMrr({"compare", "--scene", scene, "--effect", "all", "--mode", mode, "--size", "96x64",
+                                "--samples", "16", "--shadow-map-size", "512", "-q"},
+                               dir);
+    ASSERT_TRUE(r.exited) << describe(r);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    EXPECT_EQ(countOf(r.out, "== compare "), 3) << describe(r);
+    EXPECT_EQ(countOf(r.out, "\nPASS: "), 3) << describe(r);
+    EXPECT_EQ(countOf(r.out, " FAIL "), 0) << describe(r);
+    for (const char* stage : {"gbuffer.L0.depth", "raw.L0", "final"}) EXPECT_NE(r.out.find(stage), std::string::npos);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, CliCompareTest,
+                         ::testing::Values("demo", "plane", "slanted", "corner", "steps", "boxes", "shadows", "redwall",
+                                           "cornell", "arcade", "apartment"),
+                         [](const auto& info) { return info.param; });
+
+struct PlantedFault {
+  std::string fault;   // MRR_GPU_FAULT (gpu/faults.cpp)
+  std::string effect;
+  std::string stage;   // the first failing stage compare must name (a prefix: the level may vary)
+};
+void PrintTo(const PlantedFault& f, std::ostream* os) { *os << f.fault; }
+
+class CliPlantedFaultTest : public ::testing::TestWithParam<PlantedFault> {};
+
+// Each planted shader bug makes compare fail, and names the stage where it starts.
+TEST_P(CliPlantedFaultTest, CompareFailsAtTheStageWhereTheBugIs) {
+  const PlantedFault& f = GetParam();
+  const std::string dir = test::scratchDir();
+  MRR_REQUIRE_GL_FOR_CLI(dir);
+  const RunResult r = runMrr({"compare", "--scene", "builtin:demo", "--effect", f.effect, "--size", "96x64", "--samples",
+                              "16", "-q"},
+                             dir, {.env = {"MRR_GPU_FAULT=" + f.fault}});
+  ASSERT_TRUE(r.exited) << describe(r);
+  EXPECT_EQ(r.status, 1) << describe(r);
+  const std::string marker = "FAIL: first failing stage ";
+  const size_t at = r.out.find(marker);
+  ASSERT_NE(at, std::string::npos) << describe(r);
+  const std::string stage = r.out.substr(at + marker.size(), r.out.find('\n', at) - at - marker.size());
+  EXPECT_EQ(stage.rfind(f.stage, 0), 0u) << "first failing stage " << stage << ", expected " << f.stage << "\n"
+                                         << describe(r);
+  RecordProperty("first_failing_stage", stage);
+}
+
+INSTANTIATE_TEST_SUITE_P(Faults, CliPlantedFaultTest,
+                         ::testing::Values(PlantedFault{"half-pixel", "ssao", "upsample.L"},
+                                           PlantedFault{"blend-weight", "ssao", "blendalpha.L"},
+                                           PlantedFault{"uncorrected-blend", "ssao", "composite.L"},
+                                           PlantedFault{"unmasked-bilinear", "ssao", "upsample.L"},
+                                           PlantedFault{"ssao-bias-sign", "ssao", "raw.L"},
+                                           PlantedFault{"pcf-one-short", "ssm", "raw.L"},
+                                           PlantedFault{"ssgi-no-ndotl", "ssgi", "raw.L"}),
+                         [](const auto& info) {
+                           std::string name = info.param.fault;
+                           for (char& c : name)
+                             if (c == '-') c = '_';
+                           return name;
+                         });
+
+// probe --path both: on the open plane the paths agree everywhere; with the SSAO bias
+// planted, the first value where they part is the coarsest level's raw AO (the plane has no
+// edges, so only L3 is shaded).
+TEST(CliProbeBothTest, MarksTheFirstStageWhereThePathsPart) {
+  const std::string dir = test::scratchDir();
+  MRR_REQUIRE_GL_FOR_CLI(dir);
+  const std::vector<std::string> args = {"probe", "--path", "both", "--scene", "builtin:plane", "--size", "64x48",
+                                         "--samples", "16", "--pixel", "31,23", "--json", "-q"};
+  const RunResult clean = runMrr(args, dir);
+  ASSERT_EQ(clean.status, 0) << describe(clean);
+  const json a = json::parse(clean.out);
+  EXPECT_TRUE(a["first_difference"].is_null()) << a["first_difference"];
+  EXPECT_GT(a["rows"].size(), 20u);
+  const RunResult faulty = runMrr(args, dir, {.env = {"MRR_GPU_FAULT=ssao-bias-sign"}});
+  ASSERT_EQ(faulty.status, 0) << describe(faulty);
+  const json b = json::parse(faulty.out);
+  EXPECT_EQ(b["first_difference"], "L3.c_raw") << faulty.out.substr(0, 2000);
+  // The text form marks it too.
+  std::vector<std::string> text = args;
+  text.erase(std::find(text.begin(), text.end(), "--json"));
+  const RunResult shown = runMrr(text, dir, {.env = {"MRR_GPU_FAULT=ssao-bias-sign"}});
+  EXPECT_NE(shown.out.find("L3.c_raw"), std::string::npos);
+  EXPECT_NE(shown.out.find("first difference"), std::string::npos) << shown.out;
 }
 
 TEST(CliOutputTest, NoSubcommandIsAnError) {

@@ -1,6 +1,8 @@
 #include "common/image_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -264,13 +266,24 @@ TEST(ImageIo, CheckOutputPathUnwritableDirectory) {
   const std::string dir = test::scratchDir();
   const std::string locked = dir + "/locked";
   fs::create_directory(locked);
-  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  if (::access(locked.c_str(), W_OK) == 0) {
-    fs::permissions(locked, fs::perms::owner_all);
-    GTEST_SKIP() << "running as root: permission bits do not stop writes";
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::others_read |
+                              fs::perms::others_exec | fs::perms::group_read | fs::perms::group_exec);
+  const std::string expected = "--out " + locked + "/x.exr: directory " + locked + " is not writable";
+  if (::geteuid() != 0) {
+    EXPECT_EQ(errorOf([&] { checkOutputPath(locked + "/x.exr", "--out"); }), expected);
+  } else {
+    // Root writes anywhere: check as `nobody`, in a child that drops its privileges.
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      if (::setgid(65534) != 0 || ::setuid(65534) != 0) ::_exit(3);
+      ::_exit(errorOf([&] { checkOutputPath(locked + "/x.exr", "--out"); }) == expected ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "as nobody, the error was not \"" << expected << "\" (3: setuid failed)";
   }
-  const std::string m = errorOf([&] { checkOutputPath(locked + "/x.exr", "--out"); });
-  EXPECT_EQ(m, "--out " + locked + "/x.exr: directory " + locked + " is not writable");
   fs::permissions(locked, fs::perms::owner_all);
 }
 

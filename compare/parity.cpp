@@ -1,0 +1,292 @@
+#include "compare/parity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include "cpu_ref/bilateral.h"
+#include "cpu_ref/ssgi.h"
+#include "cpu_ref/ssm.h"
+
+namespace mrr {
+
+namespace {
+
+// |Δ| per pixel over the channels; `include(i)` picks the pixels compared. Sizes must match
+// (a mismatch is itself a failure: every pixel counts as over).
+DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::function<bool(size_t)>& include) {
+  DiffFigures f;
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels) {
+    f.pixels = std::max<int64_t>(static_cast<int64_t>(std::max(a.pixelCount(), b.pixelCount())), 1);
+    f.maxAbs = f.rms = std::numeric_limits<double>::infinity();
+    f.shareOver = 1.0;
+    f.over = f.pixels;
+    return f;
+  }
+  const size_t ch = static_cast<size_t>(a.channels);
+  double sum2 = 0.0;
+  int64_t over = 0;
+  for (size_t p = 0; p < a.pixelCount(); ++p) {
+    if (include && !include(p)) continue;
+    ++f.pixels;
+    double worst = 0.0;
+    for (size_t c = 0; c < ch; ++c) {
+      const double d = std::fabs(static_cast<double>(a.data[p * ch + c]) - static_cast<double>(b.data[p * ch + c]));
+      worst = std::max(worst, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
+      sum2 += d * d;
+    }
+    over += worst > threshold;
+    if (worst > f.maxAbs || f.worstX < 0) {
+      if (worst > f.maxAbs) f.maxAbs = worst;
+      if (worst >= f.maxAbs) {
+        f.worstX = static_cast<int>(p % static_cast<size_t>(a.width));
+        f.worstY = static_cast<int>(p / static_cast<size_t>(a.width));
+      }
+    }
+  }
+  const double n = static_cast<double>(std::max<int64_t>(f.pixels, 1));
+  f.rms = std::sqrt(sum2 / (n * static_cast<double>(ch)));
+  f.shareOver = static_cast<double>(over) / n;
+  f.over = over;
+  return f;
+}
+
+DiffFigures diff(const ImageU8& a, const ImageU8& b) { return diff(toFloat(a), toFloat(b), 0.5, {}); }
+
+StageCheck check(const std::string& rule, const DiffFigures& figures) {
+  return {rule, figures, figures.within(tolerance(rule))};
+}
+
+}  // namespace
+
+std::string StageRow::verdict() const {
+  if (pass()) return "PASS";
+  if (sameInput && sameInput->pass) return "UPSTREAM";
+  return "FAIL";
+}
+
+std::pair<int, int> StageRow::worstPixel() const {
+  // The check that decided the verdict: a failing same-input check, else a failing
+  // end-to-end one, else whichever saw the larger |Δ|.
+  const StageCheck* c = nullptr;
+  if (sameInput && !sameInput->pass) c = &*sameInput;
+  else if (endToEnd && !endToEnd->pass) c = &*endToEnd;
+  else if (sameInput && endToEnd) c = sameInput->figures.maxAbs >= endToEnd->figures.maxAbs ? &*sameInput : &*endToEnd;
+  else if (sameInput) c = &*sameInput;
+  else if (endToEnd) c = &*endToEnd;
+  if (!c || c->figures.worstX < 0 || c->figures.maxAbs <= 0.0) return {-1, -1};
+  if (scale == 0) return {c->figures.worstX, c->figures.worstY};  // shadow-map texels
+  return {c->figures.worstX * scale + scale / 2, c->figures.worstY * scale + scale / 2};
+}
+
+bool ParityResult::pass() const { return firstFailing().empty(); }
+
+int ParityResult::inherited() const {
+  return static_cast<int>(std::count_if(rows.begin(), rows.end(), [](const StageRow& r) { return r.verdict() == "UPSTREAM"; }));
+}
+
+std::string ParityResult::firstFailing() const {
+  for (const StageRow& r : rows)
+    if (r.verdict() == "FAIL") return r.stage;
+  return {};
+}
+
+ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const DirectionalLight& light) {
+  const Constants& c = o.constants;
+  ParityResult result;
+  auto add = [&](StageRow row) { result.rows.push_back(std::move(row)); };
+  const std::string tag = ".L";
+
+  // 1. G-buffers, per level: hit, relative depth, 1 − N·N' where both hit.
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const GBuffer& a = p.levels[static_cast<size_t>(l)].gbuffer;
+    const GBuffer& b = o.levels[static_cast<size_t>(l)].gbuffer;
+    const std::string L = tag + std::to_string(l);
+    add({"gbuffer" + L + ".hit", l, lc.scale, check("gbuffer.hit", diff(a.hit, b.hit)), {}});
+    const auto bothHit = [&](size_t i) { return a.hit.data.size() == b.hit.data.size() && a.hit.data[i] && b.hit.data[i]; };
+    ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero;
+    if (a.depth.data.size() == b.depth.data.size())
+      for (size_t i = 0; i < relDepth.data.size(); ++i) {
+        if (!bothHit(i)) continue;
+        relDepth.data[i] = std::fabs(a.depth.data[i] - b.depth.data[i]) / std::max(b.depth.data[i], 1e-30f);
+        const glm::vec3 na(a.normal.data[3 * i], a.normal.data[3 * i + 1], a.normal.data[3 * i + 2]);
+        const glm::vec3 nb(b.normal.data[3 * i], b.normal.data[3 * i + 1], b.normal.data[3 * i + 2]);
+        normalOff.data[i] = 1.0f - glm::dot(na, nb);
+      }
+    add({"gbuffer" + L + ".depth", l, lc.scale,
+         check("gbuffer.depth", diff(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
+    add({"gbuffer" + L + ".normal", l, lc.scale,
+         check("gbuffer.normal", diff(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit)), {}});
+  }
+
+  // 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
+  if (c.needsShadowMap()) {
+    ImageF a = p.shadowMap.depth, b = o.shadowMap.depth;
+    const float texel = o.shadowMap.texel;
+    std::vector<char> covered(a.data.size(), 0);
+    if (a.data.size() == b.data.size())
+      for (size_t i = 0; i < a.data.size(); ++i) {
+        const bool ha = a.data[i] != ShadowMap::kNoBlocker, hb = b.data[i] != ShadowMap::kNoBlocker;
+        covered[i] = ha || hb;
+        a.data[i] = ha ? a.data[i] / texel : 1e9f;
+        b.data[i] = hb ? b.data[i] / texel : (ha ? 0.0f : 1e9f);
+      }
+    add({"shadowmap", -1, 0,
+         check("shadowmap.depth",
+               diff(a, b, tolerance("shadowmap.depth").pixelThreshold, [&](size_t i) { return covered[i] != 0; })),
+         {}});
+    const ImageU8 same = shadowTestImage(p.levels[0].gbuffer, p.shadowMap, p.view, c.ssm.biasTexels);
+    add({"shadowtest", -1, 1, check("shadowtest", diff(p.shadowLit, o.shadowLit)),
+         check("shadowtest.same_input", diff(p.shadowLit, same))});
+  }
+
+  // 3. Edges, masks, stencils (multires only: `full` has none).
+  if (c.mode == Mode::Multires) {
+    const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
+    add({"edges", -1, 1, check("edges", diff(p.edges.combined, o.edges.combined)),
+         check("edges.same_input", diff(p.edges.combined, same.combined))});
+    const auto masks = buildMasks(p.edges.combined, c);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      const MaskLevel& pm = p.levels[static_cast<size_t>(l)].masks;
+      const MaskLevel& om = o.levels[static_cast<size_t>(l)].masks;
+      const MaskLevel& sm = masks[static_cast<size_t>(l)];
+      const std::string L = tag + std::to_string(l);
+      add({"mask" + L, l, lc.scale, {}, check("masks.same_input", diff(pm.mask, sm.mask))});
+      if (!lc.enabled) continue;
+      add({"alpha" + L, l, lc.scale, {},
+           check("alpha.same_input", diff(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
+      add({"stencil" + L, l, lc.scale, check("stencil", diff(pm.stencil, om.stencil)),
+           check("masks.same_input", diff(pm.stencil, sm.stencil))});
+    }
+  }
+
+  // 4. The effect per level, on the port's own inputs, and the bilateral blur (SSAO).
+  const std::string effect = toString(c.effect);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const LevelResult& pl = p.levels[static_cast<size_t>(l)];
+    const LevelResult& ol = o.levels[static_cast<size_t>(l)];
+    ImageF same;
+    switch (c.effect) {
+      case Effect::Ssao: same = renderSsao(pl.gbuffer, occluderPlanes(pl.gbuffer), pl.masks.stencil, p.view, lc, c.ssao); break;
+      case Effect::Ssm: same = renderSsm(pl.gbuffer, p.shadowMap, pl.masks.stencil, p.view, c.ssm); break;
+      case Effect::Ssgi: {
+        const ImageF direct = directLight(pl.gbuffer, p.shadowMap, p.view, light, c.ssm.biasTexels);
+        same = renderSsgi(pl.gbuffer, direct, pl.masks.stencil, p.view, lc, c.ssgi);
+        break;
+      }
+    }
+    const auto portShaded = [&](size_t i) { return pl.masks.stencil.data[i] != 0; };
+    const auto bothShaded = [&](size_t i) {
+      return pl.masks.stencil.data.size() == ol.masks.stencil.data.size() && pl.masks.stencil.data[i] &&
+             ol.masks.stencil.data[i];
+    };
+    const std::string L = tag + std::to_string(l);
+    const ToleranceRule& end = tolerance(effect);
+    const ToleranceRule& sameRule = tolerance(effect + ".same_input");
+    add({"raw" + L, l, lc.scale, check(effect, diff(pl.raw, ol.raw, end.pixelThreshold, bothShaded)),
+         check(effect + ".same_input", diff(pl.raw, same, sameRule.pixelThreshold, portShaded))});
+    if (c.effect == Effect::Ssao) {
+      const ImageF blurred = bilateralBlur(pl.raw, pl.masks.stencil, pl.gbuffer, c.bilateral);
+      add({"sub" + L, l, lc.scale, {},
+           check("bilateral.same_input",
+                 diff(pl.sub, blurred, tolerance("bilateral.same_input").pixelThreshold, portShaded))});
+    }
+  }
+
+  // 5. Upsample and blend, coarse to fine. Each step on the port's own inputs: ĉ_ℓ and α_ℓ
+  // from the port's c_ℓ, S_ℓ and a_ℓ; c'_ℓ from the port's ĉ_ℓ, α_ℓ and c'_coarser.
+  const double blendThreshold = tolerance("blend.same_input").pixelThreshold;
+  const int w = c.width, h = c.height;
+  int coarser = -1;
+  for (int l = kLevelCount - 1; l >= 0; --l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const size_t i = static_cast<size_t>(l);
+    const LevelResult& pl = p.levels[i];
+    if (p.blend.upsampled[i].data.empty()) continue;  // rendered without keepStages
+    const int ch = p.blend.upsampled[i].channels;
+    ImageF up(w, h, ch), alpha(w, h, 1), composite(w, h, ch);
+    const bool coarsest = coarser < 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const Upsampled u = upsampleAt(pl.sub, pl.masks.stencil, pl.masks.alpha, lc, x, y);
+        alpha.at(x, y) = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
+        for (int k = 0; k < ch; ++k) {
+          up.at(x, y, k) = u.color[k];
+          const float portHat = p.blend.upsampled[i].at(x, y, k);
+          composite.at(x, y, k) =
+              coarsest ? portHat
+                       : blendStep(p.blend.alpha[i].at(x, y), portHat,
+                                   p.blend.composite[static_cast<size_t>(coarser)].at(x, y, k));
+        }
+      }
+    const std::string L = tag + std::to_string(l);
+    add({"upsample" + L, l, 1, {}, check("blend.same_input", diff(p.blend.upsampled[i], up, blendThreshold, {}))});
+    add({"blendalpha" + L, l, 1, {}, check("blend.same_input", diff(p.blend.alpha[i], alpha, blendThreshold, {}))});
+    add({"composite" + L, l, 1, {},
+         check("blend.same_input", diff(p.blend.composite[i], composite, blendThreshold, {}))});
+    coarser = l;
+  }
+  // The final image is the finest composite; end to end it carries everything above.
+  add({"final", -1, 1, check("final", diff(p.final(), o.final(), tolerance("final").pixelThreshold, {})),
+       coarser >= 0 && !p.blend.composite[static_cast<size_t>(coarser)].data.empty()
+           ? std::optional<StageCheck>(check("blend.same_input", diff(p.final(), p.blend.composite[static_cast<size_t>(coarser)],
+                                                                      blendThreshold, {})))
+           : std::nullopt});
+  return result;
+}
+
+std::string formatParityTable(const ParityResult& result) {
+  std::string out;
+  char line[320];
+  std::snprintf(line, sizeof line, "%-20s %-8s  %-24s %9s %10s %8s %10s   %-24s %9s %10s %8s %10s   %s\n", "stage",
+                "verdict", "end to end: rule", "pixels", "max|d|", "over%", "rms", "same input: rule", "pixels",
+                "max|d|", "over%", "rms", "worst at (full-res x,y)");
+  out += line;
+  auto cells = [&](const std::optional<StageCheck>& c) {
+    char text[160];
+    if (!c) {
+      std::snprintf(text, sizeof text, "%-24s %9s %10s %8s %10s", "-", "", "", "", "");
+    } else {
+      const ToleranceRule& rule = tolerance(c->rule);
+      char ruleText[64];
+      std::snprintf(ruleText, sizeof ruleText, "%s%s", c->rule.c_str(), c->pass ? "" : " !");
+      std::snprintf(text, sizeof text, "%-24s %9lld %10.3g %8.3f %10.3g", ruleText,
+                    static_cast<long long>(c->figures.pixels), c->figures.maxAbs, 100.0 * c->figures.shareOver,
+                    c->figures.rms);
+      (void)rule;
+    }
+    return std::string(text);
+  };
+  for (const StageRow& r : result.rows) {
+    std::string worst;
+    const auto [wx, wy] = r.worstPixel();
+    if (wx >= 0 && r.scale > 0) worst = std::to_string(wx) + "," + std::to_string(wy);
+    if (wx >= 0 && r.scale == 0) worst = "texel " + std::to_string(wx) + "," + std::to_string(wy);
+    std::snprintf(line, sizeof line, "%-20s %-8s  %s   %s   %s\n", r.stage.c_str(), r.verdict().c_str(),
+                  cells(r.endToEnd).c_str(), cells(r.sameInput).c_str(), worst.c_str());
+    out += line;
+  }
+  out += "rules (common/tolerance.h): a check passes when over% <= its allowed share and rms <= its bound; '!' marks a "
+         "failed check.\n";
+  out += "UPSTREAM: end to end over its rule while the stage on the port's own inputs passes: inherited, not this "
+         "stage's bug.\n";
+  const std::string first = result.firstFailing();
+  const int inherited = result.inherited();
+  if (!result.pass())
+    out += "FAIL: first failing stage " + first + "\n";
+  else if (inherited > 0)
+    out += "PASS: every stage's own computation within tolerance; " + std::to_string(inherited) +
+           " stage(s) over their end-to-end rule only by what they inherit (UPSTREAM)\n";
+  else
+    out += "PASS: every stage within tolerance\n";
+  return out;
+}
+
+}  // namespace mrr

@@ -1,0 +1,82 @@
+#pragma once
+// Oracle against port, stage by stage (SPEC §8; issue 6). Every stage the two paths share is
+// compared twice where the stage allows it:
+//   - end to end: the port's stage against the oracle's;
+//   - on the same input ("cascade awareness"): the port's stage against the oracle's
+//     function run on the port's own inputs (its G-buffer, edges, stencils, sub-images).
+// A difference that starts upstream (a triangle-edge pixel of the G-buffer) then shows in the
+// end-to-end figures of every later stage but not in their same-input figures, so a shader
+// bug stands out from inherited noise. Every threshold comes from common/tolerance.h.
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/scene.h"
+#include "common/tolerance.h"
+#include "cpu_ref/pipeline.h"
+
+namespace mrr {
+
+// The figures of one comparison: over `pixels` compared, the largest |Δ|, the share of
+// pixels with some channel's |Δ| over the rule's threshold, and the RMS of Δ.
+struct DiffFigures {
+  int64_t pixels = 0;
+  double maxAbs = 0.0;
+  double shareOver = 0.0;
+  double rms = 0.0;
+  int64_t over = 0;               // pixels over the threshold
+  int worstX = -1, worstY = -1;  // where |Δ| is largest, in the stage's own grid
+  // Within the rule: the RMS bound, and no more pixels over the threshold than its share —
+  // where the rule allows any share, at least one pixel (a coarse level of a small frame has
+  // so few pixels that one triangle-edge pixel is already over 1%).
+  bool within(const ToleranceRule& rule) const {
+    const double allowed = rule.shareOver > 0.0 ? std::max(1.0, rule.shareOver * static_cast<double>(pixels)) : 0.0;
+    return static_cast<double>(over) <= allowed && rms <= rule.rmsBound;
+  }
+};
+
+// One check of a row: the rule, and the figures against it.
+struct StageCheck {
+  std::string rule;  // a stage of common/tolerance.h
+  DiffFigures figures;
+  bool pass = true;
+};
+
+struct StageRow {
+  std::string stage;  // e.g. "gbuffer.L0.depth", "edges", "stencil.L2", "sub.L1", "final"
+  int level = -1;     // -1 for full-res stages
+  int scale = 1;      // the stage's grid is W/scale × H/scale; 0: the shadow map's texels
+  std::optional<StageCheck> endToEnd;   // against the oracle's stage
+  std::optional<StageCheck> sameInput;  // against the oracle's function on the port's inputs
+  bool pass() const { return (!endToEnd || endToEnd->pass) && (!sameInput || sameInput->pass); }
+  // PASS; FAIL (the stage itself: its same-input check, or its only check, fails); or
+  // UPSTREAM (end to end over its rule while the same-input check passes: inherited).
+  std::string verdict() const;
+  // The worst pixel of the check that decided the verdict, as a full-res pixel (the centre
+  // of its level pixel) to pass to `mrr probe --pixel`; shadow-map texels for scale 0;
+  // (-1, -1) when nothing differs.
+  std::pair<int, int> worstPixel() const;
+};
+
+struct ParityResult {
+  std::vector<StageRow> rows;  // in pipeline order
+  // No stage FAILs. UPSTREAM rows do not fail the frame: their own computation matches the
+  // oracle's on the same input, so the difference is inherited, and is blamed where it
+  // starts (a G-buffer row over its own rule would FAIL there).
+  bool pass() const;
+  int inherited() const;  // rows with verdict UPSTREAM
+  // The first row, in pipeline order, whose verdict is FAIL (empty when none): where a
+  // shader bug starts.
+  std::string firstFailing() const;
+};
+
+// Compares the port's frame with the oracle's (same scene, camera and constants; both
+// rendered with keepStages so the per-level blend images exist).
+ParityResult compareFrames(const FrameResult& oracle, const FrameResult& port, const DirectionalLight& light);
+
+// The table `mrr compare` prints: one row per stage with the figures, the rule and the verdict.
+std::string formatParityTable(const ParityResult& result);
+
+}  // namespace mrr

@@ -1,0 +1,141 @@
+#include "compare/probe_both.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace mrr {
+
+namespace {
+
+using nlohmann::json;
+
+std::string show(const json& v) {
+  if (v.is_null()) return "-";
+  if (v.is_number_float()) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.7g", v.get<double>());
+    return text;
+  }
+  if (v.is_array()) {
+    std::string out = "(";
+    for (size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + show(v[i]);
+    return out + ")";
+  }
+  return v.dump();
+}
+
+bool differs(const json& a, const json& b) {
+  if (a.is_number() && b.is_number()) {
+    const double x = a.get<double>(), y = b.get<double>();
+    if (std::isnan(x) || std::isnan(y)) return std::isnan(x) != std::isnan(y);
+    return std::fabs(x - y) > 1e-5 * std::max({1.0, std::fabs(x), std::fabs(y)});
+  }
+  if (a.is_array() && b.is_array() && a.size() == b.size()) {
+    for (size_t i = 0; i < a.size(); ++i)
+      if (differs(a[i], b[i])) return true;
+    return false;
+  }
+  return a != b;
+}
+
+// Appends every leaf under `path` of both documents; objects in the given key order first,
+// then any other keys alphabetically (so nothing either side has is skipped).
+void flatten(std::vector<ProbeRow>& rows, const std::string& label, const json& a, const json& b,
+             const std::vector<std::string>& order = {}) {
+  const bool objects = (a.is_object() || a.is_null()) && (b.is_object() || b.is_null()) && (a.is_object() || b.is_object());
+  const bool arrays = a.is_array() && b.is_array() && !a.empty() && (a[0].is_object() || b[0].is_object());
+  if (objects) {
+    std::vector<std::string> keys = order;
+    for (const json* doc : {&a, &b})
+      if (doc->is_object())
+        for (const auto& [k, v] : doc->items())
+          if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    for (const std::string& k : keys) {
+      const json va = a.is_object() && a.contains(k) ? a[k] : json();
+      const json vb = b.is_object() && b.contains(k) ? b[k] : json();
+      if (va.is_null() && vb.is_null()) continue;
+      flatten(rows, label.empty() ? k : label + "." + k, va, vb);
+    }
+    return;
+  }
+  if (arrays) {
+    for (size_t i = 0; i < std::max(a.size(), b.size()); ++i)
+      flatten(rows, label + "[" + std::to_string(i) + "]", i < a.size() ? a[i] : json(), i < b.size() ? b[i] : json());
+    return;
+  }
+  rows.push_back({label, show(a), show(b), differs(a, b)});
+}
+
+}  // namespace
+
+std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
+  std::vector<ProbeRow> rows;
+  auto at = [](const json& doc, const std::string& key) { return doc.contains(key) ? doc[key] : json(); };
+  flatten(rows, "gbuffer", at(o, "gbuffer"), at(p, "gbuffer"), {"hit", "depth", "position", "normal", "albedo"});
+  flatten(rows, "edges", at(o, "edges"), at(p, "edges"), {"normal", "depth", "background", "shadow", "E"});
+  const json lo = at(o, "levels"), lp = at(p, "levels");
+  const size_t levels = std::max(lo.size(), lp.size());
+  auto level = [&](const json& doc, size_t l) { return l < doc.size() ? doc[l] : json(); };
+  auto pick = [](const json& lv, const std::vector<std::string>& keys) {
+    json out = json::object();
+    if (lv.is_object())
+      for (const std::string& k : keys)
+        if (lv.contains(k)) out[k] = lv[k];
+    return out;
+  };
+  // Masks and the effect, fine to coarse (each level is independent there).
+  const std::vector<std::string> maskKeys = {"M", "a", "S", "c_raw", "ssao", "ssm", "ssgi", "c"};
+  for (size_t l = 0; l < levels; ++l)
+    flatten(rows, "L" + std::to_string(l), pick(level(lo, l), maskKeys), pick(level(lp, l), maskKeys), maskKeys);
+  // The blend, coarse to fine, as it runs.
+  const std::vector<std::string> blendKeys = {"taps", "c_hat", "alpha", "composite"};
+  for (size_t l = levels; l-- > 0;)
+    flatten(rows, "L" + std::to_string(l), pick(level(lo, l), blendKeys), pick(level(lp, l), blendKeys), blendKeys);
+  flatten(rows, "finest_contributing_level", at(o, "finest_contributing_level"), at(p, "finest_contributing_level"));
+  flatten(rows, "final", at(o, "final"), at(p, "final"));
+  return rows;
+}
+
+std::string formatProbeSideBySide(const json& o, const json& p, const std::string& renderer) {
+  const std::vector<ProbeRow> rows = probeSideBySide(o, p);
+  std::string out = "pixel " + show(o.value("pixel", json())) + " of " + show(o.value("size", json())) + ", effect " +
+                    o.value("effect", std::string("?")) + ", mode " + o.value("mode", std::string("?")) +
+                    ": the oracle (cpu_ref) beside the port (" + renderer + "), in pipeline order\n";
+  size_t width = 24;
+  for (const ProbeRow& r : rows) width = std::max(width, r.key.size() + 2);
+  char line[512];
+  std::snprintf(line, sizeof line, "%-*s %-28s %-28s\n", static_cast<int>(width), "stage.value", "oracle", "port");
+  out += line;
+  bool marked = false;
+  int differing = 0;
+  for (const ProbeRow& r : rows) {
+    const char* mark = "";
+    if (r.differs) {
+      ++differing;
+      mark = marked ? "  <>" : "  <> first difference";
+      marked = true;
+    }
+    std::snprintf(line, sizeof line, "%-*s %-28s %-28s%s\n", static_cast<int>(width), r.key.c_str(), r.oracle.c_str(),
+                  r.port.c_str(), mark);
+    out += line;
+  }
+  out += differing == 0 ? "the paths agree at every stage for this pixel\n"
+                        : std::to_string(differing) + " value(s) differ; the first marked is where the paths part\n";
+  return out;
+}
+
+json probeBothJson(const json& o, const json& p) {
+  json j;
+  j["oracle"] = o;
+  j["port"] = p;
+  j["rows"] = json::array();
+  j["first_difference"] = nullptr;
+  for (const ProbeRow& r : probeSideBySide(o, p)) {
+    j["rows"].push_back({{"key", r.key}, {"oracle", r.oracle}, {"port", r.port}, {"differs", r.differs}});
+    if (r.differs && j["first_difference"].is_null()) j["first_difference"] = r.key;
+  }
+  return j;
+}
+
+}  // namespace mrr

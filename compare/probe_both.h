@@ -1,0 +1,31 @@
+#pragma once
+// `mrr probe --path both`: one pixel through every stage on both paths, side by side, in
+// pipeline order, marking the first value where the oracle and the port part (issue 6).
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mrr {
+
+struct ProbeRow {
+  std::string key;     // "gbuffer.depth", "edges.normal.edge", "L1.c_raw", "L0.composite", …
+  std::string oracle;  // the value as printed
+  std::string port;
+  bool differs = false;
+};
+
+// Both probes (cpu_ref/probe.h: probePixel) flattened in pipeline order: the G-buffer, the
+// edges, then per level fine to coarse M, a, S, the raw value with the effect's own terms
+// and the sub-image value, then the blend coarse to fine (taps, ĉ, α, c'), then the final.
+// Numbers differ when |Δ| > 1e-5 · max(1, |a|, |b|); everything else must be equal.
+std::vector<ProbeRow> probeSideBySide(const nlohmann::json& oracle, const nlohmann::json& port);
+
+// The text `mrr probe --path both` prints; `renderer` names the port's GL renderer.
+std::string formatProbeSideBySide(const nlohmann::json& oracle, const nlohmann::json& port,
+                                  const std::string& renderer);
+
+// The JSON form: {"oracle": …, "port": …, "rows": [...], "first_difference": key or null}.
+nlohmann::json probeBothJson(const nlohmann::json& oracle, const nlohmann::json& port);
+
+}  // namespace mrr

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Renders the `mrr compare --report` page in headless Chromium (ctest: compare_report_in_chromium).
+#   scripts/test-report-browser.sh [path/to/mrr]
+# Makes the report of one frame per effect (arcade from ../shared/scenes when present, else
+# builtin:demo), loads it offline in Chromium and checks: no console error, no reference to
+# anything outside the page, one <section data-stage> per row `mrr compare` printed, and every
+# <img> decoded (the page's inline script counts them on load). Then takes a screenshot for
+# docs/images/compare-report.png (override with MRR_REPORT_SCREENSHOT=path, "" to skip).
+# Installs Chromium with apt when it is missing; exit 77 (ctest: skipped) when it cannot, or
+# when no GL context can be made and MRR_REQUIRE_GL is not 1 (as the GL tests skip).
+# Any failure: exit 1 with a one-line reason.
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+mrr="${1:-$here/build/mrr}"
+scenes="${MRR_SCENES_DIR:-$here/../shared/scenes}"
+shot="${MRR_REPORT_SCREENSHOT-$here/docs/images/compare-report.png}"
+
+fail() { echo "test-report-browser: FAIL: $*" >&2; exit 1; }
+skip() { echo "test-report-browser: SKIP: $*" >&2; exit 77; }
+
+[ -x "$mrr" ] || fail "no mrr binary at $mrr"
+
+chromium="$(command -v chromium || command -v chromium-browser || true)"
+if [ -z "$chromium" ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get > /dev/null; then
+    echo "test-report-browser: installing chromium (apt)" >&2
+    if ! { DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium > /dev/null 2>&1 ||
+           { apt-get update -q > /dev/null 2>&1 &&
+             DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium > /dev/null 2>&1; }; }; then
+      skip "chromium is missing and apt-get install chromium failed"
+    fi
+    chromium="$(command -v chromium || true)"
+  fi
+  [ -n "$chromium" ] || skip "chromium is missing and cannot be installed here (not root or no apt-get)"
+fi
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/report" "$work/profile"
+
+scene=builtin:demo
+[ -f "$scenes/sascha-arcade/subpass_scene_opaque.gltf" ] && scene=arcade
+
+# 1. The report. Exit 1 (a stage over tolerance) still writes the page; 2 is an error.
+"$mrr" compare --scene "$scene" --effect all --size 320x180 --samples 16 -q --report "$work/report" \
+  > "$work/compare.txt" 2> "$work/compare.err"
+rc=$?
+if [ "$rc" -gt 1 ] && grep -q 'no EGL device' "$work/compare.err" && [ "${MRR_REQUIRE_GL:-}" != 1 ]; then
+  skip "no OpenGL 3.3 context for the port here ($(grep -m1 'no EGL device' "$work/compare.err"))"
+fi
+[ "$rc" -le 1 ] || fail "mrr compare exited $rc: $(grep -m1 'error' "$work/compare.err" || tail -n1 "$work/compare.err")"
+page="$work/report/index.html"
+[ -s "$page" ] || fail "mrr compare --report wrote no $page"
+rows=$(grep -Ec '^[a-z][A-Za-z0-9_.]*[[:space:]]+(PASS|FAIL|UPSTREAM)[[:space:]]' "$work/compare.txt")
+[ "$rows" -gt 0 ] || fail "mrr compare printed no stage rows"
+bytes=$(stat -c %s "$page")
+[ "$bytes" -le $((8 * 1024 * 1024)) ] || fail "the page is $bytes bytes (over 8 MiB) for a 320x180 frame"
+# Self-contained: nothing fetched from anywhere (only data: URIs and #anchors).
+if grep -Eqi '(src|href)="(https?:|//|file:)|url\((["'"'"']?)(https?:|//)|@import' "$page"; then
+  fail "the page references an external resource: $(grep -Eoi -m1 '(src|href)="(https?:|//|file:)[^"]{0,60}' "$page")"
+fi
+
+# 2. Load it offline and dump the DOM after the load event.
+flags=(--headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking
+       --disable-component-update --disable-sync --disable-dev-shm-usage --hide-scrollbars
+       --user-data-dir="$work/profile" --enable-logging=stderr --v=0 --virtual-time-budget=5000)
+timeout 50 "$chromium" "${flags[@]}" --dump-dom "file://$page" > "$work/dom.html" 2> "$work/chromium.err"
+rc=$?
+[ "$rc" -eq 0 ] || fail "chromium --dump-dom exited $rc: $(grep -m1 -E 'ERROR|FATAL' "$work/chromium.err")"
+[ -s "$work/dom.html" ] || fail "chromium dumped an empty DOM"
+# The page logs nothing, so any console line (Chromium prints them all as INFO:CONSOLE) fails.
+console='Uncaught|ERROR:CONSOLE|:CONSOLE[:(]|Failed to load resource|Not allowed to load'
+if grep -Eq "$console" "$work/chromium.err"; then
+  fail "console message in chromium: $(grep -Em1 "$console" "$work/chromium.err" | cut -c1-200)"
+fi
+
+sections=$(grep -Eo '<section class="stage[^"]*" id="[^"]+" data-effect="[a-z]+" data-stage="[^"]+"' "$work/dom.html" | wc -l)
+[ "$sections" -eq "$rows" ] || fail "the page has $sections stage sections, mrr compare printed $rows rows"
+imgs=$(grep -o '<img ' "$work/dom.html" | wc -l)
+[ "$imgs" -gt 0 ] || fail "the page has no <img>"
+loaded=$(grep -Eo '<body[^>]*data-loaded="[0-9]+"' "$work/dom.html" | grep -Eo '[0-9]+"$' | tr -d '"')
+[ -n "$loaded" ] || fail "the page's load script did not run (no data-loaded on <body>)"
+[ "$loaded" -eq "$imgs" ] || fail "$loaded of $imgs images decoded in chromium"
+grep -q 'Uncaught' "$work/dom.html" && fail "an error message is in the DOM"
+for effect in ssao ssm ssgi; do
+  grep -q "id=\"$effect-summary\"" "$work/dom.html" || fail "no summary for $effect"
+done
+
+# 3. The screenshot for the docs.
+if [ -n "$shot" ]; then
+  timeout 50 "$chromium" "${flags[@]}" --window-size=1400,1000 --screenshot="$work/shot.png" "file://$page" \
+    > /dev/null 2> "$work/shot.err" || fail "chromium --screenshot failed: $(grep -m1 -E 'ERROR|FATAL' "$work/shot.err")"
+  [ -s "$work/shot.png" ] || fail "chromium wrote no screenshot"
+  shotBytes=$(stat -c %s "$work/shot.png")
+  [ "$shotBytes" -le $((500 * 1024)) ] || fail "the screenshot is $shotBytes bytes (over 500 KB)"
+  if [ -w "$(dirname "$shot")" ]; then
+    cp "$work/shot.png" "$shot.tmp.$$" && mv "$shot.tmp.$$" "$shot" || fail "cannot write $shot"
+  fi
+fi
+
+echo "test-report-browser: OK: $scene, $rows stage sections, $imgs images decoded, page $bytes bytes"

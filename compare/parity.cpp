@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <vector>
 
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/ssgi.h"
@@ -15,7 +16,10 @@ namespace {
 
 // |Δ| per pixel over the channels; `include(i)` picks the pixels compared. Sizes must match
 // (a mismatch is itself a failure: every pixel counts as over).
-DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::function<bool(size_t)>& include) {
+// `band` (optional, one flag per pixel): the guard band, where a difference is allowed and
+// counted apart.
+DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::function<bool(size_t)>& include,
+                 const std::vector<char>* band = nullptr) {
   DiffFigures f;
   if (a.width != b.width || a.height != b.height || a.channels != b.channels) {
     f.pixels = std::max<int64_t>(static_cast<int64_t>(std::max(a.pixelCount(), b.pixelCount())), 1);
@@ -36,6 +40,10 @@ DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::
       worst = std::max(worst, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
       sum2 += d * d;
     }
+    if (band && (*band)[p]) {
+      f.overInBand += worst > threshold;
+      continue;
+    }
     over += worst > threshold;
     if (worst > f.maxAbs || f.worstX < 0) {
       if (worst > f.maxAbs) f.maxAbs = worst;
@@ -49,10 +57,40 @@ DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::
   f.rms = std::sqrt(sum2 / (n * static_cast<double>(ch)));
   f.shareOver = static_cast<double>(over) / n;
   f.over = over;
+  if (band) f.band = std::count(band->begin(), band->end(), char{1});
   return f;
 }
 
-DiffFigures diff(const ImageU8& a, const ImageU8& b) { return diff(toFloat(a), toFloat(b), 0.5, {}); }
+DiffFigures diff(const ImageU8& a, const ImageU8& b, const std::vector<char>* band = nullptr) {
+  return diff(toFloat(a), toFloat(b), 0.5, {}, band);
+}
+
+// Relative width of the guard bands around a threshold: the pre-threshold values of the two
+// paths (1 − N·N', second differences of 1/z, a_ℓ) agree to float rounding, so only pixels
+// this close to a cutoff may fall on different sides of it.
+constexpr float kGuardBand = 1e-4f;
+
+// The edge guard band: pixels whose normal or depth measure lies within kGuardBand (relative)
+// of τ_n or τ_z, from the oracle's edge measures on `g`.
+std::vector<char> edgeGuardBand(const GBuffer& g, const EdgeSettings& s) {
+  std::vector<char> band(static_cast<size_t>(g.width) * g.height, 0);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x) {
+      const EdgeDecision e = edgeAt(g, s, x, y);
+      const float depth = std::max(e.depthSecondX, e.depthSecondY);
+      band[static_cast<size_t>(y) * g.width + x] =
+          std::fabs(e.normalMax - s.normalThreshold) <= kGuardBand * s.normalThreshold ||
+          std::fabs(depth - s.depthThreshold) <= kGuardBand * s.depthThreshold;
+    }
+  return band;
+}
+
+// The stencil guard band: S_ℓ = [a_ℓ > 0], so pixels with 0 < a_ℓ ≤ kGuardBand.
+std::vector<char> stencilGuardBand(const ImageF& alpha) {
+  std::vector<char> band(alpha.data.size(), 0);
+  for (size_t i = 0; i < band.size(); ++i) band[i] = alpha.data[i] > 0.0f && alpha.data[i] <= kGuardBand;
+  return band;
+}
 
 StageCheck check(const std::string& rule, const DiffFigures& figures) {
   return {rule, figures, figures.within(tolerance(rule))};
@@ -146,8 +184,9 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   // 3. Edges, masks, stencils (multires only: `full` has none).
   if (c.mode == Mode::Multires) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
+    const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
     add({"edges", -1, 1, check("edges", diff(p.edges.combined, o.edges.combined)),
-         check("edges.same_input", diff(p.edges.combined, same.combined))});
+         check("edges.same_input", diff(p.edges.combined, same.combined, &edgeBand))});
     const auto masks = buildMasks(p.edges.combined, c);
     for (int l = 0; l < kLevelCount; ++l) {
       const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -159,8 +198,9 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
       if (!lc.enabled) continue;
       add({"alpha" + L, l, lc.scale, {},
            check("alpha.same_input", diff(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
+      const std::vector<char> stencilBand = stencilGuardBand(sm.alpha);
       add({"stencil" + L, l, lc.scale, check("stencil", diff(pm.stencil, om.stencil)),
-           check("masks.same_input", diff(pm.stencil, sm.stencil))});
+           check("masks.same_input", diff(pm.stencil, sm.stencil, &stencilBand))});
     }
   }
 
@@ -247,7 +287,7 @@ std::string formatParityTable(const ParityResult& result) {
   char line[320];
   std::snprintf(line, sizeof line, "%-20s %-8s  %-24s %9s %10s %8s %10s   %-24s %9s %10s %8s %10s   %s\n", "stage",
                 "verdict", "end to end: rule", "pixels", "max|d|", "over%", "rms", "same input: rule", "pixels",
-                "max|d|", "over%", "rms", "worst at (full-res x,y)");
+                "max|d|", "over%", "rms", "worst at (full-res x,y); guard band");
   out += line;
   auto cells = [&](const std::optional<StageCheck>& c) {
     char text[160];
@@ -269,6 +309,9 @@ std::string formatParityTable(const ParityResult& result) {
     const auto [wx, wy] = r.worstPixel();
     if (wx >= 0 && r.scale > 0) worst = std::to_string(wx) + "," + std::to_string(wy);
     if (wx >= 0 && r.scale == 0) worst = "texel " + std::to_string(wx) + "," + std::to_string(wy);
+    if (r.sameInput && r.sameInput->figures.band >= 0)
+      worst += (worst.empty() ? "" : "  ") + std::string("band ") + std::to_string(r.sameInput->figures.band) + " px, " +
+               std::to_string(r.sameInput->figures.overInBand) + " differ in it";
     std::snprintf(line, sizeof line, "%-20s %-8s  %s   %s   %s\n", r.stage.c_str(), r.verdict().c_str(),
                   cells(r.endToEnd).c_str(), cells(r.sameInput).c_str(), worst.c_str());
     out += line;

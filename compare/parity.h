@@ -26,7 +26,10 @@ struct DiffFigures {
   double maxAbs = 0.0;
   double shareOver = 0.0;
   double rms = 0.0;
-  int64_t over = 0;               // pixels over the threshold
+  int64_t over = 0;               // pixels over the threshold (outside the guard band)
+  int64_t band = -1;              // guard-band size: pixels whose pre-threshold value lies within
+                                  // ε of the cutoff (-1: no band for this check)
+  int64_t overInBand = 0;         // pixels over the threshold inside the band (allowed)
   int worstX = -1, worstY = -1;  // where |Δ| is largest, in the stage's own grid
   // Within the rule: the RMS bound, and no more pixels over the threshold than its share —
   // where the rule allows any share, at least one pixel (a coarse level of a small frame has

@@ -145,7 +145,8 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     const std::string L = tag + std::to_string(l);
     add({"gbuffer" + L + ".hit", l, lc.scale, check("gbuffer.hit", diff(a.hit, b.hit)), {}});
     const auto bothHit = [&](size_t i) { return a.hit.data.size() == b.hit.data.size() && a.hit.data[i] && b.hit.data[i]; };
-    ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero;
+    ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero, albedoOff = zero,
+        positionOff = zero;
     if (a.depth.data.size() == b.depth.data.size())
       for (size_t i = 0; i < relDepth.data.size(); ++i) {
         if (!bothHit(i)) continue;
@@ -153,11 +154,22 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
         const glm::vec3 na(a.normal.data[3 * i], a.normal.data[3 * i + 1], a.normal.data[3 * i + 2]);
         const glm::vec3 nb(b.normal.data[3 * i], b.normal.data[3 * i + 1], b.normal.data[3 * i + 2]);
         normalOff.data[i] = 1.0f - glm::dot(na, nb);
+        float albedo = 0.0f, position = 0.0f;
+        for (size_t k = 0; k < 3; ++k) {
+          albedo = std::max(albedo, std::fabs(a.albedo.data[3 * i + k] - b.albedo.data[3 * i + k]));
+          position = std::max(position, std::fabs(a.position.data[3 * i + k] - b.position.data[3 * i + k]));
+        }
+        albedoOff.data[i] = albedo;
+        positionOff.data[i] = position / std::max(b.depth.data[i], 1e-30f);  // relative to the depth, like depth
       }
     add({"gbuffer" + L + ".depth", l, lc.scale,
          check("gbuffer.depth", diff(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
+    add({"gbuffer" + L + ".position", l, lc.scale,
+         check("gbuffer.depth", diff(positionOff, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
     add({"gbuffer" + L + ".normal", l, lc.scale,
          check("gbuffer.normal", diff(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit)), {}});
+    add({"gbuffer" + L + ".albedo", l, lc.scale,
+         check("gbuffer.albedo", diff(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
   }
 
   // 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
@@ -185,6 +197,15 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   if (c.mode == Mode::Multires) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
     const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
+    // Each kind on its own, then their OR, E.
+    const std::pair<const char*, const ImageU8 EdgeImages::*> kinds[] = {
+        {"edges.normal", &EdgeImages::normal}, {"edges.depth", &EdgeImages::depth},
+        {"edges.background", &EdgeImages::background}, {"edges.shadow", &EdgeImages::shadow}};
+    for (const auto& [name, kind] : kinds) {
+      if ((p.edges.*kind).data.empty() && (o.edges.*kind).data.empty()) continue;  // shadow: SSM only
+      add({name, -1, 1, check("edges", diff(p.edges.*kind, o.edges.*kind)),
+           check("edges.same_input", diff(p.edges.*kind, same.*kind, &edgeBand))});
+    }
     add({"edges", -1, 1, check("edges", diff(p.edges.combined, o.edges.combined)),
          check("edges.same_input", diff(p.edges.combined, same.combined, &edgeBand))});
     const auto masks = buildMasks(p.edges.combined, c);

@@ -326,6 +326,36 @@ StageView gbufferView(const GBuffer& o, const GBuffer& p, const std::string& par
     }
     v.valueCaption = "view-space normal as 0.5 + 0.5·n (RGB); background black";
     v.deltaCaption = "1 − N·N′ where both hit";
+  } else if (part == "albedo" || part == "position") {
+    const bool albedo = part == "albedo";
+    float range = 1.0f;  // positions: shown as |P| ÷ the oracle's largest, like depth
+    if (!albedo)
+      for (size_t i = 0; i < o.hit.data.size(); ++i)
+        if (o.hit.data[i])
+          for (size_t c = 0; c < 3; ++c) range = std::max(range, std::fabs(o.position.data[i * 3 + c]));
+    const auto show = [&](const GBuffer& g) {
+      ImageF img(g.width, g.height, 3, 0.0f);
+      for (size_t i = 0; i < g.hit.data.size(); ++i)
+        if (g.hit.data[i])
+          for (size_t c = 0; c < 3; ++c)
+            img.data[i * 3 + c] = albedo ? g.albedo.data[i * 3 + c] : 0.5f + 0.5f * g.position.data[i * 3 + c] / range;
+      return displayClamped(img);
+    };
+    v.oracle = show(o);
+    v.port = show(p);
+    for (size_t i = 0; i < delta.data.size(); ++i) {
+      if (!bothHit(i)) continue;
+      float d = 0.0f;
+      for (size_t c = 0; c < 3; ++c) {
+        const size_t k = i * 3 + c;
+        d = std::max(d, albedo ? std::fabs(p.albedo.data[k] - o.albedo.data[k])
+                               : std::fabs(p.position.data[k] - o.position.data[k]) / std::max(o.depth.data[i], 1e-30f));
+      }
+      delta.data[i] = d;
+    }
+    v.valueCaption = albedo ? "base colour (linear RGB); background black"
+                            : "view-space position as 0.5 + 0.5·P ÷ " + num(range) + " (RGB); background black";
+    v.deltaCaption = albedo ? "largest |Δ| over R, G, B where both hit" : "largest |ΔP| ÷ z where both hit";
   } else {
     v.missing = "no image for G-buffer part \"" + part + "\"";
     return v;
@@ -391,7 +421,13 @@ StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& 
   if (kind == "gbuffer") return needLevel() ? gbufferView(o.levels[li].gbuffer, p.levels[li].gbuffer, part) : none;
   if (kind == "shadowmap") return shadowMapView(o.shadowMap, p.shadowMap);
   if (kind == "shadowtest") return binaryView(o.shadowLit, p.shadowLit, "one-tap shadow test (1 = lit)");
-  if (kind == "edges") return binaryView(o.edges.combined, p.edges.combined, "edge image E");
+  if (kind == "edges") {
+    if (part == "normal") return binaryView(o.edges.normal, p.edges.normal, "normal edges (first derivative of N)");
+    if (part == "depth") return binaryView(o.edges.depth, p.edges.depth, "depth edges (second derivative of 1/z)");
+    if (part == "background") return binaryView(o.edges.background, p.edges.background, "background edges");
+    if (part == "shadow") return binaryView(o.edges.shadow, p.edges.shadow, "shadow edges (one-tap test differs)");
+    return binaryView(o.edges.combined, p.edges.combined, "edge image E (the OR of the kinds)");
+  }
   if (kind == "mask")
     return needLevel() ? binaryView(o.levels[li].masks.mask, p.levels[li].masks.mask, "mask M_ℓ") : none;
   if (kind == "stencil")

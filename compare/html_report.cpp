@@ -616,11 +616,22 @@ void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
       r.verdict = row.verdict();
       r.view = viewFor(row, *frame.oracle, *frame.port);
       StageView& v = r.view;
+      // A stage that fails on the port's own inputs: show what that check measured — the port
+      // against the oracle's function on the same inputs — not the end-to-end difference.
+      const bool sameInputMap = r.verdict == "FAIL" && row.sameInput && !row.sameInput->pass &&
+                                !row.sameInput->figures.deltaMap.empty() && v.missing.empty();
+      if (sameInputMap) v.delta = row.sameInput->figures.deltaMap;
       if (v.missing.empty()) {
         const int factor = std::max(1, (std::max(v.gridW, v.gridH) + v.shrinkLimit - 1) / v.shrinkLimit);
         if (v.binary) {
           r.heatScale = 1.0;
           r.heatCaption = "black = 0, full scale = 1 (a mismatch)";
+        } else if (sameInputMap) {
+          float top = 0.0f;
+          for (const float d : v.delta.data)
+            if (std::isfinite(d)) top = std::max(top, d);
+          r.heatScale = top > 0.0f ? top : 1.0;
+          r.heatCaption = "black = 0, full scale = " + num(r.heatScale) + " = the largest |Δ| here";
         } else if (row.endToEnd && findRule(row.endToEnd->rule)) {
           r.heatScale = 10.0 * findRule(row.endToEnd->rule)->pixelThreshold;
           r.heatCaption = "black = 0, full scale = " + num(r.heatScale) + " = 10 × the " + escape(row.endToEnd->rule) +
@@ -634,6 +645,9 @@ void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
               top > 0.0f ? "black = 0, full scale = " + num(top) + " = the largest |Δ| here (normalised to the max)"
                          : "no difference anywhere";
         }
+        if (sameInputMap)
+          r.heatCaption = "|port − the oracle's function on the port's own inputs| (the failing same-input check); " +
+                          r.heatCaption;
         if (factor > 1)
           r.heatCaption += "; shown ÷" + std::to_string(factor) + " (max over each " + std::to_string(factor) + "×" +
                            std::to_string(factor) + " block)";

@@ -31,6 +31,7 @@ DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::
   const size_t ch = static_cast<size_t>(a.channels);
   double sum2 = 0.0;
   int64_t over = 0;
+  f.deltaMap = ImageF(a.width, a.height, 1, 0.0f);
   for (size_t p = 0; p < a.pixelCount(); ++p) {
     if (include && !include(p)) continue;
     ++f.pixels;
@@ -40,6 +41,7 @@ DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::
       worst = std::max(worst, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
       sum2 += d * d;
     }
+    f.deltaMap.data[p] = static_cast<float>(worst);
     if (band && (*band)[p]) {
       f.overInBand += worst > threshold;
       continue;
@@ -92,8 +94,10 @@ std::vector<char> stencilGuardBand(const ImageF& alpha) {
   return band;
 }
 
-StageCheck check(const std::string& rule, const DiffFigures& figures) {
-  return {rule, figures, figures.within(tolerance(rule))};
+StageCheck check(const std::string& rule, DiffFigures figures) {
+  const bool pass = figures.within(tolerance(rule));
+  if (pass) figures.deltaMap = {};  // only a failing check's map is shown
+  return {rule, std::move(figures), pass};
 }
 
 }  // namespace

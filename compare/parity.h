@@ -30,6 +30,9 @@ struct DiffFigures {
   int64_t band = -1;              // guard-band size: pixels whose pre-threshold value lies within
                                   // ε of the cutoff (-1: no band for this check)
   int64_t overInBand = 0;         // pixels over the threshold inside the band (allowed)
+  // The largest channel |Δ| at each compared pixel (0 elsewhere), on the stage's grid. Kept
+  // only for checks that fail, so the report can show what the failing check measured.
+  ImageF deltaMap;
   int worstX = -1, worstY = -1;  // where |Δ| is largest, in the stage's own grid
   // Within the rule: the RMS bound, and no more pixels over the threshold than its share —
   // where the rule allows any share, at least one pixel (a coarse level of a small frame has

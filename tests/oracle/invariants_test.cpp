@@ -201,6 +201,22 @@ TEST(Levels, ShadedPixelCountsAndIdealSpeedup) {
   EXPECT_LE(f.blockIdealSpeedup, f.idealSpeedup);
 }
 
+// llvmpipe skips a 4×2 block of fragments only when all eight fail the stencil (PLATFORM.md),
+// so a stencil made of scattered pixels would gain nothing there. The blurred masks keep the
+// shaded regions contiguous: at least 3/4 of every block the port shades is wanted, at every
+// level, and the block ideal speedup keeps at least 4/5 of the pixel one. (Measured on the
+// demo at 640x360: 0.82, 0.90, 0.91, 0.98 by level; 3.64x of 4.22x.)
+TEST(Levels, StencilsKeepShadedRegionsContiguousFor4x2Blocks) {
+  const auto r = renderScene("builtin:demo", ssaoSettings(640, 360, 4));
+  const FrameResult& f = r.frame;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    ASSERT_GT(lr.shadedBlockPixels, 0) << "level " << l;
+    EXPECT_GE(static_cast<double>(lr.shadedPixels) / static_cast<double>(lr.shadedBlockPixels), 0.75) << "level " << l;
+  }
+  EXPECT_GE(f.blockIdealSpeedup, 0.8 * f.idealSpeedup);
+}
+
 TEST(Levels, UnshadedPixelsAreNeverEvaluated) {
   // The raw sub-image is exactly 0 where the stencil is 0 (the effect never ran there) and
   // an AO value in (0, 1] where it is 1.

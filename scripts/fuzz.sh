@@ -15,10 +15,7 @@ if ! command -v clang++ >/dev/null || ! dpkg-query -W -f='${Status}' libclang-rt
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends clang libclang-rt-14-dev >/dev/null
 fi
 build="$here/build-fuzz"
-flags="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g"
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ \
-  -DMRR_FUZZ=ON -DMRR_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="$flags" \
-  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+(cd "$here" && cmake --preset fuzz >/dev/null)  # CMakePresets.json: clang, MRR_FUZZ=ON
 cmake --build "$build" -j"$(nproc)" --target gltf_fuzz fuzz_seeds
 rm -rf "$build/seeds"
 "$build/tests/fuzz/fuzz_seeds" "$build/seeds"

@@ -13,9 +13,7 @@ bash "$here/scripts/install-deps.sh"
 jobs="$(nproc)"
 
 echo "== ASan+UBSan build" >&2
-flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
-cmake -S "$here" -B "$here/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMRR_BUILD_BENCH=OFF \
-  -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+(cd "$here" && cmake --preset asan >/dev/null)  # CMakePresets.json: MRR_SANITIZE=address
 cmake --build "$here/build-asan" -j"$jobs" --target common_tests oracle_tests mrr
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
 export LSAN_OPTIONS="suppressions=$here/tests/lsan.supp:print_suppressions=0"
@@ -63,8 +61,7 @@ if [[ " ${paths[*]} " == *" gpu "* ]]; then
 fi
 
 echo "== TSan build" >&2
-cmake -S "$here" -B "$here/build-tsan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMRR_BUILD_BENCH=OFF \
-  -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" >/dev/null
+(cd "$here" && cmake --preset tsan >/dev/null)  # CMakePresets.json: MRR_SANITIZE=thread
 cmake --build "$here/build-tsan" -j"$jobs" --target oracle_tests planted_race
 echo "== TSan must report the planted race" >&2
 if TSAN_OPTIONS="halt_on_error=1" "$here/build-tsan/tests/planted_race" >"$scratch/race.txt" 2>&1 ||

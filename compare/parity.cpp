@@ -12,14 +12,12 @@
 
 namespace mrr {
 
-namespace {
-
 // |Δ| per pixel over the channels; `include(i)` picks the pixels compared. Sizes must match
 // (a mismatch is itself a failure: every pixel counts as over).
 // `band` (optional, one flag per pixel): the guard band, where a difference is allowed and
 // counted apart.
-DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::function<bool(size_t)>& include,
-                 const std::vector<char>* band = nullptr) {
+DiffFigures diffImages(const ImageF& a, const ImageF& b, double threshold, const std::function<bool(size_t)>& include,
+                       const std::vector<char>* band) {
   DiffFigures f;
   if (a.width != b.width || a.height != b.height || a.channels != b.channels) {
     f.pixels = std::max<int64_t>(static_cast<int64_t>(std::max(a.pixelCount(), b.pixelCount())), 1);
@@ -63,9 +61,28 @@ DiffFigures diff(const ImageF& a, const ImageF& b, double threshold, const std::
   return f;
 }
 
-DiffFigures diff(const ImageU8& a, const ImageU8& b, const std::vector<char>* band = nullptr) {
-  return diff(toFloat(a), toFloat(b), 0.5, {}, band);
+std::ostream& operator<<(std::ostream& o, const DiffFigures& f) {
+  return o << "max|d| " << f.maxAbs << "  rms " << f.rms << "  over " << 100.0 * f.shareOver << "% of " << f.pixels;
 }
+
+DiffFigures diffImages(const ImageU8& a, const ImageU8& b, const std::vector<char>* band) {
+  return diffImages(toFloat(a), toFloat(b), 0.5, {}, band);
+}
+
+DiffFigures diffShadowMaps(const ShadowMap& port, const ShadowMap& oracle, double thresholdTexels) {
+  ImageF a = port.depth, b = oracle.depth;
+  std::vector<char> covered(a.data.size(), 0);
+  if (a.data.size() == b.data.size())
+    for (size_t i = 0; i < a.data.size(); ++i) {
+      const bool ha = a.data[i] != ShadowMap::kNoBlocker, hb = b.data[i] != ShadowMap::kNoBlocker;
+      covered[i] = ha || hb;
+      a.data[i] = ha ? a.data[i] / oracle.texel : 1e9f;
+      b.data[i] = hb ? b.data[i] / oracle.texel : (ha ? 0.0f : 1e9f);
+    }
+  return diffImages(a, b, thresholdTexels, [&](size_t i) { return covered[i] != 0; });
+}
+
+namespace {
 
 // Relative width of the guard bands around a threshold: the pre-threshold values of the two
 // paths (1 − N·N', second differences of 1/z, a_ℓ) agree to float rounding, so only pixels
@@ -147,7 +164,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     const GBuffer& a = p.levels[static_cast<size_t>(l)].gbuffer;
     const GBuffer& b = o.levels[static_cast<size_t>(l)].gbuffer;
     const std::string L = tag + std::to_string(l);
-    add({"gbuffer" + L + ".hit", l, lc.scale, check("gbuffer.hit", diff(a.hit, b.hit)), {}});
+    add({"gbuffer" + L + ".hit", l, lc.scale, check("gbuffer.hit", diffImages(a.hit, b.hit)), {}});
     const auto bothHit = [&](size_t i) { return a.hit.data.size() == b.hit.data.size() && a.hit.data[i] && b.hit.data[i]; };
     ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero, albedoOff = zero,
         positionOff = zero;
@@ -167,34 +184,23 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
         positionOff.data[i] = position / std::max(b.depth.data[i], 1e-30f);  // relative to the depth, like depth
       }
     add({"gbuffer" + L + ".depth", l, lc.scale,
-         check("gbuffer.depth", diff(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
+         check("gbuffer.depth", diffImages(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
     add({"gbuffer" + L + ".position", l, lc.scale,
-         check("gbuffer.depth", diff(positionOff, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
+         check("gbuffer.depth", diffImages(positionOff, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
     add({"gbuffer" + L + ".normal", l, lc.scale,
-         check("gbuffer.normal", diff(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit)), {}});
+         check("gbuffer.normal", diffImages(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit)), {}});
     add({"gbuffer" + L + ".albedo", l, lc.scale,
-         check("gbuffer.albedo", diff(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
+         check("gbuffer.albedo", diffImages(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
   }
 
   // 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
   if (c.needsShadowMap()) {
-    ImageF a = p.shadowMap.depth, b = o.shadowMap.depth;
-    const float texel = o.shadowMap.texel;
-    std::vector<char> covered(a.data.size(), 0);
-    if (a.data.size() == b.data.size())
-      for (size_t i = 0; i < a.data.size(); ++i) {
-        const bool ha = a.data[i] != ShadowMap::kNoBlocker, hb = b.data[i] != ShadowMap::kNoBlocker;
-        covered[i] = ha || hb;
-        a.data[i] = ha ? a.data[i] / texel : 1e9f;
-        b.data[i] = hb ? b.data[i] / texel : (ha ? 0.0f : 1e9f);
-      }
     add({"shadowmap", -1, 0,
-         check("shadowmap.depth",
-               diff(a, b, tolerance("shadowmap.depth").pixelThreshold, [&](size_t i) { return covered[i] != 0; })),
+         check("shadowmap.depth", diffShadowMaps(p.shadowMap, o.shadowMap, tolerance("shadowmap.depth").pixelThreshold)),
          {}});
     const ImageU8 same = shadowTestImage(p.levels[0].gbuffer, p.shadowMap, p.view, c.ssm.biasTexels);
-    add({"shadowtest", -1, 1, check("shadowtest", diff(p.shadowLit, o.shadowLit)),
-         check("shadowtest.same_input", diff(p.shadowLit, same))});
+    add({"shadowtest", -1, 1, check("shadowtest", diffImages(p.shadowLit, o.shadowLit)),
+         check("shadowtest.same_input", diffImages(p.shadowLit, same))});
   }
 
   // 3. Edges, masks, stencils (multires only: `full` has none).
@@ -207,11 +213,11 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
         {"edges.background", &EdgeImages::background}, {"edges.shadow", &EdgeImages::shadow}};
     for (const auto& [name, kind] : kinds) {
       if ((p.edges.*kind).data.empty() && (o.edges.*kind).data.empty()) continue;  // shadow: SSM only
-      add({name, -1, 1, check("edges", diff(p.edges.*kind, o.edges.*kind)),
-           check("edges.same_input", diff(p.edges.*kind, same.*kind, &edgeBand))});
+      add({name, -1, 1, check("edges", diffImages(p.edges.*kind, o.edges.*kind)),
+           check("edges.same_input", diffImages(p.edges.*kind, same.*kind, &edgeBand))});
     }
-    add({"edges", -1, 1, check("edges", diff(p.edges.combined, o.edges.combined)),
-         check("edges.same_input", diff(p.edges.combined, same.combined, &edgeBand))});
+    add({"edges", -1, 1, check("edges", diffImages(p.edges.combined, o.edges.combined)),
+         check("edges.same_input", diffImages(p.edges.combined, same.combined, &edgeBand))});
     const auto masks = buildMasks(p.edges.combined, c);
     for (int l = 0; l < kLevelCount; ++l) {
       const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -219,13 +225,13 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
       const MaskLevel& om = o.levels[static_cast<size_t>(l)].masks;
       const MaskLevel& sm = masks[static_cast<size_t>(l)];
       const std::string L = tag + std::to_string(l);
-      add({"mask" + L, l, lc.scale, {}, check("masks.same_input", diff(pm.mask, sm.mask))});
+      add({"mask" + L, l, lc.scale, {}, check("masks.same_input", diffImages(pm.mask, sm.mask))});
       if (!lc.enabled) continue;
       add({"alpha" + L, l, lc.scale, {},
-           check("alpha.same_input", diff(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
+           check("alpha.same_input", diffImages(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
       const std::vector<char> stencilBand = stencilGuardBand(sm.alpha);
-      add({"stencil" + L, l, lc.scale, check("stencil", diff(pm.stencil, om.stencil)),
-           check("masks.same_input", diff(pm.stencil, sm.stencil, &stencilBand))});
+      add({"stencil" + L, l, lc.scale, check("stencil", diffImages(pm.stencil, om.stencil)),
+           check("masks.same_input", diffImages(pm.stencil, sm.stencil, &stencilBand))});
     }
   }
 
@@ -254,13 +260,13 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     const std::string L = tag + std::to_string(l);
     const ToleranceRule& end = tolerance(effect);
     const ToleranceRule& sameRule = tolerance(effect + ".same_input");
-    add({"raw" + L, l, lc.scale, check(effect, diff(pl.raw, ol.raw, end.pixelThreshold, bothShaded)),
-         check(effect + ".same_input", diff(pl.raw, same, sameRule.pixelThreshold, portShaded))});
+    add({"raw" + L, l, lc.scale, check(effect, diffImages(pl.raw, ol.raw, end.pixelThreshold, bothShaded)),
+         check(effect + ".same_input", diffImages(pl.raw, same, sameRule.pixelThreshold, portShaded))});
     if (c.effect == Effect::Ssao) {
       const ImageF blurred = bilateralBlur(pl.raw, pl.masks.stencil, pl.gbuffer, c.bilateral);
       add({"sub" + L, l, lc.scale, {},
            check("bilateral.same_input",
-                 diff(pl.sub, blurred, tolerance("bilateral.same_input").pixelThreshold, portShaded))});
+                 diffImages(pl.sub, blurred, tolerance("bilateral.same_input").pixelThreshold, portShaded))});
     }
   }
 
@@ -292,16 +298,16 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
         }
       }
     const std::string L = tag + std::to_string(l);
-    add({"upsample" + L, l, 1, {}, check("blend.same_input", diff(p.blend.upsampled[i], up, blendThreshold, {}))});
-    add({"blendalpha" + L, l, 1, {}, check("blend.same_input", diff(p.blend.alpha[i], alpha, blendThreshold, {}))});
+    add({"upsample" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.upsampled[i], up, blendThreshold, {}))});
+    add({"blendalpha" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.alpha[i], alpha, blendThreshold, {}))});
     add({"composite" + L, l, 1, {},
-         check("blend.same_input", diff(p.blend.composite[i], composite, blendThreshold, {}))});
+         check("blend.same_input", diffImages(p.blend.composite[i], composite, blendThreshold, {}))});
     coarser = l;
   }
   // The final image is the finest composite; end to end it carries everything above.
-  add({"final", -1, 1, check("final", diff(p.final(), o.final(), tolerance("final").pixelThreshold, {})),
+  add({"final", -1, 1, check("final", diffImages(p.final(), o.final(), tolerance("final").pixelThreshold, {})),
        coarser >= 0 && !p.blend.composite[static_cast<size_t>(coarser)].data.empty()
-           ? std::optional<StageCheck>(check("blend.same_input", diff(p.final(), p.blend.composite[static_cast<size_t>(coarser)],
+           ? std::optional<StageCheck>(check("blend.same_input", diffImages(p.final(), p.blend.composite[static_cast<size_t>(coarser)],
                                                                       blendThreshold, {})))
            : std::nullopt});
   return result;

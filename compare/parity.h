@@ -8,9 +8,12 @@
 // end-to-end figures of every later stage but not in their same-input figures, so a shader
 // bug stands out from inherited noise. Every threshold comes from common/tolerance.h.
 #include <algorithm>
+#include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <utility>
+#include <vector>
 #include <vector>
 
 #include "common/scene.h"
@@ -42,6 +45,20 @@ struct DiffFigures {
     return static_cast<double>(over) <= allowed && rms <= rule.rmsBound;
   }
 };
+
+// |Δ| per pixel, the largest over the channels, where `include(i)` holds (every pixel when
+// empty); a size mismatch counts every pixel as over. `band` (one flag per pixel, optional)
+// is the guard band: differences there are allowed and counted apart (DiffFigures::overInBand).
+DiffFigures diffImages(const ImageF& a, const ImageF& b, double threshold,
+                       const std::function<bool(size_t)>& include = {}, const std::vector<char>* band = nullptr);
+// 0/1 images (edges, masks, stencils, the shadow test): a pixel is over when they differ.
+DiffFigures diffImages(const ImageU8& a, const ImageU8& b, const std::vector<char>* band = nullptr);
+// Shadow-map depths in texels over the texels either map covers; a texel only one map
+// covers is over by far.
+DiffFigures diffShadowMaps(const ShadowMap& port, const ShadowMap& oracle, double thresholdTexels);
+
+// "max|d| … rms … over …% of N": for logs and test messages.
+std::ostream& operator<<(std::ostream& o, const DiffFigures& f);
 
 // One check of a row: the rule, and the figures against it.
 struct StageCheck {

@@ -41,6 +41,12 @@ void FrameResult::countShadedPixels() {
   blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
+std::array<LevelImages, kLevelCount> FrameResult::blendInputs() const {
+  std::array<LevelImages, kLevelCount> in;
+  for (size_t l = 0; l < in.size(); ++l) in[l] = {&levels[l].sub, &levels[l].masks.stencil, &levels[l].masks.alpha};
+  return in;
+}
+
 double FrameResult::timing(const std::string& stage) const {
   double ms = 0.0;
   for (const StageTiming& t : timings)
@@ -149,14 +155,7 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
   f.countShadedPixels();
 
   // 5. Upsample and blend, coarse to fine (SPEC §5).
-  stage("blend", [&] {
-    std::array<LevelImages, kLevelCount> in;
-    for (int l = 0; l < kLevelCount; ++l) {
-      const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-      in[static_cast<size_t>(l)] = {&lr.sub, &lr.masks.stencil, &lr.masks.alpha};
-    }
-    f.blend = blendLevels(in, c, options.keepStages);
-  });
+  stage("blend", [&] { f.blend = blendLevels(f.blendInputs(), c, options.keepStages); });
   // 6. The shaded image for viewing (SPEC §6).
   stage("shade", [&] {
     f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, scene_.light, c.effect);

@@ -54,6 +54,8 @@ struct FrameResult {
   ImageF shaded;      // W×H linear RGB for viewing (SPEC §6)
 
   const ImageF& final() const { return blend.final; }
+  // What stage 5 blends: each level's c_ℓ, S_ℓ and a_ℓ (both paths' blend takes these).
+  std::array<LevelImages, kLevelCount> blendInputs() const;
   // |S_ℓ| per level, their sum and the ideal speedup W·H / Σ|S_ℓ| (SPEC §4), from the stencils.
   void countShadedPixels();
   double timing(const std::string& stage) const;

@@ -109,14 +109,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& c, const 
   }
   f.countShadedPixels();
   // 6. Upsample and blend, coarse to fine.
-  stage("blend", [&] {
-    std::array<LevelImages, kLevelCount> in;
-    for (int l = 0; l < kLevelCount; ++l) {
-      const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-      in[static_cast<size_t>(l)] = {&lr.sub, &lr.masks.stencil, &lr.masks.alpha};
-    }
-    f.blend = blendLevels(gpuScene_, in, c);
-  });
+  stage("blend", [&] { f.blend = blendLevels(gpuScene_, f.blendInputs(), c); });
   // The shaded image for viewing: the oracle's function on the port's buffers.
   stage("shade", [&] { f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, f.light, c.effect); });
   f.timings.push_back({"total", std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count()});

@@ -243,11 +243,7 @@ class EveryBuiltinFast : public ::testing::TestWithParam<std::string> {};
 TEST_P(EveryBuiltinFast, FinalOnlyBlendIsBitIdenticalToTheFullPass) {
   const auto r = test::renderScene("builtin:" + GetParam(), test::ssaoSettings(123, 77, 8));
   const FrameResult& f = r.frame;
-  std::array<LevelImages, kLevelCount> in;
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    in[static_cast<size_t>(l)] = {&lr.sub, &lr.masks.stencil, &lr.masks.alpha};
-  }
+  const std::array<LevelImages, kLevelCount> in = f.blendInputs();
   for (bool dropHalf : {false, true}) {
     Constants c = f.constants;
     if (dropHalf) c.levels[1].enabled = false;  // also across a disabled level

@@ -52,14 +52,20 @@ Settings defaultSettings(Effect effect) {
   return s;
 }
 
-int Settings::samples() const {
-  switch (effect) {
-    case Effect::Ssm: return ssm.samples;
-    case Effect::Ssgi: return ssgi.samples;
+namespace {
+// The sample count of the chosen effect, for Settings and Constants alike.
+template <class T>
+int samplesOf(const T& t) {
+  switch (t.effect) {
+    case Effect::Ssm: return t.ssm.samples;
+    case Effect::Ssgi: return t.ssgi.samples;
     case Effect::Ssao: break;
   }
-  return ssao.samples;
+  return t.ssao.samples;
 }
+}  // namespace
+
+int Settings::samples() const { return samplesOf(*this); }
 
 void Settings::setSamples(int n) {
   switch (effect) {
@@ -69,14 +75,7 @@ void Settings::setSamples(int n) {
   }
 }
 
-int Constants::samples() const {
-  switch (effect) {
-    case Effect::Ssm: return ssm.samples;
-    case Effect::Ssgi: return ssgi.samples;
-    case Effect::Ssao: break;
-  }
-  return ssao.samples;
-}
+int Constants::samples() const { return samplesOf(*this); }
 
 namespace {
 int squareRoot(int n) {

@@ -64,6 +64,15 @@ inline constexpr ToleranceRule kTolerances[] = {
      "GLSL sin/cos differ from libm in the last bits: a sample at a texel border may change sender"},
 };
 
+// The guard band around a threshold (edges: τ_n, τ_z, relative; stencils: a_ℓ > 0, absolute):
+// the two paths' pre-threshold values agree to float rounding, so only pixels this close to a
+// cutoff may fall on different sides of it (compare/parity.cpp reports the band's size).
+inline constexpr float kGuardBand = 1e-4f;
+
+// `mrr probe --path both` marks a value as parted when |Δ| > this × max(1, |a|, |b|): above
+// float rounding of one stage, below any difference a bug makes.
+inline constexpr double kProbeRelativeDifference = 1e-5;
+
 inline const ToleranceRule& tolerance(std::string_view stage) {
   for (const ToleranceRule& r : kTolerances)
     if (r.stage == stage) return r;

@@ -84,11 +84,6 @@ DiffFigures diffShadowMaps(const ShadowMap& port, const ShadowMap& oracle, doubl
 
 namespace {
 
-// Relative width of the guard bands around a threshold: the pre-threshold values of the two
-// paths (1 − N·N', second differences of 1/z, a_ℓ) agree to float rounding, so only pixels
-// this close to a cutoff may fall on different sides of it.
-constexpr float kGuardBand = 1e-4f;
-
 // The edge guard band: pixels whose normal or depth measure lies within kGuardBand (relative)
 // of τ_n or τ_z, from the oracle's edge measures on `g`.
 std::vector<char> edgeGuardBand(const GBuffer& g, const EdgeSettings& s) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/tolerance.h"
+
 namespace mrr {
 
 namespace {
@@ -29,7 +31,7 @@ bool differs(const json& a, const json& b) {
   if (a.is_number() && b.is_number()) {
     const double x = a.get<double>(), y = b.get<double>();
     if (std::isnan(x) || std::isnan(y)) return std::isnan(x) != std::isnan(y);
-    return std::fabs(x - y) > 1e-5 * std::max({1.0, std::fabs(x), std::fabs(y)});
+    return std::fabs(x - y) > kProbeRelativeDifference * std::max({1.0, std::fabs(x), std::fabs(y)});
   }
   if (a.is_array() && b.is_array() && a.size() == b.size()) {
     for (size_t i = 0; i < a.size(); ++i)
@@ -67,6 +69,13 @@ void flatten(std::vector<ProbeRow>& rows, const std::string& label, const json& 
   rows.push_back({label, show(a), show(b), differs(a, b)});
 }
 
+// "L2": appended rather than "L" + …, which GCC 12 warns about falsely (-Wrestrict).
+std::string levelLabel(size_t level) {
+  std::string label = "L";
+  label += std::to_string(level);
+  return label;
+}
+
 }  // namespace
 
 std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
@@ -87,11 +96,11 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
   // Masks and the effect, fine to coarse (each level is independent there).
   const std::vector<std::string> maskKeys = {"M", "a", "S", "c_raw", "ssao", "ssm", "ssgi", "c"};
   for (size_t l = 0; l < levels; ++l)
-    flatten(rows, "L" + std::to_string(l), pick(level(lo, l), maskKeys), pick(level(lp, l), maskKeys), maskKeys);
+    flatten(rows, levelLabel(l), pick(level(lo, l), maskKeys), pick(level(lp, l), maskKeys), maskKeys);
   // The blend, coarse to fine, as it runs.
   const std::vector<std::string> blendKeys = {"taps", "c_hat", "alpha", "composite"};
   for (size_t l = levels; l-- > 0;)
-    flatten(rows, "L" + std::to_string(l), pick(level(lo, l), blendKeys), pick(level(lp, l), blendKeys), blendKeys);
+    flatten(rows, levelLabel(l), pick(level(lo, l), blendKeys), pick(level(lp, l), blendKeys), blendKeys);
   flatten(rows, "finest_contributing_level", at(o, "finest_contributing_level"), at(p, "finest_contributing_level"));
   flatten(rows, "final", at(o, "final"), at(p, "final"));
   return rows;

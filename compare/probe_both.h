@@ -18,7 +18,8 @@ struct ProbeRow {
 // Both probes (cpu_ref/probe.h: probePixel) flattened in pipeline order: the G-buffer, the
 // edges, then per level fine to coarse M, a, S, the raw value with the effect's own terms
 // and the sub-image value, then the blend coarse to fine (taps, ĉ, α, c'), then the final.
-// Numbers differ when |Δ| > 1e-5 · max(1, |a|, |b|); everything else must be equal.
+// Numbers differ when |Δ| > kProbeRelativeDifference · max(1, |a|, |b|) (common/tolerance.h);
+// everything else must be equal.
 std::vector<ProbeRow> probeSideBySide(const nlohmann::json& oracle, const nlohmann::json& port);
 
 // The text `mrr probe --path both` prints; `renderer` names the port's GL renderer.

@@ -7,7 +7,11 @@
 layout(location = 0) in vec3 worldPosition;
 uniform float farDepth;  // ShadowMap::farDepth: orders surfaces only, the stored depth is lightDepth
 out float lightDepth;
+// (Steps 1–2, the light's basis and the square fitted to the bounds, are the host's
+// shadowMapFrame, shared with the oracle.)
 void main() {
+  // 3. each surface onto the texel grid; the depth test keeps the nearest at each texel centre,
+  // as the oracle's ray per texel centre finds it
   vec3 l = lightCoordinates(worldPosition);  // texel coordinates (u, v), distance from the plane
   lightDepth = l.z;
   // texel (x, y) is GL pixel (x, y): row 0 of the map is row 0 of the target (no flip)

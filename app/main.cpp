@@ -9,6 +9,7 @@
 #include <cctype>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <new>
@@ -36,6 +37,8 @@ struct FrameOptions {
   std::string scene = "builtin:demo";
   std::string effect = "ssao";
   std::string mode = "multires";
+  std::string neverSlower = "on";
+  std::string costModelFile;
   std::string path = "cpu";
   int glDevice = -1;
   std::string size = "1280x720";
@@ -62,7 +65,15 @@ struct FrameOptions {
                    "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path. Built-ins:" + builtins)
         ->capture_default_str();
     app.add_option("--effect", effect, "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)")->capture_default_str();
-    app.add_option("--mode", mode, "multires (the method) or full (the reference)")->capture_default_str();
+    app.add_option("--method,--mode", mode,
+                   "mrr (= multires, the method), full (the reference), or a peer: uniform-1, uniform-2 (one coarse "
+                   "level, joint bilateral upsampling), tiles (16x16 VRS-style rates)")
+        ->capture_default_str();
+    app.add_option("--never-slower", neverSlower,
+                   "mrr: shade the frame at full res when the cost model predicts no gain (on|off)")
+        ->capture_default_str();
+    app.add_option("--cost-model", costModelFile,
+                   "the never-slower rule's costs, a JSON written by `mrr bench --calibrate` (default: built in)");
     app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both")
         ->capture_default_str();
     app.add_option("--gl-device", glDevice, "gpu: the EGL device index (default: the first that gives GL 3.3 core)");
@@ -95,6 +106,8 @@ struct FrameOptions {
   Settings settings() const {
     Settings s = defaultSettings(parseEffect(effect));
     s.mode = parseMode(mode);
+    require(neverSlower == "on" || neverSlower == "off", "--never-slower " + neverSlower + ": expected on or off");
+    s.neverSlower = neverSlower == "on";
     const auto [w, h] = parseSize(size);
     s.width = w;
     s.height = h;
@@ -112,6 +125,17 @@ struct FrameOptions {
     }
     validateSettings(s);
     return s;
+  }
+
+  // The never-slower rule's costs: --cost-model, else the built-in defaults of `forPath`.
+  // Comparisons pass the oracle's for both paths, so both take the same decision.
+  CostModel costModel(const std::string& forPath) const {
+    if (costModelFile.empty()) return CostModel::defaults(forPath);
+    std::ifstream in(costModelFile);
+    require(in.good(), "--cost-model " + costModelFile + ": cannot read the file");
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    require(!j.is_discarded() && j.is_object(), "--cost-model " + costModelFile + ": not a JSON object");
+    return CostModel::fromJson(j);
   }
 
   SceneRequest sceneRequest() const {
@@ -194,10 +218,13 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
   // Frames are kept for the HTML report (two frames with every stage per effect).
   std::vector<std::unique_ptr<FrameResult>> kept;
   std::vector<ComparedFrame> compared;
+  const CostModel costs = fo.costModel("cpu");
   for (const Settings& s : settings) {
     const Constants k = makeConstants(s, rs.scene.bounds().diagonal());
-    auto oracle = std::make_unique<FrameResult>(cpu.render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle")}));
-    auto ported = std::make_unique<FrameResult>(port.render(rs.camera, k, {true, progressPrinter(fo.quiet, "port")}));
+    auto oracle =
+        std::make_unique<FrameResult>(cpu.render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle"), &costs}));
+    auto ported =
+        std::make_unique<FrameResult>(port.render(rs.camera, k, {true, progressPrinter(fo.quiet, "port"), &costs}));
     ParityResult result = compareFrames(*oracle, *ported, rs.scene.light);
     std::cout << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
               << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs port ("
@@ -356,8 +383,9 @@ int run(int argc, char** argv) {
   if (fo.path == "both") {  // probe only: the oracle and the port side by side
     const Renderer oracleRenderer(rs.scene);
     const gpu::GpuRenderer portRenderer(rs.scene, fo.glDevice);
-    const FrameResult o = oracleRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "oracle")});
-    const FrameResult p = portRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port")});
+    const CostModel costs = fo.costModel("cpu");
+    const FrameResult o = oracleRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "oracle"), &costs});
+    const FrameResult p = portRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port"), &costs});
     const nlohmann::json jo = probePixel(o, probePixelXY->first, probePixelXY->second);
     const nlohmann::json jp = probePixel(p, probePixelXY->first, probePixelXY->second);
     std::cout << (json ? probeBothJson(jo, jp).dump(2) + "\n" : formatProbeSideBySide(jo, jp, portRenderer.renderer()));
@@ -373,7 +401,8 @@ int run(int argc, char** argv) {
     return port ? port->render(rs.camera, k, o) : cpu->render(rs.camera, k, o);
   };
   // The per-level blend images are debugging output: kept only when something shows them.
-  const FrameResult frame = renderWith(constants, {keepStages, progress});
+  const CostModel costs = fo.costModel(fo.path);
+  const FrameResult frame = renderWith(constants, {keepStages, progress, &costs});
 
   if (*probe) {
     const nlohmann::json j = probePixel(frame, probePixelXY->first, probePixelXY->second);
@@ -400,6 +429,9 @@ int run(int argc, char** argv) {
   if (!fo.quiet) {
     std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
               << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total") << " ms\n";
+    if (frame.fallback.fellBack)
+      std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMultiresMs << " ms multires against "
+                << frame.fallback.predictedFullMs << " ms full; shaded at full resolution\n";
     if (err)
       std::cerr << "[mrr] vs full: RMS " << err->effect.rms << ", SSIM " << err->effect.ssim << " (shaded: RMS "
                 << err->shaded.rms << ")\n";

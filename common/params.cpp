@@ -16,7 +16,20 @@ std::string toString(Effect effect) {
   return "?";
 }
 
-std::string toString(Mode mode) { return mode == Mode::Full ? "full" : "multires"; }
+std::string toString(Mode mode) {
+  switch (mode) {
+    case Mode::Full: return "full";
+    case Mode::Uniform1: return "uniform-1";
+    case Mode::Uniform2: return "uniform-2";
+    case Mode::Tiles: return "tiles";
+    case Mode::Multires: break;
+  }
+  return "multires";
+}
+
+std::string methodName(Mode mode) { return mode == Mode::Multires ? "mrr" : toString(mode); }
+
+bool isPeer(Mode mode) { return mode == Mode::Uniform1 || mode == Mode::Uniform2 || mode == Mode::Tiles; }
 
 Effect parseEffect(const std::string& name) {
   if (name == "ssao") return Effect::Ssao;
@@ -26,9 +39,10 @@ Effect parseEffect(const std::string& name) {
 }
 
 Mode parseMode(const std::string& name) {
-  if (name == "multires") return Mode::Multires;
-  if (name == "full") return Mode::Full;
-  throw MrrError("--mode " + name + ": unknown mode (expected multires or full)");
+  if (name == "multires" || name == "mrr") return Mode::Multires;
+  for (Mode m : kAllModes)
+    if (name == toString(m)) return m;
+  throw MrrError("--method " + name + ": unknown method (expected mrr, full, uniform-1, uniform-2 or tiles)");
 }
 
 // Table 1 of the paper (SPEC §3). i = ℓ + 1; the coarsest level covers everything.
@@ -135,6 +149,11 @@ int Constants::nextCoarserEnabled(int level) const {
   return -1;
 }
 
+void Constants::fallBackToFull() {
+  for (LevelConstants& lc : levels) lc.enabled = lc.shaded = lc.index == 0;
+  coarsestEnabled = 0;
+}
+
 Constants makeConstants(const Settings& s, float sceneDiagonal) {
   validateSettings(s);
   Constants c;
@@ -153,7 +172,14 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
     lc.scale = 1 << l;
     lc.width = c.paddedWidth / lc.scale;
     lc.height = c.paddedHeight / lc.scale;
-    lc.enabled = s.mode == Mode::Full ? l == 0 : ls.enabled;
+    switch (s.mode) {
+      case Mode::Multires: lc.enabled = ls.enabled; break;
+      case Mode::Full: lc.enabled = l == 0; break;
+      case Mode::Uniform1: lc.enabled = l == 0 || l == 1; lc.shaded = l == 1; break;
+      case Mode::Uniform2: lc.enabled = l == 0 || l == 2; lc.shaded = l == 2; break;
+      case Mode::Tiles: lc.enabled = l <= 2; break;  // the 1×1, 2×2 and 4×4 rates
+    }
+    lc.shaded = lc.shaded && lc.enabled;
     lc.sigma2 = ls.sigma2;
     lc.weight = ls.weight;
     lc.blurRadius = gaussianRadius(ls.sigma2);
@@ -164,6 +190,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   for (int l = 0; l < kLevelCount; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) c.coarsestEnabled = l;
   c.edges = s.edges;
+  c.neverSlower = s.neverSlower && s.mode == Mode::Multires;
 
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f

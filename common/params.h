@@ -12,12 +12,24 @@
 namespace mrr {
 
 enum class Effect { Ssao, Ssm, Ssgi };
-enum class Mode { Multires, Full };
+// The sampling strategy (SPEC §9): the method itself and the peers it is charted against.
+// Every mode runs the same effect code on the same G-buffers; only which pixels of which
+// level are shaded, and how the levels are put together, differ.
+enum class Mode {
+  Multires,  // the method (SPEC §§2–5); `--method mrr`
+  Full,      // every full-res pixel: the reference for every error figure
+  Uniform1,  // every pixel of level 1 (½), then joint bilateral upsampling
+  Uniform2,  // every pixel of level 2 (¼), then joint bilateral upsampling
+  Tiles,     // 16×16 VRS-style tiles at 1×1, 2×2 or 4×4 by their edges, broadcast unfiltered
+};
+constexpr Mode kAllModes[] = {Mode::Full, Mode::Uniform1, Mode::Uniform2, Mode::Tiles, Mode::Multires};
 
 std::string toString(Effect effect);
-std::string toString(Mode mode);
+std::string toString(Mode mode);        // "multires", "full", "uniform-1", "uniform-2", "tiles"
+std::string methodName(Mode mode);     // the same, with "mrr" for the method (charts, bench)
 Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
-Mode parseMode(const std::string& name);
+Mode parseMode(const std::string& name);  // accepts both spellings ("mrr" = "multires")
+bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
 
 constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
 constexpr int kMaxImageSize = 16384;     // per side; beyond it the G-buffers alone exceed RAM
@@ -79,6 +91,8 @@ struct Settings {
   SsmSettings ssm;
   SsgiSettings ssgi;
   BilateralSettings bilateral;
+  // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
+  bool neverSlower = true;
 
   // The sample count of the selected effect (what --samples sets).
   int samples() const;
@@ -96,7 +110,8 @@ struct LevelConstants {
   int scale = 1;            // s_ℓ = 2^ℓ
   int width = 0;            // padded W / s_ℓ
   int height = 0;           // padded H / s_ℓ
-  bool enabled = true;
+  bool enabled = true;      // has a G-buffer (and, unless !shaded, a sub-image)
+  bool shaded = true;       // the effect runs here (false: level 0 of uniform-k, G-buffer only)
   float sigma2 = 0.0f;
   float weight = 1.0f;
   int blurRadius = 0;             // r_ℓ = ceil(3 σ_ℓ)
@@ -112,6 +127,7 @@ struct Constants {
   int finestEnabled = 0;
   int coarsestEnabled = kLevelCount - 1;
   EdgeSettings edges;
+  bool neverSlower = true;  // SPEC §11 (mode mrr only)
   struct Ssao {
     int samples = 0;
     float radius = 0.0f;
@@ -147,11 +163,14 @@ struct Constants {
 
   // The enabled level coarser than ℓ that ℓ blends over, or -1 for the coarsest.
   int nextCoarserEnabled(int level) const;
+  // This frame shaded at full res only (SPEC §11's fallback): level 0 alone, every pixel.
+  void fallBackToFull();
 };
 
 // Builds the constants for a W×H frame. `sceneDiagonal` resolves the automatic SSAO radius.
 // In Mode::Full only level 0 is enabled: the reference runs the same effect code at every
-// full-res pixel.
+// full-res pixel. The peers (SPEC §9) enable the levels their strategy shades: uniform-k
+// levels 0 (G-buffer only, for the joint bilateral upsampling) and k; tiles levels 0–2.
 Constants makeConstants(const Settings& settings, float sceneDiagonal);
 
 }  // namespace mrr

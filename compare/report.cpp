@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "cpu_ref/peers.h"
+
 namespace mrr {
 
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
@@ -28,6 +30,18 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["effect"] = toString(c.effect);
   j["path"] = info.path;
   j["mode"] = toString(c.mode);
+  j["method"] = methodName(c.mode);
+  if (f.fallback.evaluated)
+    j["never_slower"] = {{"fell_back_to_full", f.fallback.fellBack},
+                         {"predicted_full_ms", f.fallback.predictedFullMs},
+                         {"predicted_multires_ms", f.fallback.predictedMultiresMs},
+                         {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMultiresMs},
+                         {"cost_model", f.fallback.costModel}};
+  if (c.mode == Mode::Tiles) {
+    std::array<int, 3> tiles{};
+    for (uint8_t r : f.tileRates.data) ++tiles[r];
+    j["tiles"] = {{"size", kTileSize}, {"rate_1x1", tiles[0]}, {"rate_2x2", tiles[1]}, {"rate_4x4", tiles[2]}};
+  }
   j["width"] = c.width;
   j["height"] = c.height;
   j["padded_width"] = c.paddedWidth;
@@ -52,7 +66,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   nlohmann::json levels = nlohmann::json::array();
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    levels.push_back({{"level", l}, {"scale", lc.scale}, {"enabled", lc.enabled}, {"width", lc.width},
+    levels.push_back({{"level", l}, {"scale", lc.scale}, {"enabled", lc.enabled}, {"shaded", lc.shaded}, {"width", lc.width},
                       {"height", lc.height}, {"sigma2", lc.sigma2}, {"weight", lc.weight},
                       {"shaded_pixels", f.levels[static_cast<size_t>(l)].shadedPixels},
                       {"shaded_pixels_4x2_blocks", f.levels[static_cast<size_t>(l)].shadedBlockPixels}});
@@ -108,7 +122,7 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
     parts.push_back({"shadowmap", depth, {"depth"}});
     parts.push_back({"shadowtest", toFloat(crop(f.shadowLit, c.width, c.height)), {"lit"}});
   }
-  if (c.mode == Mode::Multires) {
+  if (!f.edges.combined.empty()) {  // modes mrr and tiles
     const EdgeImages& e = f.edges;
     const bool shadow = !e.shadow.empty();
     ImageF edges(c.width, c.height, shadow ? 5 : 4);

@@ -8,7 +8,6 @@
 
 namespace mrr {
 
-namespace {
 // max(N_p·N_q, 0)^p: by repeated squaring when p is a whole number (the default 16), which is
 // exact to a few ulp and ~10× cheaper than powf on the hot path.
 float normalSimilarity(float cosine, float power) {
@@ -21,7 +20,6 @@ float normalSimilarity(float cosine, float power) {
   }
   return result;
 }
-}  // namespace
 
 float bilateralWeight(const GBuffer& g, const ImageU8& stencil, const Constants::Bilateral& b, float spatial, int px,
                       int py, int qx, int qy) {

@@ -8,6 +8,9 @@
 
 namespace mrr {
 
+// max(cosine, 0)^power, the normal similarity (SPEC §4); `cosine` is already clamped.
+float normalSimilarity(float cosine, float power);
+
 // Weight of tap q for centre p (0 when q is unrendered or background).
 float bilateralWeight(const GBuffer& g, const ImageU8& stencil, const Constants::Bilateral& b, float spatial,
                       int px, int py, int qx, int qy);

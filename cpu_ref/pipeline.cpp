@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "cpu_ref/bilateral.h"
+#include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
@@ -47,6 +48,16 @@ std::array<LevelImages, kLevelCount> FrameResult::blendInputs() const {
   return in;
 }
 
+std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel, kLevelCount>& masks,
+                                                     const Constants& c) {
+  std::array<long long, kLevelCount> counts{};
+  for (int l = 0; l < kLevelCount; ++l) {
+    if (!c.levels[static_cast<size_t>(l)].shaded) continue;
+    for (uint8_t v : masks[static_cast<size_t>(l)].stencil.data) counts[static_cast<size_t>(l)] += v;
+  }
+  return counts;
+}
+
 double FrameResult::timing(const std::string& stage) const {
   double ms = 0.0;
   for (const StageTiming& t : timings)
@@ -79,10 +90,11 @@ int64_t estimateFrameBytes(const Constants& c, bool keepStages) {
 
 Renderer::Renderer(const Scene& scene) : scene_(scene), rays_(scene) { bvhBuildMs_ = msSince(buildStart_); }
 
-FrameResult Renderer::render(const Camera& camera, const Constants& c, const RenderOptions& options) const {
+FrameResult Renderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
   const ProgressFn& progress = options.progress;
   FrameResult f;
-  f.constants = c;
+  f.constants = constants;
+  const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
   f.light = scene_.light;
   const auto frameStart = Clock::now();
@@ -92,14 +104,13 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
     body();
     f.timings.push_back({name, msSince(t0)});
   };
-
-  // 1. G-buffer per enabled level (SPEC §1).
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
+  auto gbuffer = [&](int l) {
     stage("gbuffer.L" + std::to_string(l),
-          [&] { f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, lc); });
-  }
+          [&] { f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, c.levels[static_cast<size_t>(l)]); });
+  };
+
+  // 1. The full-res G-buffer (SPEC §1): the masks are made from it alone.
+  gbuffer(0);
 
   // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
   if (c.needsShadowMap()) {
@@ -109,22 +120,48 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
     });
   }
 
-  // 2–3. Edges, mask pyramid, blur, stencils (SPEC §2–3); `full` shades every pixel.
+  // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9).
   std::array<MaskLevel, kLevelCount> masks;
-  if (c.mode == Mode::Multires) {
+  if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
     const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
     stage("edges", [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges, shadowEdges); });
-    stage("masks", [&] { masks = buildMasks(f.edges.combined, c); });
-  } else {
-    masks = fullModeMasks(c);
+  }
+  switch (c.mode) {
+    case Mode::Multires: stage("masks", [&] { masks = buildMasks(f.edges.combined, c); }); break;
+    case Mode::Tiles:
+      stage("masks", [&] {
+        f.tileRates = tileRates(f.edges.combined);
+        masks = tileMasks(f.tileRates, c);
+      });
+      break;
+    case Mode::Uniform1:
+    case Mode::Uniform2: masks = uniformMasks(c); break;
+    case Mode::Full: masks = fullModeMasks(c); break;
+  }
+  // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
+  if (c.neverSlower) {
+    const CostModel model = options.costModel ? *options.costModel : CostModel::defaults("cpu");
+    f.fallback = decideFallback(model, c, shadedPixelCounts(masks, c));
+    if (f.fallback.fellBack) {
+      f.constants.fallBackToFull();
+      masks = fullModeMasks(c);
+    }
   }
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
+
+  // 1, continued. The coarser levels' G-buffers.
+  for (int l = 1; l < kLevelCount; ++l)
+    if (c.levels[static_cast<size_t>(l)].enabled) gbuffer(l);
 
   // 4. Sub-images: the effect at stencilled pixels only, then the bilateral blur (SPEC §4).
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    if (!lc.shaded) {  // uniform-k's level 0: a G-buffer, nothing shaded
+      lr.raw = lr.sub = ImageF(lc.width, lc.height, c.channels());
+      continue;
+    }
     const std::string L = ".L" + std::to_string(l);
     switch (c.effect) {
       case Effect::Ssao: {
@@ -154,8 +191,15 @@ FrameResult Renderer::render(const Camera& camera, const Constants& c, const Ren
   }
   f.countShadedPixels();
 
-  // 5. Upsample and blend, coarse to fine (SPEC §5).
-  stage("blend", [&] { f.blend = blendLevels(f.blendInputs(), c, options.keepStages); });
+  // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
+  if (isPeer(c.mode)) {
+    std::array<const GBuffer*, kLevelCount> gbuffers{};
+    for (size_t l = 0; l < gbuffers.size(); ++l)
+      if (c.levels[l].enabled) gbuffers[l] = &f.levels[l].gbuffer;
+    stage("blend", [&] { f.blend = composePeer(f.blendInputs(), gbuffers, f.tileRates, c, options.keepStages); });
+  } else {
+    stage("blend", [&] { f.blend = blendLevels(f.blendInputs(), c, options.keepStages); });
+  }
   // 6. The shaded image for viewing (SPEC §6).
   stage("shade", [&] {
     f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, scene_.light, c.effect);

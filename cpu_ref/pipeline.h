@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/camera.h"
+#include "common/cost_model.h"
 #include "common/params.h"
 #include "common/scene.h"
 #include "cpu_ref/blend.h"
@@ -41,7 +42,9 @@ struct FrameResult {
   DirectionalLight light;  // the scene's light, as rendered
   ShadowMap shadowMap;  // SSM and SSGI
   ImageU8 shadowLit;    // the one-tap shadow test on the full-res grid (SSM, SSGI)
-  EdgeImages edges;     // on the padded full-res grid (multires mode only)
+  EdgeImages edges;     // on the padded full-res grid (modes mrr and tiles)
+  ImageU8 tileRates;    // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
+  FallbackDecision fallback;  // SPEC §11, mode mrr
   std::array<LevelResult, kLevelCount> levels;
   BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
   int64_t shadedPixelsTotal = 0;
@@ -69,7 +72,13 @@ struct RenderOptions {
   // benchmark turns it off: they are debugging output, not part of the method's cost.
   bool keepStages = true;
   ProgressFn progress;
+  // The never-slower rule's per-pixel costs (SPEC §11); null: CostModel::defaults of the path.
+  const CostModel* costModel = nullptr;
 };
+
+// The per-level |S_ℓ| of a set of stencils (0 for levels that are not shaded).
+std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel, kLevelCount>& masks,
+                                                     const Constants& constants);
 
 // The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred
 // sub-images and per-effect scratch; the full-res edges, blend, level map and shaded image;

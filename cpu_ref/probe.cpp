@@ -50,7 +50,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
                   {"position", vec(g0.position, x, y)}, {"normal", vec(g0.normal, x, y)},
                   {"albedo", vec(g0.albedo, x, y)}};
 
-  if (c.mode == Mode::Multires) {
+  if (!f.edges.combined.empty()) {  // modes mrr and tiles
     const EdgeDecision e = edgeAt(g0, c.edges, x, y, c.effect == Effect::Ssm ? &f.shadowLit : nullptr);
     j["edges"] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {"tau_n", c.edges.normalThreshold}}},
                   {"depth",

@@ -23,6 +23,7 @@ GpuRenderer::GpuRenderer(const Scene& scene, int deviceIndex)
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& c, const RenderOptions& options) const {
   using Clock = std::chrono::steady_clock;
+  require(!isPeer(c.mode), "--path gpu --method " + toString(c.mode) + ": the port does not run the peers yet");
   FrameResult f;
   f.constants = c;
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);

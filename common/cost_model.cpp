@@ -1,0 +1,93 @@
+#include "common/cost_model.h"
+
+#include "common/error.h"
+
+namespace mrr {
+
+namespace {
+double levelPixels(const LevelConstants& lc) { return static_cast<double>(lc.width) * lc.height; }
+double shadeNs(const EffectCost& e, int samples) { return e.nsPerShadedPixel + e.nsPerSample * samples; }
+}  // namespace
+
+CostModel CostModel::defaults(const std::string& path) {
+  CostModel m;
+  // `mrr bench --calibrate` on the CI machine (2-core AMD EPYC VM; llvmpipe for the port),
+  // builtin:demo at 640×360. Order: ssao, ssm, ssgi.
+  if (path == "gpu") {
+    m.source = "built-in default (gpu, llvmpipe, 2-core AMD EPYC VM)";
+    m.effect = {EffectCost{60.0, 4.0, 30.0}, EffectCost{60.0, 3.0, 0.0}, EffectCost{80.0, 12.0, 30.0}};
+    m.nsPerCoarseGbufferPixel = 150.0;
+    m.nsPerBlendPixel = 120.0;
+  } else {
+    m.source = "built-in default (cpu, 2-core AMD EPYC VM)";
+    m.effect = {EffectCost{40.0, 3.6, 4.0}, EffectCost{30.0, 0.9, 0.0}, EffectCost{20.0, 7.5, 10.0}};
+    m.nsPerCoarseGbufferPixel = 25.0;
+    m.nsPerBlendPixel = 12.0;
+  }
+  return m;
+}
+
+CostModel CostModel::fromJson(const nlohmann::json& j) {
+  CostModel m;
+  try {
+    m.source = j.value("source", std::string("--cost-model"));
+    for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+      const nlohmann::json& ej = j.at("effects").at(toString(e));
+      EffectCost& ec = m.effect[static_cast<size_t>(e)];
+      ec.nsPerShadedPixel = ej.at("ns_per_shaded_pixel").get<double>();
+      ec.nsPerSample = ej.at("ns_per_sample").get<double>();
+      ec.nsPerLevelPixel = ej.at("ns_per_level_pixel").get<double>();
+    }
+    m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
+    m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw MrrError(std::string("--cost-model: ") + e.what());
+  }
+  return m;
+}
+
+nlohmann::json CostModel::toJson() const {
+  nlohmann::json effects;
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+    const EffectCost& ec = effect[static_cast<size_t>(e)];
+    effects[toString(e)] = {{"ns_per_shaded_pixel", ec.nsPerShadedPixel},
+                            {"ns_per_sample", ec.nsPerSample},
+                            {"ns_per_level_pixel", ec.nsPerLevelPixel}};
+  }
+  return {{"source", source},
+          {"effects", effects},
+          {"ns_per_coarse_gbuffer_pixel", nsPerCoarseGbufferPixel},
+          {"ns_per_blend_pixel", nsPerBlendPixel}};
+}
+
+// SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N) + P_ℓ·d) + Σ_{ℓ≥1} P_ℓ·g + W·H·β, in ms.
+double predictMultiresMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded) {
+  const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
+  double ns = static_cast<double>(c.width) * c.height * m.nsPerBlendPixel;
+  for (const LevelConstants& lc : c.levels) {
+    if (!lc.enabled) continue;
+    if (lc.index > 0) ns += levelPixels(lc) * m.nsPerCoarseGbufferPixel;
+    if (lc.shaded) ns += static_cast<double>(shaded[static_cast<size_t>(lc.index)]) * shadeNs(e, c.samples()) +
+                         levelPixels(lc) * e.nsPerLevelPixel;
+  }
+  return ns * 1e-6;
+}
+
+// SPEC §11: W·H·(a + b·N) + P_0·d, in ms.
+double predictFullMs(const CostModel& m, const Constants& c) {
+  const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
+  return (static_cast<double>(c.width) * c.height * shadeNs(e, c.samples()) + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
+         1e-6;
+}
+
+FallbackDecision decideFallback(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded) {
+  FallbackDecision d;
+  d.evaluated = true;
+  d.predictedFullMs = predictFullMs(m, c);
+  d.predictedMultiresMs = predictMultiresMs(m, c, shaded);
+  d.fellBack = d.predictedFullMs - d.predictedMultiresMs <= 0.0;
+  d.costModel = m.source;
+  return d;
+}
+
+}  // namespace mrr

@@ -37,7 +37,8 @@ struct FrameOptions {
   std::string scene = "builtin:demo";
   std::string effect = "ssao";
   std::string mode = "multires";
-  std::string neverSlower = "on";
+  std::string neverSlower;          // on|off; empty: neverSlowerDefault
+  bool neverSlowerDefault = true;   // compare turns it off: it validates every stage of the method
   std::string costModelFile;
   std::string path = "cpu";
   int glDevice = -1;
@@ -70,8 +71,8 @@ struct FrameOptions {
                    "level, joint bilateral upsampling), tiles (16x16 VRS-style rates)")
         ->capture_default_str();
     app.add_option("--never-slower", neverSlower,
-                   "mrr: shade the frame at full res when the cost model predicts no gain (on|off)")
-        ->capture_default_str();
+                   "mrr: shade the frame at full res when the cost model predicts no gain: on|off (default on; "
+                   "compare: off, it validates every stage)");
     app.add_option("--cost-model", costModelFile,
                    "the never-slower rule's costs, a JSON written by `mrr bench --calibrate` (default: built in)");
     app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both")
@@ -106,8 +107,9 @@ struct FrameOptions {
   Settings settings() const {
     Settings s = defaultSettings(parseEffect(effect));
     s.mode = parseMode(mode);
-    require(neverSlower == "on" || neverSlower == "off", "--never-slower " + neverSlower + ": expected on or off");
-    s.neverSlower = neverSlower == "on";
+    require(neverSlower.empty() || neverSlower == "on" || neverSlower == "off",
+            "--never-slower " + neverSlower + ": expected on or off");
+    s.neverSlower = neverSlower.empty() ? neverSlowerDefault : neverSlower == "on";
     const auto [w, h] = parseSize(size);
     s.width = w;
     s.height = h;
@@ -193,6 +195,7 @@ int threadCount(int requested) {
 // Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input.
 int runCompare(FrameOptions& fo, const std::string& reportDir) {
   fo.checkPath();
+  fo.neverSlowerDefault = false;
   std::vector<std::string> effects = {fo.effect};
   if (fo.effect == "all") effects = {"ssao", "ssm", "ssgi"};
   std::vector<Settings> settings;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/hash.h"
 
 namespace mrr {
 
@@ -171,6 +172,69 @@ Scene redwall() {
   return s;
 }
 
+// Stress scenes (issue 7, SPEC §10): each models one way the method can fail, and nothing more.
+
+// A floor whose shading normals are perturbed facet by facet, as a normal map would: flat
+// geometry, so AO barely changes, but neighbouring facets (~3 pixels at 1280×720) differ by
+// ~25°, so normal edges explode (the paper's warning about bumpy surfaces).
+Scene bumpy() {
+  MeshBuilder floor("bumpy floor", glm::vec3(0.8f)), block("block", glm::vec3(0.7f, 0.6f, 0.5f));
+  const int n = 160;
+  const float extent = 8.0f, step = 2.0f * extent / static_cast<float>(n);
+  auto corner = [&](int i, int j) {
+    return glm::vec3(-extent + step * static_cast<float>(i), 0.0f, -extent + step * static_cast<float>(j));
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      for (uint32_t t = 0; t < 2; ++t) {
+        // a deterministic jitter of the facet's normal: ±0.45 in x and z
+        const uint32_t h = pixelHash(static_cast<uint32_t>(i), static_cast<uint32_t>(j), 0x6b756d70u + t);
+        const glm::vec3 nrm(0.9f * (hashToUnit(h) - 0.5f), 1.0f, 0.9f * (hashToUnit(pcgHash(h ^ 0x9e3779b9u)) - 0.5f));
+        const glm::vec3 p0 = corner(i, j), p1 = t ? corner(i + 1, j + 1) : corner(i, j + 1),
+                        p2 = t ? corner(i + 1, j) : corner(i + 1, j + 1);
+        const uint32_t v0 = floor.vertex(p0, nrm), v1 = floor.vertex(p1, nrm), v2 = floor.vertex(p2, nrm);
+        floor.mesh.indices.insert(floor.mesh.indices.end(), {v0, v1, v2});
+      }
+  block.box({0.0f, 0.8f, -1.0f}, {1.2f, 0.8f, 0.8f}, 0.4f);
+  return finish("bumpy", {floor, block}, lookAt({5, 4.5f, 7}, {0, 0.3f, -1}, 55.0f));
+}
+
+// Rails and wires thinner than a coarse pixel (a ⅛-level pixel is 8 full-res pixels wide):
+// a coarse level alone misses them; only their edges bring full resolution to them.
+Scene wires() {
+  MeshBuilder floor("floor", glm::vec3(0.8f)), rails("rails", glm::vec3(0.5f, 0.5f, 0.55f));
+  floor.quad({-8, 0, -8}, {-8, 0, 8}, {8, 0, 8}, {8, 0, -8});
+  for (int i = 0; i < 5; ++i) {  // horizontal rails 1.5 cm thick, at different heights
+    const float y = 0.3f + 0.35f * static_cast<float>(i), z = -1.0f - 0.4f * static_cast<float>(i);
+    rails.box({0.0f, y, z}, {5.0f, 0.008f, 0.008f});
+  }
+  for (int i = 0; i < 7; ++i)  // posts
+    rails.box({-4.5f + 1.5f * static_cast<float>(i), 1.0f, -1.0f}, {0.01f, 1.0f, 0.01f});
+  return finish("wires", {floor, rails}, lookAt({1.5f, 2.5f, 6}, {0, 0.8f, -1.5f}, 55.0f));
+}
+
+// Small faceted pyramids tiling a wall that fills the view, ~5.5 full-res pixels each at
+// 1280×720: every pixel is on or next to a crease, so E covers the image and nothing can be
+// shaded coarsely. The never-slower rule's case.
+Scene alledges() {
+  MeshBuilder m("pyramids", glm::vec3(0.8f));
+  const int nx = 233, ny = 131;  // not commensurate with common image sizes: no aliasing to one facet
+  const float size = 8.0f / static_cast<float>(nx);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const float x0 = -4.0f + size * static_cast<float>(i), y0 = -2.25f + size * static_cast<float>(j);
+      const glm::vec3 a(x0, y0, 0), b(x0 + size, y0, 0), c(x0 + size, y0 + size, 0), d(x0, y0 + size, 0);
+      const glm::vec3 apex(x0 + 0.5f * size, y0 + 0.5f * size, 0.5f * size);
+      for (auto [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, d}, std::pair{d, a}}) {
+        const glm::vec3 nrm = glm::normalize(glm::cross(q - p, apex - p));
+        const uint32_t v0 = m.vertex(p, nrm), v1 = m.vertex(q, nrm), v2 = m.vertex(apex, nrm);
+        m.mesh.indices.insert(m.mesh.indices.end(), {v0, v1, v2});
+      }
+    }
+  // 2 tan(fov/2) · 6.2 = 4.5 high: the wall fills the view
+  return finish("alledges", {m}, lookAt({0, 0, 6.2f}, {0, 0, 0}, 40.0f));
+}
+
 struct Entry {
   const char* name;
   const char* description;
@@ -186,6 +250,9 @@ const Entry kEntries[] = {
     {"boxes", "two boxes in a room: silhouettes and contact occlusion", boxes},
     {"shadows", "two slabs at different heights over a ground: umbra, penumbra width (ssm)", shadows},
     {"redwall", "a red wall on a white floor: colour bleeding (ssgi)", redwall},
+    {"bumpy", "stress: a floor with perturbed normals, so normal edges explode", bumpy},
+    {"wires", "stress: rails and posts thinner than a coarse pixel", wires},
+    {"alledges", "stress: tiny faceted pyramids, every pixel an edge (never-slower)", alledges},
 };
 
 }  // namespace

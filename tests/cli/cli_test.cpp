@@ -563,7 +563,10 @@ const std::vector<BadCase> kBadCases = {
     {"SsgiSamplesTooMany", renderArgs("builtin:demo", {"--effect", "ssgi", "--samples", "9000"}), "--samples 9000"},
     {"ShadowMapTooSmall", renderArgs("builtin:demo", {"--effect", "ssm", "--shadow-map-size", "8"}), "--shadow-map-size"},
     {"LightAngleZero", renderArgs("builtin:demo", {"--effect", "ssm", "--light-angle", "0"}), "--light-angle"},
-    {"UnknownMode", renderArgs("builtin:demo", {"--mode", "foo"}), "--mode foo"},
+    {"UnknownMode", renderArgs("builtin:demo", {"--mode", "foo"}), "--method foo"},
+    {"UnknownMethod", renderArgs("builtin:demo", {"--method", "uniform-3"}), "--method uniform-3"},
+    {"BadNeverSlower", renderArgs("builtin:demo", {"--never-slower", "maybe"}), "--never-slower maybe"},
+    {"MissingCostModel", renderArgs("builtin:demo", {"--cost-model", "/nonexistent/costs.json"}), "--cost-model"},
     {"UnknownPath", renderArgs("builtin:demo", {"--path", "foo"}), "--path foo"},
 
     {"DisableLevelZero", renderArgs("builtin:demo", {"--disable-level", "0"}), "--disable-level 0"},

@@ -21,6 +21,7 @@ Settings effectSettings(Effect e, int w, int h, int samples, Mode mode = Mode::M
   s.height = h;
   s.mode = mode;
   s.setSamples(samples);
+  s.neverSlower = false;  // these test the method's stages, which a fallback would skip (SPEC §11)
   return s;
 }
 

@@ -1,0 +1,265 @@
+// The peers (SPEC §9) and the never-slower rule (SPEC §11) on the oracle: analytic cases,
+// invariants, and the rule's decision both ways.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "common/error.h"
+#include "cpu_ref/peers.h"
+#include "tests/oracle/render_helpers.h"
+
+namespace mrr {
+namespace {
+
+using test::renderScene;
+using test::ssaoSettings;
+
+Settings method(Settings s, Mode m) {
+  s.mode = m;
+  return s;
+}
+
+TEST(TileRates, EdgeTileIsOneByOneItsNeighboursTwoByTwoTheRestFourByFour) {
+  ImageU8 e(80, 64);     // 5×4 tiles
+  e.at(37, 20) = 1;      // tile (2, 1)
+  const ImageU8 r = tileRates(e);
+  ASSERT_EQ(r.width, 5);
+  ASSERT_EQ(r.height, 4);
+  for (int ty = 0; ty < 4; ++ty)
+    for (int tx = 0; tx < 5; ++tx) {
+      const int expected = tx == 2 && ty == 1 ? 0 : (std::abs(tx - 2) <= 1 && std::abs(ty - 1) <= 1 ? 1 : 2);
+      EXPECT_EQ(r.at(tx, ty), expected) << "tile " << tx << "," << ty;
+    }
+}
+
+TEST(TileRates, PartialTilesAtThePaddedBorderCount) {
+  ImageU8 e(40, 24);  // 3×2 tiles, the last column and row partial
+  e.at(39, 23) = 1;
+  const ImageU8 r = tileRates(e);
+  ASSERT_EQ(r.width, 3);
+  ASSERT_EQ(r.height, 2);
+  EXPECT_EQ(r.at(2, 1), 0);
+  EXPECT_EQ(r.at(0, 0), 2);
+  EXPECT_EQ(r.at(1, 0), 1);
+}
+
+TEST(JointBilateral, WeightFollowsTheFormula) {
+  Constants::Bilateral b;
+  b.sigmaDepth = 0.05f;
+  b.normalPower = 16.0f;
+  const glm::vec3 n(0, 0, 1), tilted(0, std::sin(0.3f), std::cos(0.3f)), side(1, 0, 0);
+  EXPECT_FLOAT_EQ(jointBilateralWeight(0.25f, true, 2.0f, n, true, 2.0f, n, b), 0.25f);
+  // one σ_z·z_p of depth apart: e^{−1}
+  EXPECT_NEAR(jointBilateralWeight(0.25f, true, 2.0f, n, true, 2.1f, n, b), 0.25f * std::exp(-1.0f), 1e-6f);
+  EXPECT_NEAR(jointBilateralWeight(1.0f, true, 2.0f, n, true, 2.0f, tilted, b), std::pow(std::cos(0.3f), 16.0f), 1e-6f);
+  EXPECT_EQ(jointBilateralWeight(1.0f, true, 2.0f, n, true, 2.0f, side, b), 0.0f);    // perpendicular
+  EXPECT_EQ(jointBilateralWeight(1.0f, true, 2.0f, n, false, 0.0f, n, b), 0.0f);     // geometry vs background
+  EXPECT_EQ(jointBilateralWeight(1.0f, false, 0.0f, n, true, 2.0f, n, b), 0.0f);
+  EXPECT_FLOAT_EQ(jointBilateralWeight(0.5f, false, 0.0f, n, false, 0.0f, n, b), 0.5f);  // both background
+}
+
+TEST(JointBilateral, AllWeightsVanishingTakesTheNearestTap) {
+  Settings s = ssaoSettings(16, 16, 4, Mode::Uniform1);
+  const Constants c = makeConstants(s, 1.0f);
+  const LevelConstants& l1 = c.levels[1];
+  GBuffer full(16, 16), coarse(8, 8);
+  ImageF sub(8, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      sub.at(x, y) = static_cast<float>(10 * y + x);
+      coarse.hit.at(x, y) = 1;  // coarse is all geometry, p is background: every weight is 0
+      coarse.depth.at(x, y) = 1.0f;
+    }
+  float v = -1.0f;
+  jointBilateralAt(sub, coarse, full, l1, c.bilateral, 5, 9, &v);  // u = (2.25, 4.25): nearest (2, 4)
+  EXPECT_EQ(v, 42.0f);
+}
+
+TEST(Peers, OpenPlaneIsUnoccludedForEveryMethod) {
+  for (Mode m : kAllModes) {
+    SCOPED_TRACE(toString(m));
+    const auto r = renderScene("builtin:plane", method(ssaoSettings(64, 48, 16), m));
+    for (float v : r.frame.final().data) ASSERT_NEAR(v, 1.0f, 1e-6f);
+  }
+}
+
+TEST(Peers, TilesWithoutEdgesShadeEverythingAtFourByFour) {
+  const auto r = renderScene("builtin:plane", method(ssaoSettings(64, 48, 16), Mode::Tiles));
+  for (uint8_t rate : r.frame.tileRates.data) EXPECT_EQ(rate, 2);
+  EXPECT_EQ(r.frame.levels[0].shadedPixels, 0);
+  EXPECT_EQ(r.frame.levels[1].shadedPixels, 0);
+  EXPECT_EQ(r.frame.levels[2].shadedPixels, 16 * 12);
+  EXPECT_DOUBLE_EQ(r.frame.idealSpeedup, 16.0);
+}
+
+TEST(Peers, UniformShadesEveryPixelOfItsLevelAndNothingAtFullRes) {
+  for (auto [m, k] : {std::pair{Mode::Uniform1, 1}, std::pair{Mode::Uniform2, 2}}) {
+    const auto r = renderScene("builtin:demo", method(ssaoSettings(61, 37, 8), m));
+    const int s = 1 << k, w = (61 + s - 1) / s, h = (37 + s - 1) / s;
+    EXPECT_EQ(r.frame.levels[0].shadedPixels, 0);
+    EXPECT_EQ(r.frame.levels[static_cast<size_t>(k)].shadedPixels, w * h);
+    EXPECT_EQ(r.frame.shadedPixelsTotal, w * h);
+    EXPECT_FALSE(r.frame.levels[0].gbuffer.depth.empty()) << "the full-res G-buffer guides the upsampling";
+  }
+}
+
+TEST(Peers, TilesBroadcastTheirLevelsValueUnfiltered) {
+  const auto r = renderScene("builtin:demo", method(ssaoSettings(250, 150, 4), Mode::Tiles));
+  const FrameResult& f = r.frame;
+  int perRate[3] = {0, 0, 0};
+  for (int y = 0; y < 150; ++y)
+    for (int x = 0; x < 250; ++x) {
+      const int l = f.tileRates.at(x / kTileSize, y / kTileSize);
+      ++perRate[l];
+      const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+      ASSERT_EQ(lr.masks.stencil.at(x >> l, y >> l), 1) << "dead pixel " << x << "," << y;
+      ASSERT_EQ(f.final().at(x, y), lr.sub.at(x >> l, y >> l));
+      ASSERT_EQ(f.blend.levelMap.at(x, y), l);
+    }
+  for (int n : perRate) EXPECT_GT(n, 0) << "the demo has tiles of every rate";
+}
+
+TEST(Peers, SameBitsForOneAndTwoThreads) {
+  for (Mode m : {Mode::Uniform1, Mode::Uniform2, Mode::Tiles})
+    for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+      SCOPED_TRACE(toString(m) + " " + toString(e));
+      Settings s = defaultSettings(e);
+      s.width = 67;
+      s.height = 45;
+      s.setSamples(e == Effect::Ssm ? 16 : 8);
+      s.mode = m;
+      FrameResult one, two;
+      {
+        tbb::global_control g(tbb::global_control::max_allowed_parallelism, 1);
+        one = renderScene("builtin:demo", s).frame;
+      }
+      {
+        tbb::global_control g(tbb::global_control::max_allowed_parallelism, 2);
+        two = renderScene("builtin:demo", s).frame;
+      }
+      ASSERT_EQ(one.final().data, two.final().data);
+    }
+}
+
+TEST(Peers, ErrorAgainstFullIsFiniteAndOrdered) {
+  // On the demo, SSAO: uniform-2 shades 1/16 of the pixels and must be the least accurate;
+  // every method's error is finite and only full's is zero.
+  Settings s = ssaoSettings(160, 96, 16);
+  const auto full = renderScene("builtin:demo", method(s, Mode::Full));
+  double rms[5] = {};
+  for (Mode m : kAllModes) {
+    const auto r = renderScene("builtin:demo", method(s, m));
+    double sum = 0;
+    for (size_t i = 0; i < r.frame.final().data.size(); ++i) {
+      const double d = r.frame.final().data[i] - full.frame.final().data[i];
+      sum += d * d;
+    }
+    rms[static_cast<int>(m)] = std::sqrt(sum / static_cast<double>(r.frame.final().data.size()));
+    ASSERT_TRUE(std::isfinite(rms[static_cast<int>(m)]));
+  }
+  EXPECT_EQ(rms[static_cast<int>(Mode::Full)], 0.0);
+  for (Mode m : {Mode::Multires, Mode::Uniform1, Mode::Tiles}) EXPECT_GT(rms[static_cast<int>(m)], 0.0);
+  EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Uniform1)]);
+  EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Multires)]);
+}
+
+// SPEC §11: the decision, both ways, and a fallen-back frame is the full frame bit for bit.
+TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
+  SceneRequest req;
+  req.scene = "builtin:demo";
+  const ResolvedScene rs = resolveScene(req);
+  const Renderer renderer(rs.scene);
+  Settings s = ssaoSettings(96, 64, 8);
+  s.neverSlower = true;
+  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const FrameResult full = renderer.render(rs.camera, makeConstants(method(s, Mode::Full), rs.scene.bounds().diagonal()));
+
+  CostModel costly = CostModel::defaults("cpu");
+  costly.nsPerBlendPixel = 1e6;  // a blend dearer than shading every pixel
+  const FrameResult fell = renderer.render(rs.camera, c, {true, {}, &costly});
+  EXPECT_TRUE(fell.fallback.evaluated);
+  EXPECT_TRUE(fell.fallback.fellBack);
+  EXPECT_GT(fell.fallback.predictedMultiresMs, fell.fallback.predictedFullMs);
+  EXPECT_EQ(fell.final().data, full.final().data) << "a fallen-back frame is the full frame";
+  EXPECT_DOUBLE_EQ(fell.idealSpeedup, 1.0);
+  EXPECT_FALSE(fell.edges.combined.empty()) << "its edges are kept for debugging";
+
+  CostModel free = CostModel::defaults("cpu");
+  free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = 0.0;
+  const FrameResult kept = renderer.render(rs.camera, c, {true, {}, &free});
+  EXPECT_FALSE(kept.fallback.fellBack);
+  EXPECT_GT(kept.idealSpeedup, 1.2);
+  EXPECT_NE(kept.final().data, full.final().data);
+
+  s.neverSlower = false;
+  const FrameResult off = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()), {true, {}, &costly});
+  EXPECT_FALSE(off.fallback.evaluated);
+  EXPECT_GT(off.idealSpeedup, 1.2);
+}
+
+TEST(NeverSlower, PredictionCountsShadedPixelsCoarseGbuffersAndBlend) {
+  CostModel m;
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0};
+  m.nsPerCoarseGbufferPixel = 3.0;
+  m.nsPerBlendPixel = 5.0;
+  const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
+  // full: 2048 px × (10 + 16) + 2048 × 2
+  EXPECT_NEAR(predictFullMs(m, c), (2048.0 * 26 + 2048.0 * 2) * 1e-6, 1e-12);
+  const std::array<long long, kLevelCount> shaded = {100, 50, 20, 32};
+  // shaded × 26 + level pixels × 2 + coarse G-buffers × 3 + blend 2048 × 5
+  const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
+  EXPECT_NEAR(predictMultiresMs(m, c, shaded), (202.0 * 26 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6, 1e-12);
+}
+
+TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
+  const CostModel m = CostModel::defaults("gpu");
+  const CostModel back = CostModel::fromJson(m.toJson());
+  EXPECT_EQ(back.toJson(), m.toJson());
+  nlohmann::json broken = m.toJson();
+  broken.erase("ns_per_blend_pixel");
+  EXPECT_THROW(CostModel::fromJson(broken), MrrError);
+}
+
+}  // namespace
+}  // namespace mrr
+
+namespace mrr {
+namespace {
+
+double edgeFraction(const FrameResult& f) {
+  return static_cast<double>(test::countSet(f.edges.combined)) / static_cast<double>(f.edges.combined.data.size());
+}
+
+// The stress scenes model one failure each (issue 7); these pin down that they do.
+TEST(StressScenes, AllEdgesIsEdgesEverywhereAndTheRuleFallsBack) {
+  Settings s = ssaoSettings(320, 180, 16);
+  const auto off = renderScene("builtin:alledges", s);
+  EXPECT_GT(edgeFraction(off.frame), 0.9);
+  EXPECT_LT(off.frame.idealSpeedup, 1.1);
+  s.neverSlower = true;
+  const auto on = renderScene("builtin:alledges", s);
+  EXPECT_TRUE(on.frame.fallback.fellBack) << "predicted " << on.frame.fallback.predictedMultiresMs << " vs "
+                                          << on.frame.fallback.predictedFullMs << " ms";
+}
+
+TEST(StressScenes, BumpyNormalsMultiplyTheEdges) {
+  const Settings s = ssaoSettings(320, 180, 8);
+  const double bumpy = edgeFraction(renderScene("builtin:bumpy", s).frame);
+  const double demo = edgeFraction(renderScene("builtin:demo", s).frame);
+  EXPECT_GT(bumpy, 0.4);
+  EXPECT_GT(bumpy, 3.0 * demo);
+}
+
+TEST(StressScenes, WiresThinnerThanACoarsePixelAreShadedAtFullRes) {
+  const auto r = renderScene("builtin:wires", ssaoSettings(320, 180, 8));
+  const FrameResult& f = r.frame;
+  // Rails are ~1 full-res pixel thick: their silhouettes are edges, and every edge pixel is in S_0.
+  EXPECT_GT(test::countSet(f.edges.combined), 200);
+  for (size_t i = 0; i < f.edges.combined.data.size(); ++i)
+    if (f.edges.combined.data[i]) ASSERT_TRUE(f.levels[0].masks.stencil.data[i]);
+  EXPECT_GT(f.idealSpeedup, 2.0) << "the open floor is still shaded coarsely";
+}
+
+}  // namespace
+}  // namespace mrr

@@ -287,20 +287,42 @@ int run(int argc, char** argv) {
   compare->add_option("--report", compareReportDir, "also write a self-contained HTML report into this folder");
 
   BenchOptions benchOpts;
-  std::vector<std::string> benchSizes;
-  bool quick = false;
-  auto* bench = app.add_subcommand("bench", "the oracle's speed/accuracy benchmark (full vs multires, side by side)");
-  bench->add_option("--scenes", benchOpts.scenes, "scenes to run")->capture_default_str();
-  bench->add_option("--sizes", benchSizes, "sizes WxH (default 1280x720 1920x1080)");
+  std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
+  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut;
+  bool quick = false, noSweeps = false;
+  int glDevice = -1;
+  auto* bench = app.add_subcommand(
+      "bench", "speed against accuracy: every method against full, side by side; charts, stability, stress scenes");
+  bench->add_option("--paths", benchPaths, "cpu (the oracle) and/or gpu (the port)")->capture_default_str();
+  bench->add_option("--gl-device", glDevice, "gpu: the EGL device index");
+  bench->add_option("--scenes", benchOpts.scenes, "scenes of the main sweep")->capture_default_str();
+  bench->add_option("--sizes", benchSizes, "sizes WxH of the main sweep (default 1280x720)");
   bench->add_option("--effects", benchOpts.effects, "effects: ssao ssm ssgi")->capture_default_str();
   bench->add_option("--samples", benchOpts.samples,
-                    "sample counts for every effect (default per effect: ssao 16 64 256, ssm 100 196 324, ssgi 24 80 288)");
-  bench->add_flag("--no-scaling", [&](int64_t) { benchOpts.scaling = false; }, "skip the 1-thread runs");
+                    "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
+  bench->add_option("--methods", benchOpts.methods, "methods: full uniform-1 uniform-2 tiles mrr")->capture_default_str();
+  bench->add_option("--cameras", benchOpts.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   bench->add_option("--repeats", benchOpts.repeats, "timed repeats per configuration")->capture_default_str();
-  bench->add_option("--threads", benchOpts.threads, "threads (0 = all cores)");
-  bench->add_option("--json", benchOpts.jsonOut, "write all figures as JSON");
+  bench->add_option("--threads", benchOpts.threads, "the oracle's threads (0 = all cores)");
+  bench->add_flag("--no-sweeps", noSweeps, "skip the paper's sweeps (samples, resolution)");
+  bench->add_option("--sweep-size", benchSweepSize, "size of the samples sweep (default 1280x720)");
+  bench->add_option("--resolutions", benchResolutions, "sizes of the resolution sweep (default 1280x720 1920x1080)");
+  bench->add_option("--frames", benchOpts.frames, "frames per camera path (0: no stability runs)")->capture_default_str();
+  bench->add_option("--stability-size", benchStabilitySize, "size of the camera-path frames (default 320x180)");
+  bench->add_option("--stability-scenes", benchOpts.stabilityScenes, "scenes of the camera paths")->capture_default_str();
+  bench->add_option("--stress-scenes", benchOpts.stressScenes, "stress scenes")->capture_default_str();
+  bench->add_option("--stress-size", benchStressSize, "size of the stress runs (default 1280x720)");
+  bench->add_option("--json", benchOpts.jsonOut, "write every figure as JSON");
+  bench->add_option("--csv", benchOpts.csvOut, "write every run as CSV");
   bench->add_option("--markdown", benchOpts.markdownOut, "write the tables as Markdown");
-  bench->add_flag("--quick", quick, "built-in demo scene at 320x180, 16 and 64 samples, 1 repeat (seconds)");
+  bench->add_option("--report", benchOpts.reportDir, "write an HTML page with the charts, tables and images into DIR");
+  bench->add_flag("--check", benchOpts.check, "exit 1 when a sanity check fails");
+  bench->add_option("--calibrate", calibrateOut,
+                    "measure the never-slower rule's costs on each --paths path and write them as JSON (FILE, "
+                    "or FILE with {path} replaced)");
+  bench->add_flag("--quick", quick,
+                  "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 1 repeat, small sweeps, "
+                  "8-frame paths at 96x54, stress scenes at 160x90");
 
   try {
     app.parse(argc, argv);
@@ -309,21 +331,46 @@ int run(int argc, char** argv) {
   }
 
   if (*bench) {
-    if (quick) {  // defaults for a run of seconds; options given explicitly still win
-      if (!bench->count("--scenes")) benchOpts.scenes = {"builtin:demo"};
+    if (quick) {  // defaults for a run of minutes; options given explicitly still win
+      if (!bench->count("--scenes")) benchOpts.scenes = {"builtin:demo", "arcade"};
       if (!bench->count("--sizes")) benchOpts.sizes = {{320, 180}};
-      if (!bench->count("--samples")) benchOpts.samples = {16, 64};
+      if (!bench->count("--samples")) benchOpts.samples = {16};
+      if (!bench->count("--cameras")) benchOpts.cameras = 2;
       if (!bench->count("--repeats")) benchOpts.repeats = 1;
+      if (!bench->count("--sweep-size")) benchOpts.sweepSize = {160, 90};
+      if (!bench->count("--resolutions")) benchOpts.resolutions = {{96, 54}, {160, 90}};
+      benchOpts.ssaoSweep = {8, 16};
+      benchOpts.ssmSweep = {16, 36};
+      benchOpts.ssgiSweep = {8, 16};
+      if (!bench->count("--frames")) benchOpts.frames = 8;
+      if (!bench->count("--stability-size")) benchOpts.stabilitySize = {96, 54};
+      if (!bench->count("--stability-scenes")) benchOpts.stabilityScenes = {"builtin:demo"};
+      if (!bench->count("--stress-size")) benchOpts.stressSize = {160, 90};
     }
     if (!benchSizes.empty()) {
       benchOpts.sizes.clear();
       for (const auto& s : benchSizes) benchOpts.sizes.push_back(parseSize(s));
     }
+    if (!benchResolutions.empty()) {
+      benchOpts.resolutions.clear();
+      for (const auto& s : benchResolutions) benchOpts.resolutions.push_back(parseSize(s));
+    }
+    if (!benchSweepSize.empty()) benchOpts.sweepSize = parseSize(benchSweepSize);
+    if (!benchStabilitySize.empty()) benchOpts.stabilitySize = parseSize(benchStabilitySize);
+    if (!benchStressSize.empty()) benchOpts.stressSize = parseSize(benchStressSize);
+    benchOpts.paperSweeps = !noSweeps;
     require(benchOpts.repeats >= 1 && benchOpts.repeats <= 100, "--repeats: must be in [1, 100]");
-    for (const auto& [w, h] : benchOpts.sizes)
+    require(benchOpts.cameras >= 1 && benchOpts.cameras <= 64, "--cameras: must be in [1, 64]");
+    require(benchOpts.frames == 0 || (benchOpts.frames >= 2 && benchOpts.frames <= 10000),
+            "--frames: must be 0 or in [2, 10000]");
+    std::vector<std::pair<int, int>> allSizes = benchOpts.sizes;
+    allSizes.insert(allSizes.end(), benchOpts.resolutions.begin(), benchOpts.resolutions.end());
+    for (const auto& sz : {benchOpts.sweepSize, benchOpts.stabilitySize, benchOpts.stressSize}) allSizes.push_back(sz);
+    for (const auto& [w, h] : allSizes)
       require(w >= 1 && h >= 1 && w <= kMaxImageSize && h <= kMaxImageSize,
               "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
                   std::to_string(kMaxImageSize) + "]");
+    for (const std::string& m : benchOpts.methods) parseMode(m);  // validates the name
     for (const std::string& e : benchOpts.effects) {
       Settings probeSettings = defaultSettings(parseEffect(e));  // validates the name
       for (int n : benchOpts.samples) {
@@ -331,11 +378,53 @@ int run(int argc, char** argv) {
         validateSettings(probeSettings);
       }
     }
+    for (const std::string& p : benchPaths)
+      require(p == "cpu" || p == "gpu", "--paths " + p + ": unknown path (expected cpu or gpu)");
     require(benchOpts.threads >= 0 && benchOpts.threads <= 1024, "--threads: must be in [0, 1024]");
     if (!benchOpts.jsonOut.empty()) checkOutput(benchOpts.jsonOut, "--json", {".json"});
     if (!benchOpts.markdownOut.empty()) checkOutput(benchOpts.markdownOut, "--markdown", {".md"});
-    requireDistinct({{"--json", benchOpts.jsonOut}, {"--markdown", benchOpts.markdownOut}});
-    return runBench(benchOpts, std::cout);
+    if (!benchOpts.csvOut.empty()) checkOutput(benchOpts.csvOut, "--csv", {".csv"});
+    if (!benchOpts.reportDir.empty()) {
+      std::error_code ec;  // the folder itself is made when its parent exists; else the check names it
+      if (!std::filesystem::exists(benchOpts.reportDir) &&
+          std::filesystem::is_directory(std::filesystem::absolute(benchOpts.reportDir).parent_path()))
+        std::filesystem::create_directory(benchOpts.reportDir, ec);
+    }
+    if (!benchOpts.reportDir.empty())
+      checkOutputLocation((std::filesystem::path(benchOpts.reportDir) / "index.html").string(), "--report");
+    requireDistinct({{"--json", benchOpts.jsonOut}, {"--markdown", benchOpts.markdownOut}, {"--csv", benchOpts.csvOut}});
+    // The paths, each behind a RenderFn; the GL context is made once and shared by every scene.
+    const int threads = threadCount(benchOpts.threads);
+    std::vector<BenchPath> paths;
+    for (const std::string& p : benchPaths) {
+      if (p == "cpu") {
+        paths.push_back({"cpu", "cpu_ref (oracle), " + std::to_string(threads) + " threads on " + cpuModelName(),
+                         [](const Scene& scene) -> RenderFn {
+                           auto r = std::make_shared<Renderer>(scene);
+                           return [r](const Camera& c, const Constants& k, const RenderOptions& o) { return r->render(c, k, o); };
+                         }});
+      } else {
+        // Probe the context up front, so a missing EGL device is one line before any work.
+        const std::string renderer = gpu::GlContext(glDevice).renderer();
+        paths.push_back({"gpu", "OpenGL 3.3 port on " + renderer + " (glFinish + wall clock per stage, readbacks included)",
+                         [glDevice](const Scene& scene) -> RenderFn {
+                           auto r = std::make_shared<gpu::GpuRenderer>(scene, glDevice);
+                           return [r](const Camera& c, const Constants& k, const RenderOptions& o) { return r->render(c, k, o); };
+                         }});
+      }
+    }
+    if (!calibrateOut.empty()) {
+      for (const BenchPath& p : paths) {
+        std::string file = calibrateOut;
+        if (const auto at = file.find("{path}"); at != std::string::npos) file.replace(at, 6, p.name);
+        checkOutput(file, "--calibrate", {".json"});
+        const CostModel model = calibrateCostModel(p, benchOpts.repeats, threads);
+        writeTextFile(file, model.toJson().dump(2) + "\n");
+        std::cout << p.name << ": " << model.toJson().dump() << "\n";
+      }
+      return 0;
+    }
+    return runBench(benchOpts, paths, std::cout);
   }
 
   if (*compare) return runCompare(compareOpts, compareReportDir);

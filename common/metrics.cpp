@@ -357,4 +357,24 @@ ErrorFigures compareToReference(const ImageF& test, const ImageF& ref, const Ima
   return figures;
 }
 
+void FlickerMeter::add(const ImageF& test, const ImageF& ref) {
+  require(test.width == ref.width && test.height == ref.height && test.channels == ref.channels,
+          "flicker: the frame and its reference differ in size");
+  ImageF error(test.width, test.height, test.channels);
+  for (size_t i = 0; i < error.data.size(); ++i) error.data[i] = test.data[i] - ref.data[i];
+  if (frames_ > 0) {
+    require(previousError_.data.size() == error.data.size(), "flicker: frames of a path differ in size");
+    for (size_t i = 0; i < error.data.size(); ++i)
+      sum_ += std::abs(static_cast<double>(error.data[i]) - static_cast<double>(previousError_.data[i]));
+    count_ += static_cast<int64_t>(error.data.size());
+  }
+  rmsSum_ += rmsError(test, ref);
+  previousError_ = std::move(error);
+  ++frames_;
+}
+
+double FlickerMeter::flicker() const { return count_ > 0 ? sum_ / static_cast<double>(count_) : 0.0; }
+
+double FlickerMeter::meanRms() const { return frames_ > 0 ? rmsSum_ / frames_ : 0.0; }
+
 }  // namespace mrr

@@ -33,4 +33,22 @@ double maskedRms(const ImageF& test, const ImageF& ref, const ImageU8& band);
 // All figures at once; `labels` is the per-pixel finest contributing level (pipeline output).
 ErrorFigures compareToReference(const ImageF& test, const ImageF& ref, const ImageU8& labels);
 
+// Temporal stability along a camera path (SPEC §10): flicker = mean over t ≥ 1 and every
+// pixel and channel of |(X_t − R_t) − (X_{t−1} − R_{t−1})|, the frame-to-frame change of the
+// error against the reference R; 0 when a method's error is steady, whatever the scene does.
+// Frames are added in path order; only the previous frame's error is kept.
+class FlickerMeter {
+ public:
+  void add(const ImageF& test, const ImageF& ref);
+  double flicker() const;          // 0 before two frames
+  int frames() const { return frames_; }
+  double meanRms() const;          // the mean per-frame RMS against R, for the same table
+
+ private:
+  ImageF previousError_;
+  double sum_ = 0.0, rmsSum_ = 0.0;
+  int64_t count_ = 0;
+  int frames_ = 0;
+};
+
 }  // namespace mrr

@@ -1,75 +1,42 @@
 #include "compare/bench.h"
 
 #include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <sstream>
 #include <thread>
-#include <tuple>
 
+#include "common/error.h"
 #include "common/image_io.h"
+#include "compare/bench_report.h"
 #include "compare/report.h"
+#include "scenes/cameras.h"
 #include "scenes/catalog.h"
 
 namespace mrr {
 
 namespace {
 
-struct Timed {
-  FrameResult frame;                        // the last repeat's frame
-  std::map<std::string, double> medianMs;   // per stage (and "total")
-};
-
 double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Renders the two modes alternately, `repeats` times each after one warm-up of each, so
-// that drift in the machine (other load, frequency, memory) hits both alike; the ratio of
-// medians is then a side-by-side figure.
-std::pair<Timed, Timed> timedPair(const Renderer& r, const Camera& cam, const Constants& a, const Constants& b,
-                                  int repeats) {
-  Timed ta, tb;
-  std::map<std::string, std::vector<double>> sa, sb;
-  for (int i = 0; i <= repeats; ++i)
-    for (auto [c, t, s] : {std::tuple{&a, &ta, &sa}, std::tuple{&b, &tb, &sb}}) {
-      FrameResult f = r.render(cam, *c, {false, {}});
-      if (i == 0) continue;  // warm-up
-      std::map<std::string, double> perStage;
-      for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
-      for (const auto& [k, v] : perStage) (*s)[k].push_back(v);
-      if (i == repeats) t->frame = std::move(f);  // keep only the last: the heap stays one frame big
-    }
-  for (auto& [k, v] : sa) ta.medianMs[k] = median(v);
-  for (auto& [k, v] : sb) tb.medianMs[k] = median(v);
-  return {std::move(ta), std::move(tb)};
-}
-
 // The method's own cost: everything but the full-res G-buffer, which a deferred renderer
-// has anyway and both modes share.
+// has anyway and every method shares.
 double effectMs(const std::map<std::string, double>& ms) {
   const auto total = ms.find("total"), g0 = ms.find("gbuffer.L0");
-  return total->second - (g0 != ms.end() ? g0->second : 0.0);
-}
-
-std::string machineName() {
-  std::ifstream cpu("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(cpu, line))
-    if (line.rfind("model name", 0) == 0) {
-      const auto p = line.find(':');
-      return line.substr(p + 2);
-    }
-  return "unknown CPU";
+  return (total != ms.end() ? total->second : 0.0) - (g0 != ms.end() ? g0->second : 0.0);
 }
 
 std::string fixed(double v, int digits) {
@@ -78,118 +45,336 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
+std::string sizeName(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+// A method as the bench names it: the five of SPEC §9, and "mrr-norule", the method with the
+// never-slower rule off (SPEC §11), shown beside it on the stress scenes.
+Settings settingsFor(const std::string& method, Effect effect, int w, int h, int samples) {
+  Settings s = defaultSettings(effect);
+  s.width = w;
+  s.height = h;
+  s.setSamples(samples);
+  s.neverSlower = method != "mrr-norule";
+  s.mode = parseMode(method == "mrr-norule" ? "mrr" : method);
+  return s;
+}
+
+int middleSamples(Effect e) { return e == Effect::Ssm ? 196 : e == Effect::Ssgi ? 288 : 64; }
+
+// One scene opened on one path: the scene, its default camera and its renderer.
+struct OpenScene {
+  std::string name;
+  std::unique_ptr<Scene> scene;
+  Camera camera;
+  RenderFn render;
+};
+
+OpenScene openScene(const std::string& name, const BenchPath& path) {
+  OpenScene o;
+  o.name = name;
+  SceneRequest req;
+  req.scene = name;
+  ResolvedScene rs = resolveScene(req);
+  o.scene = std::make_unique<Scene>(std::move(rs.scene));
+  o.camera = rs.camera;
+  o.render = path.open(*o.scene);
+  return o;
+}
+
+struct Progress {
+  size_t done = 0, total = 0;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  void step(const std::string& what) {
+    ++done;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "[bench] " << done << "/" << total << "  " << what << "  (" << fixed(s, 0) << " s)\n";
+  }
+};
+
+class Sweep {
+ public:
+  Sweep(const BenchOptions& o, std::vector<BenchRecord>& records) : o_(o), records_(records) {}
+
+  // Renders full and every method on one camera and setting, alternating, `repeats` times
+  // after a warm-up, and records each. Returns the frames of the last repeat, by method.
+  std::map<std::string, FrameResult> measure(const BenchPath& path, const OpenScene& sc, int cameraIndex,
+                                             const Camera& camera, Effect effect, int w, int h, int samples,
+                                             const std::vector<std::string>& methods, const std::string& group) {
+    std::vector<std::string> all = {"full"};
+    for (const std::string& m : methods)
+      if (m != "full") all.push_back(m);
+    std::map<std::string, std::map<std::string, std::vector<double>>> stageRuns;
+    std::map<std::string, FrameResult> last;
+    FrameResult firstFull;
+    const float diagonal = sc.scene->bounds().diagonal();
+    for (int i = 0; i <= o_.repeats; ++i)
+      for (const std::string& m : all) {
+        const Constants c = makeConstants(settingsFor(m, effect, w, h, samples), diagonal);
+        FrameResult f = sc.render(camera, c, {false, {}, nullptr});
+        if (i == 0) {  // warm-up; full's is kept to check that repeats give the same bits
+          if (m == "full") firstFull = std::move(f);
+          continue;
+        }
+        std::map<std::string, double> perStage;
+        for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
+        for (const auto& [k, v] : perStage) stageRuns[m][k].push_back(v);
+        if (i == o_.repeats) last[m] = std::move(f);
+      }
+    const FrameResult& full = last.at("full");
+    std::map<std::string, double> fullMedian;
+    for (const auto& [k, v] : stageRuns["full"]) fullMedian[k] = median(v);
+    const double fullEffect = effectMs(fullMedian);
+    for (const std::string& m : all) {
+      BenchRecord r;
+      r.path = path.name;
+      r.scene = sc.name;
+      r.camera = cameraIndex;
+      r.group = group;
+      r.method = m;
+      r.effect = toString(effect);
+      r.width = w;
+      r.height = h;
+      r.samples = samples;
+      for (const auto& [k, v] : stageRuns[m]) r.stageMs[k] = median(v);
+      r.effectMs = effectMs(r.stageMs);
+      r.totalMs = r.stageMs["total"];
+      const FrameResult& f = last.at(m);
+      r.shadedPixels = f.shadedPixelsTotal;
+      r.idealSpeedup = f.idealSpeedup;
+      r.measuredSpeedup = fullEffect / std::max(r.effectMs, 1e-9);
+      r.fullEffectMs = fullEffect;
+      r.fellBack = f.fallback.fellBack;
+      // full against its own warm-up frame: 0 exactly when repeats give the same bits
+      const FrameErrors e = errorVsFull(f, m == "full" ? firstFull : full);
+      r.error = e.effect;
+      r.shadedRms = e.shaded.rms;
+      records_.push_back(r);
+    }
+    return last;
+  }
+
+ private:
+  const BenchOptions& o_;
+  std::vector<BenchRecord>& records_;
+};
+
+void writeExampleImages(const std::string& dir, const std::map<std::string, FrameResult>& frames) {
+  std::filesystem::create_directories(dir);
+  const FrameResult& full = frames.at("full");
+  for (const auto& [m, f] : frames) {
+    writeImage(dir + "/" + m + ".png", f.final(), {}, false);
+    writeImage(dir + "/" + m + "-shaded.png", f.shaded, {}, true);
+    ImageF diff(f.final().width, f.final().height, 1);
+    for (int y = 0; y < diff.height; ++y)
+      for (int x = 0; x < diff.width; ++x) {
+        float d = 0.0f;
+        for (int ch = 0; ch < f.final().channels; ++ch) d = std::max(d, std::abs(f.final().at(x, y, ch) - full.final().at(x, y, ch)));
+        diff.at(x, y) = std::min(1.0f, 10.0f * d);
+      }
+    writeImage(dir + "/" + m + "-diff10.png", diff, {}, false);
+  }
+}
+
+std::vector<Effect> parseEffects(const std::vector<std::string>& names) {
+  std::vector<Effect> out;
+  for (const std::string& e : names) out.push_back(parseEffect(e));
+  return out;
+}
+
 }  // namespace
 
-int runBench(const BenchOptions& o, std::ostream& out) {
+std::string cpuModelName() {
+  std::ifstream cpu("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpu, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
+  const OpenScene sc = openScene("builtin:demo", path);
+  const int w = 640, h = 360;
+  const float diagonal = sc.scene->bounds().diagonal();
+  auto medians = [&](const Settings& s) {
+    std::map<std::string, std::vector<double>> runs;
+    for (int i = 0; i <= repeats; ++i) {
+      const FrameResult f = sc.render(sc.camera, makeConstants(s, diagonal), {false, {}, nullptr});
+      if (i == 0) continue;
+      std::map<std::string, double> perStage;
+      for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
+      for (const auto& [k, v] : perStage) runs[k].push_back(v);
+    }
+    std::map<std::string, double> m;
+    for (const auto& [k, v] : runs) m[k] = median(v);
+    return m;
+  };
+  CostModel model;
+  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo 640x360";
+  const double pixels = static_cast<double>(w) * h;
+  std::vector<double> coarseNs, blendNs;
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+    const int n1 = e == Effect::Ssm ? 16 : 8, n2 = e == Effect::Ssm ? 256 : e == Effect::Ssgi ? 128 : 128;
+    std::cerr << "[calibrate] " << path.name << " " << toString(e) << " full at " << n1 << " and " << n2 << " samples\n";
+    Settings s = settingsFor("full", e, w, h, n1);
+    const auto m1 = medians(s);
+    s.setSamples(n2);
+    const auto m2 = medians(s);
+    auto shade = [&](const std::map<std::string, double>& m) {
+      double ms = 0;
+      for (const auto& [k, v] : m)
+        if (k.rfind("effect.", 0) == 0 || k.rfind("bilateral.", 0) == 0) ms += v;
+      return ms;
+    };
+    auto perLevel = [&](const std::map<std::string, double>& m) {
+      double ms = 0;
+      for (const auto& [k, v] : m)
+        if (k.rfind("planes.", 0) == 0 || k.rfind("direct.", 0) == 0) ms += v;
+      return ms;
+    };
+    EffectCost& ec = model.effect[static_cast<size_t>(e)];
+    const double t1 = shade(m1) * 1e6 / pixels, t2 = shade(m2) * 1e6 / pixels;  // ns per pixel
+    ec.nsPerSample = std::max(0.0, (t2 - t1) / (n2 - n1));
+    ec.nsPerShadedPixel = std::max(0.0, t1 - ec.nsPerSample * n1);
+    ec.nsPerLevelPixel = 0.5 * (perLevel(m1) + perLevel(m2)) * 1e6 / pixels;
+    std::cerr << "[calibrate] " << path.name << " " << toString(e) << " mrr (rule off)\n";
+    Settings sm = settingsFor("mrr-norule", e, w, h, n1);
+    const Constants cm = makeConstants(sm, diagonal);
+    const auto mm = medians(sm);
+    double coarsePixels = 0, coarseMs = 0;
+    for (const LevelConstants& lc : cm.levels)
+      if (lc.enabled && lc.index > 0) {
+        coarsePixels += static_cast<double>(lc.width) * lc.height;
+        coarseMs += mm.count("gbuffer.L" + std::to_string(lc.index)) ? mm.at("gbuffer.L" + std::to_string(lc.index)) : 0.0;
+      }
+    if (coarsePixels > 0) coarseNs.push_back(coarseMs * 1e6 / coarsePixels);
+    blendNs.push_back(mm.at("blend") * 1e6 / pixels);
+  }
+  model.nsPerCoarseGbufferPixel = median(coarseNs);
+  model.nsPerBlendPixel = median(blendNs);
+  return model;
+}
+
+int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths, std::ostream& out) {
+  BenchOptions o = optionsIn;
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int threads = o.threads > 0 ? o.threads : hw;
-  nlohmann::json runs = nlohmann::json::array();
-  std::ostringstream md;
-  md << "Machine: " << machineName() << ", " << hw << " hardware threads; oracle (cpu_ref), " << threads
-     << " threads; median of " << o.repeats << " repeats after 1 warm-up, full and multires alternating.\n"
-     << "Effect time = frame time minus the full-res G-buffer (shared by both modes). "
-     << "Measured speedup = full effect time / multires effect time; ideal = W*H / shaded pixels.\n\n";
-  md << "| scene | effect | size | samples | full ms | multires ms | measured | ideal | measured/ideal | RMS | PSNR | SSIM | edge-band RMS | Mrays/s |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::ostringstream stagesMd, scalingMd;
-  stagesMd << "| scene | effect | size | samples | mode | stage medians (ms) |\n|---|---|---|---|---|---|\n";
-  scalingMd << "| scene | effect | size | samples | mode | 1 thread ms | " << threads
-            << " threads ms | scaling |\n|---|---|---|---|---|---|---|---|\n";
-  auto samplesFor = [&](Effect e) {
-    if (!o.samples.empty()) return o.samples;
-    switch (e) {
-      case Effect::Ssm: return std::vector<int>{100, 196, 324};
-      case Effect::Ssgi: return std::vector<int>{24, 80, 288};
-      case Effect::Ssao: break;
-    }
-    return std::vector<int>{16, 64, 256};
-  };
-  std::vector<Effect> effects;
-  for (const std::string& e : o.effects) effects.push_back(parseEffect(e));
-  size_t perScene = 0;
-  for (Effect e : effects) perScene += samplesFor(e).size();
+  if (o.machine.empty()) o.machine = cpuModelName() + ", " + std::to_string(hw) + " hardware threads";
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  const std::vector<Effect> effects = parseEffects(o.effects);
+  std::vector<BenchRecord> records;
+  std::vector<StabilityRecord> stability;
+  Sweep sweep(o, records);
+  std::map<std::string, std::string> devices;
+  for (const BenchPath& p : paths) devices[p.name] = p.device;
 
-  const size_t totalSteps = o.scenes.size() * o.sizes.size() * perScene;
-  size_t step = 0;
-  for (const std::string& sceneName : o.scenes) {
-    SceneRequest req;
-    req.scene = sceneName;
-    std::cerr << "[bench] loading " << sceneName << "\n";
-    ResolvedScene rs = resolveScene(req);
-    std::unique_ptr<Renderer> renderer;
-    {
-      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-      renderer = std::make_unique<Renderer>(rs.scene);
+  // Count the steps for the progress lines.
+  Progress progress;
+  const size_t perPath = o.scenes.size() * static_cast<size_t>(o.cameras) * o.sizes.size() *
+                         (o.samples.empty() ? effects.size() : effects.size() * o.samples.size());
+  size_t sweeps = 0;
+  if (o.paperSweeps) {
+    for (Effect e : effects) sweeps += (e == Effect::Ssao ? o.ssaoSweep : e == Effect::Ssm ? o.ssmSweep : o.ssgiSweep).size();
+    sweeps += effects.size() * o.resolutions.size();
+  }
+  const size_t stab = o.frames > 0 ? o.stabilityScenes.size() * o.stabilityEffects.size() * cameraPathKinds().size() : 0;
+  const size_t stress = o.stressScenes.size() * effects.size();
+  progress.total = paths.size() * (perPath + sweeps + stab + stress);
+
+  std::string examplesDone;
+  for (const BenchPath& path : paths) {
+    // 1. The main sweep: every method on every scene, camera, size, effect and sample count.
+    for (const std::string& sceneName : o.scenes) {
+      std::cerr << "[bench] " << path.name << ": loading " << sceneName << "\n";
+      const OpenScene sc = openScene(sceneName, path);
+      const std::vector<Camera> cams = benchCameras(sc.camera, o.cameras);
+      for (int ci = 0; ci < o.cameras; ++ci)
+        for (const auto& [w, h] : o.sizes)
+          for (Effect e : effects) {
+            const std::vector<int> counts = o.samples.empty() ? std::vector<int>{middleSamples(e)} : o.samples;
+            for (int n : counts) {
+              progress.step(path.name + " " + sceneName + " camera " + std::to_string(ci) + " " + sizeName(w, h) + " " +
+                            toString(e) + "-" + std::to_string(n));
+              const auto frames = sweep.measure(path, sc, ci, cams[static_cast<size_t>(ci)], e, w, h, n, o.methods, "main");
+              // Example images of each method on the same frame, once per path and effect.
+              const std::string key = path.name + "/" + toString(e);
+              if (!o.reportDir.empty() && examplesDone.find("[" + key + "]") == std::string::npos) {
+                writeExampleImages(o.reportDir + "/images/" + path.name + "-" + toString(e), frames);
+                examplesDone += "[" + key + "]";
+              }
+            }
+          }
     }
-    const float diag = rs.scene.bounds().diagonal();
-    for (Effect effect : effects)
-    for (const auto& [w, h] : o.sizes) {
-      const std::vector<int> counts = samplesFor(effect);
-      for (int n : counts) {
-        ++step;
-        const std::string eff = toString(effect);
-        std::cerr << "[bench] " << step << "/" << totalSteps << "  " << sceneName << " " << w << "x" << h << " " << eff
-                  << "-" << n << "\n";
-        Settings s = defaultSettings(effect);
-        s.width = w;
-        s.height = h;
-        s.setSamples(n);
-        Settings sFull = s;
-        sFull.mode = Mode::Full;
-        const Constants cm = makeConstants(s, diag), cf = makeConstants(sFull, diag);
-        Timed full, multi;
-        {
-          tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-          std::tie(full, multi) = timedPair(*renderer, rs.camera, cf, cm, o.repeats);
+    // 2. The paper's sweeps on the first scene's first camera.
+    if (o.paperSweeps && !o.scenes.empty()) {
+      const OpenScene sc = openScene(o.scenes.front(), path);
+      for (Effect e : effects) {
+        const std::vector<int>& counts = e == Effect::Ssao ? o.ssaoSweep : e == Effect::Ssm ? o.ssmSweep : o.ssgiSweep;
+        for (int n : counts) {
+          progress.step(path.name + " samples sweep " + sc.name + " " + sizeName(o.sweepSize.first, o.sweepSize.second) +
+                        " " + toString(e) + "-" + std::to_string(n));
+          sweep.measure(path, sc, 0, sc.camera, e, o.sweepSize.first, o.sweepSize.second, n, o.methods, "samples");
         }
-        const ErrorFigures err = errorVsFull(multi.frame, full.frame).effect;
-        const double fullMs = effectMs(full.medianMs), multiMs = effectMs(multi.medianMs);
-        const double measured = fullMs / multiMs, ideal = multi.frame.idealSpeedup;
-        const double rays = static_cast<double>(cf.paddedWidth) * cf.paddedHeight;
-        const double mrays = rays / (full.medianMs["gbuffer.L0"] * 1e3);
-        md << "| " << sceneName << " | " << eff << " | " << w << "x" << h << " | " << n << " | " << fixed(fullMs, 1) << " | "
-           << fixed(multiMs, 1) << " | " << fixed(measured, 2) << "x | " << fixed(ideal, 2) << "x | "
-           << fixed(100.0 * measured / ideal, 0) << "% | " << fixed(err.rms, 5) << " | " << fixed(err.psnr, 1) << " | "
-           << fixed(err.ssim, 4) << " | " << fixed(err.edgeBandRms, 5) << " | " << fixed(mrays, 1) << " |\n";
-        for (const Timed* t : {&full, &multi}) {
-          stagesMd << "| " << sceneName << " | " << eff << " | " << w << "x" << h << " | " << n << " | "
-                   << toString(t->frame.constants.mode) << " | ";
-          for (const StageTiming& st : t->frame.timings) stagesMd << st.stage << " " << fixed(t->medianMs.at(st.stage), 1) << "; ";
-          stagesMd << "|\n";
+        for (const auto& [w, h] : o.resolutions) {
+          progress.step(path.name + " resolution sweep " + sc.name + " " + sizeName(w, h) + " " + toString(e) + "-" +
+                        std::to_string(middleSamples(e)));
+          sweep.measure(path, sc, 0, sc.camera, e, w, h, middleSamples(e), o.methods, "resolution");
         }
-        nlohmann::json run = {{"scene", sceneName}, {"effect", eff}, {"width", w}, {"height", h}, {"samples", n},
-                              {"threads", threads}, {"repeats", o.repeats},
-                              {"full_ms", full.medianMs}, {"multires_ms", multi.medianMs},
-                              {"full_effect_ms", fullMs}, {"multires_effect_ms", multiMs},
-                              {"measured_speedup", measured}, {"ideal_speedup", ideal},
-                              {"shaded_pixels", multi.frame.shadedPixelsTotal}, {"primary_mrays_per_s", mrays},
-                              {"rms", err.rms}, {"psnr", err.psnr}, {"ssim", err.ssim}, {"max_abs", err.maxAbs},
-                              {"edge_band_rms", err.edgeBandRms}};
-        if (o.scaling && n == counts[counts.size() / 2] && threads > 1) {
-          std::cerr << "[bench]   thread scaling 1 vs " << threads << "\n";
-          Timed full1, multi1;
-          {
-            tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 1);
-            std::tie(full1, multi1) = timedPair(*renderer, rs.camera, cf, cm, o.repeats);
+      }
+    }
+    // 3. Stability along camera paths: flicker of every method against full, frame by frame.
+    if (o.frames > 0)
+      for (const std::string& sceneName : o.stabilityScenes) {
+        const OpenScene sc = openScene(sceneName, path);
+        const float diagonal = sc.scene->bounds().diagonal();
+        for (const std::string& effectName : o.stabilityEffects)
+          for (const std::string& kind : cameraPathKinds()) {
+            const Effect e = parseEffect(effectName);
+            progress.step(path.name + " stability " + sceneName + " " + kind + " " + std::to_string(o.frames) + " frames " +
+                          effectName);
+            std::map<std::string, FlickerMeter> meters;
+            const auto [w, h] = o.stabilitySize;
+            for (const Camera& cam : cameraPath(sc.camera, kind, o.frames)) {
+              const FrameResult full =
+                  sc.render(cam, makeConstants(settingsFor("full", e, w, h, middleSamples(e)), diagonal), {false, {}, nullptr});
+              for (const std::string& m : o.methods) {
+                if (m == "full") continue;
+                const FrameResult f =
+                    sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), diagonal), {false, {}, nullptr});
+                meters[m].add(f.final(), full.final());
+              }
+            }
+            for (const auto& [m, meter] : meters)
+              stability.push_back({path.name, sceneName, effectName, middleSamples(e), kind, o.frames, w, h, m,
+                                   meter.flicker(), meter.meanRms()});
           }
-          for (auto [name, one, many] : {std::tuple{"full", &full1, &full}, std::tuple{"multires", &multi1, &multi}}) {
-            const double t1 = one->medianMs.at("total"), tn = many->medianMs.at("total");
-            scalingMd << "| " << sceneName << " | " << eff << " | " << w << "x" << h << " | " << n << " | " << name << " | "
-                      << fixed(t1, 1) << " | " << fixed(tn, 1) << " | " << fixed(t1 / tn, 2) << "x |\n";
-            run[std::string("scaling_") + name] = {{"one_thread_ms", t1}, {"n_threads_ms", tn}};
-          }
-        }
-        runs.push_back(run);
+      }
+    // 4. The stress scenes: every method, and mrr without the never-slower rule.
+    for (const std::string& sceneName : o.stressScenes) {
+      const OpenScene sc = openScene(sceneName, path);
+      std::vector<std::string> methods = o.methods;
+      methods.push_back("mrr-norule");
+      for (Effect e : effects) {
+        progress.step(path.name + " stress " + sceneName + " " + toString(e));
+        sweep.measure(path, sc, 0, sc.camera, e, o.stressSize.first, o.stressSize.second, middleSamples(e), methods,
+                      "stress");
       }
     }
   }
-  std::ostringstream all;
-  all << md.str() << "\nPer-stage medians:\n\n" << stagesMd.str() << "\nThread scaling (frame total):\n\n" << scalingMd.str();
-  out << all.str();
-  if (!o.markdownOut.empty()) writeTextFile(o.markdownOut, all.str());
-  if (!o.jsonOut.empty())
-    writeTextFile(o.jsonOut, nlohmann::json({{"machine", machineName()}, {"runs", runs}}).dump(2) + "\n");
-  return 0;
+
+  BenchResults results{o, devices, records, stability, threads};
+  const std::vector<std::string> failures = sanityChecks(results);
+  const std::string md = benchMarkdown(results, failures);
+  out << md;
+  if (!o.markdownOut.empty()) writeTextFile(o.markdownOut, md);
+  if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, benchJson(results, failures).dump(1) + "\n");
+  if (!o.csvOut.empty()) writeTextFile(o.csvOut, benchCsv(results));
+  if (!o.reportDir.empty()) {
+    std::cerr << "[bench] writing the report to " << o.reportDir << "\n";
+    writeBenchReport(o.reportDir, results, failures);
+  }
+  for (const std::string& f : failures) std::cerr << "[bench] sanity check failed: " << f << "\n";
+  return o.check && !failures.empty() ? 1 : 0;
 }
 
 }  // namespace mrr

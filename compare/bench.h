@@ -1,28 +1,74 @@
 #pragma once
-// `mrr bench`: the oracle's speed/accuracy benchmark. For each scene × size × sample count it
-// renders `full` and `multires` side by side in one run, repeats each, and reports medians
-// per stage, the measured speedup beside the ideal one (shaded-pixel ratio), primary rays
-// per second, the error against full, and 1→N thread scaling. Progress goes to stderr.
+// `mrr bench`: speed against accuracy, measured (issue 7, SPEC §§9–11). For every path ×
+// scene × camera × size × effect × sample count it renders `full` and each method side by
+// side in one process, alternating, and keeps per method the median time of several repeats
+// (after a warm-up), per stage, the shaded pixels and ideal speedup, the measured speedup
+// against `full`, and every error figure of SPEC §10 against `full` with the same samples.
+// Then the paper's sweeps (speedup against samples and against resolution, RMS against
+// resolution), temporal stability along camera paths (flicker), and the stress scenes.
+// Results go to JSON, CSV and Markdown; `--report DIR` writes an HTML page with the charts
+// (compare/bench_report). Progress goes to stderr.
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "common/cost_model.h"
+#include "cpu_ref/pipeline.h"
+
 namespace mrr {
 
-struct BenchOptions {
-  std::vector<std::string> scenes = {"arcade", "apartment"};
-  std::vector<std::pair<int, int>> sizes = {{1280, 720}, {1920, 1080}};
-  std::vector<std::string> effects = {"ssao"};
-  std::vector<int> samples;  // empty: per effect, ssao 16/64/256, ssm 100/196/324, ssgi 24/80/288
-  int repeats = 3;           // median of this many timed runs, after one warm-up
-  bool scaling = true;       // also measure 1 thread against N, at each effect's middle sample count
-  int threads = 0;           // N (0 = all cores)
-  std::string jsonOut;       // optional: all figures as JSON
-  std::string markdownOut;   // optional: the tables as Markdown
+// One renderer behind either path: the bench does not know which it drives.
+using RenderFn = std::function<FrameResult(const Camera&, const Constants&, const RenderOptions&)>;
+struct BenchPath {
+  std::string name;    // "cpu" or "gpu"
+  std::string device;  // "cpu_ref, N threads on <CPU>" or the GL renderer
+  std::function<RenderFn(const Scene&)> open;  // builds the renderer (BVH, GL context) for a scene
 };
 
-// Runs the sweep; prints the tables to `out` (Markdown) and returns the process exit code.
-int runBench(const BenchOptions& options, std::ostream& out);
+struct BenchOptions {
+  // The main sweep: chart 1 (speedup against RMS, one point per method × setting).
+  std::vector<std::string> scenes = {"arcade", "apartment", "cornell", "builtin:demo"};
+  std::vector<std::pair<int, int>> sizes = {{1280, 720}};
+  std::vector<std::string> effects = {"ssao", "ssm", "ssgi"};
+  std::vector<int> samples;  // empty: the paper's middle count per effect (64, 196, 288)
+  std::vector<std::string> methods = {"full", "uniform-1", "uniform-2", "tiles", "mrr"};
+  int cameras = 8;           // views per scene (scenes/cameras.h), as in the paper
+  int repeats = 3;           // median of this many timed runs, after one warm-up
+  int threads = 0;           // the oracle's threads (0 = all cores)
+  // The paper's sweeps, on the first scene's first camera: Fig. 6 (speedup against samples,
+  // at sweepSize) and Figs. 7 and 9 (speedup and RMS against resolution).
+  bool paperSweeps = true;
+  std::pair<int, int> sweepSize = {1280, 720};
+  std::vector<std::pair<int, int>> resolutions = {{1280, 720}, {1920, 1080}};
+  std::vector<int> ssaoSweep = {16, 32, 64, 128, 256}, ssmSweep = {100, 144, 196, 256, 324}, ssgiSweep = {24, 80, 288};
+  // Stability (SPEC §10): each camera path of `frames` frames, every method, flicker.
+  int frames = 60;
+  std::pair<int, int> stabilitySize = {320, 180};
+  std::vector<std::string> stabilityScenes = {"builtin:demo", "arcade"};
+  std::vector<std::string> stabilityEffects = {"ssao"};
+  // The stress scenes, each with every method and mrr without the never-slower rule.
+  std::vector<std::string> stressScenes = {"builtin:bumpy", "builtin:wires", "builtin:alledges", "builtin:plane"};
+  std::pair<int, int> stressSize = {1280, 720};
+  // Outputs.
+  std::string jsonOut, csvOut, markdownOut, reportDir;
+  bool check = false;  // exit 1 when a sanity check fails (full's error 0, ideal ≥ measured, …)
+  std::string machine;  // filled by runBench when empty: the CPU model and thread count
+};
+
+// Runs everything; writes the outputs; prints the Markdown tables to `out`. Returns the exit
+// code (1 when --check found a failed sanity check).
+int runBench(const BenchOptions& options, const std::vector<BenchPath>& paths, std::ostream& out);
+
+// Measures the never-slower rule's per-pixel costs (SPEC §11) on `path`: builtin:demo at
+// 640×360, every effect in mode full at two sample counts (the per-pixel and per-sample
+// costs) and in mode mrr (coarse G-buffers and blend), medians of `repeats`.
+CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads);
+
+// The CPU's model name, from /proc/cpuinfo.
+std::string cpuModelName();
 
 }  // namespace mrr

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cpu_ref/bilateral.h"
+#include "cpu_ref/peers.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
 
@@ -152,10 +153,11 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   auto add = [&](StageRow row) { result.rows.push_back(std::move(row)); };
   const std::string tag = ".L";
 
-  // 1. G-buffers, per level: hit, relative depth, 1 − N·N' where both hit.
-  for (int l = 0; l < kLevelCount; ++l) {
+  // 1. A level's G-buffer: hit, relative depth, 1 − N·N' where both hit. In pipeline order:
+  // level 0 first (the masks are made from it), the coarser levels once the masks are known.
+  auto gbufferRows = [&](int l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
+    if (!lc.enabled) return;
     const GBuffer& a = p.levels[static_cast<size_t>(l)].gbuffer;
     const GBuffer& b = o.levels[static_cast<size_t>(l)].gbuffer;
     const std::string L = tag + std::to_string(l);
@@ -186,7 +188,8 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
          check("gbuffer.normal", diffImages(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit)), {}});
     add({"gbuffer" + L + ".albedo", l, lc.scale,
          check("gbuffer.albedo", diffImages(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
-  }
+  };
+  gbufferRows(0);
 
   // 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
   if (c.needsShadowMap()) {
@@ -198,8 +201,9 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
          check("shadowtest.same_input", diffImages(p.shadowLit, same))});
   }
 
-  // 3. Edges, masks, stencils (multires only: `full` has none).
-  if (c.mode == Mode::Multires) {
+  // 3. Which pixels of which level are shaded: the edges (modes mrr and tiles), the
+  // never-slower decision (SPEC §11), then the stencils the frame was shaded with.
+  if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
     const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
     // Each kind on its own, then their OR, E.
@@ -213,28 +217,55 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     }
     add({"edges", -1, 1, check("edges", diffImages(p.edges.combined, o.edges.combined)),
          check("edges.same_input", diffImages(p.edges.combined, same.combined, &edgeBand))});
-    const auto masks = buildMasks(p.edges.combined, c);
-    for (int l = 0; l < kLevelCount; ++l) {
-      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      const MaskLevel& pm = p.levels[static_cast<size_t>(l)].masks;
-      const MaskLevel& om = o.levels[static_cast<size_t>(l)].masks;
-      const MaskLevel& sm = masks[static_cast<size_t>(l)];
-      const std::string L = tag + std::to_string(l);
-      add({"mask" + L, l, lc.scale, {}, check("masks.same_input", diffImages(pm.mask, sm.mask))});
-      if (!lc.enabled) continue;
-      add({"alpha" + L, l, lc.scale, {},
-           check("alpha.same_input", diffImages(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
-      const std::vector<char> stencilBand = stencilGuardBand(sm.alpha);
-      add({"stencil" + L, l, lc.scale, check("stencil", diffImages(pm.stencil, om.stencil)),
-           check("masks.same_input", diffImages(pm.stencil, sm.stencil, &stencilBand))});
-    }
   }
+  // The decision comes right after the masks in the pipeline, but it chooses the stencils the
+  // frame keeps: when the paths decide differently, their frames differ in kind from here on
+  // and nothing later can be compared.
+  if (o.fallback.evaluated || p.fallback.evaluated) {
+    const ImageU8 portDecision(1, 1, 1, static_cast<uint8_t>(p.fallback.fellBack)),
+        oracleDecision(1, 1, 1, static_cast<uint8_t>(o.fallback.fellBack));
+    add({"fallback", -1, 1, check("fallback", diffImages(portDecision, oracleDecision)), {}});
+    if (p.fallback.fellBack != o.fallback.fellBack) return result;
+  }
+  // The oracle's stage-3 function of the frame's mode, on the port's own inputs.
+  const bool multires = c.mode == Mode::Multires && !o.fallback.fellBack;
+  std::array<MaskLevel, kLevelCount> masks;
+  if (multires) {
+    masks = buildMasks(p.edges.combined, c);
+  } else if (c.mode == Mode::Tiles) {
+    add({"tilerates", -1, kTileSize, check("stencil", diffImages(p.tileRates, o.tileRates)),
+         check("masks.same_input", diffImages(p.tileRates, tileRates(p.edges.combined)))});
+    masks = tileMasks(p.tileRates, c);
+  } else if (c.mode == Mode::Uniform1 || c.mode == Mode::Uniform2) {
+    masks = uniformMasks(c);
+  } else {  // `full`, or the method fallen back to it
+    masks = fullModeMasks(c);
+  }
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const MaskLevel& pm = p.levels[static_cast<size_t>(l)].masks;
+    const MaskLevel& om = o.levels[static_cast<size_t>(l)].masks;
+    const MaskLevel& sm = masks[static_cast<size_t>(l)];
+    const std::string L = tag + std::to_string(l);
+    if (!pm.mask.data.empty() || !sm.mask.data.empty())
+      add({"mask" + L, l, lc.scale, {}, check("masks.same_input", diffImages(pm.mask, sm.mask))});
+    if (!lc.enabled) continue;
+    add({"alpha" + L, l, lc.scale, {},
+         check("alpha.same_input", diffImages(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
+    // Only the method's S_ℓ = [a_ℓ > 0] has a cutoff to guard; the others are exact.
+    const std::vector<char> stencilBand = multires ? stencilGuardBand(sm.alpha) : std::vector<char>{};
+    add({"stencil" + L, l, lc.scale, check("stencil", diffImages(pm.stencil, om.stencil)),
+         check("masks.same_input", diffImages(pm.stencil, sm.stencil, multires ? &stencilBand : nullptr))});
+  }
+
+  // 1, continued. The coarser levels' G-buffers.
+  for (int l = 1; l < kLevelCount; ++l) gbufferRows(l);
 
   // 4. The effect per level, on the port's own inputs, and the bilateral blur (SSAO).
   const std::string effect = toString(c.effect);
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
+    if (!lc.enabled || !lc.shaded) continue;  // uniform-k's level 0 shades nothing
     const LevelResult& pl = p.levels[static_cast<size_t>(l)];
     const LevelResult& ol = o.levels[static_cast<size_t>(l)];
     ImageF same;
@@ -266,45 +297,71 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   }
 
   // 5. Upsample and blend, coarse to fine. Each step on the port's own inputs: ĉ_ℓ and α_ℓ
-  // from the port's c_ℓ, S_ℓ and a_ℓ; c'_ℓ from the port's ĉ_ℓ, α_ℓ and c'_coarser.
+  // from the port's c_ℓ, S_ℓ and a_ℓ; c'_ℓ from the port's ĉ_ℓ, α_ℓ and c'_coarser. The peers
+  // compose their own way (SPEC §9): the oracle's composePeer on the port's sub-images,
+  // G-buffers and tile rates gives every ĉ_ℓ, α_ℓ, c'_ℓ and the final image at once.
   const double blendThreshold = tolerance("blend.same_input").pixelThreshold;
   const int w = c.width, h = c.height;
-  int coarser = -1;
-  for (int l = kLevelCount - 1; l >= 0; --l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    const size_t i = static_cast<size_t>(l);
-    const LevelResult& pl = p.levels[i];
-    if (p.blend.upsampled[i].data.empty()) continue;  // rendered without keepStages
-    const int ch = p.blend.upsampled[i].channels;
-    ImageF up(w, h, ch), alpha(w, h, 1), composite(w, h, ch);
-    const bool coarsest = coarser < 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const Upsampled u = upsampleAt(pl.sub, pl.masks.stencil, pl.masks.alpha, lc, x, y);
-        alpha.at(x, y) = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
-        for (int k = 0; k < ch; ++k) {
-          up.at(x, y, k) = u.color[k];
-          const float portHat = p.blend.upsampled[i].at(x, y, k);
-          composite.at(x, y, k) =
-              coarsest ? portHat
-                       : blendStep(p.blend.alpha[i].at(x, y), portHat,
-                                   p.blend.composite[static_cast<size_t>(coarser)].at(x, y, k));
-        }
+  std::optional<StageCheck> finalSame;
+  if (isPeer(c.mode)) {
+    std::array<const GBuffer*, kLevelCount> gbuffers{};
+    bool kept = false;
+    for (size_t l = 0; l < gbuffers.size(); ++l)
+      if (c.levels[l].enabled) {
+        gbuffers[l] = &p.levels[l].gbuffer;
+        kept = kept || !p.blend.upsampled[l].data.empty();
       }
-    const std::string L = tag + std::to_string(l);
-    add({"upsample" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.upsampled[i], up, blendThreshold, {}))});
-    add({"blendalpha" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.alpha[i], alpha, blendThreshold, {}))});
-    add({"composite" + L, l, 1, {},
-         check("blend.same_input", diffImages(p.blend.composite[i], composite, blendThreshold, {}))});
-    coarser = l;
+    const BlendResult same = composePeer(p.blendInputs(), gbuffers, p.tileRates, c, kept);
+    for (int l = kLevelCount - 1; l >= 0; --l) {
+      const size_t i = static_cast<size_t>(l);
+      if (!c.levels[i].enabled || p.blend.upsampled[i].data.empty()) continue;
+      const std::string L = tag + std::to_string(l);
+      add({"upsample" + L, l, 1, {},
+           check("blend.same_input", diffImages(p.blend.upsampled[i], same.upsampled[i], blendThreshold, {}))});
+      add({"blendalpha" + L, l, 1, {},
+           check("blend.same_input", diffImages(p.blend.alpha[i], same.alpha[i], blendThreshold, {}))});
+      add({"composite" + L, l, 1, {},
+           check("blend.same_input", diffImages(p.blend.composite[i], same.composite[i], blendThreshold, {}))});
+    }
+    finalSame = check("blend.same_input", diffImages(p.final(), same.final, blendThreshold, {}));
+  } else {
+    int coarser = -1;
+    for (int l = kLevelCount - 1; l >= 0; --l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled) continue;
+      const size_t i = static_cast<size_t>(l);
+      const LevelResult& pl = p.levels[i];
+      if (p.blend.upsampled[i].data.empty()) continue;  // rendered without keepStages
+      const int ch = p.blend.upsampled[i].channels;
+      ImageF up(w, h, ch), alpha(w, h, 1), composite(w, h, ch);
+      const bool coarsest = coarser < 0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const Upsampled u = upsampleAt(pl.sub, pl.masks.stencil, pl.masks.alpha, lc, x, y);
+          alpha.at(x, y) = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
+          for (int k = 0; k < ch; ++k) {
+            up.at(x, y, k) = u.color[k];
+            const float portHat = p.blend.upsampled[i].at(x, y, k);
+            composite.at(x, y, k) =
+                coarsest ? portHat
+                         : blendStep(p.blend.alpha[i].at(x, y), portHat,
+                                     p.blend.composite[static_cast<size_t>(coarser)].at(x, y, k));
+          }
+        }
+      const std::string L = tag + std::to_string(l);
+      add({"upsample" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.upsampled[i], up, blendThreshold, {}))});
+      add({"blendalpha" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.alpha[i], alpha, blendThreshold, {}))});
+      add({"composite" + L, l, 1, {},
+           check("blend.same_input", diffImages(p.blend.composite[i], composite, blendThreshold, {}))});
+      coarser = l;
+    }
+    if (coarser >= 0 && !p.blend.composite[static_cast<size_t>(coarser)].data.empty())
+      finalSame = check("blend.same_input",
+                        diffImages(p.final(), p.blend.composite[static_cast<size_t>(coarser)], blendThreshold, {}));
   }
   // The final image is the finest composite; end to end it carries everything above.
   add({"final", -1, 1, check("final", diffImages(p.final(), o.final(), tolerance("final").pixelThreshold, {})),
-       coarser >= 0 && !p.blend.composite[static_cast<size_t>(coarser)].data.empty()
-           ? std::optional<StageCheck>(check("blend.same_input", diffImages(p.final(), p.blend.composite[static_cast<size_t>(coarser)],
-                                                                      blendThreshold, {})))
-           : std::nullopt});
+       finalSame});
   return result;
 }
 

@@ -28,6 +28,12 @@ const std::vector<ShaderFault>& shaderFaults() {
        "a PCF grid one sample short (the last tap never counts as lit)", "raw"},
       {"ssgi-no-ndotl", "ssgi.frag", "float nl = max(dot(n, toLight), 0.0);", "float nl = 1.0;",
        "SSGI senders without the N·L term", "raw"},
+      {"tiles-no-dilation", "peers.frag",
+       "near = max(near, texelFetch(source, ivec2(i, j), 0).r);", "near = max(near, texelFetch(source, p, 0).r);",
+       "tiles' rate without the 8-neighbourhood: no tile is ever shaded at 2×2", "tilerates"},
+      {"jbu-no-depth", "peers.frag", "return b * exp(-dz * dz) * normalSimilarity(cosine, normalPower);",
+       "return b * normalSimilarity(cosine, normalPower);",
+       "uniform-k's joint bilateral upsampling without its depth term", "upsample"},
   };
   return faults;
 }

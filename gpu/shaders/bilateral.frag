@@ -12,17 +12,7 @@ uniform float sigmaDepth;
 uniform float normalPower;
 layout(location = 0) out vec4 result;
 
-// max(N_p·N_q, 0)^p by repeated squaring when p is whole, as the host does.
-float normalSimilarity(float cosine, float power) {
-  int whole = int(power);
-  if (float(whole) != power || whole < 0 || whole > 64) return pow(cosine, power);
-  float r = 1.0, base = cosine;
-  for (int e = whole; e > 0; e >>= 1) {
-    if ((e & 1) != 0) r *= base;
-    base *= base;
-  }
-  return r;
-}
+#include "bilateral.glsl"
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);

@@ -144,10 +144,12 @@ bool nonEmptyFile(const std::string& path) {
   return fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0;
 }
 
-// Common arguments for a tiny, quiet render.
+// Common arguments for a tiny, quiet render. Frames this small and cheap would often fall back
+// to full under the never-slower rule (SPEC §11), which would hide the stages these tests
+// check: the rule has its own test (NeverSlowerReportsTheFallback).
 std::vector<std::string> tiny(std::vector<std::string> args, const std::string& size = "64x48",
                               const std::string& samples = "4") {
-  args.insert(args.end(), {"--size", size, "--samples", samples, "--quiet"});
+  args.insert(args.end(), {"--size", size, "--samples", samples, "--never-slower", "off", "--quiet"});
   return args;
 }
 
@@ -317,6 +319,38 @@ const std::vector<std::string> kExpectedParts = {
     "gbuffer.L0", "gbuffer.L3",    "edges",          "mask.L1",      "mask.L3",  "alpha.L2",
     "stencil.L3", "sub.L0",        "upsample.L0",    "blendalpha.L0", "composite.L0", "levelmap",
     "final",      "shaded",        "raw.L1",         "composite.L3"};
+
+TEST_F(CliRenderTest, NeverSlowerReportsTheFallback) {
+  // An image that is all edges: the method cannot gain, so the frame is shaded at full res,
+  // the report says so, and stderr says why; with the rule off the method runs as asked.
+  for (const std::string rule : {"on", "off"}) {
+    const RunResult r = runMrr({"render", "--scene", "builtin:alledges", "--size", "160x90", "--samples", "8",
+                                "--never-slower", rule, "--report", at("r-" + rule + ".json")},
+                               dir);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json j = json::parse(readFile(at("r-" + rule + ".json")));
+    if (rule == "on") {
+      ASSERT_TRUE(j.contains("never_slower")) << j.dump(2);
+      EXPECT_TRUE(j["never_slower"]["fell_back_to_full"].get<bool>());
+      EXPECT_GT(j["never_slower"]["predicted_multires_ms"].get<double>(), j["never_slower"]["predicted_full_ms"].get<double>());
+      EXPECT_EQ(j["ideal_speedup"].get<double>(), 1.0);
+      EXPECT_NE(r.err.find("never slower"), std::string::npos) << describe(r);
+    } else {
+      EXPECT_FALSE(j.contains("never_slower"));
+      EXPECT_LT(j["ideal_speedup"].get<double>(), 1.0) << "every level shades nearly everything";
+    }
+  }
+}
+
+TEST_F(CliRenderTest, EveryMethodRendersAndNamesItself) {
+  for (const std::string method : {"full", "uniform-1", "uniform-2", "tiles", "mrr"}) {
+    const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--method", method, "--report", at("m.json")}), dir);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json j = json::parse(readFile(at("m.json")));
+    EXPECT_EQ(j["method"], method);
+    if (method == "tiles") EXPECT_TRUE(j.contains("tiles"));
+  }
+}
 
 TEST_F(CliRenderTest, StagesExrHasEveryPartByName) {
   const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--stages", at("stages.exr")}, "48x32"), dir);

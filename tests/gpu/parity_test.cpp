@@ -1,5 +1,6 @@
 // The port against the oracle, stage by stage (SPEC §8): G-buffer, edges, masks and stencils,
-// and SSAO drawn with the stencil test; plus the GLSL hash against the host bit for bit.
+// and SSAO drawn with the stencil test; plus the GLSL hash against the host bit for bit; the
+// peers (uniform-k, tiles) and the never-slower rule through compareFrames, with planted faults.
 // Each stage is also compared with the oracle's stage computed from the port's own inputs
 // (cascade awareness), so a shader bug is not hidden by, nor blamed on, upstream noise.
 #include <gtest/gtest.h>
@@ -8,15 +9,18 @@
 #include <cstdlib>
 #include <memory>
 
+#include "common/cost_model.h"
 #include "common/error.h"
 #include "common/hash.h"
 #include "common/tolerance.h"
 #include "compare/parity.h"
+#include "cpu_ref/peers.h"
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
 #include "gpu/context.h"
 #include "gpu/edges.h"
+#include "gpu/faults.h"
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
 #include "gpu/pipeline.h"
@@ -202,7 +206,10 @@ TEST(GpuPipeline, SsaoFinalImageMatchesTheOracle) {
     const Settings s = test::ssaoSettings(203, 117, 16, mode);
     const auto r = test::renderScene("builtin:demo", s);
     const gpu::GpuRenderer port(*r.scene);
-    const FrameResult g = port.render(r.camera, r.frame.constants);
+    // The oracle's cost model (as `mrr compare` passes it): the never-slower decision is then the
+    // same function of the same stencils on both paths.
+    const CostModel costs = CostModel::defaults("cpu");
+    const FrameResult g = port.render(r.camera, r.frame.constants, {true, {}, &costs});
     ASSERT_EQ(g.final().data.size(), r.frame.final().data.size());
     double sum2 = 0.0;
     int64_t over = 0;
@@ -446,7 +453,10 @@ TEST(GpuPipeline, SsmAndSsgiFinalImagesMatchTheOracle) {
     for (Mode mode : {Mode::Multires, Mode::Full}) {
       const auto r = test::renderScene(std::string("builtin:") + sceneName, shadowSettings(effect, 203, 117, mode));
       const gpu::GpuRenderer port(*r.scene);
-      const FrameResult g = port.render(r.camera, r.frame.constants);
+      // The oracle's cost model (as `mrr compare` passes it): the never-slower decision is then the
+    // same function of the same stencils on both paths.
+    const CostModel costs = CostModel::defaults("cpu");
+    const FrameResult g = port.render(r.camera, r.frame.constants, {true, {}, &costs});
       const std::string what = std::string(sceneName) + " " + toString(effect) + " " + toString(mode);
       ASSERT_EQ(g.final().data.size(), r.frame.final().data.size()) << what;
       expectWithin(diffImages(g.final(), r.frame.final(), kFinal.pixelThreshold, [](size_t) { return true; }), kFinal,
@@ -459,6 +469,245 @@ TEST(GpuPipeline, SsmAndSsgiFinalImagesMatchTheOracle) {
       EXPECT_EQ(g.shadowMap.size, r.frame.constants.ssm.shadowMapSize) << what;
       EXPECT_EQ(g.shadowLit.width, r.frame.shadowLit.width) << what;
     }
+  }
+}
+
+}  // namespace
+}  // namespace mrr
+
+// ---------------------------------------------------------------------------------------------
+// The peers (SPEC §9) and the never-slower rule (SPEC §11) on the port: every stage of uniform-1,
+// uniform-2 and tiles against the oracle through compareFrames (the check `mrr compare` makes),
+// the fallback decided alike on both paths, and planted faults in peers.frag caught at their
+// stage.
+namespace mrr {
+namespace {
+
+// The settings of one peer frame: small odd sizes exercise the padding and the partial tiles.
+Settings peerSettings(Effect effect, Mode mode, int w, int h) {
+  Settings s = shadowSettings(effect, w, h, mode);
+  s.ssao.samples = 16;
+  return s;
+}
+
+const StageRow* findRow(const ParityResult& r, const std::string& stage) {
+  for (const StageRow& row : r.rows)
+    if (row.stage == stage) return &row;
+  return nullptr;
+}
+
+// The stage names of a frame's timings, in order, without the oracle's SSAO "planes.Lℓ" (the
+// port's SSAO pass reads the tangent planes from the G-buffer targets directly).
+std::vector<std::string> stageNames(const FrameResult& f) {
+  std::vector<std::string> names;
+  for (const StageTiming& t : f.timings)
+    if (t.stage.rfind("planes.", 0) != 0) names.push_back(t.stage);
+  return names;
+}
+
+// Renders one frame on both paths from the same constants and cost model.
+struct BothPaths {
+  test::Rendered oracle;  // the scene, camera and oracle renderer (its frame: no cost model)
+  FrameResult cpu, port;
+};
+BothPaths renderBoth(const std::string& spec, const Settings& s, const CostModel& model) {
+  BothPaths b;
+  b.oracle = test::renderScene(spec, s);
+  const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());
+  b.cpu = b.oracle.renderer->render(b.oracle.camera, k, {true, {}, &model});
+  const gpu::GpuRenderer port(*b.oracle.scene);
+  b.port = port.render(b.oracle.camera, k, {true, {}, &model});
+  return b;
+}
+
+struct PeerCase {
+  std::string scene;
+  Effect effect;
+  Mode mode;
+};
+void PrintTo(const PeerCase& c, std::ostream* os) {
+  *os << c.scene << " " << toString(c.effect) << " " << toString(c.mode);
+}
+
+class GpuPeerParity : public ::testing::TestWithParam<PeerCase> {
+ protected:
+  void SetUp() override {
+    MRR_REQUIRE_GL_OR_SKIP();
+    context_ = std::make_unique<gpu::GlContext>();
+  }
+  std::unique_ptr<gpu::GlContext> context_;
+};
+
+// Every stage of the peer within its rule: G-buffers, edges, tile rates and stencils, the
+// effect, and stage 5 recomputed by the oracle's composePeer from the port's own inputs.
+TEST_P(GpuPeerParity, EveryStageMatchesTheOracle) {
+  const PeerCase& pc = GetParam();
+  const CostModel model = CostModel::defaults("cpu");
+  const BothPaths b = renderBoth("builtin:" + pc.scene, peerSettings(pc.effect, pc.mode, 97, 61), model);
+  const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+  std::cerr << formatParityTable(r);
+  EXPECT_TRUE(r.pass()) << "first failing stage " << r.firstFailing();
+  EXPECT_FALSE(b.port.fallback.evaluated) << "the rule is the method's, not the peers'";
+  // The same stages in the same order on both paths.
+  EXPECT_EQ(stageNames(b.port), stageNames(b.cpu));
+  // The rows a peer must have, each computed on the port's own inputs.
+  const Constants& c = b.cpu.constants;
+  const int k = pc.mode == Mode::Uniform1 ? 1 : 2;
+  std::vector<std::string> stages = {"final"};
+  if (pc.mode == Mode::Tiles) {
+    stages.insert(stages.end(), {"edges", "tilerates", "stencil.L0", "stencil.L1", "stencil.L2", "upsample.L0",
+                                 "upsample.L1", "upsample.L2", "composite.L0"});
+  } else {
+    stages.insert(stages.end(), {"stencil.L0", "stencil.L" + std::to_string(k), "upsample.L" + std::to_string(k),
+                                 "blendalpha.L0", "composite.L0"});
+    EXPECT_EQ(findRow(r, "raw.L0"), nullptr) << "uniform-k's level 0 shades nothing";
+  }
+  for (const std::string& stage : stages) {
+    const StageRow* row = findRow(r, stage);
+    ASSERT_NE(row, nullptr) << "no row " << stage;
+    if (stage != "final") {
+      ASSERT_TRUE(row->sameInput) << stage;
+    }
+  }
+  // Stage 3 and the composition's bookkeeping are exact on the same inputs.
+  for (const char* exact : {"tilerates", "stencil.L0", "stencil.L1", "stencil.L2", "mask.L0", "mask.L1", "mask.L2",
+                            "blendalpha.L0", "blendalpha.L1", "blendalpha.L2"})
+    if (const StageRow* row = findRow(r, exact); row && row->sameInput) {
+      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << exact;
+    }
+  // Not vacuous: the peer shades what it should. uniform-k: every level-k pixel inside W×H
+  // and none at level 0; tiles: the levels the rates name.
+  const LevelResult& l0 = b.port.levels[0];
+  if (pc.mode != Mode::Tiles) {
+    EXPECT_EQ(l0.shadedPixels, 0);
+    const LevelConstants& lk = c.levels[static_cast<size_t>(k)];
+    EXPECT_EQ(b.port.levels[static_cast<size_t>(k)].shadedPixels,
+              static_cast<int64_t>((c.width + lk.scale - 1) / lk.scale) * ((c.height + lk.scale - 1) / lk.scale));
+    for (uint8_t v : b.port.blend.levelMap.data) ASSERT_EQ(v, k);
+  } else {
+    ASSERT_EQ(b.port.tileRates.width, (c.paddedWidth + kTileSize - 1) / kTileSize);
+    EXPECT_GT(l0.shadedPixels, 0);
+  }
+  EXPECT_EQ(b.port.shadedPixelsTotal, b.cpu.shadedPixelsTotal);
+  RecordProperty("renderer", context_->renderer());
+}
+
+std::vector<PeerCase> peerCases() {
+  std::vector<PeerCase> cases;
+  for (const char* scene : {"demo", "shadows"})
+    for (Effect effect : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
+      for (Mode mode : {Mode::Uniform1, Mode::Uniform2, Mode::Tiles}) cases.push_back({scene, effect, mode});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Peers, GpuPeerParity, ::testing::ValuesIn(peerCases()),
+                         [](const ::testing::TestParamInfo<PeerCase>& info) {
+                           std::string name = info.param.scene + "_" + toString(info.param.effect) + "_" +
+                                              toString(info.param.mode);
+                           for (char& ch : name)
+                             if (ch == '-') ch = '_';
+                           return name;
+                         });
+
+// SPEC §11 on both paths: a cost model whose blend costs more than any saving makes both fall
+// back to full, the same frame; one whose overhead is free makes neither fall back. The
+// decision is the same function (common/cost_model.h) of the same stencils on both.
+TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  for (Effect effect : {Effect::Ssao, Effect::Ssm}) {
+    for (const bool expensive : {true, false}) {
+      CostModel model = CostModel::defaults("cpu");
+      model.source = expensive ? "test: blend 1 s per pixel" : "test: free overhead";
+      model.nsPerBlendPixel = expensive ? 1e9 : 0.0;
+      if (!expensive) model.nsPerCoarseGbufferPixel = 0.0;
+      const BothPaths b = renderBoth("builtin:demo", peerSettings(effect, Mode::Multires, 97, 61), model);
+      const std::string what = toString(effect) + (expensive ? " expensive blend" : " free overhead");
+      ASSERT_TRUE(b.cpu.fallback.evaluated && b.port.fallback.evaluated) << what;
+      EXPECT_EQ(b.cpu.fallback.fellBack, expensive) << what;
+      EXPECT_EQ(b.port.fallback.fellBack, expensive) << what;
+      EXPECT_EQ(b.port.fallback.costModel, model.source) << what;
+      // Full's prediction depends on the constants alone; the method's on the stencil counts.
+      EXPECT_EQ(b.port.fallback.predictedFullMs, b.cpu.fallback.predictedFullMs) << what;
+      EXPECT_NEAR(b.port.fallback.predictedMultiresMs, b.cpu.fallback.predictedMultiresMs,
+                  1e-3 * b.cpu.fallback.predictedMultiresMs)
+          << what;
+      for (int l = 1; l < kLevelCount; ++l)
+        EXPECT_EQ(b.port.constants.levels[static_cast<size_t>(l)].enabled, !expensive && b.cpu.constants.levels[static_cast<size_t>(l)].enabled) << what;
+      EXPECT_EQ(b.port.shadedPixelsTotal, expensive ? int64_t{97} * 61 : b.cpu.shadedPixelsTotal) << what;
+      const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+      EXPECT_TRUE(r.pass()) << what << "\n" << formatParityTable(r);
+      const StageRow* row = findRow(r, "fallback");
+      ASSERT_NE(row, nullptr) << what;
+      EXPECT_EQ(row->verdict(), "PASS") << what;
+      EXPECT_EQ(stageNames(b.port), stageNames(b.cpu)) << what;
+    }
+  }
+}
+
+// A decision that differs stops the comparison at the "fallback" row: the frames have
+// different levels from there on.
+TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  CostModel fallsBack = CostModel::defaults("cpu"), staysMultires = fallsBack;
+  fallsBack.nsPerBlendPixel = 1e9;
+  staysMultires.nsPerBlendPixel = staysMultires.nsPerCoarseGbufferPixel = 0.0;
+  const Settings s = peerSettings(Effect::Ssao, Mode::Multires, 97, 61);
+  const auto r = test::renderScene("builtin:demo", s);
+  const Constants k = makeConstants(s, r.scene->bounds().diagonal());
+  const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &staysMultires});
+  const gpu::GpuRenderer port(*r.scene);
+  const FrameResult gpu = port.render(r.camera, k, {true, {}, &fallsBack});
+  const ParityResult result = compareFrames(cpu, gpu, r.scene->light);
+  EXPECT_EQ(result.firstFailing(), "fallback");
+  EXPECT_EQ(result.rows.back().stage, "fallback");
+}
+
+// Sets MRR_GPU_FAULT for one scope (gpu/faults.h): renderers made inside it compile the
+// patched shader.
+struct PlantedFaultScope {
+  explicit PlantedFaultScope(const std::string& name) { setenv("MRR_GPU_FAULT", name.c_str(), 1); }
+  ~PlantedFaultScope() { unsetenv("MRR_GPU_FAULT"); }
+  PlantedFaultScope(const PlantedFaultScope&) = delete;
+  PlantedFaultScope& operator=(const PlantedFaultScope&) = delete;
+};
+
+// Each planted fault in peers.frag makes compareFrames fail, first at the stage the fault
+// catalogue names for it; the same frame without the fault passes.
+TEST(GpuPeerFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  struct Case {
+    std::string fault;
+    Mode mode;
+    std::string scene;
+  };
+  // tiles-no-dilation needs tiles beside an edge tile (rate 1), which it turns into rate 2:
+  // the staircase's treads and risers have plain tiles between their creases (at 161×97 the
+  // fault moves 36% of the 77 tiles). jbu-no-depth: without the depth term the taps of one
+  // surface weigh alike whatever their depth (the demo at 161×97: ĉ_k off by up to 0.08 on
+  // 20% of pixels).
+  for (const Case& fc : {Case{"tiles-no-dilation", Mode::Tiles, "steps"}, Case{"jbu-no-depth", Mode::Uniform2, "demo"},
+                         Case{"jbu-no-depth", Mode::Uniform1, "demo"}}) {
+    const gpu::ShaderFault* fault = nullptr;
+    for (const gpu::ShaderFault& f : gpu::shaderFaults())
+      if (f.name == fc.fault) fault = &f;
+    ASSERT_NE(fault, nullptr) << fc.fault;
+    const Settings s = peerSettings(Effect::Ssao, fc.mode, 161, 97);
+    const CostModel model = CostModel::defaults("cpu");
+    const auto r = test::renderScene("builtin:" + fc.scene, s);
+    const Constants k = makeConstants(s, r.scene->bounds().diagonal());
+    const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
+    {
+      const gpu::GpuRenderer clean(*r.scene);
+      const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
+      EXPECT_TRUE(ok.pass()) << fc.fault << " without the fault\n" << formatParityTable(ok);
+    }
+    const PlantedFaultScope planted(fc.fault);
+    const gpu::GpuRenderer faulty(*r.scene);
+    const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
+    EXPECT_FALSE(bad.pass()) << fc.fault;
+    EXPECT_EQ(bad.firstFailing().rfind(fault->stage, 0), 0u)
+        << fc.fault << ": first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n"
+        << formatParityTable(bad);
   }
 }
 

@@ -1,0 +1,73 @@
+#pragma once
+// What `mrr bench` measured, and everything written from it: the sanity checks, the Markdown
+// tables, JSON and CSV, the charts (compare/chart) and the HTML page (issue 7).
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/metrics.h"
+#include "compare/bench.h"
+
+namespace mrr {
+
+// One method on one setting (medians over the repeats).
+struct BenchRecord {
+  std::string path, scene, group, method, effect;  // group: main, samples, resolution, stress
+  int camera = 0, width = 0, height = 0, samples = 0;
+  std::map<std::string, double> stageMs;  // median per stage, and "total"
+  double effectMs = 0.0;                  // total − the full-res G-buffer (shared by every method)
+  double totalMs = 0.0;
+  long long shadedPixels = 0;
+  double idealSpeedup = 1.0;     // W·H / shaded pixels (SPEC §4, §9)
+  double measuredSpeedup = 1.0;  // full's effect time / this method's, same run
+  double fullEffectMs = 0.0;     // full's effect time in the same run
+  bool fellBack = false;         // mrr: the never-slower rule shaded this frame at full res
+  ErrorFigures error;            // SPEC §10, the effect buffer against full
+  double shadedRms = 0.0;        // RMS of the shaded image against full's
+};
+
+// One method along one camera path.
+struct StabilityRecord {
+  std::string path, scene, effect;
+  int samples = 0;
+  std::string kind;  // orbit, dolly
+  int frames = 0, width = 0, height = 0;
+  std::string method;
+  double flicker = 0.0;  // SPEC §10
+  double meanRms = 0.0;
+};
+
+struct BenchResults {
+  BenchOptions options;
+  std::map<std::string, std::string> devices;  // path → what ran it
+  std::vector<BenchRecord> records;
+  std::vector<StabilityRecord> stability;
+  int threads = 0;
+};
+
+// The figures' sanity (issue 7's done-when): full's error is 0 (its repeats give the same
+// bits); it shades W·H pixels; no method is measured faster than its ideal speedup (beyond
+// timing noise); every error is finite. One line per failure.
+std::vector<std::string> sanityChecks(const BenchResults& results);
+
+std::string benchMarkdown(const BenchResults& results, const std::vector<std::string>& failures);
+nlohmann::json benchJson(const BenchResults& results, const std::vector<std::string>& failures);
+std::string benchCsv(const BenchResults& results);
+
+// DIR/index.html with the charts (DIR/charts/*.svg and *.png), the tables and the example
+// images (written by the sweep into DIR/images/).
+void writeBenchReport(const std::string& dir, const BenchResults& results, const std::vector<std::string>& failures);
+
+// The paper's plotted figures (../shared/design/paper-figures.csv): speedup as a factor
+// (1 + pct/100) or RMS, by figure, effect, samples and size. Empty when the file is absent.
+struct PaperFigure {
+  std::string figure, effect;
+  int samples = 0, width = 0, height = 0;
+  double speedup = 0.0;  // 0 when the row gives an RMS
+  double rms = 0.0;      // 0 when the row gives a speedup
+};
+std::vector<PaperFigure> readPaperFigures(const std::string& path);
+
+}  // namespace mrr

@@ -1,0 +1,148 @@
+#include "gpu/peers.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "gpu/program.h"
+
+namespace mrr::gpu {
+
+namespace {
+// The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image (as cpu_ref/peers.cpp).
+int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
+
+int shadedLevel(const Constants& c) { return c.mode == Mode::Uniform1 ? 1 : 2; }
+
+// A small integer (a rate, a level, a 0/1 flag) stored in a float channel.
+uint8_t toLevel(float v) { return static_cast<uint8_t>(v + 0.5f); }
+
+// One tiles step into a fresh single-target framebuffer of the given size.
+std::unique_ptr<Framebuffer> tileStep(const GpuScene& scene, int step, int width, int height, unsigned source,
+                                      const std::function<void(unsigned)>& setUniforms = {}) {
+  const unsigned program = scene.program("peers.tiles", "fullscreen.vert", "peers.frag", "#define TILE_MASKS\n");
+  auto target = std::make_unique<Framebuffer>(width, height, 1, false);
+  target->bind();
+  glUseProgram(program);
+  glUniform1i(glGetUniformLocation(program, "step"), step);
+  if (setUniforms) setUniforms(program);
+  bindTextures(program, {{"source", source}});
+  scene.drawFullscreen();
+  checkGl("masks");
+  return target;
+}
+}  // namespace
+
+ImageU8 tileRates(const GpuScene& scene, const ImageU8& edges) {
+  const int tw = (edges.width + kTileSize - 1) / kTileSize, th = (edges.height + kTileSize - 1) / kTileSize;
+  const unsigned edgeTexture = uploadTexture(toFloat(edges));
+  // 1. a tile holds an edge: max over its 16×16 pixels of E
+  const auto hasEdge = tileStep(scene, 1, tw, th, edgeTexture);
+  // 2. rate 0 on edge tiles, 1 beside one (8-neighbourhood), 2 elsewhere
+  const auto rate = tileStep(scene, 2, tw, th, hasEdge->texture(0));
+  const ImageF read = rate->read(0, 1);
+  glDeleteTextures(1, &edgeTexture);
+  ImageU8 rates(tw, th);
+  for (size_t i = 0; i < rates.data.size(); ++i) rates.data[i] = toLevel(read.data[i]);
+  return rates;
+}
+
+std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU8& rates, const Constants& c) {
+  const unsigned rateTexture = uploadTexture(toFloat(rates));
+  std::array<MaskLevel, kLevelCount> levels;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    // 3. M_ℓ = rate, S_ℓ = a_ℓ = [rate == ℓ, inside W×H] (r, g, b of one target)
+    const auto target = tileStep(scene, 3, lc.width, lc.height, rateTexture, [&](unsigned program) {
+      glUniform1i(glGetUniformLocation(program, "level"), l);
+      glUniform1i(glGetUniformLocation(program, "perTile"), kTileSize / lc.scale);
+      glUniform2i(glGetUniformLocation(program, "extent"), levelExtent(c.width, lc.scale),
+                  levelExtent(c.height, lc.scale));
+    });
+    const ImageF read = target->read(0, 3);
+    MaskLevel& ml = levels[static_cast<size_t>(l)];
+    ml.mask = ImageU8(lc.width, lc.height);
+    ml.stencil = ImageU8(lc.width, lc.height);
+    ml.alpha = ImageF(lc.width, lc.height);
+    for (size_t i = 0; i < ml.mask.data.size(); ++i) {
+      ml.mask.data[i] = toLevel(read.data[3 * i]);
+      ml.stencil.data[i] = toLevel(read.data[3 * i + 1]);
+      ml.alpha.data[i] = read.data[3 * i + 2];
+    }
+  }
+  glDeleteTextures(1, &rateTexture);
+  return levels;
+}
+
+BlendResult composePeer(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels,
+                        const std::array<const Framebuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
+                        const Constants& c, bool keepStages) {
+  const bool uniform = c.mode != Mode::Tiles;
+  const int k = uniform ? shadedLevel(c) : 0;
+  const int channels = levels[static_cast<size_t>(uniform ? k : 0)].sub->channels;
+  // The composition: the final value and the level it came from, at full res.
+  Framebuffer composed(c.width, c.height, 2, false);
+  std::vector<unsigned> uploaded;
+  auto upload = [&](const ImageF& image) {
+    uploaded.push_back(uploadTexture(image));
+    return uploaded.back();
+  };
+  composed.bind();
+  if (uniform) {
+    const unsigned program = scene.program("peers.uniform", "fullscreen.vert", "peers.frag",
+                                           "#define COMPOSE\n#define JOINT_BILATERAL\n");
+    glUseProgram(program);
+    const Framebuffer& coarse = *gbuffers[static_cast<size_t>(k)];
+    const Framebuffer& full = *gbuffers[0];
+    bindTextures(program, {{"sub", upload(*levels[static_cast<size_t>(k)].sub)},
+                           {"coarsePositionHit", coarse.texture(0)},
+                           {"coarseNormalDepth", coarse.texture(1)},
+                           {"fullPositionHit", full.texture(0)},
+                           {"fullNormalDepth", full.texture(1)}});
+    glUniform1i(glGetUniformLocation(program, "level"), k);
+    glUniform1i(glGetUniformLocation(program, "scale"), c.levels[static_cast<size_t>(k)].scale);
+    glUniform1f(glGetUniformLocation(program, "sigmaDepth"), c.bilateral.sigmaDepth);
+    glUniform1f(glGetUniformLocation(program, "normalPower"), c.bilateral.normalPower);
+  } else {
+    const unsigned program =
+        scene.program("peers.broadcast", "fullscreen.vert", "peers.frag", "#define COMPOSE\n");
+    glUseProgram(program);
+    bindTextures(program, {{"rates", upload(toFloat(rates))},
+                           {"sub0", upload(*levels[0].sub)},
+                           {"sub1", upload(*levels[1].sub)},
+                           {"sub2", upload(*levels[2].sub)}});
+  }
+  scene.drawFullscreen();
+  checkGl("blend");
+  BlendResult r;
+  r.final = composed.read(0, channels);
+  const ImageF levelMap = composed.read(1, 1);
+  r.levelMap = ImageU8(c.width, c.height);
+  for (size_t i = 0; i < levelMap.data.size(); ++i) r.levelMap.data[i] = toLevel(levelMap.data[i]);
+  // ĉ_ℓ, α_ℓ and c'_ℓ per enabled level, from the composed value and level map.
+  if (keepStages) {
+    const unsigned program =
+        scene.program("peers.levels", "fullscreen.vert", "peers.frag", "#define LEVEL_STAGES\n");
+    for (int l = 0; l < kLevelCount; ++l) {
+      if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+      Framebuffer target(c.width, c.height, 3, false);
+      target.bind();
+      glUseProgram(program);
+      bindTextures(program, {{"composed", composed.texture(0)}, {"levelMap", composed.texture(1)}});
+      glUniform1i(glGetUniformLocation(program, "level"), l);
+      scene.drawFullscreen();
+      checkGl("blend");
+      r.upsampled[static_cast<size_t>(l)] = target.read(0, channels);
+      r.alpha[static_cast<size_t>(l)] = target.read(1, 1);
+      r.composite[static_cast<size_t>(l)] = target.read(2, channels);
+    }
+  }
+  glDeleteTextures(static_cast<GLsizei>(uploaded.size()), uploaded.data());
+  return r;
+}
+
+}  // namespace mrr::gpu

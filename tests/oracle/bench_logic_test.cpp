@@ -1,0 +1,131 @@
+// The benchmark's own logic: the flicker figure (SPEC §10), the sanity checks that CI runs on
+// `mrr bench --quick`, and reading the paper's figures. Each check is shown to fire.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.h"
+#include "compare/bench_report.h"
+#include "scenes/cameras.h"
+
+namespace mrr {
+namespace {
+
+ImageF filled(float v) { return ImageF(8, 4, 1, v); }
+
+TEST(Flicker, SteadyErrorIsZeroWhateverTheSceneDoes) {
+  FlickerMeter m;
+  for (int t = 0; t < 5; ++t) m.add(filled(0.1f * t + 0.05f), filled(0.1f * t));  // error 0.05 every frame
+  EXPECT_NEAR(m.flicker(), 0.0, 1e-7);
+  EXPECT_NEAR(m.meanRms(), 0.05, 1e-6);
+  EXPECT_EQ(m.frames(), 5);
+}
+
+TEST(Flicker, AnErrorThatFlipsSignEachFrameFlickersByTwiceItsSize) {
+  FlickerMeter m;
+  for (int t = 0; t < 4; ++t) m.add(filled(t % 2 ? 0.47f : 0.53f), filled(0.5f));
+  EXPECT_NEAR(m.flicker(), 0.06, 1e-6);
+}
+
+TEST(Flicker, RejectsFramesOfDifferentSizes) {
+  FlickerMeter m;
+  m.add(filled(0.0f), filled(0.0f));
+  EXPECT_THROW(m.add(ImageF(4, 4), ImageF(4, 4)), MrrError);
+}
+
+BenchRecord record(const std::string& method, double ideal, double measured, double rms) {
+  BenchRecord r;
+  r.path = "cpu";
+  r.scene = "builtin:demo";
+  r.group = "main";
+  r.method = method;
+  r.effect = "ssao";
+  r.width = 64;
+  r.height = 32;
+  r.samples = 16;
+  r.shadedPixels = static_cast<long long>(64 * 32 / ideal);
+  r.idealSpeedup = ideal;
+  r.measuredSpeedup = measured;
+  r.fullEffectMs = 50.0;
+  r.error.rms = rms;
+  r.error.maxAbs = rms * 4;
+  return r;
+}
+
+TEST(BenchSanity, PassesHonestFiguresAndCatchesEachPlantedFault) {
+  BenchResults ok;
+  ok.records = {record("full", 1.0, 1.0, 0.0), record("mrr", 2.5, 1.8, 0.004), record("uniform-2", 16.0, 5.0, 0.03)};
+  EXPECT_TRUE(sanityChecks(ok).empty());
+
+  BenchResults fullErr = ok;  // full differs from its own repeat: not deterministic
+  fullErr.records[0].error.rms = 1e-6;
+  EXPECT_EQ(sanityChecks(fullErr).size(), 1u);
+
+  BenchResults tooFast = ok;  // faster than its shaded-pixel ratio allows
+  tooFast.records[1].measuredSpeedup = 4.0;
+  ASSERT_EQ(sanityChecks(tooFast).size(), 1u);
+  EXPECT_NE(sanityChecks(tooFast)[0].find("above the ideal"), std::string::npos);
+
+  BenchResults tooShort = tooFast;  // ... unless full's time is too short to mean anything
+  tooShort.records[1].fullEffectMs = 2.0;
+  EXPECT_TRUE(sanityChecks(tooShort).empty());
+
+  BenchResults fellBack = ok;  // a fallen-back frame must be the full frame
+  fellBack.records[1].fellBack = true;
+  EXPECT_EQ(sanityChecks(fellBack).size(), 1u);
+
+  BenchResults fullPixels = ok;  // full shades W·H
+  fullPixels.records[0].shadedPixels = 100;
+  EXPECT_EQ(sanityChecks(fullPixels).size(), 1u);
+}
+
+TEST(PaperFiguresCsv, ReadsSpeedupsAsFactorsAndRms) {
+  const std::string path = (std::filesystem::temp_directory_path() / "mrr-paper-figures.csv").string();
+  {
+    std::ofstream f(path);
+    f << "# comment\nfigure,effect,samples,width,height,speedup_pct,rms\n"
+      << "fig7,ssm,196,1280,720,-17.4,\nfig9,ssao,64,1920,1080,,0.00731286\n";
+  }
+  const auto p = readPaperFigures(path);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_NEAR(p[0].speedup, 0.826, 1e-9);
+  EXPECT_EQ(p[0].height, 720);
+  EXPECT_DOUBLE_EQ(p[1].rms, 0.00731286);
+  EXPECT_TRUE(readPaperFigures("/nonexistent/paper.csv").empty());
+  std::filesystem::remove(path);
+}
+
+TEST(BenchCameras, TheFirstIsTheSceneCameraAndTheOthersDiffer) {
+  const Camera base = lookAt({4, 3, 6}, {0, 1, -1}, 60.0f);
+  const auto cams = benchCameras(base, 8);
+  ASSERT_EQ(cams.size(), 8u);
+  EXPECT_EQ(cams[0].eye, base.eye);
+  EXPECT_EQ(cams[0].target, base.target);
+  for (size_t i = 1; i < cams.size(); ++i) {
+    const glm::vec3 d0 = glm::normalize(cams[0].target - cams[0].eye), di = glm::normalize(cams[i].target - cams[i].eye);
+    EXPECT_TRUE(glm::dot(d0, di) < 0.99999f || glm::length(cams[i].eye - base.eye) > 1e-3f) << "camera " << i;
+  }
+}
+
+TEST(CameraPaths, StartAndEndAtTheSceneCameraAndMoveSmoothly) {
+  const Camera base = lookAt({4, 3, 6}, {0, 1, -1}, 60.0f);
+  for (const std::string& kind : cameraPathKinds()) {
+    const auto path = cameraPath(base, kind, 60);
+    ASSERT_EQ(path.size(), 60u);
+    EXPECT_LT(glm::length(path.front().eye - base.eye), 1e-5f) << kind;
+    EXPECT_LT(glm::length(path.back().eye - base.eye), 1e-5f) << kind;
+    float largest = 0.0f, total = 0.0f;
+    for (size_t t = 1; t < path.size(); ++t) {
+      const float step = glm::length(path[t].eye - path[t - 1].eye);
+      largest = std::max(largest, step);
+      total += step;
+    }
+    EXPECT_GT(total, 0.5f) << kind << " moves";
+    EXPECT_LT(largest, 4.0f * total / 59.0f) << kind << " has no jump";
+  }
+  EXPECT_THROW(cameraPath(base, "spin", 60), MrrError);
+}
+
+}  // namespace
+}  // namespace mrr

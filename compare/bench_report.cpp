@@ -604,6 +604,10 @@ void writeBenchReport(const std::string& dir, const BenchResults& res, const std
       }
     }
   }
+  // On load: how many images decoded (scripts/test-bench-report.sh checks it in Chromium).
+  h << "<script>window.addEventListener('load',()=>{const i=[...document.images];"
+       "document.body.dataset.loaded=i.filter(x=>x.complete&&x.naturalWidth>0).length;"
+       "document.body.dataset.images=i.length;});</script>\n";
   h << "</body></html>\n";
   writeTextFile(dir + "/index.html", h.str());
 }

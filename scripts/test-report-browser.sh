@@ -15,24 +15,12 @@ mrr="${1:-$here/build/mrr}"
 scenes="${MRR_SCENES_DIR:-$here/../shared/scenes}"
 shot="${MRR_REPORT_SCREENSHOT-$here/docs/images/compare-report.png}"
 
-fail() { echo "test-report-browser: FAIL: $*" >&2; exit 1; }
-skip() { echo "test-report-browser: SKIP: $*" >&2; exit 77; }
+tool=test-report-browser
+# shellcheck source=scripts/lib-chromium.sh
+. "$here/scripts/lib-chromium.sh"
 
 [ -x "$mrr" ] || fail "no mrr binary at $mrr"
-
-chromium="$(command -v chromium || command -v chromium-browser || true)"
-if [ -z "$chromium" ]; then
-  if [ "$(id -u)" = 0 ] && command -v apt-get > /dev/null; then
-    echo "test-report-browser: installing chromium (apt)" >&2
-    if ! { DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium > /dev/null 2>&1 ||
-           { apt-get update -q > /dev/null 2>&1 &&
-             DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium > /dev/null 2>&1; }; }; then
-      skip "chromium is missing and apt-get install chromium failed"
-    fi
-    chromium="$(command -v chromium || true)"
-  fi
-  [ -n "$chromium" ] || skip "chromium is missing and cannot be installed here (not root or no apt-get)"
-fi
+find_chromium
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
@@ -61,17 +49,14 @@ if grep -Eqi '(src|href)="(https?:|//|file:)|url\((["'"'"']?)(https?:|//)|@impor
 fi
 
 # 2. Load it offline and dump the DOM after the load event.
-flags=(--headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking
-       --disable-component-update --disable-sync --disable-dev-shm-usage --hide-scrollbars
-       --user-data-dir="$work/profile" --enable-logging=stderr --v=0 --virtual-time-budget=5000)
+flags=("${chromium_flags[@]}" --user-data-dir="$work/profile")
 timeout 50 "$chromium" "${flags[@]}" --dump-dom "file://$page" > "$work/dom.html" 2> "$work/chromium.err"
 rc=$?
 [ "$rc" -eq 0 ] || fail "chromium --dump-dom exited $rc: $(grep -m1 -E 'ERROR|FATAL' "$work/chromium.err")"
 [ -s "$work/dom.html" ] || fail "chromium dumped an empty DOM"
 # The page logs nothing, so any console line (Chromium prints them all as INFO:CONSOLE) fails.
-console='Uncaught|ERROR:CONSOLE|:CONSOLE[:(]|Failed to load resource|Not allowed to load'
-if grep -Eq "$console" "$work/chromium.err"; then
-  fail "console message in chromium: $(grep -Em1 "$console" "$work/chromium.err" | cut -c1-200)"
+if grep -Eq "$chromium_console" "$work/chromium.err"; then
+  fail "console message in chromium: $(grep -Em1 "$chromium_console" "$work/chromium.err" | cut -c1-200)"
 fi
 
 sections=$(grep -Eo '<section class="stage[^"]*" id="[^"]+" data-effect="[a-z]+" data-stage="[^"]+"' "$work/dom.html" | wc -l)

@@ -310,6 +310,8 @@ int run(int argc, char** argv) {
   bench->add_option("--frames", benchOpts.frames, "frames per camera path (0: no stability runs)")->capture_default_str();
   bench->add_option("--stability-size", benchStabilitySize, "size of the camera-path frames (default 320x180)");
   bench->add_option("--stability-scenes", benchOpts.stabilityScenes, "scenes of the camera paths")->capture_default_str();
+  bench->add_option("--stability-effects", benchOpts.stabilityEffects, "effects of the camera paths")
+      ->capture_default_str();
   bench->add_option("--stress-scenes", benchOpts.stressScenes, "stress scenes")->capture_default_str();
   bench->add_option("--stress-size", benchStressSize, "size of the stress runs (default 1280x720)");
   bench->add_option("--json", benchOpts.jsonOut, "write every figure as JSON");
@@ -371,6 +373,7 @@ int run(int argc, char** argv) {
               "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
                   std::to_string(kMaxImageSize) + "]");
     for (const std::string& m : benchOpts.methods) parseMode(m);  // validates the name
+    for (const std::string& e : benchOpts.stabilityEffects) parseEffect(e);  // validates the name
     for (const std::string& e : benchOpts.effects) {
       Settings probeSettings = defaultSettings(parseEffect(e));  // validates the name
       for (int n : benchOpts.samples) {

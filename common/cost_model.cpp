@@ -11,18 +11,19 @@ double shadeNs(const EffectCost& e, int samples) { return e.nsPerShadedPixel + e
 
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
-  // `mrr bench --calibrate` on the CI machine (2-core AMD EPYC VM; llvmpipe for the port),
-  // builtin:demo at 640×360. Order: ssao, ssm, ssgi.
+  // `mrr bench --calibrate FILE --paths cpu gpu --repeats 5` on the CI machine (2-core AMD EPYC
+  // VM; the port on llvmpipe, LLVM 15, with its per-stage readbacks), builtin:demo at 640×360,
+  // 2026-11-23; three runs agreed within 3%. Order: ssao, ssm, ssgi; {a, b, d} as EffectCost.
   if (path == "gpu") {
-    m.source = "built-in default (gpu, llvmpipe, 2-core AMD EPYC VM)";
-    m.effect = {EffectCost{60.0, 4.0, 30.0}, EffectCost{60.0, 3.0, 0.0}, EffectCost{80.0, 12.0, 30.0}};
-    m.nsPerCoarseGbufferPixel = 150.0;
-    m.nsPerBlendPixel = 120.0;
+    m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
+    m.effect = {EffectCost{186.7, 3.49, 0.0}, EffectCost{267.7, 1.40, 0.0}, EffectCost{33.6, 4.10, 20.2}};
+    m.nsPerCoarseGbufferPixel = 73.3;
+    m.nsPerBlendPixel = 162.5;
   } else {
-    m.source = "built-in default (cpu, 2-core AMD EPYC VM)";
-    m.effect = {EffectCost{40.0, 3.6, 4.0}, EffectCost{30.0, 0.9, 0.0}, EffectCost{20.0, 7.5, 10.0}};
-    m.nsPerCoarseGbufferPixel = 25.0;
-    m.nsPerBlendPixel = 12.0;
+    m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
+    m.effect = {EffectCost{131.0, 3.15, 1.1}, EffectCost{52.5, 0.76, 0.0}, EffectCost{20.3, 4.2, 12.3}};
+    m.nsPerCoarseGbufferPixel = 20.9;
+    m.nsPerBlendPixel = 19.2;
   }
   return m;
 }

@@ -159,11 +159,10 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
 
 }  // namespace
 
-BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, bool keepStages) {
+BlendResult BlendResult::allocate(const Constants& c, int channels, int baseLevel, bool keepStages) {
   BlendResult r;
   const int w = c.width, h = c.height;
-  const int channels = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
-  r.levelMap = ImageU8(w, h, 1, static_cast<uint8_t>(c.coarsestEnabled));
+  r.levelMap = ImageU8(w, h, 1, static_cast<uint8_t>(baseLevel));
   r.final = ImageF(w, h, channels);
   if (keepStages)
     for (int l = 0; l < kLevelCount; ++l) {
@@ -172,6 +171,13 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
       r.alpha[static_cast<size_t>(l)] = ImageF(w, h, 1);
       r.composite[static_cast<size_t>(l)] = ImageF(w, h, channels);
     }
+  return r;
+}
+
+BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, bool keepStages) {
+  const int w = c.width, h = c.height;
+  const int channels = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
+  BlendResult r = BlendResult::allocate(c, channels, c.coarsestEnabled, keepStages);
   if (!keepStages) {
     blendFinalOnly(levels, c, r);
     return r;

@@ -39,6 +39,10 @@ struct BlendResult {
   std::array<ImageF, kLevelCount> composite;  // c'_ℓ on W×H
   ImageF final;                               // c'_finest
   ImageU8 levelMap;                           // finest level with α > 0 at each pixel
+
+  // W×H final (`channels`) and level map (filled with `baseLevel`); with `keepStages`, also
+  // ĉ_ℓ, α_ℓ and c'_ℓ for every enabled level.
+  static BlendResult allocate(const Constants& constants, int channels, int baseLevel, bool keepStages);
 };
 
 struct LevelImages {

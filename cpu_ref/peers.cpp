@@ -124,20 +124,11 @@ void jointBilateralAt(const ImageF& sub, const GBuffer& coarse, const GBuffer& f
 BlendResult composePeer(const std::array<LevelImages, kLevelCount>& levels,
                         const std::array<const GBuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
                         const Constants& c, bool keepStages) {
-  BlendResult r;
   const int w = c.width, h = c.height;
   const bool uniform = c.mode != Mode::Tiles;
   const int k = uniform ? shadedLevel(c) : 0;
   const int channels = levels[static_cast<size_t>(uniform ? k : 0)].sub->channels;
-  r.final = ImageF(w, h, channels);
-  r.levelMap = ImageU8(w, h, 1, static_cast<uint8_t>(k));
-  if (keepStages)
-    for (int l = 0; l < kLevelCount; ++l) {
-      if (!c.levels[static_cast<size_t>(l)].enabled) continue;
-      r.upsampled[static_cast<size_t>(l)] = ImageF(w, h, channels);
-      r.alpha[static_cast<size_t>(l)] = ImageF(w, h, 1);
-      r.composite[static_cast<size_t>(l)] = ImageF(w, h, channels);
-    }
+  BlendResult r = BlendResult::allocate(c, channels, k, keepStages);
   parallelFor(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       float value[4] = {0, 0, 0, 0};

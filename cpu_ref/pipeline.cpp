@@ -58,6 +58,14 @@ std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel,
   return counts;
 }
 
+void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model) {
+  if (!f.constants.neverSlower) return;
+  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants));
+  if (!f.fallback.fellBack) return;
+  f.constants.fallBackToFull();
+  masks = fullModeMasks(f.constants);
+}
+
 double FrameResult::timing(const std::string& stage) const {
   double ms = 0.0;
   for (const StageTiming& t : timings)
@@ -139,14 +147,7 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
     case Mode::Full: masks = fullModeMasks(c); break;
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  if (c.neverSlower) {
-    const CostModel model = options.costModel ? *options.costModel : CostModel::defaults("cpu");
-    f.fallback = decideFallback(model, c, shadedPixelCounts(masks, c));
-    if (f.fallback.fellBack) {
-      f.constants.fallBackToFull();
-      masks = fullModeMasks(c);
-    }
-  }
+  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("cpu"));
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
 
   // 1, continued. The coarser levels' G-buffers.

@@ -76,6 +76,11 @@ struct RenderOptions {
   const CostModel* costModel = nullptr;
 };
 
+// SPEC §11 on a frame whose stencils are `masks` and nothing else of the method is paid yet:
+// when f.constants.neverSlower, decides with `model` into f.fallback and, on a fallback,
+// switches f.constants and `masks` to a full-res frame. Both pipelines call it at that point.
+void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model);
+
 // The per-level |S_ℓ| of a set of stencils (0 for levels that are not shaded).
 std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel, kLevelCount>& masks,
                                                      const Constants& constants);

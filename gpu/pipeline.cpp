@@ -90,14 +90,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     case Mode::Full: masks = fullModeMasks(c); break;
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  if (c.neverSlower) {
-    const CostModel model = options.costModel ? *options.costModel : CostModel::defaults("gpu");
-    f.fallback = decideFallback(model, c, shadedPixelCounts(masks, c));
-    if (f.fallback.fellBack) {
-      f.constants.fallBackToFull();
-      masks = fullModeMasks(c);
-    }
-  }
+  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("gpu"));
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
 
   // 1, continued. The coarser levels' G-buffers.

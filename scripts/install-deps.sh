@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs mrr's build and run dependencies on Debian 12 (all from Debian's own packages).
+# Installs mrr's build and run dependencies on Debian 12 (all from Debian's own packages;
+# fonts-dejavu-core is the font `mrr bench` draws its PNG charts with).
 # `install-deps.sh test` adds what only the tests need: Chromium (the compare report's
 # browser test) and clang with its fuzzer runtime (scripts/fuzz.sh).
 # Safe to run repeatedly; skips apt when every package is already installed.
@@ -10,6 +11,7 @@ pkgs=(
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  fonts-dejavu-core
 )
 if [ "${1:-}" = test ]; then
   pkgs+=(chromium clang libclang-rt-14-dev)

@@ -13,17 +13,20 @@ CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
   // `mrr bench --calibrate FILE --paths cpu gpu --repeats 5` on the CI machine (2-core AMD EPYC
   // VM; the port on llvmpipe, LLVM 15, with its per-stage readbacks), builtin:demo at 640×360,
-  // 2026-11-23; three runs agreed within 3%. Order: ssao, ssm, ssgi; {a, b, d} as EffectCost.
+  // 2026-11-23: the mean of three runs, which agreed within ~10%. Order: ssao, ssm, ssgi;
+  // {a, b, d, s} as EffectCost.
   if (path == "gpu") {
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{186.7, 3.49, 0.0}, EffectCost{267.7, 1.40, 0.0}, EffectCost{33.6, 4.10, 20.2}};
-    m.nsPerCoarseGbufferPixel = 73.3;
-    m.nsPerBlendPixel = 162.5;
+    m.effect = {EffectCost{190.0, 3.35, 0.0, 1.58}, EffectCost{280.0, 1.42, 0.0, 1.60},
+                EffectCost{32.0, 4.30, 22.0, 1.60}};
+    m.nsPerCoarseGbufferPixel = 73.0;
+    m.nsPerBlendPixel = 100.6;
   } else {
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{131.0, 3.15, 1.1}, EffectCost{52.5, 0.76, 0.0}, EffectCost{20.3, 4.2, 12.3}};
-    m.nsPerCoarseGbufferPixel = 20.9;
-    m.nsPerBlendPixel = 19.2;
+    m.effect = {EffectCost{130.0, 3.40, 1.1, 1.30}, EffectCost{60.0, 0.75, 0.0, 1.45},
+                EffectCost{24.0, 4.35, 13.5, 1.60}};
+    m.nsPerCoarseGbufferPixel = 21.8;
+    m.nsPerBlendPixel = 20.1;
   }
   return m;
 }
@@ -38,6 +41,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.nsPerShadedPixel = ej.at("ns_per_shaded_pixel").get<double>();
       ec.nsPerSample = ej.at("ns_per_sample").get<double>();
       ec.nsPerLevelPixel = ej.at("ns_per_level_pixel").get<double>();
+      ec.sparseFactor = ej.at("sparse_factor").get<double>();
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
     m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
@@ -53,7 +57,8 @@ nlohmann::json CostModel::toJson() const {
     const EffectCost& ec = effect[static_cast<size_t>(e)];
     effects[toString(e)] = {{"ns_per_shaded_pixel", ec.nsPerShadedPixel},
                             {"ns_per_sample", ec.nsPerSample},
-                            {"ns_per_level_pixel", ec.nsPerLevelPixel}};
+                            {"ns_per_level_pixel", ec.nsPerLevelPixel},
+                            {"sparse_factor", ec.sparseFactor}};
   }
   return {{"source", source},
           {"effects", effects},
@@ -61,14 +66,14 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_blend_pixel", nsPerBlendPixel}};
 }
 
-// SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N) + P_ℓ·d) + Σ_{ℓ≥1} P_ℓ·g + W·H·β, in ms.
+// SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N)·s + P_ℓ·d) + Σ_{ℓ≥1} P_ℓ·g + W·H·β, in ms.
 double predictMultiresMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded) {
   const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
   double ns = static_cast<double>(c.width) * c.height * m.nsPerBlendPixel;
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled) continue;
     if (lc.index > 0) ns += levelPixels(lc) * m.nsPerCoarseGbufferPixel;
-    if (lc.shaded) ns += static_cast<double>(shaded[static_cast<size_t>(lc.index)]) * shadeNs(e, c.samples()) +
+    if (lc.shaded) ns += static_cast<double>(shaded[static_cast<size_t>(lc.index)]) * shadeNs(e, c.samples()) * e.sparseFactor +
                          levelPixels(lc) * e.nsPerLevelPixel;
   }
   return ns * 1e-6;

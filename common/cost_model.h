@@ -19,6 +19,10 @@ struct EffectCost {
   double nsPerSample = 0.0;       // b: per stencilled pixel and sample
   double nsPerLevelPixel = 0.0;   // d: per pixel of every shaded level, stencilled or not
                                   //    (SSAO's occluder planes, SSGI's direct light)
+  // s: a stencilled pixel of the method costs s × a pixel of a dense full frame. The pixels
+  // the method shades finely sit at edges, where samples find occluders and branches
+  // mispredict, and a sparse stencil is walked less efficiently: measured in mrr frames.
+  double sparseFactor = 1.0;
 };
 
 struct CostModel {

@@ -237,10 +237,14 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     ec.nsPerSample = std::max(0.0, (t2 - t1) / (n2 - n1));
     ec.nsPerShadedPixel = std::max(0.0, t1 - ec.nsPerSample * n1);
     ec.nsPerLevelPixel = 0.5 * (perLevel(m1) + perLevel(m2)) * 1e6 / pixels;
-    std::cerr << "[calibrate] " << path.name << " " << toString(e) << " mrr (rule off)\n";
-    Settings sm = settingsFor("mrr-norule", e, w, h, n1);
+    std::cerr << "[calibrate] " << path.name << " " << toString(e) << " mrr (rule off) at " << n2 << " samples\n";
+    Settings sm = settingsFor("mrr-norule", e, w, h, n2);
     const Constants cm = makeConstants(sm, diagonal);
     const auto mm = medians(sm);
+    // s: the method's shading time per stencilled pixel against full's per pixel, same samples.
+    const FrameResult counted = sc.render(sc.camera, cm, {false, {}, nullptr});
+    const double perShaded = shade(mm) * 1e6 / static_cast<double>(std::max<int64_t>(counted.shadedPixelsTotal, 1));
+    ec.sparseFactor = std::max(1.0, perShaded / std::max(t2, 1e-9));
     double coarsePixels = 0, coarseMs = 0;
     for (const LevelConstants& lc : cm.levels)
       if (lc.enabled && lc.index > 0) {

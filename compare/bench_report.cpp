@@ -156,7 +156,9 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
             if (sel.empty()) continue;
             std::vector<double> meas, ideal, rms, psnr, ssim, band, maxAbs, ms;
             int fell = 0;
+            int64_t bandPixels = 0;
             for (const BenchRecord& r : sel) {
+              bandPixels += r.error.edgeBandPixels;
               meas.push_back(r.measuredSpeedup);
               ideal.push_back(r.idealSpeedup);
               rms.push_back(r.error.rms);
@@ -171,7 +173,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
             t.rows.push_back({path, effect, std::to_string(samples), m, std::to_string(sel.size()), fixed(mm, 2) + "x",
                               fixed(mi, 2) + "x", fixed(100.0 * mm / mi, 0) + "%", sci(median(rms)),
                               median(psnr) >= 999.0 ? "inf" : fixed(median(psnr), 1), fixed(median(ssim), 4),
-                              sci(median(band)), sci(median(maxAbs)), std::to_string(fell) + "/" + std::to_string(sel.size()),
+                              bandPixels > 0 ? sci(median(band)) : "—", sci(median(maxAbs)), std::to_string(fell) + "/" + std::to_string(sel.size()),
                               fixed(median(ms), 1)});
           }
     out.push_back(t);
@@ -239,7 +241,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
       t.rows.push_back({r.path, r.scene, r.effect + "-" + std::to_string(r.samples), r.method,
                         fixed(static_cast<double>(r.shadedPixels) / (static_cast<double>(r.width) * r.height), 3),
                         fixed(r.idealSpeedup, 2) + "x", fixed(r.measuredSpeedup, 2) + "x", sci(r.error.rms),
-                        sci(r.error.edgeBandRms), r.fellBack ? "yes" : ""});
+                        r.error.edgeBandPixels > 0 ? sci(r.error.edgeBandRms) : "—", r.fellBack ? "yes" : ""});
     if (!t.rows.empty()) out.push_back(t);
   }
   return out;
@@ -252,7 +254,8 @@ std::string header(const BenchResults& res) {
   o << "Median of " << res.options.repeats << " repeats after a warm-up, every method and `full` alternating in one "
     << "run. Effect time = frame time minus the full-res G-buffer (shared by every method); measured speedup = full's "
     << "effect time / the method's; ideal speedup = W·H / shaded pixels (SPEC §4, §9). Errors: SPEC §10, the effect "
-    << "buffer against `full` with the same samples. `mrr` runs with the never-slower rule (SPEC §11); `mrr-norule` "
+    << "buffer against `full` with the same samples; the edge band is the pixels near a transition of the level map, "
+    << "so a method with one level has none (—). `mrr` runs with the never-slower rule (SPEC §11); `mrr-norule` "
     << "without it.\n";
   return o.str();
 }

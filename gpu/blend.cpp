@@ -9,7 +9,8 @@
 
 namespace mrr::gpu {
 
-BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
+BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels, const Constants& c,
+                        bool keepStages) {
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const int channelCount = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
   BlendResult r;
@@ -33,18 +34,20 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLe
     glUniform1f(glGetUniformLocation(program, "weight"), lc.weight);
     scene.drawFullscreen();
     checkGl("blend");
-    r.upsampled[static_cast<size_t>(l)] = target->read(0, channelCount);
-    r.alpha[static_cast<size_t>(l)] = target->read(1, 1);
-    r.composite[static_cast<size_t>(l)] = target->read(2, channelCount);
+    if (keepStages) r.upsampled[static_cast<size_t>(l)] = target->read(0, channelCount);
+    const ImageF levelAlpha = target->read(1, 1);
+    if (keepStages || l == c.finestEnabled) r.composite[static_cast<size_t>(l)] = target->read(2, channelCount);
     if (previous)  // the finest level with α > 0 wins the level map, as on the host
       for (size_t i = 0; i < r.levelMap.data.size(); ++i)
-        if (r.alpha[static_cast<size_t>(l)].data[i] > 0.0f) r.levelMap.data[i] = static_cast<uint8_t>(l);
+        if (levelAlpha.data[i] > 0.0f) r.levelMap.data[i] = static_cast<uint8_t>(l);
+    if (keepStages) r.alpha[static_cast<size_t>(l)] = levelAlpha;
     glDeleteTextures(1, &sub);
     glDeleteTextures(1, &stencil);
     glDeleteTextures(1, &alpha);
     previous = std::move(target);
   }
-  r.final = r.composite[static_cast<size_t>(c.finestEnabled)];
+  r.final = keepStages ? r.composite[static_cast<size_t>(c.finestEnabled)]
+                       : std::move(r.composite[static_cast<size_t>(c.finestEnabled)]);
   return r;
 }
 

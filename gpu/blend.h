@@ -8,7 +8,9 @@
 
 namespace mrr::gpu {
 
+// Without `keepStages` (the benchmark) only the final image and each level's α (for the
+// level map) are read back, as the oracle keeps only the final image and level map then.
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels,
-                        const Constants& constants);
+                        const Constants& constants, bool keepStages = true);
 
 }  // namespace mrr::gpu

@@ -146,7 +146,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
       f.blend = composePeer(gpuScene_, f.blendInputs(), targets, f.tileRates, c, options.keepStages);
     });
   } else {
-    stage("blend", [&] { f.blend = blendLevels(gpuScene_, f.blendInputs(), c); });
+    stage("blend", [&] { f.blend = blendLevels(gpuScene_, f.blendInputs(), c, options.keepStages); });
   }
   // 6. The shaded image for viewing: the oracle's function on the port's buffers.
   stage("shade", [&] { f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, f.light, c.effect); });

@@ -200,16 +200,17 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
 
 TEST(NeverSlower, PredictionCountsShadedPixelsCoarseGbuffersAndBlend) {
   CostModel m;
-  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0};
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 1.5};
   m.nsPerCoarseGbufferPixel = 3.0;
   m.nsPerBlendPixel = 5.0;
   const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   // full: 2048 px × (10 + 16) + 2048 × 2
   EXPECT_NEAR(predictFullMs(m, c), (2048.0 * 26 + 2048.0 * 2) * 1e-6, 1e-12);
   const std::array<long long, kLevelCount> shaded = {100, 50, 20, 32};
-  // shaded × 26 + level pixels × 2 + coarse G-buffers × 3 + blend 2048 × 5
+  // shaded × 26 × 1.5 (sparse) + level pixels × 2 + coarse G-buffers × 3 + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
-  EXPECT_NEAR(predictMultiresMs(m, c, shaded), (202.0 * 26 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6, 1e-12);
+  EXPECT_NEAR(predictMultiresMs(m, c, shaded), (202.0 * 26 * 1.5 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6,
+              1e-12);
 }
 
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {

@@ -619,7 +619,10 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
       CostModel model = CostModel::defaults("cpu");
       model.source = expensive ? "test: blend 1 s per pixel" : "test: free overhead";
       model.nsPerBlendPixel = expensive ? 1e9 : 0.0;
-      if (!expensive) model.nsPerCoarseGbufferPixel = 0.0;
+      if (!expensive) {  // nothing but shading costs, and a stencilled pixel no more than a dense one
+        model.nsPerCoarseGbufferPixel = 0.0;
+        for (EffectCost& e : model.effect) e.sparseFactor = 1.0;
+      }
       const BothPaths b = renderBoth("builtin:demo", peerSettings(effect, Mode::Multires, 97, 61), model);
       const std::string what = toString(effect) + (expensive ? " expensive blend" : " free overhead");
       ASSERT_TRUE(b.cpu.fallback.evaluated && b.port.fallback.evaluated) << what;
@@ -651,6 +654,7 @@ TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
   CostModel fallsBack = CostModel::defaults("cpu"), staysMultires = fallsBack;
   fallsBack.nsPerBlendPixel = 1e9;
   staysMultires.nsPerBlendPixel = staysMultires.nsPerCoarseGbufferPixel = 0.0;
+  for (EffectCost& e : staysMultires.effect) e.sparseFactor = 1.0;
   const Settings s = peerSettings(Effect::Ssao, Mode::Multires, 97, 61);
   const auto r = test::renderScene("builtin:demo", s);
   const Constants k = makeConstants(s, r.scene->bounds().diagonal());

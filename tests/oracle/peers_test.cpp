@@ -187,6 +187,7 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
 
   CostModel free = CostModel::defaults("cpu");
   free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = 0.0;
+  for (EffectCost& e : free.effect) e.sparseFactor = 1.0;  // shading alone, at dense cost
   const FrameResult kept = renderer.render(rs.camera, c, {true, {}, &free});
   EXPECT_FALSE(kept.fallback.fellBack);
   EXPECT_GT(kept.idealSpeedup, 1.2);

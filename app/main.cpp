@@ -306,6 +306,11 @@ int run(int argc, char** argv) {
   bench->add_option("--threads", benchOpts.threads, "the oracle's threads (0 = all cores)");
   bench->add_flag("--no-sweeps", noSweeps, "skip the paper's sweeps (samples, resolution)");
   bench->add_option("--sweep-size", benchSweepSize, "size of the samples sweep (default 1280x720)");
+  bench->add_option("--ssao-sweep", benchOpts.ssaoSweep, "SSAO sample counts of the samples sweep")->capture_default_str();
+  bench->add_option("--ssm-sweep", benchOpts.ssmSweep, "SSM sample counts of the samples sweep")->capture_default_str();
+  bench->add_option("--ssgi-sweep", benchOpts.ssgiSweep,
+                    "SSGI sample counts of the samples sweep (the paper's 1088 and 4224 take minutes per setting here)")
+      ->capture_default_str();
   bench->add_option("--resolutions", benchResolutions, "sizes of the resolution sweep (default 1280x720 1920x1080)");
   bench->add_option("--frames", benchOpts.frames, "frames per camera path (0: no stability runs)")->capture_default_str();
   bench->add_option("--stability-size", benchStabilitySize, "size of the camera-path frames (default 320x180)");
@@ -341,9 +346,9 @@ int run(int argc, char** argv) {
       if (!bench->count("--repeats")) benchOpts.repeats = 1;
       if (!bench->count("--sweep-size")) benchOpts.sweepSize = {160, 90};
       if (!bench->count("--resolutions")) benchOpts.resolutions = {{96, 54}, {160, 90}};
-      benchOpts.ssaoSweep = {8, 16};
-      benchOpts.ssmSweep = {16, 36};
-      benchOpts.ssgiSweep = {8, 16};
+      if (!bench->count("--ssao-sweep")) benchOpts.ssaoSweep = {8, 16};
+      if (!bench->count("--ssm-sweep")) benchOpts.ssmSweep = {16, 36};
+      if (!bench->count("--ssgi-sweep")) benchOpts.ssgiSweep = {8, 16};
       if (!bench->count("--frames")) benchOpts.frames = 8;
       if (!bench->count("--stability-size")) benchOpts.stabilitySize = {96, 54};
       if (!bench->count("--stability-scenes")) benchOpts.stabilityScenes = {"builtin:demo"};
@@ -374,6 +379,14 @@ int run(int argc, char** argv) {
                   std::to_string(kMaxImageSize) + "]");
     for (const std::string& m : benchOpts.methods) parseMode(m);  // validates the name
     for (const std::string& e : benchOpts.stabilityEffects) parseEffect(e);  // validates the name
+    for (auto [effect, counts] : {std::pair{Effect::Ssao, &benchOpts.ssaoSweep}, std::pair{Effect::Ssm, &benchOpts.ssmSweep},
+                                  std::pair{Effect::Ssgi, &benchOpts.ssgiSweep}}) {
+      Settings probeSettings = defaultSettings(effect);  // every sweep count in its effect's range
+      for (int n : *counts) {
+        probeSettings.setSamples(n);
+        validateSettings(probeSettings);
+      }
+    }
     for (const std::string& e : benchOpts.effects) {
       Settings probeSettings = defaultSettings(parseEffect(e));  // validates the name
       for (int n : benchOpts.samples) {

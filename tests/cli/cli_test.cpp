@@ -651,6 +651,10 @@ const std::vector<BadCase> kBadCases = {
                                 "--pixel", "1,2,3"}, "--pixel 1,2,3"},
     // bench: options checked before any scene is loaded
     {"BenchRepeatsZero", {"bench", "--repeats", "0"}, "--repeats"},
+    {"BenchSsmSweepNotSquare", {"bench", "--ssm-sweep", "150"}, "square"},
+    {"BenchUnknownMethod", {"bench", "--methods", "mrr", "half"}, "--method half"},
+    {"BenchUnknownPath", {"bench", "--paths", "tpu"}, "--paths tpu"},
+    {"BenchFramesOne", {"bench", "--frames", "1"}, "--frames"},
     {"BenchJsonBadExtension", {"bench", "--quick", "--json", "{out}/figures.txt"}, "figures.txt"},
 };
 

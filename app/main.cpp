@@ -380,21 +380,19 @@ int run(int argc, char** argv) {
                   std::to_string(kMaxImageSize) + "]");
     for (const std::string& m : benchOpts.methods) parseMode(m);  // validates the name
     for (const std::string& e : benchOpts.stabilityEffects) parseEffect(e);  // validates the name
-    for (auto [effect, counts] : {std::pair{Effect::Ssao, &benchOpts.ssaoSweep}, std::pair{Effect::Ssm, &benchOpts.ssmSweep},
-                                  std::pair{Effect::Ssgi, &benchOpts.ssgiSweep}}) {
-      Settings probeSettings = defaultSettings(effect);  // every sweep count in its effect's range
-      for (int n : *counts) {
+    // Every sample count in its effect's range: the main sweep's for each chosen effect, and
+    // each effect's samples sweep.
+    auto validateCounts = [](Effect effect, const std::vector<int>& counts) {
+      Settings probeSettings = defaultSettings(effect);
+      for (int n : counts) {
         probeSettings.setSamples(n);
         validateSettings(probeSettings);
       }
-    }
-    for (const std::string& e : benchOpts.effects) {
-      Settings probeSettings = defaultSettings(parseEffect(e));  // validates the name
-      for (int n : benchOpts.samples) {
-        probeSettings.setSamples(n);
-        validateSettings(probeSettings);
-      }
-    }
+    };
+    for (const std::string& e : benchOpts.effects) validateCounts(parseEffect(e), benchOpts.samples);
+    validateCounts(Effect::Ssao, benchOpts.ssaoSweep);
+    validateCounts(Effect::Ssm, benchOpts.ssmSweep);
+    validateCounts(Effect::Ssgi, benchOpts.ssgiSweep);
     for (const std::string& p : benchPaths)
       require(p == "cpu" || p == "gpu", "--paths " + p + ": unknown path (expected cpu or gpu)");
     require(benchOpts.threads >= 0 && benchOpts.threads <= 1024, "--threads: must be in [0, 1024]");

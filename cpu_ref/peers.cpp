@@ -64,6 +64,7 @@ std::array<MaskLevel, kLevelCount> tileMasks(const ImageU8& rates, const Constan
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
+    // 3. M_ℓ = rate, S_ℓ = a_ℓ = [rate == ℓ, inside W×H]
     MaskLevel& ml = levels[static_cast<size_t>(l)];
     ml.mask = ImageU8(lc.width, lc.height);
     ml.stencil = ImageU8(lc.width, lc.height);

@@ -289,7 +289,7 @@ int run(int argc, char** argv) {
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
   std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut;
-  bool quick = false, noSweeps = false;
+  bool quick = false, noSweeps = false, noStress = false;
   int glDevice = -1;
   auto* bench = app.add_subcommand(
       "bench", "speed against accuracy: every method against full, side by side; charts, stability, stress scenes");
@@ -318,6 +318,7 @@ int run(int argc, char** argv) {
   bench->add_option("--stability-effects", benchOpts.stabilityEffects, "effects of the camera paths")
       ->capture_default_str();
   bench->add_option("--stress-scenes", benchOpts.stressScenes, "stress scenes")->capture_default_str();
+  bench->add_flag("--no-stress", noStress, "skip the stress scenes");
   bench->add_option("--stress-size", benchStressSize, "size of the stress runs (default 1280x720)");
   bench->add_option("--json", benchOpts.jsonOut, "write every figure as JSON");
   bench->add_option("--csv", benchOpts.csvOut, "write every run as CSV");
@@ -367,6 +368,7 @@ int run(int argc, char** argv) {
     if (!benchStabilitySize.empty()) benchOpts.stabilitySize = parseSize(benchStabilitySize);
     if (!benchStressSize.empty()) benchOpts.stressSize = parseSize(benchStressSize);
     benchOpts.paperSweeps = !noSweeps;
+    if (noStress) benchOpts.stressScenes.clear();
     require(benchOpts.repeats >= 1 && benchOpts.repeats <= 100, "--repeats: must be in [1, 100]");
     require(benchOpts.cameras >= 1 && benchOpts.cameras <= 64, "--cameras: must be in [1, 64]");
     require(benchOpts.frames == 0 || (benchOpts.frames >= 2 && benchOpts.frames <= 10000),

@@ -34,9 +34,15 @@ double median(std::vector<double> v) {
 
 // The method's own cost: everything but the full-res G-buffer, which a deferred renderer
 // has anyway and every method shares.
+// The method's own time: the frame less the stages every method pays alike and that are not
+// the effect: the full-res G-buffer, and the port's copy of it to the host for the shaded
+// image (`readback`, gpu/pipeline.cpp).
 double effectMs(const std::map<std::string, double>& ms) {
-  const auto total = ms.find("total"), g0 = ms.find("gbuffer.L0");
-  return (total != ms.end() ? total->second : 0.0) - (g0 != ms.end() ? g0->second : 0.0);
+  auto at = [&](const char* k) {
+    const auto it = ms.find(k);
+    return it != ms.end() ? it->second : 0.0;
+  };
+  return at("total") - at("gbuffer.L0") - at("readback");
 }
 
 std::string fixed(double v, int digits) {

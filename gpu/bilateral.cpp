@@ -8,14 +8,13 @@
 
 namespace mrr::gpu {
 
-ImageF bilateralBlur(const GpuScene& scene, const ImageF& raw, const ImageU8& stencil, const Framebuffer& gbuffer,
+Target drawBilateral(const GpuScene& scene, unsigned raw, unsigned stencil, const Framebuffer& gbuffer,
                      const Constants::Bilateral& b) {
-  if (b.radius == 0) return raw;
-  const unsigned image = uploadTexture(raw), mask = uploadTexture(toFloat(stencil));
+  if (b.radius == 0) return nullptr;
   const unsigned program = scene.program("bilateral", "fullscreen.vert", "bilateral.frag");
-  ImageF out = drawStencilled(scene, stencil, program, 1, "bilateral", [&] {
-    bindTextures(program, {{"image", image},
-                           {"stencilMask", mask},
+  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "bilateral", [&] {
+    bindTextures(program, {{"image", raw},
+                           {"stencilMask", stencil},
                            {"positionHit", gbuffer.texture(0)},
                            {"normalDepth", gbuffer.texture(1)}});
     glUniform1i(glGetUniformLocation(program, "radius"), b.radius);
@@ -23,9 +22,14 @@ ImageF bilateralBlur(const GpuScene& scene, const ImageF& raw, const ImageU8& st
     glUniform1f(glGetUniformLocation(program, "sigmaDepth"), b.sigmaDepth);
     glUniform1f(glGetUniformLocation(program, "normalPower"), b.normalPower);
   });
-  glDeleteTextures(1, &image);
-  glDeleteTextures(1, &mask);
-  return out;
+}
+
+ImageF bilateralBlur(const GpuScene& scene, const ImageF& raw, const ImageU8& stencil, const Framebuffer& gbuffer,
+                     const Constants::Bilateral& b) {
+  if (b.radius == 0) return raw;
+  TextureSet uploaded;
+  const unsigned image = uploaded.add(uploadTexture(raw));
+  return withHostStencil(stencil, 1, [&](unsigned s) { return drawBilateral(scene, image, s, gbuffer, b); });
 }
 
 }  // namespace mrr::gpu

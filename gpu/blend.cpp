@@ -9,45 +9,82 @@
 
 namespace mrr::gpu {
 
-BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels, const Constants& c,
-                        bool keepStages) {
-  const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
-  const int channelCount = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
+namespace {
+
+// FINAL_ONLY: every level in one full-res pass, only the final image and level map.
+BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
+                           const Constants& c) {
+  const unsigned program = scene.program("blend.final", "fullscreen.vert", "blend.frag", "#define FINAL_ONLY\n");
+  Framebuffer target(c.width, c.height, std::vector<Texel>{effectTexel(channels), Texel::R8}, false);
+  target.bind();
+  glUseProgram(program);
+  const LevelTextures& base = levels[static_cast<size_t>(c.coarsestEnabled)];
+  auto orBase = [&](unsigned t, unsigned fallback) { return t ? t : fallback; };  // disabled levels: never read
+  bindTextures(program, {{"sub0", orBase(levels[0].sub, base.sub)},
+                         {"sub1", orBase(levels[1].sub, base.sub)},
+                         {"sub2", orBase(levels[2].sub, base.sub)},
+                         {"sub3", orBase(levels[3].sub, base.sub)},
+                         {"stencil0", orBase(levels[0].stencil, base.stencil)},
+                         {"stencil1", orBase(levels[1].stencil, base.stencil)},
+                         {"stencil2", orBase(levels[2].stencil, base.stencil)},
+                         {"stencil3", orBase(levels[3].stencil, base.stencil)},
+                         {"alpha0", orBase(levels[0].alpha, base.alpha)},
+                         {"alpha1", orBase(levels[1].alpha, base.alpha)},
+                         {"alpha2", orBase(levels[2].alpha, base.alpha)},
+                         {"alpha3", orBase(levels[3].alpha, base.alpha)}});
+  GLint enabled[kLevelCount];
+  float weights[kLevelCount];
+  for (size_t l = 0; l < kLevelCount; ++l) {
+    enabled[l] = c.levels[l].enabled ? 1 : 0;
+    weights[l] = c.levels[l].weight;
+  }
+  glUniform1iv(glGetUniformLocation(program, "enabledLevel"), kLevelCount, enabled);
+  glUniform1fv(glGetUniformLocation(program, "weights"), kLevelCount, weights);
+  glUniform1i(glGetUniformLocation(program, "coarsestLevel"), c.coarsestEnabled);
+  scene.drawFullscreen();
+  checkGl("blend");
   BlendResult r;
-  r.levelMap = ImageU8(c.width, c.height, 1, static_cast<uint8_t>(c.coarsestEnabled));
-  std::unique_ptr<Framebuffer> previous;
+  r.final = target.read(0, channels);
+  r.levelMap = target.readBytes(1);
+  return r;
+}
+
+}  // namespace
+
+BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
+                        const Constants& c, bool keepStages) {
+  if (!keepStages) return blendFinalOnly(scene, levels, channels, c);
+  const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
+  const Texel color = effectTexel(channels);
+  BlendResult r;
+  Target previous;
   for (int l = c.coarsestEnabled; l >= 0; --l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
-    const LevelImages& in = levels[static_cast<size_t>(l)];
-    const unsigned sub = uploadTexture(*in.sub), stencil = uploadTexture(toFloat(*in.stencil)),
-                   alpha = uploadTexture(*in.alpha);
-    auto target = std::make_unique<Framebuffer>(c.width, c.height, 3, false);
+    const LevelTextures& in = levels[static_cast<size_t>(l)];
+    // ĉ_ℓ, α_ℓ, c'_ℓ and the level map (the finest level with α > 0, as on the host)
+    auto target = std::make_unique<Framebuffer>(c.width, c.height, std::vector<Texel>{color, Texel::R32f, color, Texel::R8},
+                                                false);
     target->bind();
     glUseProgram(program);
-    bindTextures(program, {{"sub", sub},
-                           {"stencilMask", stencil},
-                           {"alphaMask", alpha},
-                           {"coarser", previous ? previous->texture(2) : sub}});
+    bindTextures(program, {{"sub", in.sub},
+                           {"stencilMask", in.stencil},
+                           {"alphaMask", in.alpha},
+                           {"coarser", previous ? previous->texture(2) : in.sub},
+                           {"coarserLevel", previous ? previous->texture(3) : in.stencil}});
     glUniform1i(glGetUniformLocation(program, "coarsest"), previous ? 0 : 1);
+    glUniform1i(glGetUniformLocation(program, "level"), l);
     glUniform1i(glGetUniformLocation(program, "scale"), lc.scale);
     glUniform1f(glGetUniformLocation(program, "weight"), lc.weight);
     scene.drawFullscreen();
     checkGl("blend");
-    if (keepStages) r.upsampled[static_cast<size_t>(l)] = target->read(0, channelCount);
-    const ImageF levelAlpha = target->read(1, 1);
-    if (keepStages || l == c.finestEnabled) r.composite[static_cast<size_t>(l)] = target->read(2, channelCount);
-    if (previous)  // the finest level with α > 0 wins the level map, as on the host
-      for (size_t i = 0; i < r.levelMap.data.size(); ++i)
-        if (levelAlpha.data[i] > 0.0f) r.levelMap.data[i] = static_cast<uint8_t>(l);
-    if (keepStages) r.alpha[static_cast<size_t>(l)] = levelAlpha;
-    glDeleteTextures(1, &sub);
-    glDeleteTextures(1, &stencil);
-    glDeleteTextures(1, &alpha);
+    r.upsampled[static_cast<size_t>(l)] = target->read(0, channels);
+    r.alpha[static_cast<size_t>(l)] = target->read(1, 1);
+    r.composite[static_cast<size_t>(l)] = target->read(2, channels);
     previous = std::move(target);
   }
-  r.final = keepStages ? r.composite[static_cast<size_t>(c.finestEnabled)]
-                       : std::move(r.composite[static_cast<size_t>(c.finestEnabled)]);
+  r.final = r.composite[static_cast<size_t>(c.finestEnabled)];
+  r.levelMap = previous->readBytes(3);
   return r;
 }
 

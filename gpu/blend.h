@@ -1,6 +1,6 @@
 #pragma once
 // The port's stage 6 (gpu/shaders/blend.frag): one full-res pass per enabled level, coarse to
-// fine, each writing ĉ_ℓ, α_ℓ and c'_ℓ; read back into the oracle's BlendResult.
+// fine, each writing ĉ_ℓ, α_ℓ, c'_ℓ and the level map; read back into the oracle's BlendResult.
 #include <array>
 
 #include "cpu_ref/blend.h"
@@ -8,9 +8,16 @@
 
 namespace mrr::gpu {
 
-// Without `keepStages` (the benchmark) only the final image and each level's α (for the
-// level map) are read back, as the oracle keeps only the final image and level map then.
-BlendResult blendLevels(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels,
+// One level's inputs to stage 5 on the GPU (texture names): c_ℓ, S_ℓ and a_ℓ.
+struct LevelTextures {
+  unsigned sub = 0, stencil = 0, alpha = 0;
+};
+
+// `channels`: c_ℓ's (1 or 3). With `keepStages`, one pass per level, and every level's ĉ_ℓ,
+// α_ℓ and c'_ℓ read back beside the final image and level map. Without it (the benchmark, a
+// plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), and only the
+// final image and level map leave the GPU, as the oracle keeps only those then.
+BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
                         const Constants& constants, bool keepStages = true);
 
 }  // namespace mrr::gpu

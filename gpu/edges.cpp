@@ -7,30 +7,29 @@
 
 namespace mrr::gpu {
 
-EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                       unsigned shadowLitTexture) {
+Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                 unsigned shadowLitTexture) {
   const bool shadowEdges = shadowLitTexture != 0;
   const unsigned program =
       shadowEdges ? scene.program("edges.shadow", "fullscreen.vert", "edges.frag", "#define SHADOW_EDGES\n")
                   : scene.program("edges", "fullscreen.vert", "edges.frag");
-  Framebuffer target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false);
-  target.bind();
+  auto target = std::make_unique<Framebuffer>(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false,
+                                              Texel::Rgba8);  // 0/1 flags: 8 bits hold them exactly
+  target->bind();
   glUseProgram(program);
   bindTextures(program, {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}});
   glUniform1f(glGetUniformLocation(program, "normalThreshold"), settings.normalThreshold);
   glUniform1f(glGetUniformLocation(program, "depthThreshold"), settings.depthThreshold);
-  if (shadowEdges) {
-    bindTextures(program, {{"shadowLit", shadowLitTexture}}, 2);
-  }
+  if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 2);
   scene.drawFullscreen();
   checkGl("edges");
-  const ImageF e = target.read(0);
+  return target;
+}
+
+EdgeImages readEdges(const Framebuffer& target) {
+  const ImageF e = target.read(0, 4);
   EdgeImages out;
-  if (shadowEdges) {
-    const ImageF shadow = target.read(1, 1);
-    out.shadow = ImageU8(e.width, e.height);
-    for (size_t i = 0; i < shadow.data.size(); ++i) out.shadow.data[i] = shadow.data[i] > 0.5f;
-  }
+  if (target.targetCount() > 1) out.shadow = target.readBinary(1);
   out.normal = ImageU8(e.width, e.height);
   out.depth = ImageU8(e.width, e.height);
   out.background = ImageU8(e.width, e.height);
@@ -40,9 +39,14 @@ EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const
       out.normal.at(x, y) = e.at(x, y, 0) > 0.5f;
       out.depth.at(x, y) = e.at(x, y, 1) > 0.5f;
       out.background.at(x, y) = e.at(x, y, 2) > 0.5f;
-      out.combined.at(x, y) = e.at(x, y, 3) > 0.5f;
+      out.combined.at(x, y) = e.at(x, y, kEdgeChannel) > 0.5f;
     }
   return out;
+}
+
+EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                       unsigned shadowLitTexture) {
+  return readEdges(*drawEdges(scene, gbuffer0, settings, shadowLitTexture));
 }
 
 }  // namespace mrr::gpu

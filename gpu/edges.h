@@ -9,6 +9,16 @@ namespace mrr::gpu {
 
 // `shadowLitTexture` (the one-tap test per pixel, lit in R: gpu/shadowmap.h drawShadowTest or an
 // uploaded image) enables the shadow kind; 0 for SSAO and SSGI, as the oracle's null shadowLit.
+// The result stays on the GPU: RGBA8 target 0 holds (normal, depth, background, E), target 1
+// the shadow kind (with the shadow kind on). kEdgeChannel is E's channel.
+constexpr int kEdgeChannel = 3;
+Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                 unsigned shadowLitTexture = 0);
+
+// Reads drawEdges' targets back into the oracle's structure.
+EdgeImages readEdges(const Framebuffer& edges);
+
+// Draw and read back in one call.
 EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
                        unsigned shadowLitTexture = 0);
 

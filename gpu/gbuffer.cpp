@@ -10,15 +10,40 @@
 
 namespace mrr::gpu {
 
-Framebuffer::Framebuffer(int width, int height, int colorTargets, bool withDepth) : width_(width), height_(height) {
+namespace {
+struct TexelLayout {
+  GLint internal;
+  GLenum format, type;
+};
+TexelLayout layoutOf(Texel t) {
+  switch (t) {
+    case Texel::R32f: return {GL_R32F, GL_RED, GL_FLOAT};
+    case Texel::R8: return {GL_R8, GL_RED, GL_UNSIGNED_BYTE};
+    case Texel::Rgba8: return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    case Texel::Rgba32f: break;
+  }
+  return {GL_RGBA32F, GL_RGBA, GL_FLOAT};
+}
+int channelsOf(Texel t) { return t == Texel::R32f || t == Texel::R8 ? 1 : 4; }
+}  // namespace
+
+Texel effectTexel(int channels) { return channels == 1 ? Texel::R32f : Texel::Rgba32f; }
+
+Framebuffer::Framebuffer(int width, int height, int colorTargets, bool withDepth, Texel format)
+    : Framebuffer(width, height, std::vector<Texel>(static_cast<size_t>(colorTargets), format), withDepth) {}
+
+Framebuffer::Framebuffer(int width, int height, const std::vector<Texel>& formats, bool withDepth)
+    : width_(width), height_(height), formats_(formats) {
+  const int colorTargets = static_cast<int>(formats.size());
   glGenFramebuffers(1, &fbo_);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-  textures_.resize(static_cast<size_t>(colorTargets));
+  textures_.resize(formats.size());
   glGenTextures(colorTargets, textures_.data());
   std::vector<GLenum> buffers;
   for (int i = 0; i < colorTargets; ++i) {
+    const TexelLayout t = layoutOf(formats[static_cast<size_t>(i)]);
     glBindTexture(GL_TEXTURE_2D, textures_[static_cast<size_t>(i)]);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+    glTexImage2D(GL_TEXTURE_2D, 0, t.internal, width, height, 0, t.format, t.type, nullptr);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -71,23 +96,80 @@ unsigned uploadKernel(const std::vector<glm::vec3>& kernel) {
   return uploadTexture(image);
 }
 
-ImageF Framebuffer::read(int i) const {
-  ImageF out(width_, height_, 4);
+ImageF Framebuffer::read(int i) const { return read(i, 4); }
+
+ImageF Framebuffer::read(int i, int channels) const {
+  // Read in the target's own layout (a copy, no conversion in the driver), then keep
+  // the first `channels`.
+  const Texel t = formats_[static_cast<size_t>(i)];
+  const TexelLayout layout = layoutOf(t);
+  const int stored = channelsOf(t);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, out.data.data());
+  ImageF out(width_, height_, channels);
+  const size_t pixels = out.pixelCount();
+  if (layout.type == GL_FLOAT && stored == channels) {
+    glReadPixels(0, 0, width_, height_, layout.format, GL_FLOAT, out.data.data());
+  } else if (layout.type == GL_FLOAT) {
+    std::vector<float> texels(pixels * static_cast<size_t>(stored));
+    glReadPixels(0, 0, width_, height_, layout.format, GL_FLOAT, texels.data());
+    for (size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < channels; ++c)
+        out.data[p * static_cast<size_t>(channels) + static_cast<size_t>(c)] =
+            c < stored ? texels[p * static_cast<size_t>(stored) + static_cast<size_t>(c)] : (c == 3 ? 1.0f : 0.0f);
+  } else {
+    std::vector<uint8_t> texels(pixels * static_cast<size_t>(stored));
+    glReadPixels(0, 0, width_, height_, layout.format, GL_UNSIGNED_BYTE, texels.data());
+    for (size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < channels; ++c)
+        out.data[p * static_cast<size_t>(channels) + static_cast<size_t>(c)] =
+            c < stored ? static_cast<float>(texels[p * static_cast<size_t>(stored) + static_cast<size_t>(c)]) / 255.0f
+                       : (c == 3 ? 1.0f : 0.0f);
+  }
   checkGl("readback");
   return out;
 }
 
-ImageF Framebuffer::read(int i, int channels) const {
-  const ImageF rgba = read(i);
-  ImageF out(rgba.width, rgba.height, channels);
-  for (size_t p = 0; p < out.pixelCount(); ++p)
-    for (int c = 0; c < channels; ++c)
-      out.data[p * static_cast<size_t>(channels) + static_cast<size_t>(c)] = rgba.data[4 * p + static_cast<size_t>(c)];
+ImageU8 Framebuffer::readBytes(int i) const {
+  require(formats_[static_cast<size_t>(i)] == Texel::R8, "gpu: readBytes needs an R8 target");
+  ImageU8 out(width_, height_);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE, out.data.data());
+  checkGl("readback");
   return out;
+}
+
+ImageU8 Framebuffer::readBinary(int i) const {
+  ImageU8 out(width_, height_);
+  if (formats_[static_cast<size_t>(i)] == Texel::R8) {  // one byte a texel: read as it is stored
+    out = readBytes(i);
+    for (uint8_t& v : out.data) v = v > 127 ? 1 : 0;
+    return out;
+  }
+  const ImageF values = read(i, 1);
+  for (size_t p = 0; p < out.data.size(); ++p) out.data[p] = values.data[p] > 0.5f ? 1 : 0;
+  return out;
+}
+
+unsigned uploadBinary(const ImageU8& image) {
+  std::vector<uint8_t> bytes(image.data.size());
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = image.data[i] ? 255 : 0;
+  unsigned texture = 0;
+  glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, image.width, image.height, 0, GL_RED, GL_UNSIGNED_BYTE, bytes.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  checkGl("upload texture");
+  return texture;
+}
+
+TextureSet::~TextureSet() {
+  if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
 }
 
 namespace {

@@ -2,6 +2,7 @@
 // The port's stage 1 (gpu/shaders/gbuffer.vert, .frag): the scene uploaded once, each level's
 // G-buffer rasterised at its own size and read back into the oracle's GBuffer structure.
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,10 +13,20 @@
 
 namespace mrr::gpu {
 
-// A colour target set for a full-screen or geometry pass: float RGBA textures (+ depth).
+// The texel format of a colour target. Each stage stores what it needs and no more, so the
+// full-screen passes move fewer bytes: 0/1 images (edges, M_ℓ, S_ℓ, the level map) in 8 bits,
+// which hold 0 and 1 exactly; one-channel values (a_ℓ, AO, V) in R32F; RGB in RGBA32F (RGB32F
+// is not colour-renderable in GL 3.3).
+enum class Texel { Rgba32f, R32f, R8, Rgba8 };
+
+// The float format that holds `channels` effect channels (1: R32F, 3: RGBA32F).
+Texel effectTexel(int channels);
+
+// A colour target set for a full-screen or geometry pass (+ depth and stencil).
 class Framebuffer {
  public:
-  Framebuffer(int width, int height, int colorTargets, bool withDepth);
+  Framebuffer(int width, int height, int colorTargets, bool withDepth, Texel format = Texel::Rgba32f);
+  Framebuffer(int width, int height, const std::vector<Texel>& formats, bool withDepth);
   ~Framebuffer();
   Framebuffer(const Framebuffer&) = delete;
   Framebuffer& operator=(const Framebuffer&) = delete;
@@ -23,17 +34,42 @@ class Framebuffer {
   unsigned texture(int i) const { return textures_[static_cast<size_t>(i)]; }
   ImageF read(int i) const;  // RGBA float, row 0 = image row 0
   ImageF read(int i, int channels) const;  // the first `channels` of target i
+  ImageU8 readBinary(int i) const;  // channel r of target i as 0/1 (> ½), row 0 = image row 0
+  ImageU8 readBytes(int i) const;   // an R8 target's bytes as stored (a level index: ℓ/255 → ℓ)
   int width() const { return width_; }
   int height() const { return height_; }
+  int targetCount() const { return static_cast<int>(textures_.size()); }
 
  private:
   int width_, height_;
   unsigned fbo_ = 0, depth_ = 0;
   std::vector<unsigned> textures_;
+  std::vector<Texel> formats_;
 };
+
+using Target = std::unique_ptr<Framebuffer>;
 
 // A float image as a texture (1–4 channels, nearest filtering); the caller deletes it.
 unsigned uploadTexture(const ImageF& image);
+
+// A 0/1 image as an R8 texture (sampled as 0.0 and 1.0); the caller deletes it.
+unsigned uploadBinary(const ImageU8& image);
+
+// Textures a stage uploaded from host images, deleted with it.
+class TextureSet {
+ public:
+  TextureSet() = default;
+  ~TextureSet();
+  TextureSet(const TextureSet&) = delete;
+  TextureSet& operator=(const TextureSet&) = delete;
+  unsigned add(unsigned texture) {
+    textures_.push_back(texture);
+    return texture;
+  }
+
+ private:
+  std::vector<unsigned> textures_;
+};
 
 // A host sample kernel (kernels.h) as an N×1 RGB32F texture; the caller deletes it.
 unsigned uploadKernel(const std::vector<glm::vec3>& kernel);

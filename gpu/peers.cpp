@@ -22,12 +22,13 @@ uint8_t toLevel(float v) { return static_cast<uint8_t>(v + 0.5f); }
 
 // One tiles step into a fresh single-target framebuffer of the given size.
 std::unique_ptr<Framebuffer> tileStep(const GpuScene& scene, int step, int width, int height, unsigned source,
-                                      const std::function<void(unsigned)>& setUniforms = {}) {
+                                      const std::function<void(unsigned)>& setUniforms = {}, int sourceChannel = 0) {
   const unsigned program = scene.program("peers.tiles", "fullscreen.vert", "peers.frag", "#define TILE_MASKS\n");
   auto target = std::make_unique<Framebuffer>(width, height, 1, false);
   target->bind();
   glUseProgram(program);
   glUniform1i(glGetUniformLocation(program, "step"), step);
+  glUniform1i(glGetUniformLocation(program, "sourceChannel"), sourceChannel);
   if (setUniforms) setUniforms(program);
   bindTextures(program, {{"source", source}});
   scene.drawFullscreen();
@@ -36,18 +37,21 @@ std::unique_ptr<Framebuffer> tileStep(const GpuScene& scene, int step, int width
 }
 }  // namespace
 
-ImageU8 tileRates(const GpuScene& scene, const ImageU8& edges) {
-  const int tw = (edges.width + kTileSize - 1) / kTileSize, th = (edges.height + kTileSize - 1) / kTileSize;
-  const unsigned edgeTexture = uploadTexture(toFloat(edges));
+ImageU8 tileRates(const GpuScene& scene, unsigned edges, int edgeChannel, int width, int height) {
+  const int tw = (width + kTileSize - 1) / kTileSize, th = (height + kTileSize - 1) / kTileSize;
   // 1. a tile holds an edge: max over its 16×16 pixels of E
-  const auto hasEdge = tileStep(scene, 1, tw, th, edgeTexture);
+  const auto hasEdge = tileStep(scene, 1, tw, th, edges, {}, edgeChannel);
   // 2. rate 0 on edge tiles, 1 beside one (8-neighbourhood), 2 elsewhere
   const auto rate = tileStep(scene, 2, tw, th, hasEdge->texture(0));
   const ImageF read = rate->read(0, 1);
-  glDeleteTextures(1, &edgeTexture);
   ImageU8 rates(tw, th);
   for (size_t i = 0; i < rates.data.size(); ++i) rates.data[i] = toLevel(read.data[i]);
   return rates;
+}
+
+ImageU8 tileRates(const GpuScene& scene, const ImageU8& edges) {
+  TextureSet uploaded;
+  return tileRates(scene, uploaded.add(uploadBinary(edges)), 0, edges.width, edges.height);
 }
 
 std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU8& rates, const Constants& c) {
@@ -78,12 +82,11 @@ std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU
   return levels;
 }
 
-BlendResult composePeer(const GpuScene& scene, const std::array<LevelImages, kLevelCount>& levels,
+BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevelCount>& subs, int channels,
                         const std::array<const Framebuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
                         const Constants& c, bool keepStages) {
   const bool uniform = c.mode != Mode::Tiles;
   const int k = uniform ? shadedLevel(c) : 0;
-  const int channels = levels[static_cast<size_t>(uniform ? k : 0)].sub->channels;
   // The composition: the final value and the level it came from, at full res.
   Framebuffer composed(c.width, c.height, 2, false);
   std::vector<unsigned> uploaded;
@@ -98,7 +101,7 @@ BlendResult composePeer(const GpuScene& scene, const std::array<LevelImages, kLe
     glUseProgram(program);
     const Framebuffer& coarse = *gbuffers[static_cast<size_t>(k)];
     const Framebuffer& full = *gbuffers[0];
-    bindTextures(program, {{"sub", upload(*levels[static_cast<size_t>(k)].sub)},
+    bindTextures(program, {{"sub", subs[static_cast<size_t>(k)]},
                            {"coarsePositionHit", coarse.texture(0)},
                            {"coarseNormalDepth", coarse.texture(1)},
                            {"fullPositionHit", full.texture(0)},
@@ -112,9 +115,9 @@ BlendResult composePeer(const GpuScene& scene, const std::array<LevelImages, kLe
         scene.program("peers.broadcast", "fullscreen.vert", "peers.frag", "#define COMPOSE\n");
     glUseProgram(program);
     bindTextures(program, {{"rates", upload(toFloat(rates))},
-                           {"sub0", upload(*levels[0].sub)},
-                           {"sub1", upload(*levels[1].sub)},
-                           {"sub2", upload(*levels[2].sub)}});
+                           {"sub0", subs[0]},
+                           {"sub1", subs[1]},
+                           {"sub2", subs[2]}});
   }
   scene.drawFullscreen();
   checkGl("blend");

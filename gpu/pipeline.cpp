@@ -10,14 +10,18 @@
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
 #include "gpu/edges.h"
+#include "gpu/gbuffer.h"
 #include "gpu/masks.h"
 #include "gpu/peers.h"
 #include "gpu/shadowmap.h"
 #include "gpu/ssao.h"
 #include "gpu/ssgi.h"
 #include "gpu/ssm.h"
+#include "gpu/stencil.h"
 
 namespace mrr::gpu {
+
+bool isPortOnlyStage(const std::string& stage) { return stage == "stencils" || stage == "readback"; }
 
 GpuRenderer::GpuRenderer(const Scene& scene, int deviceIndex)
     : scene_(scene), context_(deviceIndex), gpuScene_(scene) {}
@@ -29,6 +33,11 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
   f.light = scene_.light;
+  // Every stage's images stay on the GPU; the frame reads back S_ℓ (for |S_ℓ| and the
+  // never-slower rule, before anything is shaded), the final image and level map, and what
+  // the shaded image needs. With keepStages (--stages, probe, compare) every stage is read
+  // back too, into the structures the oracle fills.
+  const bool keep = options.keepStages;
   const auto frameStart = Clock::now();
   auto stage = [&](const std::string& name, auto&& body) {
     if (options.progress) options.progress(name);
@@ -37,22 +46,21 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     glFinish();
     f.timings.push_back({name, std::chrono::duration<double, std::milli>(Clock::now() - t0).count()});
   };
-  // G-buffers, rasterised per level; the targets stay on the GPU for the later passes.
+  // G-buffers, rasterised per level.
   std::array<std::unique_ptr<Framebuffer>, kLevelCount> gbuffers;
   auto gbuffer = [&](int l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     stage("gbuffer.L" + std::to_string(l), [&] {
       gbuffers[static_cast<size_t>(l)] = std::make_unique<Framebuffer>(lc.width, lc.height, 3, true);
       drawGBuffer(gpuScene_, f.view, lc, *gbuffers[static_cast<size_t>(l)]);
-      f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
+      if (keep) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
     });
   };
 
   // 1. The full-res G-buffer (SPEC §1): the masks are made from it alone.
   gbuffer(0);
 
-  // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6); both
-  // stay on the GPU for the later passes and are read back for --stages and probe.
+  // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
   std::unique_ptr<ShadowMapTarget> shadowMap;
   std::unique_ptr<Framebuffer> shadowTest;
   if (c.needsShadowMap()) {
@@ -60,26 +68,36 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
       f.shadowMap = shadowMapFrame(scene_.light, gpuScene_.bounds(), c.ssm.shadowMapSize);
       shadowMap = std::make_unique<ShadowMapTarget>(c.ssm.shadowMapSize);
       drawShadowMap(gpuScene_, f.shadowMap, *shadowMap);
-      f.shadowMap.depth = shadowMap->read();
+      if (keep) f.shadowMap.depth = shadowMap->read();
     });
     stage("shadowtest", [&] {
-      shadowTest = std::make_unique<Framebuffer>(gbuffers[0]->width(), gbuffers[0]->height(), 1, false);
+      shadowTest = std::make_unique<Framebuffer>(gbuffers[0]->width(), gbuffers[0]->height(), 1, false, Texel::R8);
       drawShadowTest(gpuScene_, *gbuffers[0], f.shadowMap, shadowMap->texture(), f.view, c.ssm.biasTexels, *shadowTest);
-      f.shadowLit = readShadowTest(*shadowTest);
+      if (keep) f.shadowLit = readShadowTest(*shadowTest);
     });
   }
 
   // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9).
-  std::array<MaskLevel, kLevelCount> masks;
+  Target edges;
   if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
     const unsigned shadowEdges = c.effect == Effect::Ssm ? shadowTest->texture(0) : 0;
-    stage("edges", [&] { f.edges = detectEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges); });
+    stage("edges", [&] {
+      edges = drawEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges);
+      if (keep) f.edges = readEdges(*edges);
+    });
   }
+  std::array<MaskLevel, kLevelCount> masks;
+  std::unique_ptr<MaskTargets> maskTargets;
   switch (c.mode) {
-    case Mode::Multires: stage("masks", [&] { masks = buildMasks(gpuScene_, f.edges.combined, c); }); break;
+    case Mode::Multires:
+      stage("masks", [&] {
+        maskTargets = drawMasks(gpuScene_, edges->texture(0), kEdgeChannel, c);
+        masks = readMasks(*maskTargets, c, !keep);
+      });
+      break;
     case Mode::Tiles:
       stage("masks", [&] {
-        f.tileRates = tileRates(gpuScene_, f.edges.combined);
+        f.tileRates = tileRates(gpuScene_, edges->texture(0), kEdgeChannel, edges->width(), edges->height());
         masks = tileMasks(gpuScene_, f.tileRates, c);
       });
       break;
@@ -91,35 +109,41 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
   applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("gpu"));
+  if (!maskTargets || !maskTargets->drawn || f.fallback.fellBack)  // host stencils: to the GPU
+    stage("stencils", [&] { maskTargets = uploadMasks(masks, c); });
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
+  f.countShadedPixels();
 
   // 1, continued. The coarser levels' G-buffers.
   for (int l = 1; l < kLevelCount; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) gbuffer(l);
 
   // 4. Sub-images: the effect with the stencil test; SSAO then gets the bilateral blur.
+  std::array<Target, kLevelCount> raw, sub;
+  std::array<unsigned, kLevelCount> subTexture{};
+  TextureSet unshaded;  // uniform-k's level 0: a G-buffer, nothing shaded (c_0 = 0)
   for (int l = 0; l < kLevelCount; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    const size_t i = static_cast<size_t>(l);
+    const LevelConstants& lc = c.levels[i];
     if (!lc.enabled) continue;
-    if (!lc.shaded) {  // uniform-k's level 0: a G-buffer, nothing shaded
-      lr.raw = lr.sub = ImageF(lc.width, lc.height, c.channels());
+    if (!lc.shaded) {
+      const ImageF zero(lc.width, lc.height, c.channels());
+      subTexture[i] = unshaded.add(uploadTexture(zero));
+      if (keep) f.levels[i].raw = f.levels[i].sub = zero;
       continue;
     }
-    const Framebuffer& targets = *gbuffers[static_cast<size_t>(l)];
+    const Framebuffer& targets = *gbuffers[i];
+    const unsigned stencil = maskTargets->stencil[i];
     const std::string L = ".L" + std::to_string(l);
     switch (c.effect) {
       case Effect::Ssao:
-        stage("effect" + L, [&] { lr.raw = renderSsao(gpuScene_, targets, lr.masks.stencil, f.view, lc, c.ssao); });
-        stage("bilateral" + L,
-              [&] { lr.sub = bilateralBlur(gpuScene_, lr.raw, lr.masks.stencil, targets, c.bilateral); });
+        stage("effect" + L, [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao); });
+        stage("bilateral" + L, [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral); });
         break;
-      case Effect::Ssm:
+      case Effect::Ssm:  // PCF is its own filter: no blur (the paper blurs SSAO only)
         stage("effect" + L, [&] {
-          lr.raw =
-              renderSsm(gpuScene_, targets, lr.masks.stencil, f.shadowMap, shadowMap->texture(), f.view, lc, c.ssm);
+          raw[i] = drawSsm(gpuScene_, targets, stencil, f.shadowMap, shadowMap->texture(), f.view, c.ssm);
         });
-        lr.sub = lr.raw;  // PCF is its own filter: no blur (the paper blurs SSAO only)
         break;
       case Effect::Ssgi: {
         Framebuffer direct(lc.width, lc.height, 1, false);
@@ -128,14 +152,18 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
                           direct);
         });
         stage("effect" + L, [&] {
-          lr.raw = renderSsgi(gpuScene_, targets, direct.texture(0), lr.masks.stencil, f.view, lc, c.ssgi);
+          raw[i] = drawSsgi(gpuScene_, targets, direct.texture(0), stencil, f.view, lc, c.ssgi);
         });
-        lr.sub = lr.raw;
         break;
       }
     }
+    const Framebuffer& result = sub[i] ? *sub[i] : *raw[i];
+    subTexture[i] = result.texture(0);
+    if (keep) {
+      f.levels[i].raw = raw[i]->read(0, c.channels());
+      f.levels[i].sub = result.read(0, c.channels());
+    }
   }
-  f.countShadedPixels();
 
   // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
   if (isPeer(c.mode)) {
@@ -143,12 +171,21 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     for (size_t l = 0; l < targets.size(); ++l)
       if (c.levels[l].enabled) targets[l] = gbuffers[l].get();
     stage("blend", [&] {
-      f.blend = composePeer(gpuScene_, f.blendInputs(), targets, f.tileRates, c, options.keepStages);
+      f.blend = composePeer(gpuScene_, subTexture, c.channels(), targets, f.tileRates, c, options.keepStages);
     });
   } else {
-    stage("blend", [&] { f.blend = blendLevels(gpuScene_, f.blendInputs(), c, options.keepStages); });
+    std::array<LevelTextures, kLevelCount> inputs;
+    for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture[l], maskTargets->stencil[l], maskTargets->alpha[l]};
+    stage("blend", [&] { f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages); });
   }
-  // 6. The shaded image for viewing: the oracle's function on the port's buffers.
+  // 6. The shaded image for viewing: the oracle's function on the port's buffers, which needs
+  // the full-res G-buffer (and the shadow test) on the host. Without keepStages that copy is
+  // its own stage, `readback`: the same for every method, and no part of the effect's cost.
+  if (!keep)
+    stage("readback", [&] {
+      f.levels[0].gbuffer = readGBuffer(*gbuffers[0]);
+      if (shadowTest) f.shadowLit = readShadowTest(*shadowTest);
+    });
   stage("shade", [&] { f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, f.light, c.effect); });
   f.timings.push_back({"total", std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count()});
   return f;

@@ -1,15 +1,23 @@
 #pragma once
 // The port end to end, mirroring cpu_ref/pipeline.cpp stage by stage, with every stage read
-// back into the same FrameResult the oracle fills — so --stages, --report and probe work for
-// --path gpu exactly as for --path cpu. Timings are glFinish + wall clock per stage (timer
-// queries are wrong on llvmpipe, PLATFORM.md), readback included.
+// back into the same FrameResult the oracle fills with keepStages — so --stages, --report and
+// probe work for --path gpu exactly as for --path cpu. Without keepStages (the benchmark, a
+// plain render) the frame stays on the GPU: only S_ℓ, the final image and level map, and what
+// the shaded image needs come back. Timings are glFinish + wall clock per stage (timer queries
+// are wrong on llvmpipe, PLATFORM.md), readbacks included.
 #include <memory>
+#include <string>
 
 #include "cpu_ref/pipeline.h"
 #include "gpu/context.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {
+
+// The stages only the port has, beside the oracle's: `stencils` (host-made stencils of full,
+// uniform-k, tiles or a never-slower fallback, uploaded for the stencil test) and `readback`
+// (without keepStages, the full-res G-buffer copied to the host for the shaded image).
+bool isPortOnlyStage(const std::string& stage);
 
 class GpuRenderer {
  public:

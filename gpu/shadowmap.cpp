@@ -121,16 +121,11 @@ void drawShadowTest(const GpuScene& scene, const Framebuffer& gbuffer0, const Sh
   checkGl("shadowtest");
 }
 
-ImageU8 readShadowTest(const Framebuffer& target) {
-  const ImageF lit = target.read(0, 1);
-  ImageU8 out(lit.width, lit.height);
-  for (size_t i = 0; i < lit.data.size(); ++i) out.data[i] = lit.data[i] > 0.5f;
-  return out;
-}
+ImageU8 readShadowTest(const Framebuffer& target) { return target.readBinary(0); }
 
 ImageU8 shadowTestImage(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
                         const View& view, float biasTexels) {
-  const Framebuffer target(gbuffer0.width(), gbuffer0.height(), 1, false);
+  const Framebuffer target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R8);
   drawShadowTest(scene, gbuffer0, map, mapTexture, view, biasTexels, target);
   return readShadowTest(target);
 }

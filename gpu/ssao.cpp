@@ -8,20 +8,25 @@
 
 namespace mrr::gpu {
 
-ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,
-                  const LevelConstants& level, const Constants::Ssao& ssao) {
-  const unsigned kernel = uploadKernel(ssao.kernel);
+Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const View& view,
+                const LevelConstants& level, const Constants::Ssao& ssao) {
+  TextureSet kernel;
+  const unsigned kernelTexture = kernel.add(uploadKernel(ssao.kernel));
   const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
-  ImageF out = drawStencilled(scene, stencil, program, 1, "ssao", [&] {
-    bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}, {"kernel", kernel}});
+  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "ssao", [&] {
+    bindTextures(program,
+                 {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}, {"kernel", kernelTexture}});
     setLevelUniforms(program, view, level);
     glUniform1i(glGetUniformLocation(program, "samples"), ssao.samples);
     glUniform1f(glGetUniformLocation(program, "radius"), ssao.radius);
     glUniform1f(glGetUniformLocation(program, "bias"), ssao.bias);
     glUniform1i(glGetUniformLocation(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
   });
-  glDeleteTextures(1, &kernel);
-  return out;
+}
+
+ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,
+                  const LevelConstants& level, const Constants::Ssao& ssao) {
+  return withHostStencil(stencil, 1, [&](unsigned s) { return drawSsao(scene, gbuffer, s, view, level, ssao); });
 }
 
 std::vector<uint32_t> hashGrid(const GpuScene& scene, int width, int height, int level) {

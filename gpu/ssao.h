@@ -7,7 +7,12 @@
 
 namespace mrr::gpu {
 
-// The raw sub-image c_ℓ (0 where S_ℓ = 0), from the level's G-buffer targets.
+// The raw sub-image c_ℓ (R32F, 0 where S_ℓ = 0), from the level's G-buffer targets and S_ℓ
+// (a 0/1 texture): kept on the GPU.
+Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const View& view,
+                const LevelConstants& level, const Constants::Ssao& ssao);
+
+// The same from a host S_ℓ, read back.
 ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,
                   const LevelConstants& level, const Constants::Ssao& ssao);
 

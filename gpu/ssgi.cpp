@@ -32,23 +32,28 @@ ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const Shad
   return target.read(0, 3);
 }
 
-ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,
-                  const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi) {
-  const unsigned kernel = uploadKernel(ssgi.kernel);
+Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,
+                const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi) {
+  TextureSet kernel;
+  const unsigned kernelTexture = kernel.add(uploadKernel(ssgi.kernel));
   const unsigned program = scene.program("ssgi", "fullscreen.vert", "ssgi.frag");
-  ImageF out = drawStencilled(scene, stencil, program, 3, "ssgi", [&] {
+  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::Rgba32f, program, "ssgi", [&] {
     bindTextures(program, {{"positionHit", gbuffer.texture(0)},
                            {"normalDepth", gbuffer.texture(1)},
                            {"direct", directTexture},
-                           {"kernel", kernel}});
+                           {"kernel", kernelTexture}});
     setLevelUniforms(program, view, level);
     glUniform1i(glGetUniformLocation(program, "samples"), ssgi.samples);
     glUniform1f(glGetUniformLocation(program, "radius"), ssgi.radius);
     glUniform1f(glGetUniformLocation(program, "patchArea"), ssgi.patchArea);
     glUniform1f(glGetUniformLocation(program, "minDistance2"), ssgi.minDistance2);
   });
-  glDeleteTextures(1, &kernel);
-  return out;
+}
+
+ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,
+                  const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi) {
+  return withHostStencil(stencil, 3,
+                         [&](unsigned s) { return drawSsgi(scene, gbuffer, directTexture, s, view, level, ssgi); });
 }
 
 }  // namespace mrr::gpu

@@ -19,8 +19,13 @@ void drawDirectLight(const GpuScene& scene, const Framebuffer& gbuffer, const Sh
 ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const ShadowMap& map, unsigned mapTexture,
                    const View& view, const DirectionalLight& light, float biasTexels);
 
-// The raw sub-image c_ℓ, indirect RGB (0 where S_ℓ = 0), from the level's G-buffer targets and
-// its direct light (a texture: drawDirectLight's target, or an uploaded image).
+// The raw sub-image c_ℓ, indirect RGB (RGBA32F, 0 where S_ℓ = 0), from the level's G-buffer
+// targets, S_ℓ (a 0/1 texture) and its direct light (a texture: drawDirectLight's target, or an
+// uploaded image): kept on the GPU.
+Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,
+                const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi);
+
+// The same from a host S_ℓ, read back (RGB).
 ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,
                   const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi);
 

@@ -25,13 +25,12 @@ void setTapFactors(unsigned program, const char* name, int n) {
 }
 }  // namespace
 
-ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
-                 unsigned mapTexture, const View& view, const LevelConstants& /*level: S_ℓ has its size*/,
-                 const Constants::Ssm& ssm) {
+Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const ShadowMap& map,
+               unsigned mapTexture, const View& view, const Constants::Ssm& ssm) {
   require(ssm.blockerGrid >= 1 && ssm.blockerGrid <= kMaxBlockerGrid && ssm.grid >= 1 && ssm.grid <= kMaxPcfGrid,
           "gpu: ssm grid sizes outside the shader's arrays");
   const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
-  return drawStencilled(scene, stencil, program, 1, "ssm", [&] {
+  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "ssm", [&] {
     bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}});
     bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
     glUniform1f(glGetUniformLocation(program, "tanHalfAngle"), ssm.tanHalfAngle);
@@ -40,6 +39,13 @@ ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU
     setTapFactors(program, "blockerFactors", ssm.blockerGrid);
     setTapFactors(program, "pcfFactors", ssm.grid);
   });
+}
+
+ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
+                 unsigned mapTexture, const View& view, const LevelConstants& /*level: S_ℓ has its size*/,
+                 const Constants::Ssm& ssm) {
+  return withHostStencil(stencil, 1,
+                         [&](unsigned s) { return drawSsm(scene, gbuffer, s, map, mapTexture, view, ssm); });
 }
 
 }  // namespace mrr::gpu

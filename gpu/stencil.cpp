@@ -7,13 +7,12 @@
 
 namespace mrr::gpu {
 
-void fillStencil(const GpuScene& scene, const ImageU8& stencil) {
-  const unsigned mask = uploadTexture(toFloat(stencil));
+void fillStencil(const GpuScene& scene, unsigned stencilMask) {
   const unsigned fill = scene.program("stencil", "fullscreen.vert", "stencil.frag");
   glClearStencil(0);
   glClear(GL_STENCIL_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(fill);
-  bindTextures(fill, {{"stencilMask", mask}});
+  bindTextures(fill, {{"stencilMask", stencilMask}});
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
@@ -22,25 +21,30 @@ void fillStencil(const GpuScene& scene, const ImageU8& stencil) {
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-  glDeleteTextures(1, &mask);
   checkGl("stencil");
 }
 
-ImageF drawStencilled(const GpuScene& scene, const ImageU8& stencil, unsigned program, int channels,
-                      const std::string& stage, const std::function<void()>& setInputs) {
-  Framebuffer target(stencil.width, stencil.height, 1, true);
-  target.bind();
+Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
+                      unsigned program, const std::string& stage, const std::function<void()>& setInputs) {
+  auto target = std::make_unique<Framebuffer>(width, height, 1, true, format);
+  target->bind();
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
   // 1. S_ℓ into the stencil buffer
-  fillStencil(scene, stencil);
+  fillStencil(scene, stencilMask);
   // 2. the pass where the stencil is 1
   glUseProgram(program);
   setInputs();
   scene.drawFullscreen();
   glDisable(GL_STENCIL_TEST);
   checkGl(stage);
-  return target.read(0, channels);
+  return target;
+}
+
+ImageF withHostStencil(const ImageU8& stencil, int channels, const std::function<Target(unsigned)>& draw) {
+  TextureSet uploaded;
+  const Target target = draw(uploaded.add(uploadBinary(stencil)));
+  return target->read(0, channels);
 }
 
 }  // namespace mrr::gpu

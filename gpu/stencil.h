@@ -9,15 +9,20 @@
 
 namespace mrr::gpu {
 
-// Writes S_ℓ into the stencil buffer of the bound framebuffer and leaves the stencil test on,
-// passing where S = 1. Shared by every effect pass.
-void fillStencil(const GpuScene& scene, const ImageU8& stencil);
+// Writes S_ℓ (`stencilMask`, a 0/1 texture of the bound framebuffer's size) into the stencil
+// buffer of the bound framebuffer and leaves the stencil test on, passing where S = 1.
+// Shared by every effect pass.
+void fillStencil(const GpuScene& scene, unsigned stencilMask);
 
 // One effect pass under the stencil test (SPEC §4: masked fragments are never shaded): a
-// fresh target of S_ℓ's size cleared to 0, S_ℓ written into its stencil buffer, `program`
-// in use with its inputs set by `setInputs`, one full-screen draw, and `channels` channels
-// read back (0 where S_ℓ = 0). `stage` names it in GL errors.
-ImageF drawStencilled(const GpuScene& scene, const ImageU8& stencil, unsigned program, int channels,
-                      const std::string& stage, const std::function<void()>& setInputs);
+// fresh width×height target of `format` cleared to 0, S_ℓ written into its stencil buffer,
+// `program` in use with its inputs set by `setInputs`, one full-screen draw. The result stays
+// on the GPU (0 where S_ℓ = 0). `stage` names it in GL errors.
+Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
+                      unsigned program, const std::string& stage, const std::function<void()>& setInputs);
+
+// The host-image form of a stencilled pass (tests and the same-input checks): uploads S_ℓ,
+// runs `draw` with its texture and reads `channels` channels of the result back.
+ImageF withHostStencil(const ImageU8& stencil, int channels, const std::function<Target(unsigned)>& draw);
 
 }  // namespace mrr::gpu

@@ -6,7 +6,8 @@
 //   3 stencil: S_ℓ = [a_ℓ > 0]
 //   4 closure: S_next ∨= max-pool(S_ℓ) over the factor×factor block
 uniform int step;
-uniform sampler2D source;    // the pass's input (channel r)
+uniform sampler2D source;    // the pass's input (channel r; step 1: channel sourceChannel)
+uniform int sourceChannel;   // step 1: E's channel in the edge target (0 for M_{ℓ−1})
 uniform sampler2D previous;  // step 4: the coarser level's own stencil
 uniform int factor;          // steps 1 and 4
 uniform ivec2 direction;     // step 2: (1, 0) or (0, 1)
@@ -17,7 +18,7 @@ layout(location = 0) out vec4 result;
 float blockMax(ivec2 p) {
   float m = 0.0;
   for (int j = 0; j < factor; ++j)
-    for (int i = 0; i < factor; ++i) m = max(m, texelFetch(source, p * factor + ivec2(i, j), 0).r);
+    for (int i = 0; i < factor; ++i) m = max(m, texelFetch(source, p * factor + ivec2(i, j), 0)[sourceChannel]);
   return m;
 }
 

@@ -14,6 +14,7 @@ const int kTileSize = 16;  // cpu_ref/peers.h: kTileSize
 #ifdef TILE_MASKS
 uniform int step;
 uniform sampler2D source;  // step 1: E (padded full res); 2: the tiles' edge flags; 3: the rates
+uniform int sourceChannel; // step 1: E's channel in the edge target
 uniform int level;         // step 3: ℓ
 uniform int perTile;       // step 3: level-ℓ pixels per tile side, 16 / s_ℓ
 uniform ivec2 extent;      // step 3: the level-ℓ pixels whose block starts inside W×H
@@ -27,7 +28,7 @@ void main() {
     ivec2 lo = p * kTileSize, hi = min(lo + kTileSize, size);
     float edge = 0.0;
     for (int y = lo.y; y < hi.y; ++y)
-      for (int x = lo.x; x < hi.x; ++x) edge = max(edge, texelFetch(source, ivec2(x, y), 0).r);
+      for (int x = lo.x; x < hi.x; ++x) edge = max(edge, texelFetch(source, ivec2(x, y), 0)[sourceChannel]);
     result = vec4(edge, 0.0, 0.0, 1.0);
   } else if (step == 2) {
     // 2. rate 0 on edge tiles, 1 beside one (8-neighbourhood), 2 elsewhere

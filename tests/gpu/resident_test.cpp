@@ -1,0 +1,134 @@
+// The port's GPU-resident frame (gpu/pipeline.cpp without keepStages: what the benchmark and a
+// plain render run) against the same frame with every stage read back (what compare, probe and
+// --stages run, and what the parity tests check against the oracle). Both must give the same
+// bits: the final image, the level map, |S_ℓ|, the shaded image and the never-slower decision.
+// The resident frame keeps its images on the GPU, reads back only S_ℓ, and blends every level
+// in one pass (blend.frag FINAL_ONLY); this is the test that holds those to the checked path.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <memory>
+#include <ostream>
+
+#include "common/cost_model.h"
+#include "gpu/context.h"
+#include "gpu/pipeline.h"
+#include "scenes/catalog.h"
+
+namespace mrr {
+namespace {
+
+struct Case {
+  std::string scene;
+  Effect effect;
+  Mode mode;
+  int width, height;
+  int disabledLevel;  // -1: none
+};
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.scene << " " << toString(c.effect) << " " << methodName(c.mode) << " " << c.width << "x" << c.height;
+  if (c.disabledLevel >= 0) *os << " without level " << c.disabledLevel;
+}
+
+std::string caseName(const ::testing::TestParamInfo<Case>& info) {
+  const Case& c = info.param;
+  std::string name = c.scene + "_" + toString(c.effect) + "_" + methodName(c.mode) + "_" + std::to_string(c.width) +
+                     "x" + std::to_string(c.height);
+  if (c.disabledLevel >= 0) name += "_noL" + std::to_string(c.disabledLevel);
+  for (char& ch : name)
+    if (ch == '-') ch = '_';
+  return name;
+}
+
+class GpuResident : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
+  std::string why;
+  if (!gpu::glAvailable(&why)) {
+    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
+    GTEST_SKIP() << why;
+  }
+  const Case& k = GetParam();
+  SceneRequest req;
+  req.scene = "builtin:" + k.scene;
+  ResolvedScene rs = resolveScene(req);
+  const gpu::GpuRenderer port(rs.scene);
+  Settings s = defaultSettings(k.effect);
+  s.width = k.width;
+  s.height = k.height;
+  s.mode = k.mode;
+  s.setSamples(k.effect == Effect::Ssm ? 16 : 8);
+  s.neverSlower = false;  // small frames would fall back to full (GpuResidentFallback covers that)
+  if (k.disabledLevel >= 0) s.levels[static_cast<size_t>(k.disabledLevel)].enabled = false;
+  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const FrameResult kept = port.render(rs.camera, c, {true, {}, nullptr});
+  const FrameResult resident = port.render(rs.camera, c, {false, {}, nullptr});
+  EXPECT_EQ(resident.final().data, kept.final().data) << "final image";
+  EXPECT_EQ(resident.blend.levelMap.data, kept.blend.levelMap.data) << "level map";
+  EXPECT_EQ(resident.shaded.data, kept.shaded.data) << "shaded image";
+  EXPECT_EQ(resident.shadedPixelsTotal, kept.shadedPixelsTotal);
+  for (size_t l = 0; l < kLevelCount; ++l) {
+    EXPECT_EQ(resident.levels[l].shadedPixels, kept.levels[l].shadedPixels) << "level " << l;
+    EXPECT_EQ(resident.levels[l].shadedBlockPixels, kept.levels[l].shadedBlockPixels) << "level " << l;
+  }
+  EXPECT_EQ(resident.fallback.fellBack, kept.fallback.fellBack);
+  // The resident frame leaves the per-level images on the GPU.
+  EXPECT_TRUE(resident.blend.composite[0].data.empty());
+  EXPECT_TRUE(resident.levels[0].raw.data.empty());
+  // A frame where finer levels show at all, or the comparison above proves little.
+  if (k.mode == Mode::Multires) {
+    ASSERT_FALSE(resident.fallback.fellBack);
+    int finer = 0, coarser = 0;
+    for (uint8_t v : resident.blend.levelMap.data) {
+      finer += v < c.coarsestEnabled;
+      coarser += v > 0;
+    }
+    EXPECT_GT(finer, 0) << "no pixel shows a level finer than the coarsest";
+    EXPECT_GT(coarser, 0) << "every pixel shows level 0";
+  }
+}
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
+    for (Mode m : kAllModes) out.push_back({"demo", e, m, 160, 90, -1});
+  out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, -1});  // odd: the padding
+  out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, 1});   // a level disabled
+  out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, 3});   // the coarsest disabled
+  out.push_back({"shadows", Effect::Ssm, Mode::Multires, 97, 61, 2});
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Frames, GpuResident, ::testing::ValuesIn(cases()), caseName);
+
+// With the never-slower rule on and a cost model that makes shading free, the rule falls back:
+// the resident frame uploads full's stencil and still gives the read-back frame's bits.
+TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
+  std::string why;
+  if (!gpu::glAvailable(&why)) {
+    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
+    GTEST_SKIP() << why;
+  }
+  SceneRequest req;
+  req.scene = "builtin:demo";
+  ResolvedScene rs = resolveScene(req);
+  const gpu::GpuRenderer port(rs.scene);
+  Settings s = defaultSettings(Effect::Ssao);
+  s.width = 160;
+  s.height = 90;
+  s.setSamples(8);
+  s.neverSlower = true;
+  CostModel model = CostModel::defaults("gpu");
+  model.nsPerBlendPixel *= 1e6;  // the method's own overheads dwarf any saving
+  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const FrameResult kept = port.render(rs.camera, c, {true, {}, &model});
+  const FrameResult resident = port.render(rs.camera, c, {false, {}, &model});
+  ASSERT_TRUE(kept.fallback.fellBack);
+  EXPECT_TRUE(resident.fallback.fellBack);
+  EXPECT_EQ(resident.final().data, kept.final().data);
+  EXPECT_EQ(resident.shadedPixelsTotal, static_cast<int64_t>(s.width) * s.height);
+}
+
+}  // namespace
+}  // namespace mrr

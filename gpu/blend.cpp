@@ -3,8 +3,12 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <memory>
+#include <string>
+#include <vector>
 
+#include "gpu/masks.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -12,36 +16,61 @@ namespace mrr::gpu {
 namespace {
 
 // FINAL_ONLY: every level in one full-res pass, only the final image and level map.
+// One FINAL_ONLY variant: `fine` is the set of finer levels it blends (a bit each); drawn over
+// `rects`, or the whole frame when null.
+void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
+                   int fine, const std::vector<glm::ivec4>* rects) {
+  const std::string variant = "#define FINAL_ONLY\n#define FINE_LEVELS " + std::to_string(fine) + "\n";
+  const unsigned program = rects ? scene.program("blend.final.rects." + std::to_string(fine), "rects.vert", "blend.frag", variant)
+                                 : scene.program("blend.final." + std::to_string(fine), "fullscreen.vert", "blend.frag", variant);
+  glUseProgram(program);
+  const int coarsest = c.coarsestEnabled;
+  const LevelTextures& base = levels[static_cast<size_t>(coarsest)];
+  bindTextures(program, {{"subC", base.sub}, {"stencilC", base.stencil}, {"alphaC", base.alpha}});
+  int unit = 3;
+  for (int l = 0; l < 3; ++l) {
+    if (!(fine & (1 << l))) continue;
+    const LevelTextures& in = levels[static_cast<size_t>(l)];
+    const std::string L = std::to_string(l);
+    bindTextures(program, {{("sub" + L).c_str(), in.sub}, {("stencil" + L).c_str(), in.stencil}, {("alpha" + L).c_str(), in.alpha}},
+                 unit);
+    unit += 3;
+  }
+  const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
+  glUniform1fv(glGetUniformLocation(program, "weights"), 3, weights);
+  glUniform1i(glGetUniformLocation(program, "coarsestLevel"), coarsest);
+  glUniform1i(glGetUniformLocation(program, "coarsestScale"), c.levels[static_cast<size_t>(coarsest)].scale);
+  if (rects)
+    scene.drawRects(program, *rects, c.width, c.height);
+  else
+    scene.drawFullscreen();
+}
+
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                           const Constants& c) {
-  const unsigned program = scene.program("blend.final", "fullscreen.vert", "blend.frag", "#define FINAL_ONLY\n");
+                           const Constants& c, const ImageU8* edgeBlocks) {
+  int fine = 0;  // the enabled levels finer than C, a bit each: one compiled variant per set
+  int reach = 0;  // how far from an edge a finer level's α can be > 0, in full-res pixels
+  for (int l = 0; l < c.coarsestEnabled; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    fine |= 1 << l;
+    // a_ℓ > 0 within r_ℓ level pixels of M_ℓ; a full-res pixel's taps within 1 of it (+1: rounding)
+    reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale);
+  }
   Framebuffer target(c.width, c.height, std::vector<Texel>{effectTexel(channels), Texel::R8}, false);
   target.bind();
-  glUseProgram(program);
-  const LevelTextures& base = levels[static_cast<size_t>(c.coarsestEnabled)];
-  auto orBase = [&](unsigned t, unsigned fallback) { return t ? t : fallback; };  // disabled levels: never read
-  bindTextures(program, {{"sub0", orBase(levels[0].sub, base.sub)},
-                         {"sub1", orBase(levels[1].sub, base.sub)},
-                         {"sub2", orBase(levels[2].sub, base.sub)},
-                         {"sub3", orBase(levels[3].sub, base.sub)},
-                         {"stencil0", orBase(levels[0].stencil, base.stencil)},
-                         {"stencil1", orBase(levels[1].stencil, base.stencil)},
-                         {"stencil2", orBase(levels[2].stencil, base.stencil)},
-                         {"stencil3", orBase(levels[3].stencil, base.stencil)},
-                         {"alpha0", orBase(levels[0].alpha, base.alpha)},
-                         {"alpha1", orBase(levels[1].alpha, base.alpha)},
-                         {"alpha2", orBase(levels[2].alpha, base.alpha)},
-                         {"alpha3", orBase(levels[3].alpha, base.alpha)}});
-  GLint enabled[kLevelCount];
-  float weights[kLevelCount];
-  for (size_t l = 0; l < kLevelCount; ++l) {
-    enabled[l] = c.levels[l].enabled ? 1 : 0;
-    weights[l] = c.levels[l].weight;
+  if (edgeBlocks && fine) {
+    // every level near an edge; far from every edge, the coarsest level alone (each finer α is
+    // 0 there, and blendStep(0, f, c) = c)
+    const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
+    const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
+    const std::vector<glm::ivec4> nearRects = blockRects(near, 1, blockSize, c.width, c.height),
+                                  farRects = blockRects(near, 0, blockSize, c.width, c.height);
+    drawFinalOnly(scene, levels, c, fine, &nearRects);
+    drawFinalOnly(scene, levels, c, 0, &farRects);
+  } else {
+    drawFinalOnly(scene, levels, c, fine, nullptr);
   }
-  glUniform1iv(glGetUniformLocation(program, "enabledLevel"), kLevelCount, enabled);
-  glUniform1fv(glGetUniformLocation(program, "weights"), kLevelCount, weights);
-  glUniform1i(glGetUniformLocation(program, "coarsestLevel"), c.coarsestEnabled);
-  scene.drawFullscreen();
   checkGl("blend");
   BlendResult r;
   r.final = target.read(0, channels);
@@ -52,8 +81,8 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
 }  // namespace
 
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& c, bool keepStages) {
-  if (!keepStages) return blendFinalOnly(scene, levels, channels, c);
+                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks) {
+  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks);
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const Texel color = effectTexel(channels);
   BlendResult r;

@@ -16,8 +16,9 @@ struct LevelTextures {
 // `channels`: c_ℓ's (1 or 3). With `keepStages`, one pass per level, and every level's ĉ_ℓ,
 // α_ℓ and c'_ℓ read back beside the final image and level map. Without it (the benchmark, a
 // plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), and only the
-// final image and level map leave the GPU, as the oracle keeps only those then.
+// final image and level map leave the GPU, as the oracle keeps only those then. With
+// `edgeBlocks` (MaskTargets::edgeBlocks), that pass blends the finer levels only near edges.
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& constants, bool keepStages = true);
+                        const Constants& constants, bool keepStages = true, const ImageU8* edgeBlocks = nullptr);
 
 }  // namespace mrr::gpu

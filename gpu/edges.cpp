@@ -17,10 +17,10 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
                                               Texel::Rgba8);  // 0/1 flags: 8 bits hold them exactly
   target->bind();
   glUseProgram(program);
-  bindTextures(program, {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}});
+  bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
   glUniform1f(glGetUniformLocation(program, "normalThreshold"), settings.normalThreshold);
   glUniform1f(glGetUniformLocation(program, "depthThreshold"), settings.depthThreshold);
-  if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 2);
+  if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 1);
   scene.drawFullscreen();
   checkGl("edges");
   return target;

@@ -203,6 +203,13 @@ GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
   }
   glBindVertexArray(0);
   glGenVertexArrays(1, &emptyVao_);
+  glGenVertexArrays(1, &rectVao_);
+  glBindVertexArray(rectVao_);
+  glGenBuffers(1, &rectBuffer_);
+  glBindBuffer(GL_ARRAY_BUFFER, rectBuffer_);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  glBindVertexArray(0);
   checkGl("upload");
 }
 
@@ -211,6 +218,23 @@ unsigned GpuScene::program(const std::string& stage, const std::string& vertex, 
   auto it = programs_.find(stage);
   if (it == programs_.end()) it = programs_.emplace(stage, compileProgram(stage, vertex, fragment, defines)).first;
   return it->second;
+}
+
+void GpuScene::drawRects(unsigned program, const std::vector<glm::ivec4>& rects, int width, int height) const {
+  if (rects.empty()) return;
+  std::vector<glm::vec2> corners;
+  corners.reserve(rects.size() * 6);
+  for (const glm::ivec4& r : rects) {
+    const glm::vec2 a(static_cast<float>(r.x), static_cast<float>(r.y)), b(static_cast<float>(r.z), static_cast<float>(r.w));
+    corners.insert(corners.end(), {a, {b.x, a.y}, b, a, b, {a.x, b.y}});
+  }
+  glUniform2f(glGetUniformLocation(program, "targetSize"), static_cast<float>(width), static_cast<float>(height));
+  glBindVertexArray(rectVao_);
+  glBindBuffer(GL_ARRAY_BUFFER, rectBuffer_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec2)), corners.data(),
+               GL_STREAM_DRAW);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(corners.size()));
+  glBindVertexArray(0);
 }
 
 void GpuScene::drawFullscreen() const {
@@ -222,6 +246,8 @@ void GpuScene::drawFullscreen() const {
 GpuScene::~GpuScene() {
   for (const auto& [stage, program] : programs_) glDeleteProgram(program);
   glDeleteVertexArrays(1, &emptyVao_);
+  glDeleteVertexArrays(1, &rectVao_);
+  glDeleteBuffers(1, &rectBuffer_);
   for (MeshGl& m : meshes_) {
     glDeleteBuffers(1, &m.positions);
     glDeleteBuffers(1, &m.normals);

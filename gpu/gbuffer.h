@@ -95,11 +95,14 @@ class GpuScene {
                    const std::string& defines = "") const;
   // Draws the full-screen triangle (image-space passes).
   void drawFullscreen() const;
+  // Draws pixel rectangles (x0, y0, x1, y1: the pixels [x0, x1) × [y0, y1)) of a width×height
+  // target, two triangles each, with `program` in use (its vertex shader: rects.vert).
+  void drawRects(unsigned program, const std::vector<glm::ivec4>& rects, int width, int height) const;
 
  private:
   std::vector<MeshGl> meshes_;
   Bounds bounds_;
-  unsigned emptyVao_ = 0;
+  unsigned emptyVao_ = 0, rectVao_ = 0, rectBuffer_ = 0;
   mutable std::map<std::string, unsigned> programs_;
 };
 

@@ -3,7 +3,9 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <memory>
+#include <vector>
 
 #include "common/error.h"
 #include "gpu/program.h"
@@ -16,25 +18,41 @@ constexpr int kMaxTaps = 49;  // matches weights[49] in masks.frag: σ² ≤ 64 
 
 struct Pass {
   const GpuScene& scene;
-  unsigned program;
-  // One full-screen step into a fresh single-target framebuffer of the given size.
-  Target run(int step, Texel format, int width, int height, unsigned source, unsigned previous = 0, int factor = 1,
-             glm::ivec2 direction = {1, 0}, const std::vector<float>* weights = nullptr, int sourceChannel = 0) const {
-    auto target = std::make_unique<Framebuffer>(width, height, 1, false, format);
+  unsigned fullscreen, rects;  // masks.frag behind fullscreen.vert, and behind rects.vert
+  struct Inputs {
+    unsigned source = 0, previous = 0;
+    int sourceChannel = 0, factor = 1;
+    glm::ivec2 direction{1, 0};
+    const std::vector<float>* weights = nullptr;
+    bool withStencil = false;
+    const std::vector<glm::ivec4>* rects = nullptr;  // null: every pixel
+  };
+  // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
+  Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
+    auto target = std::make_unique<Framebuffer>(width, height, formats, false);
     target->bind();
+    const unsigned program = in.rects ? rects : fullscreen;
     glUseProgram(program);
     glUniform1i(glGetUniformLocation(program, "step"), step);
-    glUniform1i(glGetUniformLocation(program, "sourceChannel"), sourceChannel);
-    glUniform1i(glGetUniformLocation(program, "factor"), factor);
-    glUniform2i(glGetUniformLocation(program, "direction"), direction.x, direction.y);
-    if (weights) {
-      require(static_cast<int>(weights->size()) <= kMaxTaps, "gpu: masks: blur kernel larger than 49 taps");
-      glUniform1i(glGetUniformLocation(program, "radius"), static_cast<int>(weights->size() / 2));
-      glUniform1fv(glGetUniformLocation(program, "weights"), static_cast<GLsizei>(weights->size()), weights->data());
+    glUniform1i(glGetUniformLocation(program, "sourceChannel"), in.sourceChannel);
+    glUniform1i(glGetUniformLocation(program, "factor"), in.factor);
+    glUniform2i(glGetUniformLocation(program, "direction"), in.direction.x, in.direction.y);
+    glUniform1i(glGetUniformLocation(program, "withStencil"), in.withStencil ? 1 : 0);
+    if (in.weights) {
+      require(static_cast<int>(in.weights->size()) <= kMaxTaps, "gpu: masks: blur kernel larger than 49 taps");
+      glUniform1i(glGetUniformLocation(program, "radius"), static_cast<int>(in.weights->size() / 2));
+      glUniform1fv(glGetUniformLocation(program, "weights"), static_cast<GLsizei>(in.weights->size()),
+                   in.weights->data());
     }
-    bindTextures(program, {{"source", source}});
-    bindTextures(program, {{"previous", previous ? previous : source}}, 1);
-    scene.drawFullscreen();
+    bindTextures(program, {{"source", in.source}});
+    bindTextures(program, {{"previous", in.previous ? in.previous : in.source}}, 1);
+    if (in.rects) {
+      const float zero[4] = {0, 0, 0, 0};
+      for (size_t i = 0; i < formats.size(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
+      scene.drawRects(program, *in.rects, width, height);
+    } else {
+      scene.drawFullscreen();
+    }
     checkGl("masks");
     return target;
   }
@@ -51,19 +69,65 @@ Target constantTarget(int width, int height, Texel format, float value) {
 
 }  // namespace
 
+ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius) {
+  // the blocks within ceil(r / B) blocks (Chebyshev) of an edge block: a separable box max
+  const int d = (radius + blockSize - 1) / blockSize;
+  const int w = edgeBlocks.width, h = edgeBlocks.height;
+  ImageU8 rows(w, h), near(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint8_t m = 0;
+      for (int i = std::max(x - d, 0); i <= std::min(x + d, w - 1); ++i) m |= edgeBlocks.at(i, y);
+      rows.at(x, y) = m;
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint8_t m = 0;
+      for (int j = std::max(y - d, 0); j <= std::min(y + d, h - 1); ++j) m |= rows.at(x, j);
+      near.at(x, y) = m;
+    }
+  return near;
+}
+
+std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height) {
+  std::vector<glm::ivec4> rects;
+  for (int y = 0; y < blocks.height; ++y)
+    for (int x = 0; x < blocks.width;) {
+      if ((blocks.at(x, y) != 0) != (value != 0)) {
+        ++x;
+        continue;
+      }
+      int end = x;
+      while (end < blocks.width && (blocks.at(end, y) != 0) == (value != 0)) ++end;
+      const glm::ivec4 r(x * blockSize, y * blockSize, std::min(end * blockSize, width),
+                         std::min((y + 1) * blockSize, height));
+      if (r.x < r.z && r.y < r.w) rects.push_back(r);
+      x = end;
+    }
+  return rects;
+}
+
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c) {
-  const Pass pass{scene, scene.program("masks", "fullscreen.vert", "masks.frag")};
+  const Pass pass{scene, scene.program("masks", "fullscreen.vert", "masks.frag"),
+                  scene.program("masks.rects", "rects.vert", "masks.frag")};
   auto out = std::make_unique<MaskTargets>();
   out->drawn = true;
   auto& mask = out->maskTarget;
   auto& stencil = out->stencilTarget;
-  // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels too
-  for (int l = 0; l < kLevelCount; ++l) {
+  constexpr int kCoarsest = kLevelCount - 1;
+  // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels too
+  for (int l = 1; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    const unsigned source = l == 0 ? edges : mask[static_cast<size_t>(l - 1)]->texture(0);
-    mask[static_cast<size_t>(l)] = pass.run(1, Texel::R8, lc.width, lc.height, source, 0, l == 0 ? 1 : 2, {1, 0},
-                                            nullptr, l == 0 ? edgeChannel : 0);
+    Pass::Inputs in;
+    in.source = l == 1 ? edges : mask[static_cast<size_t>(l - 1)]->texture(0);
+    in.sourceChannel = l == 1 ? edgeChannel : 0;
+    in.factor = 2;
+    mask[static_cast<size_t>(l)] = pass.run(1, {Texel::R8}, lc.width, lc.height, in);
   }
+  // Which blocks of the coarsest grid hold an edge (M_3, read back: a few kB): every level's
+  // blur has work only near them.
+  out->edgeBlocks = mask[kCoarsest]->readBinary(0);
+  const ImageU8& edgeBlocks = out->edgeBlocks;
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
@@ -73,26 +137,44 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       stencil[i] = constantTarget(lc.width, lc.height, Texel::R8, 1.0f);
       continue;
     }
-    // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable; 3. S_ℓ = [a_ℓ > 0]
-    const auto horizontal =
-        pass.run(2, Texel::R32f, lc.width, lc.height, mask[i]->texture(0), 0, 1, {1, 0}, &lc.gaussian);
-    out->alphaTarget[i] = pass.run(2, Texel::R32f, lc.width, lc.height, horizontal->texture(0), 0, 1, {0, 1}, &lc.gaussian);
-    stencil[i] = pass.run(3, Texel::R8, lc.width, lc.height, out->alphaTarget[i]->texture(0));
+    // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of an edge; 3. S_ℓ = [a_ℓ > 0]
+    const int radius = static_cast<int>(lc.gaussian.size() / 2);
+    const int blockSize = 1 << (kCoarsest - l);  // level-ℓ pixels per edge block
+    const std::vector<glm::ivec4> rects =
+        blockRects(nearBlocks(edgeBlocks, blockSize, radius), 1, blockSize, lc.width, lc.height);
+    Pass::Inputs horizontal;
+    horizontal.source = l == 0 ? edges : mask[i]->texture(0);
+    horizontal.sourceChannel = l == 0 ? edgeChannel : 0;
+    horizontal.weights = &lc.gaussian;
+    horizontal.rects = &rects;
+    const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
+    Pass::Inputs vertical = horizontal;
+    vertical.source = h->texture(0);
+    vertical.sourceChannel = 0;
+    vertical.direction = {0, 1};
+    vertical.withStencil = true;
+    Target both = pass.run(2, {Texel::R32f, Texel::R8}, lc.width, lc.height, vertical);
+    out->alphaTarget[i] = std::move(both);  // a_ℓ in target 0, S_ℓ in target 1
   }
   // 4. coverage closure, fine to coarse, across disabled levels
+  auto stencilTexture = [&](size_t l) {
+    return stencil[l] ? stencil[l]->texture(0) : out->alphaTarget[l]->texture(1);
+  };
   for (int l = 0; l < kLevelCount; ++l) {
     const int next = c.nextCoarserEnabled(l);
     if (!c.levels[static_cast<size_t>(l)].enabled || next < 0) continue;
     const LevelConstants& ln = c.levels[static_cast<size_t>(next)];
     if (next == c.coarsestEnabled) continue;  // already all 1
-    stencil[static_cast<size_t>(next)] =
-        pass.run(4, Texel::R8, ln.width, ln.height, stencil[static_cast<size_t>(l)]->texture(0),
-                 stencil[static_cast<size_t>(next)]->texture(0), 1 << (next - l));
+    Pass::Inputs in;
+    in.source = stencilTexture(static_cast<size_t>(l));
+    in.previous = stencilTexture(static_cast<size_t>(next));
+    in.factor = 1 << (next - l);
+    stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
   for (size_t l = 0; l < kLevelCount; ++l)
     if (c.levels[l].enabled) {
       out->alpha[l] = out->alphaTarget[l]->texture(0);
-      out->stencil[l] = stencil[l]->texture(0);
+      out->stencil[l] = stencilTexture(l);
     }
   return out;
 }
@@ -100,9 +182,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
 std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Constants& c, bool stencilsOnly) {
   std::array<MaskLevel, kLevelCount> out;
   for (size_t l = 0; l < kLevelCount; ++l) {
-    if (!stencilsOnly) out[l].mask = masks.maskTarget[l]->readBinary(0);  // M_ℓ through disabled levels too
+    if (!stencilsOnly && masks.maskTarget[l]) out[l].mask = masks.maskTarget[l]->readBinary(0);  // ℓ ≥ 1
     if (!c.levels[l].enabled) continue;
-    out[l].stencil = masks.stencilTarget[l]->readBinary(0);
+    out[l].stencil = masks.stencilTarget[l] ? masks.stencilTarget[l]->readBinary(0)
+                                            : masks.alphaTarget[l]->readBinary(1);
     if (!stencilsOnly) out[l].alpha = masks.alphaTarget[l]->read(0, 1);
   }
   return out;
@@ -120,8 +203,10 @@ std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount
 
 std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& c) {
   TextureSet uploaded;
-  const auto masks = drawMasks(scene, uploaded.add(uploadBinary(edges)), 0, c);
-  return readMasks(*masks, c, false);
+  const auto targets = drawMasks(scene, uploaded.add(uploadBinary(edges)), 0, c);
+  std::array<MaskLevel, kLevelCount> masks = readMasks(*targets, c, false);
+  masks[0].mask = edges;  // M_0 = E
+  return masks;
 }
 
 }  // namespace mrr::gpu

@@ -4,6 +4,7 @@
 // back S_ℓ (for |S_ℓ| and the never-slower rule) and, with keepStages, M_ℓ and a_ℓ too.
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "cpu_ref/edges.h"
 #include "cpu_ref/masks.h"
@@ -14,18 +15,31 @@ namespace mrr::gpu {
 // Every enabled level's M_ℓ, a_ℓ and S_ℓ on the GPU. The later passes read `alpha[ℓ]` and
 // `stencil[ℓ]` (texture names; 0 for disabled levels), drawn here or uploaded from host masks.
 struct MaskTargets {
-  std::array<Target, kLevelCount> maskTarget, alphaTarget, stencilTarget;  // drawn (R8, R32F, R8)
+  // Drawn: M_ℓ (R8, ℓ ≥ 1; M_0 is E); a_ℓ (R32F) with S_ℓ (R8) as its second target, or S_ℓ in
+  // stencilTarget where the closure or the coarsest level made it.
+  std::array<Target, kLevelCount> maskTarget, alphaTarget, stencilTarget;
   TextureSet uploaded;                                                       // or uploaded
   std::array<unsigned, kLevelCount> alpha{}, stencil{};
   bool drawn = false;  // false: uploaded from host masks (uploadMasks)
+  ImageU8 edgeBlocks;  // drawn: M of the coarsest level, read back (which blocks hold an edge)
 };
 
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel,
                                        const Constants& constants);
 
-// Reads drawn masks back: every S_ℓ, and M_ℓ and a_ℓ too unless `stencilsOnly`.
+// Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
+// unless `stencilsOnly`.
 std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Constants& constants, bool stencilsOnly);
+
+// Passes that only have work near edges are drawn over blocks of the coarsest level's grid:
+// `edgeBlocks` is M of the coarsest level (a block holds an edge), each block blockSize² pixels
+// of the pass's level. nearBlocks: the blocks within `radius` of an edge block's pixels
+// (dilated by ceil(radius / blockSize) blocks): the blur of M is 0 outside them. blockRects:
+// the row runs of the blocks set to `value` (1: near, 0: far) as pixel rectangles
+// (x0, y0, x1, y1) clipped to width×height.
+ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius);
+std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height);
 
 // Host masks (full, uniform-k, tiles, or a never-slower fallback) as textures for the passes.
 std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount>& masks, const Constants& constants);

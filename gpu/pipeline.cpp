@@ -93,6 +93,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
       stage("masks", [&] {
         maskTargets = drawMasks(gpuScene_, edges->texture(0), kEdgeChannel, c);
         masks = readMasks(*maskTargets, c, !keep);
+        if (keep) masks[0].mask = f.edges.combined;  // M_0 = E
       });
       break;
     case Mode::Tiles:
@@ -176,7 +177,8 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   } else {
     std::array<LevelTextures, kLevelCount> inputs;
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture[l], maskTargets->stencil[l], maskTargets->alpha[l]};
-    stage("blend", [&] { f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages); });
+    const ImageU8* edgeBlocks = maskTargets->drawn ? &maskTargets->edgeBlocks : nullptr;
+    stage("blend", [&] { f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages, edgeBlocks); });
   }
   // 6. The shaded image for viewing: the oracle's function on the port's buffers, which needs
   // the full-res G-buffer (and the shadow test) on the host. Without keepStages that copy is

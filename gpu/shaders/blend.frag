@@ -4,9 +4,12 @@
 //   (default)   one full-res pass per enabled level, coarse to fine; it writes ĉ_ℓ, α_ℓ,
 //               c'_ℓ = α ĉ_ℓ + (1 − α) c'_coarser and the level map (--stages, probe, compare)
 //   FINAL_ONLY  one full-res pass for every level at once: the final image and level map,
-//               bit-identical to the per-level passes, as cpu_ref's blendFinalOnly: each pixel
-//               visits the levels fine to coarse for their α first (stopping at α = 1, below
-//               which nothing shows) and upsamples only the levels that change the result.
+//               bit-identical to the per-level passes (as cpu_ref's blendFinalOnly): the same
+//               steps coarse to fine in registers, with a finer level's taps read only where
+//               its α > 0 (blendStep(0, f, c) = c), and its stencil only where â > 0. The host
+//               compiles one variant per set of finer levels (FINE_LEVELS, a bit per level
+//               0–2), so no sampler is chosen at run time, and draws the variant without
+//               finer levels over the blocks where no finer α can be > 0 (gpu/blend.cpp).
 
 // 1. u = (p + ½)/s − ½ for full-res pixel p on a level of scale s: tap k's texel (clamped to
 // the level grid) and bilinear weight b.
@@ -19,9 +22,9 @@ void bilinearTap(int k, ivec2 p, int scale, ivec2 last, out ivec2 q, out float b
   b = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
 }
 
-// 2. Over the four taps: â = Σ b a (all taps), the coverage Σ b over the rendered taps (S = 1)
-// and, with `wantColor`, their colour Σ b c (masked bilinear: an unrendered tap is never read).
-void upsample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, ivec2 p, bool wantColor,
+// 2. Over the four taps: â = Σ b a (all taps; with `wantAlpha`), the coverage Σ b over the
+// rendered taps (S = 1) and their colour Σ b c (masked bilinear: an unrendered tap is never read).
+void upsample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, ivec2 p, bool wantAlpha,
               out vec3 color, out float coverage, out float alphaHat) {
   ivec2 last = textureSize(stencilMask, 0) - 1;
   color = vec3(0.0);
@@ -32,11 +35,11 @@ void upsample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int sca
     float b;
     bilinearTap(k, p, scale, last, q, b);
     // â = Σ b_q a(q), over all taps
-    alphaHat += b * texelFetch(alphaMask, q, 0).r;
+    if (wantAlpha) alphaHat += b * texelFetch(alphaMask, q, 0).r;
     // masked bilinear: only rendered taps (S = 1) carry colour
     if (texelFetch(stencilMask, q, 0).r < 0.5) continue;
     coverage += b;
-    if (wantColor) color += b * texelFetch(sub, q, 0).rgb;
+    color += b * texelFetch(sub, q, 0).rgb;
   }
 }
 
@@ -45,6 +48,27 @@ float blendAlpha(float coverage, float alphaHat, float weight) {
   float alpha = 0.0;
   if (coverage > 0.0) alpha = min(alphaHat * weight, 1.0);
   return alpha;
+}
+
+// α alone, with upsample's sums in upsample's order: â first, and the coverage only where
+// â > 0 (else α = 0 whatever the coverage), so a level far from its edges costs four reads.
+float alphaOnly(sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, ivec2 p) {
+  ivec2 last = textureSize(stencilMask, 0) - 1;
+  float alphaHat = 0.0, coverage = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q;
+    float b;
+    bilinearTap(k, p, scale, last, q, b);
+    alphaHat += b * texelFetch(alphaMask, q, 0).r;
+  }
+  if (alphaHat == 0.0) return 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q;
+    float b;
+    bilinearTap(k, p, scale, last, q, b);
+    if (texelFetch(stencilMask, q, 0).r >= 0.5) coverage += b;
+  }
+  return blendAlpha(coverage, alphaHat, weight);
 }
 
 #ifndef FINAL_ONLY
@@ -80,49 +104,45 @@ void main() {
   levelMap = vec4(from, 0.0, 0.0, 1.0);
 }
 #else
-uniform sampler2D sub0, sub1, sub2, sub3;              // c_ℓ
-uniform sampler2D stencil0, stencil1, stencil2, stencil3;  // S_ℓ
-uniform sampler2D alpha0, alpha1, alpha2, alpha3;      // a_ℓ
-uniform bool enabledLevel[4];
-uniform float weights[4];  // w_ℓ
-uniform int coarsestLevel;  // C, the coarsest enabled level: it covers every pixel
+uniform sampler2D subC, stencilC, alphaC;  // the coarsest enabled level C: it covers every pixel
+uniform sampler2D sub0, sub1, sub2;        // c_ℓ of the finer levels (those in FINE_LEVELS)
+uniform sampler2D stencil0, stencil1, stencil2;
+uniform sampler2D alpha0, alpha1, alpha2;
+uniform int coarsestLevel;  // C
+uniform int coarsestScale;  // s_C
+uniform float weights[3];   // w_ℓ of the finer levels
 layout(location = 0) out vec4 finalOut;
 layout(location = 1) out vec4 levelMap;  // the finest level with α > 0 (ℓ/255)
 
-void levelTaps(int l, ivec2 p, bool wantColor, out vec3 color, out float coverage, out float alphaHat) {
-  if (l == 0) upsample(sub0, stencil0, alpha0, 1, p, wantColor, color, coverage, alphaHat);
-  else if (l == 1) upsample(sub1, stencil1, alpha1, 2, p, wantColor, color, coverage, alphaHat);
-  else if (l == 2) upsample(sub2, stencil2, alpha2, 4, p, wantColor, color, coverage, alphaHat);
-  else upsample(sub3, stencil3, alpha3, 8, p, wantColor, color, coverage, alphaHat);
+// 4. One finer level over the composite: c' = α ĉ_ℓ + (1 − α) c', where α > 0.
+void blendOver(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, int level, ivec2 p,
+               inout vec3 result, inout int finest) {
+  float alpha = alphaOnly(stencilMask, alphaMask, scale, weight, p);
+  if (alpha == 0.0) return;
+  vec3 color;
+  float coverage, alphaHat;
+  upsample(sub, stencilMask, alphaMask, scale, p, false, color, coverage, alphaHat);  // α is known
+  color /= coverage;  // > 0: α > 0
+  result = alpha * color + (1.0 - alpha) * result;
+  finest = level;
 }
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   vec3 color;
   float coverage, alphaHat;
-  // α_ℓ fine to coarse; the finest level with α = 1 is the base: nothing coarser shows
-  float alphas[4] = float[4](0.0, 0.0, 0.0, 0.0);
-  int base = coarsestLevel;
-  for (int l = 0; l < coarsestLevel; ++l) {
-    if (!enabledLevel[l]) continue;
-    levelTaps(l, p, false, color, coverage, alphaHat);
-    alphas[l] = blendAlpha(coverage, alphaHat, weights[l]);
-    if (alphas[l] == 1.0) {
-      base = l;
-      break;
-    }
-  }
-  // c' = ĉ_base, then each finer level with α > 0 blended over it (blendStep(0, f, c) = c)
-  levelTaps(base, p, true, color, coverage, alphaHat);
+  upsample(subC, stencilC, alphaC, coarsestScale, p, false, color, coverage, alphaHat);  // α_C = [coverage > 0]
   vec3 result = coverage > 0.0 ? color / coverage : vec3(0.0);
-  int finest = base;
-  for (int l = base - 1; l >= 0; --l) {
-    if (!enabledLevel[l] || alphas[l] == 0.0) continue;
-    levelTaps(l, p, true, color, coverage, alphaHat);
-    color /= coverage;  // > 0: α > 0
-    result = alphas[l] * color + (1.0 - alphas[l]) * result;
-    finest = l;
-  }
+  int finest = coarsestLevel;
+#if (FINE_LEVELS & 4) != 0
+  blendOver(sub2, stencil2, alpha2, 4, weights[2], 2, p, result, finest);
+#endif
+#if (FINE_LEVELS & 2) != 0
+  blendOver(sub1, stencil1, alpha1, 2, weights[1], 1, p, result, finest);
+#endif
+#if (FINE_LEVELS & 1) != 0
+  blendOver(sub0, stencil0, alpha0, 1, weights[0], 0, p, result, finest);
+#endif
   finalOut = vec4(result, 1.0);
   levelMap = vec4(float(finest) / 255.0, 0.0, 0.0, 1.0);
 }

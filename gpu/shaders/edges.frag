@@ -1,8 +1,7 @@
 #version 330 core
 // Stage 2 — edge image E (SPEC §2), mirrors cpu_ref/edges.cpp: each kind kept apart. With
 // SHADOW_EDGES (SSM) the shadow kind is on too, written to a second target.
-uniform sampler2D positionHit;  // G-buffer L0: view position, hit
-uniform sampler2D normalDepth;  // G-buffer L0: view normal, depth
+uniform sampler2D normalDepth;  // G-buffer L0: view normal, depth (0 on a miss: the clear value)
 uniform float normalThreshold;  // τ_n
 uniform float depthThreshold;   // τ_z
 layout(location = 0) out vec4 edges;  // (normal, depth, background, E)
@@ -13,7 +12,9 @@ bool litAt(ivec2 q) { return texelFetch(shadowLit, q, 0).r > 0.5; }
 #endif
 
 bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
-bool isHit(ivec2 q) { return texelFetch(positionHit, q, 0).w > 0.5; }
+// A hit lies in front of the camera (depth > 0); a miss keeps the cleared 0. So one texel per
+// pixel (normal and depth) tells the hit too, and the pass reads five texels, not ten.
+bool isHit(ivec2 q) { return texelFetch(normalDepth, q, 0).w > 0.0; }
 bool usable(ivec2 q, ivec2 size) { return inside(q, size) && isHit(q); }
 float inverseDepth(ivec2 q) { return 1.0 / texelFetch(normalDepth, q, 0).w; }
 
@@ -22,7 +23,7 @@ float secondDifference(float dMinus, float d, float dPlus) { return abs(dMinus -
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  ivec2 size = textureSize(positionHit, 0);
+  ivec2 size = textureSize(normalDepth, 0);
   if (!isHit(p)) {  // background pixels carry no edge; their hit neighbours do
     edges = vec4(0.0);
 #ifdef SHADOW_EDGES

@@ -9,10 +9,10 @@
 namespace mrr::gpu {
 
 Target drawBilateral(const GpuScene& scene, unsigned raw, unsigned stencil, const Framebuffer& gbuffer,
-                     const Constants::Bilateral& b) {
+                     const Constants::Bilateral& b, const Framebuffer* rawTarget) {
   if (b.radius == 0) return nullptr;
   const unsigned program = scene.program("bilateral", "fullscreen.vert", "bilateral.frag");
-  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "bilateral", [&] {
+  auto setInputs = [&] {
     bindTextures(program, {{"image", raw},
                            {"stencilMask", stencil},
                            {"positionHit", gbuffer.texture(0)},
@@ -21,7 +21,9 @@ Target drawBilateral(const GpuScene& scene, unsigned raw, unsigned stencil, cons
     glUniform1fv(glGetUniformLocation(program, "spatial"), static_cast<GLsizei>(b.spatial.size()), b.spatial.data());
     glUniform1f(glGetUniformLocation(program, "sigmaDepth"), b.sigmaDepth);
     glUniform1f(glGetUniformLocation(program, "normalPower"), b.normalPower);
-  });
+  };
+  if (rawTarget) return drawStencilledLike(scene, *rawTarget, Texel::R32f, program, "bilateral", setInputs);
+  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "bilateral", setInputs);
 }
 
 ImageF bilateralBlur(const GpuScene& scene, const ImageF& raw, const ImageU8& stencil, const Framebuffer& gbuffer,

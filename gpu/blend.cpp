@@ -21,8 +21,7 @@ namespace {
 void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
                    int fine, const std::vector<glm::ivec4>* rects) {
   const std::string variant = "#define FINAL_ONLY\n#define FINE_LEVELS " + std::to_string(fine) + "\n";
-  const unsigned program = rects ? scene.program("blend.final.rects." + std::to_string(fine), "rects.vert", "blend.frag", variant)
-                                 : scene.program("blend.final." + std::to_string(fine), "fullscreen.vert", "blend.frag", variant);
+  const unsigned program = scene.program("blend.final." + std::to_string(fine), "fullscreen.vert", "blend.frag", variant);
   glUseProgram(program);
   const int coarsest = c.coarsestEnabled;
   const LevelTextures& base = levels[static_cast<size_t>(coarsest)];
@@ -41,7 +40,7 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
   glUniform1i(glGetUniformLocation(program, "coarsestLevel"), coarsest);
   glUniform1i(glGetUniformLocation(program, "coarsestScale"), c.levels[static_cast<size_t>(coarsest)].scale);
   if (rects)
-    scene.drawRects(program, *rects, c.width, c.height);
+    scene.drawRects(*rects, c.width, c.height);
   else
     scene.drawFullscreen();
 }

@@ -63,6 +63,15 @@ Framebuffer::Framebuffer(int width, int height, const std::vector<Texel>& format
   checkGl("framebuffer");
 }
 
+void Framebuffer::shareDepthStencil(const Framebuffer& other) {
+  require(other.depth_ != 0 && other.width_ == width_ && other.height_ == height_,
+          "gpu: shared depth-stencil buffer of another size");
+  require(depth_ == 0, "gpu: framebuffer already has a depth-stencil buffer");
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, other.depth_);
+  require(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE, "gpu: framebuffer incomplete");
+}
+
 Framebuffer::~Framebuffer() {
   glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
   if (depth_) glDeleteRenderbuffers(1, &depth_);
@@ -220,7 +229,10 @@ unsigned GpuScene::program(const std::string& stage, const std::string& vertex, 
   return it->second;
 }
 
-void GpuScene::drawRects(unsigned program, const std::vector<glm::ivec4>& rects, int width, int height) const {
+void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int height) const {
+  GLint current = 0;
+  glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+  const unsigned program = static_cast<unsigned>(current);
   if (rects.empty()) return;
   std::vector<glm::vec2> corners;
   corners.reserve(rects.size() * 6);
@@ -228,6 +240,7 @@ void GpuScene::drawRects(unsigned program, const std::vector<glm::ivec4>& rects,
     const glm::vec2 a(static_cast<float>(r.x), static_cast<float>(r.y)), b(static_cast<float>(r.z), static_cast<float>(r.w));
     corners.insert(corners.end(), {a, {b.x, a.y}, b, a, b, {a.x, b.y}});
   }
+  glUniform1i(glGetUniformLocation(program, "useRects"), 1);
   glUniform2f(glGetUniformLocation(program, "targetSize"), static_cast<float>(width), static_cast<float>(height));
   glBindVertexArray(rectVao_);
   glBindBuffer(GL_ARRAY_BUFFER, rectBuffer_);
@@ -238,6 +251,9 @@ void GpuScene::drawRects(unsigned program, const std::vector<glm::ivec4>& rects,
 }
 
 void GpuScene::drawFullscreen() const {
+  GLint program = 0;
+  glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+  glUniform1i(glGetUniformLocation(static_cast<unsigned>(program), "useRects"), 0);
   glBindVertexArray(emptyVao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);

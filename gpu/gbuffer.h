@@ -39,6 +39,9 @@ class Framebuffer {
   int width() const { return width_; }
   int height() const { return height_; }
   int targetCount() const { return static_cast<int>(textures_.size()); }
+  // Attaches `other`'s depth and stencil buffer (same size; `other` must outlive this), so a
+  // pass can reuse the stencil an earlier pass filled.
+  void shareDepthStencil(const Framebuffer& other);
 
  private:
   int width_, height_;
@@ -93,11 +96,11 @@ class GpuScene {
   // so each variant of a file, with its own `defines`, needs its own stage name).
   unsigned program(const std::string& stage, const std::string& vertex, const std::string& fragment,
                    const std::string& defines = "") const;
-  // Draws the full-screen triangle (image-space passes).
+  // Draws the full-screen triangle (image-space passes; vertex shader fullscreen.vert).
   void drawFullscreen() const;
   // Draws pixel rectangles (x0, y0, x1, y1: the pixels [x0, x1) × [y0, y1)) of a width×height
-  // target, two triangles each, with `program` in use (its vertex shader: rects.vert).
-  void drawRects(unsigned program, const std::vector<glm::ivec4>& rects, int width, int height) const;
+  // target, two triangles each, with the program in use (its vertex shader: fullscreen.vert).
+  void drawRects(const std::vector<glm::ivec4>& rects, int width, int height) const;
 
  private:
   std::vector<MeshGl> meshes_;

@@ -18,7 +18,7 @@ constexpr int kMaxTaps = 49;  // matches weights[49] in masks.frag: σ² ≤ 64 
 
 struct Pass {
   const GpuScene& scene;
-  unsigned fullscreen, rects;  // masks.frag behind fullscreen.vert, and behind rects.vert
+  unsigned program;
   struct Inputs {
     unsigned source = 0, previous = 0;
     int sourceChannel = 0, factor = 1;
@@ -31,7 +31,6 @@ struct Pass {
   Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
     auto target = std::make_unique<Framebuffer>(width, height, formats, false);
     target->bind();
-    const unsigned program = in.rects ? rects : fullscreen;
     glUseProgram(program);
     glUniform1i(glGetUniformLocation(program, "step"), step);
     glUniform1i(glGetUniformLocation(program, "sourceChannel"), in.sourceChannel);
@@ -49,7 +48,7 @@ struct Pass {
     if (in.rects) {
       const float zero[4] = {0, 0, 0, 0};
       for (size_t i = 0; i < formats.size(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
-      scene.drawRects(program, *in.rects, width, height);
+      scene.drawRects(*in.rects, width, height);
     } else {
       scene.drawFullscreen();
     }
@@ -108,8 +107,7 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 }
 
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c) {
-  const Pass pass{scene, scene.program("masks", "fullscreen.vert", "masks.frag"),
-                  scene.program("masks.rects", "rects.vert", "masks.frag")};
+  const Pass pass{scene, scene.program("masks", "fullscreen.vert", "masks.frag")};
   auto out = std::make_unique<MaskTargets>();
   out->drawn = true;
   auto& mask = out->maskTarget;
@@ -128,6 +126,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   // blur has work only near them.
   out->edgeBlocks = mask[kCoarsest]->readBinary(0);
   const ImageU8& edgeBlocks = out->edgeBlocks;
+  // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
+  std::array<ImageU8, kLevelCount> support;
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
@@ -140,8 +140,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of an edge; 3. S_ℓ = [a_ℓ > 0]
     const int radius = static_cast<int>(lc.gaussian.size() / 2);
     const int blockSize = 1 << (kCoarsest - l);  // level-ℓ pixels per edge block
-    const std::vector<glm::ivec4> rects =
-        blockRects(nearBlocks(edgeBlocks, blockSize, radius), 1, blockSize, lc.width, lc.height);
+    support[i] = nearBlocks(edgeBlocks, blockSize, radius);
+    const std::vector<glm::ivec4> rects = blockRects(support[i], 1, blockSize, lc.width, lc.height);
     Pass::Inputs horizontal;
     horizontal.source = l == 0 ? edges : mask[i]->texture(0);
     horizontal.sourceChannel = l == 0 ? edgeChannel : 0;
@@ -165,10 +165,16 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     if (!c.levels[static_cast<size_t>(l)].enabled || next < 0) continue;
     const LevelConstants& ln = c.levels[static_cast<size_t>(next)];
     if (next == c.coarsestEnabled) continue;  // already all 1
+    // S_next ∨ max-pool(S_ℓ) is 0 outside both supports: drawn over their union only
+    ImageU8& into = support[static_cast<size_t>(next)];
+    const ImageU8& from = support[static_cast<size_t>(l)];
+    for (size_t b = 0; b < into.data.size(); ++b) into.data[b] |= from.data[b];
+    const std::vector<glm::ivec4> rects = blockRects(into, 1, 1 << (kCoarsest - next), ln.width, ln.height);
     Pass::Inputs in;
     in.source = stencilTexture(static_cast<size_t>(l));
     in.previous = stencilTexture(static_cast<size_t>(next));
     in.factor = 1 << (next - l);
+    in.rects = &rects;
     stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
   for (size_t l = 0; l < kLevelCount; ++l)

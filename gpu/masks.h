@@ -39,6 +39,7 @@ std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Con
 // the row runs of the blocks set to `value` (1: near, 0: far) as pixel rectangles
 // (x0, y0, x1, y1) clipped to width×height.
 ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius);
+
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height);
 
 // Host masks (full, uniform-k, tiles, or a never-slower fallback) as textures for the passes.

@@ -139,7 +139,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     switch (c.effect) {
       case Effect::Ssao:
         stage("effect" + L, [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao); });
-        stage("bilateral" + L, [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral); });
+        stage("bilateral" + L, [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral, raw[i].get()); });
         break;
       case Effect::Ssm:  // PCF is its own filter: no blur (the paper blurs SSAO only)
         stage("effect" + L, [&] {

@@ -41,6 +41,24 @@ Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, in
   return target;
 }
 
+Target drawStencilledLike(const GpuScene& scene, const Framebuffer& stencilled, Texel format, unsigned program,
+                          const std::string& stage, const std::function<void()>& setInputs) {
+  auto target = std::make_unique<Framebuffer>(stencilled.width(), stencilled.height(), 1, false, format);
+  target->shareDepthStencil(stencilled);
+  target->bind();
+  const float zero[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, zero);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  glUseProgram(program);
+  setInputs();
+  scene.drawFullscreen();
+  glDisable(GL_STENCIL_TEST);
+  checkGl(stage);
+  return target;
+}
+
 ImageF withHostStencil(const ImageU8& stencil, int channels, const std::function<Target(unsigned)>& draw) {
   TextureSet uploaded;
   const Target target = draw(uploaded.add(uploadBinary(stencil)));

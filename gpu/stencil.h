@@ -21,6 +21,11 @@ void fillStencil(const GpuScene& scene, unsigned stencilMask);
 Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
                       unsigned program, const std::string& stage, const std::function<void()>& setInputs);
 
+// The same pass under the stencil buffer an earlier pass at this level filled (`stencilled`,
+// drawStencilled's target): S_ℓ is not written again (SSAO's blur after SSAO).
+Target drawStencilledLike(const GpuScene& scene, const Framebuffer& stencilled, Texel format, unsigned program,
+                          const std::string& stage, const std::function<void()>& setInputs);
+
 // The host-image form of a stencilled pass (tests and the same-input checks): uploads S_ℓ,
 // runs `draw` with its texture and reads `channels` channels of the result back.
 ImageF withHostStencil(const ImageU8& stencil, int channels, const std::function<Target(unsigned)>& draw);

@@ -56,8 +56,8 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
     // a_ℓ > 0 within r_ℓ level pixels of M_ℓ; a full-res pixel's taps within 1 of it (+1: rounding)
     reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale);
   }
-  Framebuffer target(c.width, c.height, std::vector<Texel>{effectTexel(channels), Texel::R8}, false);
-  target.bind();
+  const Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
+  target->bind();
   if (edgeBlocks && fine) {
     // every level near an edge; far from every edge, the coarsest level alone (each finer α is
     // 0 there, and blendStep(0, f, c) = c)
@@ -72,8 +72,8 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
   }
   checkGl("blend");
   BlendResult r;
-  r.final = target.read(0, channels);
-  r.levelMap = target.readBytes(1);
+  r.final = target->read(0, channels);
+  r.levelMap = target->readBytes(1);
   return r;
 }
 
@@ -91,8 +91,7 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
     if (!lc.enabled) continue;
     const LevelTextures& in = levels[static_cast<size_t>(l)];
     // ĉ_ℓ, α_ℓ, c'_ℓ and the level map (the finest level with α > 0, as on the host)
-    auto target = std::make_unique<Framebuffer>(c.width, c.height, std::vector<Texel>{color, Texel::R32f, color, Texel::R8},
-                                                false);
+    Target target = scene.target(c.width, c.height, {color, Texel::R32f, color, Texel::R8}, false);
     target->bind();
     glUseProgram(program);
     bindTextures(program, {{"sub", in.sub},

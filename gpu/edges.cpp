@@ -13,8 +13,8 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
   const unsigned program =
       shadowEdges ? scene.program("edges.shadow", "fullscreen.vert", "edges.frag", "#define SHADOW_EDGES\n")
                   : scene.program("edges", "fullscreen.vert", "edges.frag");
-  auto target = std::make_unique<Framebuffer>(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false,
-                                              Texel::Rgba8);  // 0/1 flags: 8 bits hold them exactly
+  Target target = scene.target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false,
+                               Texel::Rgba8);  // 0/1 flags: 8 bits hold them exactly
   target->bind();
   glUseProgram(program);
   bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});

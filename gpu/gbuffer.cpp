@@ -63,12 +63,24 @@ Framebuffer::Framebuffer(int width, int height, const std::vector<Texel>& format
   checkGl("framebuffer");
 }
 
+bool Framebuffer::matches(int width, int height, const std::vector<Texel>& formats, bool withDepth) const {
+  return width_ == width && height_ == height && formats_ == formats && (depth_ != 0) == withDepth;
+}
+
+void Framebuffer::detachSharedDepthStencil() {
+  if (!sharedDepth_) return;
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, 0);
+  sharedDepth_ = false;
+}
+
 void Framebuffer::shareDepthStencil(const Framebuffer& other) {
   require(other.depth_ != 0 && other.width_ == width_ && other.height_ == height_,
           "gpu: shared depth-stencil buffer of another size");
   require(depth_ == 0, "gpu: framebuffer already has a depth-stencil buffer");
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, other.depth_);
+  sharedDepth_ = true;
   require(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE, "gpu: framebuffer incomplete");
 }
 
@@ -229,6 +241,34 @@ unsigned GpuScene::program(const std::string& stage, const std::string& vertex, 
   return it->second;
 }
 
+void TargetRelease::operator()(Framebuffer* target) const {
+  if (pool)
+    pool->release(target);
+  else
+    delete target;
+}
+
+Target GpuScene::target(int width, int height, const std::vector<Texel>& formats, bool withDepth) const {
+  for (size_t i = free_.size(); i-- > 0;)
+    if (free_[i]->matches(width, height, formats, withDepth)) {
+      Framebuffer* reused = free_[i].release();
+      free_.erase(free_.begin() + static_cast<std::ptrdiff_t>(i));
+      return Target(reused, TargetRelease{this});
+    }
+  return Target(new Framebuffer(width, height, formats, withDepth), TargetRelease{this});
+}
+
+Target GpuScene::target(int width, int height, int colorTargets, bool withDepth, Texel format) const {
+  return target(width, height, std::vector<Texel>(static_cast<size_t>(colorTargets), format), withDepth);
+}
+
+void GpuScene::release(Framebuffer* target) const {
+  constexpr size_t kMaxFree = 64;  // a frame's working set, a few times over
+  target->detachSharedDepthStencil();
+  free_.emplace_back(target);
+  if (free_.size() > kMaxFree) free_.erase(free_.begin());  // the least recently freed
+}
+
 void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int height) const {
   GLint current = 0;
   glGetIntegerv(GL_CURRENT_PROGRAM, &current);
@@ -260,6 +300,7 @@ void GpuScene::drawFullscreen() const {
 }
 
 GpuScene::~GpuScene() {
+  free_.clear();
   for (const auto& [stage, program] : programs_) glDeleteProgram(program);
   glDeleteVertexArrays(1, &emptyVao_);
   glDeleteVertexArrays(1, &rectVao_);
@@ -317,9 +358,9 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
 }
 
 GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level) {
-  Framebuffer target(level.width, level.height, 3, true);
-  drawGBuffer(scene, view, level, target);
-  return readGBuffer(target);
+  const Target target = scene.target(level.width, level.height, 3, true);
+  drawGBuffer(scene, view, level, *target);
+  return readGBuffer(*target);
 }
 
 GBuffer readGBuffer(const Framebuffer& target) {

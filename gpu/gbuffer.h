@@ -22,6 +22,8 @@ enum class Texel { Rgba32f, R32f, R8, Rgba8 };
 // The float format that holds `channels` effect channels (1: R32F, 3: RGBA32F).
 Texel effectTexel(int channels);
 
+class GpuScene;
+
 // A colour target set for a full-screen or geometry pass (+ depth and stencil).
 class Framebuffer {
  public:
@@ -42,15 +44,24 @@ class Framebuffer {
   // Attaches `other`'s depth and stencil buffer (same size; `other` must outlive this), so a
   // pass can reuse the stencil an earlier pass filled.
   void shareDepthStencil(const Framebuffer& other);
+  // What a pool matches on: size, formats, own depth-stencil buffer.
+  bool matches(int width, int height, const std::vector<Texel>& formats, bool withDepth) const;
+  void detachSharedDepthStencil();  // undoes shareDepthStencil (before the pool hands it out again)
 
  private:
   int width_, height_;
   unsigned fbo_ = 0, depth_ = 0;
+  bool sharedDepth_ = false;
   std::vector<unsigned> textures_;
   std::vector<Texel> formats_;
 };
 
-using Target = std::unique_ptr<Framebuffer>;
+// Hands a target back to the pool of the GpuScene that made it (GpuScene::target).
+struct TargetRelease {
+  const GpuScene* pool = nullptr;
+  void operator()(Framebuffer* target) const;
+};
+using Target = std::unique_ptr<Framebuffer, TargetRelease>;
 
 // A float image as a texture (1–4 channels, nearest filtering); the caller deletes it.
 unsigned uploadTexture(const ImageF& image);
@@ -96,6 +107,15 @@ class GpuScene {
   // so each variant of a file, with its own `defines`, needs its own stage name).
   unsigned program(const std::string& stage, const std::string& vertex, const std::string& fragment,
                    const std::string& defines = "") const;
+  // A render target from the scene's pool: a free one of this size and these formats (from an
+  // earlier pass or frame) or a new one, back in the pool when the Target is dropped. Its
+  // contents are undefined: every pass clears it or writes every pixel. New textures cost the
+  // first write page faults (on llvmpipe a 1080p RGBA32F target's first pass takes ~3× as long
+  // as a reused one's), so a frame's targets are made once, not every frame.
+  Target target(int width, int height, const std::vector<Texel>& formats, bool withDepth) const;
+  Target target(int width, int height, int colorTargets, bool withDepth, Texel format = Texel::Rgba32f) const;
+  void release(Framebuffer* target) const;
+
   // Draws the full-screen triangle (image-space passes; vertex shader fullscreen.vert).
   void drawFullscreen() const;
   // Draws pixel rectangles (x0, y0, x1, y1: the pixels [x0, x1) × [y0, y1)) of a width×height
@@ -107,6 +127,7 @@ class GpuScene {
   Bounds bounds_;
   unsigned emptyVao_ = 0, rectVao_ = 0, rectBuffer_ = 0;
   mutable std::map<std::string, unsigned> programs_;
+  mutable std::vector<std::unique_ptr<Framebuffer>> free_;  // the pool, most recently freed last
 };
 
 // Renders level `level`'s G-buffer into `target` (3 colour targets + depth, level-sized).

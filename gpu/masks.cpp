@@ -29,7 +29,7 @@ struct Pass {
   };
   // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
   Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
-    auto target = std::make_unique<Framebuffer>(width, height, formats, false);
+    Target target = scene.target(width, height, formats, false);
     target->bind();
     glUseProgram(program);
     glUniform1i(glGetUniformLocation(program, "step"), step);
@@ -58,8 +58,8 @@ struct Pass {
 };
 
 // A target cleared to `value` (the coarsest enabled level's a = S = 1).
-Target constantTarget(int width, int height, Texel format, float value) {
-  auto target = std::make_unique<Framebuffer>(width, height, 1, false, format);
+Target constantTarget(const GpuScene& scene, int width, int height, Texel format, float value) {
+  Target target = scene.target(width, height, 1, false, format);
   target->bind();
   const float v[4] = {value, value, value, value};
   glClearBufferfv(GL_COLOR, 0, v);
@@ -133,8 +133,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     if (!lc.enabled) continue;
     const size_t i = static_cast<size_t>(l);
     if (l == c.coarsestEnabled) {  // 2. the coarsest enabled level covers everything
-      out->alphaTarget[i] = constantTarget(lc.width, lc.height, Texel::R32f, 1.0f);
-      stencil[i] = constantTarget(lc.width, lc.height, Texel::R8, 1.0f);
+      out->alphaTarget[i] = constantTarget(scene, lc.width, lc.height, Texel::R32f, 1.0f);
+      stencil[i] = constantTarget(scene, lc.width, lc.height, Texel::R8, 1.0f);
       continue;
     }
     // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of an edge; 3. S_ℓ = [a_ℓ > 0]

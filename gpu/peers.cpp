@@ -21,10 +21,10 @@ int shadedLevel(const Constants& c) { return c.mode == Mode::Uniform1 ? 1 : 2; }
 uint8_t toLevel(float v) { return static_cast<uint8_t>(v + 0.5f); }
 
 // One tiles step into a fresh single-target framebuffer of the given size.
-std::unique_ptr<Framebuffer> tileStep(const GpuScene& scene, int step, int width, int height, unsigned source,
+Target tileStep(const GpuScene& scene, int step, int width, int height, unsigned source,
                                       const std::function<void(unsigned)>& setUniforms = {}, int sourceChannel = 0) {
   const unsigned program = scene.program("peers.tiles", "fullscreen.vert", "peers.frag", "#define TILE_MASKS\n");
-  auto target = std::make_unique<Framebuffer>(width, height, 1, false);
+  Target target = scene.target(width, height, 1, false);
   target->bind();
   glUseProgram(program);
   glUniform1i(glGetUniformLocation(program, "step"), step);
@@ -88,7 +88,8 @@ BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevel
   const bool uniform = c.mode != Mode::Tiles;
   const int k = uniform ? shadedLevel(c) : 0;
   // The composition: the final value and the level it came from, at full res.
-  Framebuffer composed(c.width, c.height, 2, false);
+  const Target composedTarget = scene.target(c.width, c.height, 2, false);
+  const Framebuffer& composed = *composedTarget;
   std::vector<unsigned> uploaded;
   auto upload = [&](const ImageF& image) {
     uploaded.push_back(uploadTexture(image));
@@ -132,7 +133,8 @@ BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevel
         scene.program("peers.levels", "fullscreen.vert", "peers.frag", "#define LEVEL_STAGES\n");
     for (int l = 0; l < kLevelCount; ++l) {
       if (!c.levels[static_cast<size_t>(l)].enabled) continue;
-      Framebuffer target(c.width, c.height, 3, false);
+      const Target levelTarget = scene.target(c.width, c.height, 3, false);
+      const Framebuffer& target = *levelTarget;
       target.bind();
       glUseProgram(program);
       bindTextures(program, {{"composed", composed.texture(0)}, {"levelMap", composed.texture(1)}});

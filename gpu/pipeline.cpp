@@ -47,11 +47,11 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     f.timings.push_back({name, std::chrono::duration<double, std::milli>(Clock::now() - t0).count()});
   };
   // G-buffers, rasterised per level.
-  std::array<std::unique_ptr<Framebuffer>, kLevelCount> gbuffers;
+  std::array<Target, kLevelCount> gbuffers;
   auto gbuffer = [&](int l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     stage("gbuffer.L" + std::to_string(l), [&] {
-      gbuffers[static_cast<size_t>(l)] = std::make_unique<Framebuffer>(lc.width, lc.height, 3, true);
+      gbuffers[static_cast<size_t>(l)] = gpuScene_.target(lc.width, lc.height, 3, true);
       drawGBuffer(gpuScene_, f.view, lc, *gbuffers[static_cast<size_t>(l)]);
       if (keep) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
     });
@@ -62,7 +62,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
 
   // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
   std::unique_ptr<ShadowMapTarget> shadowMap;
-  std::unique_ptr<Framebuffer> shadowTest;
+  Target shadowTest;
   if (c.needsShadowMap()) {
     stage("shadowmap", [&] {
       f.shadowMap = shadowMapFrame(scene_.light, gpuScene_.bounds(), c.ssm.shadowMapSize);
@@ -71,7 +71,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
       if (keep) f.shadowMap.depth = shadowMap->read();
     });
     stage("shadowtest", [&] {
-      shadowTest = std::make_unique<Framebuffer>(gbuffers[0]->width(), gbuffers[0]->height(), 1, false, Texel::R8);
+      shadowTest = gpuScene_.target(gbuffers[0]->width(), gbuffers[0]->height(), 1, false, Texel::R8);
       drawShadowTest(gpuScene_, *gbuffers[0], f.shadowMap, shadowMap->texture(), f.view, c.ssm.biasTexels, *shadowTest);
       if (keep) f.shadowLit = readShadowTest(*shadowTest);
     });
@@ -147,13 +147,13 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
         });
         break;
       case Effect::Ssgi: {
-        Framebuffer direct(lc.width, lc.height, 1, false);
+        const Target direct = gpuScene_.target(lc.width, lc.height, 1, false);
         stage("direct" + L, [&] {
           drawDirectLight(gpuScene_, targets, f.shadowMap, shadowMap->texture(), f.view, scene_.light, c.ssm.biasTexels,
-                          direct);
+                          *direct);
         });
         stage("effect" + L, [&] {
-          raw[i] = drawSsgi(gpuScene_, targets, direct.texture(0), stencil, f.view, lc, c.ssgi);
+          raw[i] = drawSsgi(gpuScene_, targets, direct->texture(0), stencil, f.view, lc, c.ssgi);
         });
         break;
       }

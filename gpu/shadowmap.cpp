@@ -125,9 +125,9 @@ ImageU8 readShadowTest(const Framebuffer& target) { return target.readBinary(0);
 
 ImageU8 shadowTestImage(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
                         const View& view, float biasTexels) {
-  const Framebuffer target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R8);
-  drawShadowTest(scene, gbuffer0, map, mapTexture, view, biasTexels, target);
-  return readShadowTest(target);
+  const Target target = scene.target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R8);
+  drawShadowTest(scene, gbuffer0, map, mapTexture, view, biasTexels, *target);
+  return readShadowTest(*target);
 }
 
 }  // namespace mrr::gpu

@@ -30,7 +30,8 @@ ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const Image
 }
 
 std::vector<uint32_t> hashGrid(const GpuScene& scene, int width, int height, int level) {
-  Framebuffer target(width, height, 1, false);
+  const Target targetPtr = scene.target(width, height, 1, false);
+  const Framebuffer& target = *targetPtr;
   target.bind();
   const unsigned program = scene.program("hash", "fullscreen.vert", "hash.frag");
   glUseProgram(program);

@@ -27,9 +27,9 @@ void drawDirectLight(const GpuScene& scene, const Framebuffer& gbuffer, const Sh
 
 ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const ShadowMap& map, unsigned mapTexture,
                    const View& view, const DirectionalLight& light, float biasTexels) {
-  const Framebuffer target(gbuffer.width(), gbuffer.height(), 1, false);
-  drawDirectLight(scene, gbuffer, map, mapTexture, view, light, biasTexels, target);
-  return target.read(0, 3);
+  const Target target = scene.target(gbuffer.width(), gbuffer.height(), 1, false);
+  drawDirectLight(scene, gbuffer, map, mapTexture, view, light, biasTexels, *target);
+  return target->read(0, 3);
 }
 
 Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,

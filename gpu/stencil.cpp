@@ -26,7 +26,7 @@ void fillStencil(const GpuScene& scene, unsigned stencilMask) {
 
 Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
                       unsigned program, const std::string& stage, const std::function<void()>& setInputs) {
-  auto target = std::make_unique<Framebuffer>(width, height, 1, true, format);
+  Target target = scene.target(width, height, 1, true, format);
   target->bind();
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
@@ -43,7 +43,7 @@ Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, in
 
 Target drawStencilledLike(const GpuScene& scene, const Framebuffer& stencilled, Texel format, unsigned program,
                           const std::string& stage, const std::function<void()>& setInputs) {
-  auto target = std::make_unique<Framebuffer>(stencilled.width(), stencilled.height(), 1, false, format);
+  Target target = scene.target(stencilled.width(), stencilled.height(), 1, false, format);
   target->shareDepthStencil(stencilled);
   target->bind();
   const float zero[4] = {0, 0, 0, 0};

@@ -48,25 +48,30 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
                            const Constants& c, const ImageU8* edgeBlocks) {
   int fine = 0;  // the enabled levels finer than C, a bit each: one compiled variant per set
-  int reach = 0;  // how far from an edge a finer level's α can be > 0, in full-res pixels
-  for (int l = 0; l < c.coarsestEnabled; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    fine |= 1 << l;
-    // a_ℓ > 0 within r_ℓ level pixels of M_ℓ; a full-res pixel's taps within 1 of it (+1: rounding)
-    reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale);
-  }
+  for (int l = 0; l < c.coarsestEnabled; ++l)
+    if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
   const Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
   target->bind();
   if (edgeBlocks && fine) {
-    // every level near an edge; far from every edge, the coarsest level alone (each finer α is
-    // 0 there, and blendStep(0, f, c) = c)
+    // Each block of the edge grid blends only the finer levels whose α can be > 0 in it: a_ℓ > 0
+    // within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within 1 level pixel of it
+    // (+1 for rounding). Elsewhere that level's α is 0, and blendStep(0, f, c) = c.
     const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
-    const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
-    const std::vector<glm::ivec4> nearRects = blockRects(near, 1, blockSize, c.width, c.height),
-                                  farRects = blockRects(near, 0, blockSize, c.width, c.height);
-    drawFinalOnly(scene, levels, c, fine, &nearRects);
-    drawFinalOnly(scene, levels, c, 0, &farRects);
+    ImageU8 variant(edgeBlocks->width, edgeBlocks->height);
+    for (int l = 0; l < c.coarsestEnabled; ++l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled) continue;
+      const int reach = (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale;
+      const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
+      for (size_t b = 0; b < variant.data.size(); ++b) variant.data[b] |= near.data[b] << l;
+    }
+    for (int set = 0; set <= fine; ++set) {
+      if ((set & fine) != set) continue;
+      ImageU8 mine(variant.width, variant.height);
+      for (size_t b = 0; b < mine.data.size(); ++b) mine.data[b] = variant.data[b] == set;
+      const std::vector<glm::ivec4> rects = blockRects(mine, 1, blockSize, c.width, c.height);
+      if (!rects.empty()) drawFinalOnly(scene, levels, c, set, &rects);
+    }
   } else {
     drawFinalOnly(scene, levels, c, fine, nullptr);
   }

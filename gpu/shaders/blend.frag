@@ -4,9 +4,10 @@
 //   (default)   one full-res pass per enabled level, coarse to fine; it writes ĉ_ℓ, α_ℓ,
 //               c'_ℓ = α ĉ_ℓ + (1 − α) c'_coarser and the level map (--stages, probe, compare)
 //   FINAL_ONLY  one full-res pass for every level at once: the final image and level map,
-//               bit-identical to the per-level passes (as cpu_ref's blendFinalOnly): the same
-//               steps coarse to fine in registers, with a finer level's taps read only where
-//               its α > 0 (blendStep(0, f, c) = c), and its stencil only where â > 0. The host
+//               bit-identical to the per-level passes (as cpu_ref's blendFinalOnly): α fine to
+//               coarse up to the first α = 1 (nothing below it shows: blendStep(1, f, c) = f),
+//               then the same steps coarse to fine in registers, a level's colour read only
+//               where its α > 0 (blendStep(0, f, c) = c), its stencil only where â > 0. The host
 //               compiles one variant per set of finer levels (FINE_LEVELS, a bit per level
 //               0–2), so no sampler is chosen at run time, and draws the variant without
 //               finer levels over the blocks where no finer α can be > 0 (gpu/blend.cpp).
@@ -114,11 +115,9 @@ uniform float weights[3];   // w_ℓ of the finer levels
 layout(location = 0) out vec4 finalOut;
 layout(location = 1) out vec4 levelMap;  // the finest level with α > 0 (ℓ/255)
 
-// 4. One finer level over the composite: c' = α ĉ_ℓ + (1 − α) c', where α > 0.
-void blendOver(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, int level, ivec2 p,
+// 4. One finer level ℓ over the composite, with its α known (> 0): c' = α ĉ_ℓ + (1 − α) c'.
+void blendOver(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, float alpha, int level, ivec2 p,
                inout vec3 result, inout int finest) {
-  float alpha = alphaOnly(stencilMask, alphaMask, scale, weight, p);
-  if (alpha == 0.0) return;
   vec3 color;
   float coverage, alphaHat;
   upsample(sub, stencilMask, alphaMask, scale, p, false, color, coverage, alphaHat);  // α is known
@@ -129,19 +128,43 @@ void blendOver(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int sc
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  vec3 color;
-  float coverage, alphaHat;
-  upsample(subC, stencilC, alphaC, coarsestScale, p, false, color, coverage, alphaHat);  // α_C = [coverage > 0]
-  vec3 result = coverage > 0.0 ? color / coverage : vec3(0.0);
-  int finest = coarsestLevel;
-#if (FINE_LEVELS & 4) != 0
-  blendOver(sub2, stencil2, alpha2, 4, weights[2], 2, p, result, finest);
+  // α_ℓ fine to coarse, up to the first α = 1: below an opaque level nothing shows
+  // (blendStep(1, f, c) = f), so the coarser levels are not read at all (as cpu_ref's base).
+  float a0 = 0.0, a1 = 0.0, a2 = 0.0;
+  bool opaque = false;
+#if (FINE_LEVELS & 1) != 0
+  a0 = alphaOnly(stencil0, alpha0, 1, weights[0], p);
+  opaque = a0 == 1.0;
 #endif
 #if (FINE_LEVELS & 2) != 0
-  blendOver(sub1, stencil1, alpha1, 2, weights[1], 1, p, result, finest);
+  if (!opaque) {
+    a1 = alphaOnly(stencil1, alpha1, 2, weights[1], p);
+    opaque = a1 == 1.0;
+  }
+#endif
+#if (FINE_LEVELS & 4) != 0
+  if (!opaque) {
+    a2 = alphaOnly(stencil2, alpha2, 4, weights[2], p);
+    opaque = a2 == 1.0;
+  }
+#endif
+  // c' = ĉ_C (the coarsest covers every pixel), then coarse to fine each level with α > 0
+  vec3 result = vec3(0.0);
+  int finest = coarsestLevel;
+  if (!opaque) {
+    vec3 color;
+    float coverage, alphaHat;
+    upsample(subC, stencilC, alphaC, coarsestScale, p, false, color, coverage, alphaHat);  // α_C = [coverage > 0]
+    if (coverage > 0.0) result = color / coverage;
+  }
+#if (FINE_LEVELS & 4) != 0
+  if (a2 > 0.0) blendOver(sub2, stencil2, alpha2, 4, a2, 2, p, result, finest);
+#endif
+#if (FINE_LEVELS & 2) != 0
+  if (a1 > 0.0) blendOver(sub1, stencil1, alpha1, 2, a1, 1, p, result, finest);
 #endif
 #if (FINE_LEVELS & 1) != 0
-  blendOver(sub0, stencil0, alpha0, 1, weights[0], 0, p, result, finest);
+  if (a0 > 0.0) blendOver(sub0, stencil0, alpha0, 1, a0, 0, p, result, finest);
 #endif
   finalOut = vec4(result, 1.0);
   levelMap = vec4(float(finest) / 255.0, 0.0, 0.0, 1.0);

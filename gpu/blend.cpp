@@ -16,16 +16,19 @@ namespace mrr::gpu {
 namespace {
 
 // FINAL_ONLY: every level in one full-res pass, only the final image and level map.
-// One FINAL_ONLY variant: `fine` is the set of finer levels it blends (a bit each); drawn over
+// One FINAL_ONLY variant: `fine` is the set of finer levels it blends (a bit each);
+// `coarsestCovered`: the coarsest level's S is 1 on its whole grid (drawn masks); drawn over
 // `rects`, or the whole frame when null.
 void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
-                   int fine, const std::vector<glm::ivec4>* rects) {
-  const std::string variant = "#define FINAL_ONLY\n#define FINE_LEVELS " + std::to_string(fine) + "\n";
-  const unsigned program = scene.program("blend.final." + std::to_string(fine), "fullscreen.vert", "blend.frag", variant);
+                   int fine, bool coarsestCovered, const std::vector<glm::ivec4>* rects) {
+  const std::string variant = "#define FINAL_ONLY\n#define FINE_LEVELS " + std::to_string(fine) + "\n" +
+                              (coarsestCovered ? "#define COARSEST_COVERED\n" : "");
+  const unsigned program = scene.program("blend.final." + std::to_string(fine) + (coarsestCovered ? ".covered" : ""),
+                                         "fullscreen.vert", "blend.frag", variant);
   glUseProgram(program);
   const int coarsest = c.coarsestEnabled;
   const LevelTextures& base = levels[static_cast<size_t>(coarsest)];
-  bindTextures(program, {{"subC", base.sub}, {"stencilC", base.stencil}, {"alphaC", base.alpha}});
+  bindTextures(program, {{"subC", base.sub}, {"stencilC", base.stencil}});
   int unit = 3;
   for (int l = 0; l < 3; ++l) {
     if (!(fine & (1 << l))) continue;
@@ -70,10 +73,10 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
       ImageU8 mine(variant.width, variant.height);
       for (size_t b = 0; b < mine.data.size(); ++b) mine.data[b] = variant.data[b] == set;
       const std::vector<glm::ivec4> rects = blockRects(mine, 1, blockSize, c.width, c.height);
-      if (!rects.empty()) drawFinalOnly(scene, levels, c, set, &rects);
+      if (!rects.empty()) drawFinalOnly(scene, levels, c, set, true, &rects);
     }
   } else {
-    drawFinalOnly(scene, levels, c, fine, nullptr);
+    drawFinalOnly(scene, levels, c, fine, edgeBlocks != nullptr, nullptr);
   }
   checkGl("blend");
   BlendResult r;

@@ -51,11 +51,15 @@ float blendAlpha(float coverage, float alphaHat, float weight) {
   return alpha;
 }
 
-// α alone, with upsample's sums in upsample's order: â first, and the coverage only where
-// â > 0 (else α = 0 whatever the coverage), so a level far from its edges costs four reads.
-float alphaOnly(sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, ivec2 p) {
+#ifdef FINAL_ONLY
+// α_ℓ and ĉ_ℓ of a finer level in one sweep of its taps, with upsample's sums in upsample's
+// order: â first (four reads), and only where â > 0 (else α = 0 whatever the coverage) the
+// stencil and the colour of the rendered taps.
+float levelSample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, ivec2 p,
+                  out vec3 color) {
   ivec2 last = textureSize(stencilMask, 0) - 1;
   float alphaHat = 0.0, coverage = 0.0;
+  color = vec3(0.0);
   for (int k = 0; k < 4; ++k) {
     ivec2 q;
     float b;
@@ -67,10 +71,33 @@ float alphaOnly(sampler2D stencilMask, sampler2D alphaMask, int scale, float wei
     ivec2 q;
     float b;
     bilinearTap(k, p, scale, last, q, b);
-    if (texelFetch(stencilMask, q, 0).r >= 0.5) coverage += b;
+    if (texelFetch(stencilMask, q, 0).r < 0.5) continue;
+    coverage += b;
+    color += b * texelFetch(sub, q, 0).rgb;
   }
+  if (coverage > 0.0) color /= coverage;
   return blendAlpha(coverage, alphaHat, weight);
 }
+
+// ĉ_C of the coarsest enabled level, whose S is 1 on its whole grid where the host says so
+// (COARSEST_COVERED: masks drawn by drawMasks), so its stencil is not read: the same sums.
+vec3 coarsestSample(sampler2D sub, sampler2D stencilMask, int scale, ivec2 p) {
+  ivec2 last = textureSize(stencilMask, 0) - 1;
+  float coverage = 0.0;
+  vec3 color = vec3(0.0);
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q;
+    float b;
+    bilinearTap(k, p, scale, last, q, b);
+#ifndef COARSEST_COVERED
+    if (texelFetch(stencilMask, q, 0).r < 0.5) continue;
+#endif
+    coverage += b;
+    color += b * texelFetch(sub, q, 0).rgb;
+  }
+  return coverage > 0.0 ? color / coverage : vec3(0.0);
+}
+#endif
 
 #ifndef FINAL_ONLY
 uniform sampler2D sub;          // c_ℓ at level resolution (rgb)
@@ -105,7 +132,7 @@ void main() {
   levelMap = vec4(from, 0.0, 0.0, 1.0);
 }
 #else
-uniform sampler2D subC, stencilC, alphaC;  // the coarsest enabled level C: it covers every pixel
+uniform sampler2D subC, stencilC;          // the coarsest enabled level C: it covers every pixel
 uniform sampler2D sub0, sub1, sub2;        // c_ℓ of the finer levels (those in FINE_LEVELS)
 uniform sampler2D stencil0, stencil1, stencil2;
 uniform sampler2D alpha0, alpha1, alpha2;
@@ -115,57 +142,45 @@ uniform float weights[3];   // w_ℓ of the finer levels
 layout(location = 0) out vec4 finalOut;
 layout(location = 1) out vec4 levelMap;  // the finest level with α > 0 (ℓ/255)
 
-// 4. One finer level ℓ over the composite, with its α known (> 0): c' = α ĉ_ℓ + (1 − α) c'.
-void blendOver(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, float alpha, int level, ivec2 p,
-               inout vec3 result, inout int finest) {
-  vec3 color;
-  float coverage, alphaHat;
-  upsample(sub, stencilMask, alphaMask, scale, p, false, color, coverage, alphaHat);  // α is known
-  color /= coverage;  // > 0: α > 0
-  result = alpha * color + (1.0 - alpha) * result;
-  finest = level;
-}
-
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  // α_ℓ fine to coarse, up to the first α = 1: below an opaque level nothing shows
+  // α_ℓ and ĉ_ℓ fine to coarse, up to the first α = 1: below an opaque level nothing shows
   // (blendStep(1, f, c) = f), so the coarser levels are not read at all (as cpu_ref's base).
   float a0 = 0.0, a1 = 0.0, a2 = 0.0;
+  vec3 c0 = vec3(0.0), c1 = vec3(0.0), c2 = vec3(0.0);
   bool opaque = false;
 #if (FINE_LEVELS & 1) != 0
-  a0 = alphaOnly(stencil0, alpha0, 1, weights[0], p);
+  a0 = levelSample(sub0, stencil0, alpha0, 1, weights[0], p, c0);
   opaque = a0 == 1.0;
 #endif
 #if (FINE_LEVELS & 2) != 0
   if (!opaque) {
-    a1 = alphaOnly(stencil1, alpha1, 2, weights[1], p);
+    a1 = levelSample(sub1, stencil1, alpha1, 2, weights[1], p, c1);
     opaque = a1 == 1.0;
   }
 #endif
 #if (FINE_LEVELS & 4) != 0
   if (!opaque) {
-    a2 = alphaOnly(stencil2, alpha2, 4, weights[2], p);
+    a2 = levelSample(sub2, stencil2, alpha2, 4, weights[2], p, c2);
     opaque = a2 == 1.0;
   }
 #endif
-  // c' = ĉ_C (the coarsest covers every pixel), then coarse to fine each level with α > 0
-  vec3 result = vec3(0.0);
+  // 4. c' = ĉ_C (the coarsest covers every pixel), then coarse to fine each level with α > 0:
+  // c' = α ĉ_ℓ + (1 − α) c' (blendStep(0, f, c) = c)
+  vec3 result = opaque ? vec3(0.0) : coarsestSample(subC, stencilC, coarsestScale, p);
   int finest = coarsestLevel;
-  if (!opaque) {
-    vec3 color;
-    float coverage, alphaHat;
-    upsample(subC, stencilC, alphaC, coarsestScale, p, false, color, coverage, alphaHat);  // α_C = [coverage > 0]
-    if (coverage > 0.0) result = color / coverage;
+  if (a2 > 0.0) {
+    result = a2 * c2 + (1.0 - a2) * result;
+    finest = 2;
   }
-#if (FINE_LEVELS & 4) != 0
-  if (a2 > 0.0) blendOver(sub2, stencil2, alpha2, 4, a2, 2, p, result, finest);
-#endif
-#if (FINE_LEVELS & 2) != 0
-  if (a1 > 0.0) blendOver(sub1, stencil1, alpha1, 2, a1, 1, p, result, finest);
-#endif
-#if (FINE_LEVELS & 1) != 0
-  if (a0 > 0.0) blendOver(sub0, stencil0, alpha0, 1, a0, 0, p, result, finest);
-#endif
+  if (a1 > 0.0) {
+    result = a1 * c1 + (1.0 - a1) * result;
+    finest = 1;
+  }
+  if (a0 > 0.0) {
+    result = a0 * c0 + (1.0 - a0) * result;
+    finest = 0;
+  }
   finalOut = vec4(result, 1.0);
   levelMap = vec4(float(finest) / 255.0, 0.0, 0.0, 1.0);
 }

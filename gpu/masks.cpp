@@ -4,6 +4,7 @@
 #include <GL/glcorearb.h>
 
 #include <algorithm>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -89,8 +90,12 @@ ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius) {
 }
 
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height) {
+  // Row runs of matching blocks; a run with the same ends as one in the row above extends it,
+  // so a band along an edge is a few rectangles, not one per block row.
   std::vector<glm::ivec4> rects;
-  for (int y = 0; y < blocks.height; ++y)
+  std::map<std::pair<int, int>, size_t> open, next;  // (x0, x1) in blocks → rect ending at this row
+  for (int y = 0; y < blocks.height; ++y) {
+    next.clear();
     for (int x = 0; x < blocks.width;) {
       if ((blocks.at(x, y) != 0) != (value != 0)) {
         ++x;
@@ -98,11 +103,22 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
       }
       int end = x;
       while (end < blocks.width && (blocks.at(end, y) != 0) == (value != 0)) ++end;
-      const glm::ivec4 r(x * blockSize, y * blockSize, std::min(end * blockSize, width),
-                         std::min((y + 1) * blockSize, height));
-      if (r.x < r.z && r.y < r.w) rects.push_back(r);
+      const int y1 = std::min((y + 1) * blockSize, height);
+      const auto above = open.find({x, end});
+      if (above != open.end()) {
+        rects[above->second].w = y1;
+        next[{x, end}] = above->second;
+      } else {
+        const glm::ivec4 r(x * blockSize, y * blockSize, std::min(end * blockSize, width), y1);
+        if (r.x < r.z && r.y < r.w) {
+          next[{x, end}] = rects.size();
+          rects.push_back(r);
+        }
+      }
       x = end;
     }
+    open.swap(next);
+  }
   return rects;
 }
 
@@ -122,8 +138,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     in.factor = 2;
     mask[static_cast<size_t>(l)] = pass.run(1, {Texel::R8}, lc.width, lc.height, in);
   }
-  // Which blocks of the coarsest grid hold an edge (M_3, read back: a few kB): every level's
-  // blur has work only near them.
+  // Which blocks hold an edge: M_2 read back (4×4 full-res pixels a block: ~100 kB at 1080p)
+  // for level 0's blur, whose support is narrow, and M_3 (8×8) for the coarser levels' blur and
+  // the blend. Every level's blur has work only near them.
+  const ImageU8 fineBlocks = mask[kCoarsest - 1]->readBinary(0);
   out->edgeBlocks = mask[kCoarsest]->readBinary(0);
   const ImageU8& edgeBlocks = out->edgeBlocks;
   // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
@@ -139,9 +157,18 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     }
     // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of an edge; 3. S_ℓ = [a_ℓ > 0]
     const int radius = static_cast<int>(lc.gaussian.size() / 2);
-    const int blockSize = 1 << (kCoarsest - l);  // level-ℓ pixels per edge block
-    support[i] = nearBlocks(edgeBlocks, blockSize, radius);
-    const std::vector<glm::ivec4> rects = blockRects(support[i], 1, blockSize, lc.width, lc.height);
+    std::vector<glm::ivec4> rects;
+    if (l == 0) {  // 4×4 blocks; the closure below works on the 8×8 grid: its max-pool
+      const ImageU8 near = nearBlocks(fineBlocks, 4, radius);
+      rects = blockRects(near, 1, 4, lc.width, lc.height);
+      support[i] = ImageU8(edgeBlocks.width, edgeBlocks.height);
+      for (int y = 0; y < near.height; ++y)
+        for (int x = 0; x < near.width; ++x) support[i].at(x / 2, y / 2) |= near.at(x, y);
+    } else {
+      const int blockSize = 1 << (kCoarsest - l);  // level-ℓ pixels per edge block
+      support[i] = nearBlocks(edgeBlocks, blockSize, radius);
+      rects = blockRects(support[i], 1, blockSize, lc.width, lc.height);
+    }
     Pass::Inputs horizontal;
     horizontal.source = l == 0 ? edges : mask[i]->texture(0);
     horizontal.sourceChannel = l == 0 ? edgeChannel : 0;

@@ -1,7 +1,9 @@
 #include "cpu_ref/pipeline.h"
 
 #include <chrono>
+#include <vector>
 
+#include "common/parallel.h"
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
@@ -26,14 +28,29 @@ void FrameResult::countShadedPixels() {
     lr.shadedPixels = lr.shadedBlockPixels = 0;
     if (!constants.levels[static_cast<size_t>(l)].enabled) continue;
     const ImageU8& s = lr.masks.stencil;
-    for (uint8_t v : s.data) lr.shadedPixels += v;
-    for (int by = 0; by < s.height; by += 2)
+    // Per pair of rows (one row of 4×2 blocks): its set pixels and its blocks holding any;
+    // integer sums, so the total is the same for any thread count.
+    const int blockRows = (s.height + 1) / 2;
+    std::vector<int64_t> setPixels(static_cast<size_t>(blockRows)), blockPixels(static_cast<size_t>(blockRows));
+    parallelFor(0, blockRows, [&](int by) {
+      const uint8_t* top = &s.at(0, 2 * by);
+      const uint8_t* bottom = 2 * by + 1 < s.height ? &s.at(0, 2 * by + 1) : nullptr;
+      int64_t set = 0, blocks = 0;
       for (int bx = 0; bx < s.width; bx += 4) {
-        bool any = false;
-        for (int y = by; y < std::min(by + 2, s.height); ++y)
-          for (int x = bx; x < std::min(bx + 4, s.width); ++x) any = any || s.at(x, y);
-        lr.shadedBlockPixels += any ? 8 : 0;
+        uint8_t any = 0;
+        for (int x = bx; x < std::min(bx + 4, s.width); ++x) {
+          set += top[x] + (bottom ? bottom[x] : 0);
+          any |= top[x] | (bottom ? bottom[x] : 0);
+        }
+        blocks += any ? 8 : 0;
       }
+      setPixels[static_cast<size_t>(by)] = set;
+      blockPixels[static_cast<size_t>(by)] = blocks;
+    });
+    for (int by = 0; by < blockRows; ++by) {
+      lr.shadedPixels += setPixels[static_cast<size_t>(by)];
+      lr.shadedBlockPixels += blockPixels[static_cast<size_t>(by)];
+    }
     shadedPixelsTotal += lr.shadedPixels;
     blockTotal += lr.shadedBlockPixels;
   }

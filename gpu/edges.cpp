@@ -3,18 +3,24 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <string>
+
 #include "gpu/program.h"
 
 namespace mrr::gpu {
 
 Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                 unsigned shadowLitTexture) {
+                 unsigned shadowLitTexture, bool combinedOnly) {
   const bool shadowEdges = shadowLitTexture != 0;
-  const unsigned program =
-      shadowEdges ? scene.program("edges.shadow", "fullscreen.vert", "edges.frag", "#define SHADOW_EDGES\n")
-                  : scene.program("edges", "fullscreen.vert", "edges.frag");
-  Target target = scene.target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false,
-                               Texel::Rgba8);  // 0/1 flags: 8 bits hold them exactly
+  const std::string defines = std::string(shadowEdges ? "#define SHADOW_EDGES\n" : "") +
+                              (combinedOnly ? "#define E_ONLY\n" : "");
+  const unsigned program = scene.program(std::string("edges") + (shadowEdges ? ".shadow" : "") +
+                                             (combinedOnly ? ".e" : ""),
+                                         "fullscreen.vert", "edges.frag", defines);
+  // 0/1 flags: 8 bits hold them exactly
+  Target target = combinedOnly ? scene.target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R8)
+                               : scene.target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false,
+                                              Texel::Rgba8);
   target->bind();
   glUseProgram(program);
   bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
@@ -39,7 +45,7 @@ EdgeImages readEdges(const Framebuffer& target) {
       out.normal.at(x, y) = e.at(x, y, 0) > 0.5f;
       out.depth.at(x, y) = e.at(x, y, 1) > 0.5f;
       out.background.at(x, y) = e.at(x, y, 2) > 0.5f;
-      out.combined.at(x, y) = e.at(x, y, kEdgeChannel) > 0.5f;
+      out.combined.at(x, y) = e.at(x, y, edgeChannel(false)) > 0.5f;
     }
   return out;
 }

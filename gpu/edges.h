@@ -10,10 +10,11 @@ namespace mrr::gpu {
 // `shadowLitTexture` (the one-tap test per pixel, lit in R: gpu/shadowmap.h drawShadowTest or an
 // uploaded image) enables the shadow kind; 0 for SSAO and SSGI, as the oracle's null shadowLit.
 // The result stays on the GPU: RGBA8 target 0 holds (normal, depth, background, E), target 1
-// the shadow kind (with the shadow kind on). kEdgeChannel is E's channel.
-constexpr int kEdgeChannel = 3;
+// the shadow kind (with the shadow kind on). With `combinedOnly`, one R8 target holds E alone
+// (what the masks need; 1/4 of the bytes). edgeChannel: E's channel in target 0.
 Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                 unsigned shadowLitTexture = 0);
+                 unsigned shadowLitTexture = 0, bool combinedOnly = false);
+inline int edgeChannel(bool combinedOnly) { return combinedOnly ? 0 : 3; }
 
 // Reads drawEdges' targets back into the oracle's structure.
 EdgeImages readEdges(const Framebuffer& edges);

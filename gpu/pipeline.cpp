@@ -82,7 +82,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
     const unsigned shadowEdges = c.effect == Effect::Ssm ? shadowTest->texture(0) : 0;
     stage("edges", [&] {
-      edges = drawEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges);
+      edges = drawEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges, !keep);
       if (keep) f.edges = readEdges(*edges);
     });
   }
@@ -91,14 +91,14 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   switch (c.mode) {
     case Mode::Multires:
       stage("masks", [&] {
-        maskTargets = drawMasks(gpuScene_, edges->texture(0), kEdgeChannel, c);
+        maskTargets = drawMasks(gpuScene_, edges->texture(0), edgeChannel(!keep), c);
         masks = readMasks(*maskTargets, c, !keep);
         if (keep) masks[0].mask = f.edges.combined;  // M_0 = E
       });
       break;
     case Mode::Tiles:
       stage("masks", [&] {
-        f.tileRates = tileRates(gpuScene_, edges->texture(0), kEdgeChannel, edges->width(), edges->height());
+        f.tileRates = tileRates(gpuScene_, edges->texture(0), edgeChannel(!keep), edges->width(), edges->height());
         masks = tileMasks(gpuScene_, f.tileRates, c);
       });
       break;

@@ -1,6 +1,7 @@
 #version 330 core
 // Stage 2 — edge image E (SPEC §2), mirrors cpu_ref/edges.cpp: each kind kept apart. With
-// SHADOW_EDGES (SSM) the shadow kind is on too, written to a second target.
+// SHADOW_EDGES (SSM) the shadow kind is on too, written to a second target. With E_ONLY (the
+// GPU-resident frame, which needs no kinds) E alone goes to channel r of one 8-bit target.
 uniform sampler2D normalDepth;  // G-buffer L0: view normal, depth (0 on a miss: the clear value)
 uniform float normalThreshold;  // τ_n
 uniform float depthThreshold;   // τ_z
@@ -65,6 +66,10 @@ void main() {
   bool normalEdge = normalMax > normalThreshold;
   bool depthEdge = max(secondX, secondY) > depthThreshold;
   // 5. E = OR of the kinds
-  edges = vec4(float(normalEdge), float(depthEdge), float(backgroundNeighbour),
-               float(normalEdge || depthEdge || backgroundNeighbour || shadowDiffers));
+  bool e = normalEdge || depthEdge || backgroundNeighbour || shadowDiffers;
+#ifdef E_ONLY
+  edges = vec4(float(e), 0.0, 0.0, 1.0);
+#else
+  edges = vec4(float(normalEdge), float(depthEdge), float(backgroundNeighbour), float(e));
+#endif
 }

@@ -343,7 +343,7 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   const float zero[4] = {0, 0, 0, 0};
-  for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, i, zero);
   glClear(GL_DEPTH_BUFFER_BIT);
   const GLint albedo = glGetUniformLocation(program, "albedo");
   for (const GpuScene::MeshGl& m : scene.meshes()) {

@@ -130,7 +130,8 @@ class GpuScene {
   mutable std::vector<std::unique_ptr<Framebuffer>> free_;  // the pool, most recently freed last
 };
 
-// Renders level `level`'s G-buffer into `target` (3 colour targets + depth, level-sized).
+// Renders level `level`'s G-buffer into `target` (level-sized, + depth): position and hit,
+// normal and depth, and albedo when the target has a third colour target.
 void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target);
 
 // Reads drawn G-buffer targets back into the oracle's structure.

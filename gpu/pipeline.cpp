@@ -46,12 +46,14 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     glFinish();
     f.timings.push_back({name, std::chrono::duration<double, std::milli>(Clock::now() - t0).count()});
   };
-  // G-buffers, rasterised per level.
+  // G-buffers, rasterised per level. A coarse level's albedo is read only by SSGI's direct
+  // light (and --stages): the resident frame leaves that target out otherwise.
   std::array<Target, kLevelCount> gbuffers;
   auto gbuffer = [&](int l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const int targets = keep || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
     stage("gbuffer.L" + std::to_string(l), [&] {
-      gbuffers[static_cast<size_t>(l)] = gpuScene_.target(lc.width, lc.height, 3, true);
+      gbuffers[static_cast<size_t>(l)] = gpuScene_.target(lc.width, lc.height, targets, true);
       drawGBuffer(gpuScene_, f.view, lc, *gbuffers[static_cast<size_t>(l)]);
       if (keep) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
     });

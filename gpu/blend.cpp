@@ -50,31 +50,28 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
 
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
                            const Constants& c, const ImageU8* edgeBlocks) {
-  int fine = 0;  // the enabled levels finer than C, a bit each: one compiled variant per set
+  int fine = 0;  // the enabled levels finer than C, a bit each (the shader's FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
   const Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
   target->bind();
   if (edgeBlocks && fine) {
-    // Each block of the edge grid blends only the finer levels whose α can be > 0 in it: a_ℓ > 0
-    // within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within 1 level pixel of it
-    // (+1 for rounding). Elsewhere that level's α is 0, and blendStep(0, f, c) = c.
+    // Near an edge, every level; far from every edge, the coarsest alone. A finer level's α
+    // is > 0 only within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within one
+    // level pixel of it (+1 for rounding): beyond the widest such reach each finer α is 0, and
+    // blendStep(0, f, c) = c. (Blocks split by which levels reach them draw more, smaller
+    // rectangles, and measured slower on llvmpipe.)
     const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
-    ImageU8 variant(edgeBlocks->width, edgeBlocks->height);
+    int reach = 0;
     for (int l = 0; l < c.coarsestEnabled; ++l) {
       const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      if (!lc.enabled) continue;
-      const int reach = (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale;
-      const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
-      for (size_t b = 0; b < variant.data.size(); ++b) variant.data[b] |= near.data[b] << l;
+      if (lc.enabled) reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale);
     }
-    for (int set = 0; set <= fine; ++set) {
-      if ((set & fine) != set) continue;
-      ImageU8 mine(variant.width, variant.height);
-      for (size_t b = 0; b < mine.data.size(); ++b) mine.data[b] = variant.data[b] == set;
-      const std::vector<glm::ivec4> rects = blockRects(mine, 1, blockSize, c.width, c.height);
-      if (!rects.empty()) drawFinalOnly(scene, levels, c, set, true, &rects);
-    }
+    const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
+    const std::vector<glm::ivec4> nearRects = blockRects(near, 1, blockSize, c.width, c.height),
+                                  farRects = blockRects(near, 0, blockSize, c.width, c.height);
+    if (!nearRects.empty()) drawFinalOnly(scene, levels, c, fine, true, &nearRects);
+    if (!farRects.empty()) drawFinalOnly(scene, levels, c, 0, true, &farRects);
   } else {
     drawFinalOnly(scene, levels, c, fine, edgeBlocks != nullptr, nullptr);
   }

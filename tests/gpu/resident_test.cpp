@@ -94,6 +94,7 @@ std::vector<Case> cases() {
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
     for (Mode m : kAllModes) out.push_back({"demo", e, m, 160, 90, -1});
   out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, -1});  // odd: the padding
+  out.push_back({"demo", Effect::Ssao, Mode::Multires, 480, 270, -1});  // blocks far from any edge too
   out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, 1});   // a level disabled
   out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, 3});   // the coarsest disabled
   out.push_back({"shadows", Effect::Ssm, Mode::Multires, 97, 61, 2});

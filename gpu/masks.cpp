@@ -69,9 +69,10 @@ Target constantTarget(const GpuScene& scene, int width, int height, Texel format
 
 }  // namespace
 
-ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius) {
-  // the blocks within ceil(r / B) blocks (Chebyshev) of an edge block: a separable box max
+ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius, int radiusY) {
+  // the blocks within ceil(r / B) blocks of an edge block, across and down: a separable box max
   const int d = (radius + blockSize - 1) / blockSize;
+  const int dy = ((radiusY < 0 ? radius : radiusY) + blockSize - 1) / blockSize;
   const int w = edgeBlocks.width, h = edgeBlocks.height;
   ImageU8 rows(w, h), near(w, h);
   for (int y = 0; y < h; ++y)
@@ -83,7 +84,7 @@ ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       uint8_t m = 0;
-      for (int j = std::max(y - d, 0); j <= std::min(y + d, h - 1); ++j) m |= rows.at(x, j);
+      for (int j = std::max(y - dy, 0); j <= std::min(y + dy, h - 1); ++j) m |= rows.at(x, j);
       near.at(x, y) = m;
     }
   return near;
@@ -157,25 +158,29 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     }
     // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of an edge; 3. S_ℓ = [a_ℓ > 0]
     const int radius = static_cast<int>(lc.gaussian.size() / 2);
-    std::vector<glm::ivec4> rects;
-    if (l == 0) {  // 4×4 blocks; the closure below works on the 8×8 grid: its max-pool
-      const ImageU8 near = nearBlocks(fineBlocks, 4, radius);
-      rects = blockRects(near, 1, 4, lc.width, lc.height);
+    // The horizontal pass is non-zero only within r across of an edge (its rows); the vertical
+    // one within r across and down. Level 0 on the 4×4 grid, whose support is narrow; the
+    // closure below works on the 8×8 grid: the max-pool.
+    const ImageU8& grid = l == 0 ? fineBlocks : edgeBlocks;
+    const int blockSize = l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l);  // level-ℓ pixels per block
+    const ImageU8 near = nearBlocks(grid, blockSize, radius);
+    const std::vector<glm::ivec4> rows = blockRects(nearBlocks(grid, blockSize, radius, 0), 1, blockSize, lc.width, lc.height),
+                                  rects = blockRects(near, 1, blockSize, lc.width, lc.height);
+    if (l == 0) {
       support[i] = ImageU8(edgeBlocks.width, edgeBlocks.height);
       for (int y = 0; y < near.height; ++y)
         for (int x = 0; x < near.width; ++x) support[i].at(x / 2, y / 2) |= near.at(x, y);
     } else {
-      const int blockSize = 1 << (kCoarsest - l);  // level-ℓ pixels per edge block
-      support[i] = nearBlocks(edgeBlocks, blockSize, radius);
-      rects = blockRects(support[i], 1, blockSize, lc.width, lc.height);
+      support[i] = near;
     }
     Pass::Inputs horizontal;
     horizontal.source = l == 0 ? edges : mask[i]->texture(0);
     horizontal.sourceChannel = l == 0 ? edgeChannel : 0;
     horizontal.weights = &lc.gaussian;
-    horizontal.rects = &rects;
+    horizontal.rects = &rows;
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Pass::Inputs vertical = horizontal;
+    vertical.rects = &rects;
     vertical.source = h->texture(0);
     vertical.sourceChannel = 0;
     vertical.direction = {0, 1};

@@ -173,6 +173,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     } else {
       support[i] = near;
     }
+    out->supportRects[i] = rects;
     Pass::Inputs horizontal;
     horizontal.source = l == 0 ? edges : mask[i]->texture(0);
     horizontal.sourceChannel = l == 0 ? edgeChannel : 0;
@@ -207,6 +208,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     in.previous = stencilTexture(static_cast<size_t>(next));
     in.factor = 1 << (next - l);
     in.rects = &rects;
+    out->supportRects[static_cast<size_t>(next)] = rects;
     stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
   for (size_t l = 0; l < kLevelCount; ++l)

@@ -21,6 +21,9 @@ struct MaskTargets {
   TextureSet uploaded;                                                       // or uploaded
   std::array<unsigned, kLevelCount> alpha{}, stencil{};
   bool drawn = false;  // false: uploaded from host masks (uploadMasks)
+  // Drawn: rectangles holding every pixel of S_ℓ (empty: the whole level, the coarsest), for
+  // the effect passes' stencil fill.
+  std::array<std::vector<glm::ivec4>, kLevelCount> supportRects;
   ImageU8 edgeBlocks;  // drawn: M of the coarsest level, read back (which blocks hold an edge)
 };
 

@@ -137,15 +137,18 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     }
     const Framebuffer& targets = *gbuffers[i];
     const unsigned stencil = maskTargets->stencil[i];
+    // drawn masks know where S_ℓ can be set: the stencil fill covers those rectangles alone
+    const std::vector<glm::ivec4>* fill =
+        maskTargets->drawn && !maskTargets->supportRects[i].empty() ? &maskTargets->supportRects[i] : nullptr;
     const std::string L = ".L" + std::to_string(l);
     switch (c.effect) {
       case Effect::Ssao:
-        stage("effect" + L, [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao); });
+        stage("effect" + L, [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao, fill); });
         stage("bilateral" + L, [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral, raw[i].get()); });
         break;
       case Effect::Ssm:  // PCF is its own filter: no blur (the paper blurs SSAO only)
         stage("effect" + L, [&] {
-          raw[i] = drawSsm(gpuScene_, targets, stencil, f.shadowMap, shadowMap->texture(), f.view, c.ssm);
+          raw[i] = drawSsm(gpuScene_, targets, stencil, f.shadowMap, shadowMap->texture(), f.view, c.ssm, fill);
         });
         break;
       case Effect::Ssgi: {
@@ -155,7 +158,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
                           *direct);
         });
         stage("effect" + L, [&] {
-          raw[i] = drawSsgi(gpuScene_, targets, direct->texture(0), stencil, f.view, lc, c.ssgi);
+          raw[i] = drawSsgi(gpuScene_, targets, direct->texture(0), stencil, f.view, lc, c.ssgi, fill);
         });
         break;
       }

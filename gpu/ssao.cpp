@@ -9,7 +9,8 @@
 namespace mrr::gpu {
 
 Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const View& view,
-                const LevelConstants& level, const Constants::Ssao& ssao) {
+                const LevelConstants& level, const Constants::Ssao& ssao,
+                const std::vector<glm::ivec4>* fillRects) {
   TextureSet kernel;
   const unsigned kernelTexture = kernel.add(uploadKernel(ssao.kernel));
   const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
@@ -21,7 +22,7 @@ Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned sten
     glUniform1f(glGetUniformLocation(program, "radius"), ssao.radius);
     glUniform1f(glGetUniformLocation(program, "bias"), ssao.bias);
     glUniform1i(glGetUniformLocation(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
-  });
+  }, fillRects);
 }
 
 ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,

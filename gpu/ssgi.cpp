@@ -33,7 +33,8 @@ ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const Shad
 }
 
 Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,
-                const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi) {
+                const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi,
+                const std::vector<glm::ivec4>* fillRects) {
   TextureSet kernel;
   const unsigned kernelTexture = kernel.add(uploadKernel(ssgi.kernel));
   const unsigned program = scene.program("ssgi", "fullscreen.vert", "ssgi.frag");
@@ -47,7 +48,7 @@ Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned dire
     glUniform1f(glGetUniformLocation(program, "radius"), ssgi.radius);
     glUniform1f(glGetUniformLocation(program, "patchArea"), ssgi.patchArea);
     glUniform1f(glGetUniformLocation(program, "minDistance2"), ssgi.minDistance2);
-  });
+  }, fillRects);
 }
 
 ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,

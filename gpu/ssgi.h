@@ -23,7 +23,8 @@ ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const Shad
 // targets, S_ℓ (a 0/1 texture) and its direct light (a texture: drawDirectLight's target, or an
 // uploaded image): kept on the GPU.
 Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,
-                const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi);
+                const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi,
+                const std::vector<glm::ivec4>* fillRects = nullptr);
 
 // The same from a host S_ℓ, read back (RGB).
 ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,

@@ -26,7 +26,8 @@ void setTapFactors(unsigned program, const char* name, int n) {
 }  // namespace
 
 Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const ShadowMap& map,
-               unsigned mapTexture, const View& view, const Constants::Ssm& ssm) {
+               unsigned mapTexture, const View& view, const Constants::Ssm& ssm,
+               const std::vector<glm::ivec4>* fillRects) {
   require(ssm.blockerGrid >= 1 && ssm.blockerGrid <= kMaxBlockerGrid && ssm.grid >= 1 && ssm.grid <= kMaxPcfGrid,
           "gpu: ssm grid sizes outside the shader's arrays");
   const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
@@ -38,7 +39,7 @@ Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stenc
     glUniform1i(glGetUniformLocation(program, "grid"), ssm.grid);
     setTapFactors(program, "blockerFactors", ssm.blockerGrid);
     setTapFactors(program, "pcfFactors", ssm.grid);
-  });
+  }, fillRects);
 }
 
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,

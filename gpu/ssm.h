@@ -12,7 +12,8 @@ namespace mrr::gpu {
 // The raw sub-image c_ℓ = V (R32F, 0 where S_ℓ = 0), from the level's G-buffer targets, S_ℓ
 // (a 0/1 texture) and the map (`map` gives the frame, `mapTexture` the depths on the GPU).
 Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const ShadowMap& map,
-               unsigned mapTexture, const View& view, const Constants::Ssm& ssm);
+               unsigned mapTexture, const View& view, const Constants::Ssm& ssm,
+               const std::vector<glm::ivec4>* fillRects = nullptr);
 
 // The same from a host S_ℓ, read back.
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,

@@ -7,7 +7,7 @@
 
 namespace mrr::gpu {
 
-void fillStencil(const GpuScene& scene, unsigned stencilMask) {
+void fillStencil(const GpuScene& scene, unsigned stencilMask, const std::vector<glm::ivec4>* rects) {
   const unsigned fill = scene.program("stencil", "fullscreen.vert", "stencil.frag");
   glClearStencil(0);
   glClear(GL_STENCIL_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -17,7 +17,13 @@ void fillStencil(const GpuScene& scene, unsigned stencilMask) {
   glStencilFunc(GL_ALWAYS, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  scene.drawFullscreen();
+  if (rects) {
+    GLint viewport[4];
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    scene.drawRects(*rects, viewport[2], viewport[3]);
+  } else {
+    scene.drawFullscreen();
+  }
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
@@ -25,13 +31,14 @@ void fillStencil(const GpuScene& scene, unsigned stencilMask) {
 }
 
 Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
-                      unsigned program, const std::string& stage, const std::function<void()>& setInputs) {
+                      unsigned program, const std::string& stage, const std::function<void()>& setInputs,
+                      const std::vector<glm::ivec4>* fillRects) {
   Target target = scene.target(width, height, 1, true, format);
   target->bind();
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
   // 1. S_ℓ into the stencil buffer
-  fillStencil(scene, stencilMask);
+  fillStencil(scene, stencilMask, fillRects);
   // 2. the pass where the stencil is 1
   glUseProgram(program);
   setInputs();

@@ -130,20 +130,26 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   auto& mask = out->maskTarget;
   auto& stencil = out->stencilTarget;
   constexpr int kCoarsest = kLevelCount - 1;
-  // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels too
-  for (int l = 1; l < kLevelCount; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+  static_assert(kLevelCount == 4, "the pyramid below is written for levels 0–3");
+  // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels
+  // too. M_2 first, straight from E (a 4×4 max-pool is the max-pool of 2×2 max-pools), then
+  // M_3; both are read back (a few hundred kB at 1080p): which blocks hold an edge. M_1 is then
+  // drawn only over M_2's edge blocks; elsewhere it is 0.
+  auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
+  auto maxPool = [&](int l, unsigned source, int channel, int factor, const std::vector<glm::ivec4>* rects) {
     Pass::Inputs in;
-    in.source = l == 1 ? edges : mask[static_cast<size_t>(l - 1)]->texture(0);
-    in.sourceChannel = l == 1 ? edgeChannel : 0;
-    in.factor = 2;
-    mask[static_cast<size_t>(l)] = pass.run(1, {Texel::R8}, lc.width, lc.height, in);
-  }
-  // Which blocks hold an edge: M_2 read back (4×4 full-res pixels a block: ~100 kB at 1080p)
-  // for level 0's blur, whose support is narrow, and M_3 (8×8) for the coarser levels' blur and
-  // the blend. Every level's blur has work only near them.
+    in.source = source;
+    in.sourceChannel = channel;
+    in.factor = factor;
+    in.rects = rects;
+    mask[static_cast<size_t>(l)] = pass.run(1, {Texel::R8}, level(l).width, level(l).height, in);
+  };
+  maxPool(2, edges, edgeChannel, 4, nullptr);
+  maxPool(3, mask[2]->texture(0), 0, 2, nullptr);
   const ImageU8 fineBlocks = mask[kCoarsest - 1]->readBinary(0);
   out->edgeBlocks = mask[kCoarsest]->readBinary(0);
+  const std::vector<glm::ivec4> edgeRects1 = blockRects(fineBlocks, 1, 2, level(1).width, level(1).height);
+  maxPool(1, edges, edgeChannel, 2, &edgeRects1);
   const ImageU8& edgeBlocks = out->edgeBlocks;
   // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
   std::array<ImageU8, kLevelCount> support;

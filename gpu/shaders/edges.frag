@@ -14,10 +14,8 @@ bool litAt(ivec2 q) { return texelFetch(shadowLit, q, 0).r > 0.5; }
 
 bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
 // A hit lies in front of the camera (depth > 0); a miss keeps the cleared 0. So one texel per
-// pixel (normal and depth) tells the hit too, and the pass reads five texels, not ten.
-bool isHit(ivec2 q) { return texelFetch(normalDepth, q, 0).w > 0.0; }
-bool usable(ivec2 q, ivec2 size) { return inside(q, size) && isHit(q); }
-float inverseDepth(ivec2 q) { return 1.0 / texelFetch(normalDepth, q, 0).w; }
+// pixel (normal and depth) tells the hit too: the pass reads five texels, each once.
+bool isHit(vec4 normalDepthTexel) { return normalDepthTexel.w > 0.0; }
 
 // Relative second difference of d = 1/z along one axis: 0 on any plane.
 float secondDifference(float dMinus, float d, float dPlus) { return abs(dMinus - 2.0 * d + dPlus) / d; }
@@ -25,42 +23,47 @@ float secondDifference(float dMinus, float d, float dPlus) { return abs(dMinus -
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(normalDepth, 0);
-  if (!isHit(p)) {  // background pixels carry no edge; their hit neighbours do
+  vec4 centre = texelFetch(normalDepth, p, 0);
+  if (!isHit(centre)) {  // background pixels carry no edge; their hit neighbours do
     edges = vec4(0.0);
 #ifdef SHADOW_EDGES
     shadowEdge = vec4(0.0);
 #endif
     return;
   }
-  vec3 n = texelFetch(normalDepth, p, 0).xyz;
+  vec3 n = centre.xyz;
+  // the 4-neighbours (x−1, x+1, y−1, y+1), read once; `usable`: inside the image and a hit
   ivec2 offsets[4] = ivec2[4](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+  vec4 neighbour[4];
+  bool within[4], usable[4];
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q = p + offsets[k];
+    within[k] = inside(q, size);
+    neighbour[k] = texelFetch(normalDepth, clamp(q, ivec2(0), size - 1), 0);
+    usable[k] = within[k] && isHit(neighbour[k]);
+  }
   // 1. normal edge: first derivative, max over the 4-neighbours inside the image.
   float normalMax = 0.0;
   bool backgroundNeighbour = false;
   for (int k = 0; k < 4; ++k) {
-    ivec2 q = p + offsets[k];
-    if (!inside(q, size)) continue;  // no edge comes from the border
-    if (!isHit(q)) {
+    if (!within[k]) continue;  // no edge comes from the border
+    if (!usable[k]) {
       backgroundNeighbour = true;  // 3. background edge
       continue;
     }
-    normalMax = max(normalMax, 1.0 - dot(n, texelFetch(normalDepth, q, 0).xyz));
+    normalMax = max(normalMax, 1.0 - dot(n, neighbour[k].xyz));
   }
   // 2. depth edge: second difference of 1/z, where both neighbours exist and are hits.
-  float d = inverseDepth(p);
+  float d = 1.0 / centre.w;
   float secondX = 0.0, secondY = 0.0;
-  if (usable(p - ivec2(1, 0), size) && usable(p + ivec2(1, 0), size))
-    secondX = secondDifference(inverseDepth(p - ivec2(1, 0)), d, inverseDepth(p + ivec2(1, 0)));
-  if (usable(p - ivec2(0, 1), size) && usable(p + ivec2(0, 1), size))
-    secondY = secondDifference(inverseDepth(p - ivec2(0, 1)), d, inverseDepth(p + ivec2(0, 1)));
+  if (usable[0] && usable[1]) secondX = secondDifference(1.0 / neighbour[0].w, d, 1.0 / neighbour[1].w);
+  if (usable[2] && usable[3]) secondY = secondDifference(1.0 / neighbour[2].w, d, 1.0 / neighbour[3].w);
   bool shadowDiffers = false;
 #ifdef SHADOW_EDGES
   // 4. shadow edge: the one-tap shadow test differs from a hit 4-neighbour's
   bool lit = litAt(p);
-  for (int k = 0; k < 4; ++k) {
-    ivec2 q = p + offsets[k];
-    if (usable(q, size) && litAt(q) != lit) shadowDiffers = true;
-  }
+  for (int k = 0; k < 4; ++k)
+    if (usable[k] && litAt(p + offsets[k]) != lit) shadowDiffers = true;
   shadowEdge = vec4(float(shadowDiffers), 0.0, 0.0, 1.0);
 #endif
   bool normalEdge = normalMax > normalThreshold;

@@ -423,7 +423,7 @@ int run(int argc, char** argv) {
       } else {
         // Probe the context up front, so a missing EGL device is one line before any work.
         const std::string renderer = gpu::GlContext(glDevice).renderer();
-        paths.push_back({"gpu", "OpenGL 3.3 port on " + renderer + " (glFinish + wall clock per stage, readbacks included)",
+        paths.push_back({"gpu", "OpenGL 3.3 port on " + renderer + " (GPU-resident frame; glFinish + wall clock per stage)",
                          [glDevice](const Scene& scene) -> RenderFn {
                            auto r = std::make_shared<gpu::GpuRenderer>(scene, glDevice);
                            return [r](const Camera& c, const Constants& k, const RenderOptions& o) { return r->render(c, k, o); };

@@ -12,15 +12,16 @@ double shadeNs(const EffectCost& e, int samples) { return e.nsPerShadedPixel + e
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
   // `mrr bench --calibrate FILE --paths cpu gpu --repeats 5` on the CI machine (2-core AMD EPYC
-  // VM; the port on llvmpipe, LLVM 15, with its per-stage readbacks), builtin:demo at 640×360,
-  // 2026-11-23: the mean of three runs, which agreed within ~10%. Order: ssao, ssm, ssgi;
-  // {a, b, d, s} as EffectCost.
+  // VM; the port on llvmpipe, LLVM 15), builtin:demo at 640×360. cpu: the mean of three runs,
+  // which agreed within ~10% (2026-11-22). gpu: the median of three runs of the GPU-resident
+  // port (2026-11-23; one run's coarse G-buffer figure was twice the others'). Order: ssao,
+  // ssm, ssgi; {a, b, d, s} as EffectCost.
   if (path == "gpu") {
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{190.0, 3.35, 0.0, 1.58}, EffectCost{280.0, 1.42, 0.0, 1.60},
-                EffectCost{32.0, 4.30, 22.0, 1.60}};
-    m.nsPerCoarseGbufferPixel = 73.0;
-    m.nsPerBlendPixel = 100.6;
+    m.effect = {EffectCost{149.0, 3.31, 0.0, 1.47}, EffectCost{256.0, 1.40, 0.0, 1.46},
+                EffectCost{17.9, 4.01, 19.4, 1.61}};
+    m.nsPerCoarseGbufferPixel = 38.4;
+    m.nsPerBlendPixel = 25.2;
   } else {
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
     m.effect = {EffectCost{130.0, 3.40, 1.1, 1.30}, EffectCost{60.0, 0.75, 0.0, 1.45},

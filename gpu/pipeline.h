@@ -3,8 +3,9 @@
 // back into the same FrameResult the oracle fills with keepStages — so --stages, --report and
 // probe work for --path gpu exactly as for --path cpu. Without keepStages (the benchmark, a
 // plain render) the frame stays on the GPU: only S_ℓ, the final image and level map, and what
-// the shaded image needs come back. Timings are glFinish + wall clock per stage (timer queries
-// are wrong on llvmpipe, PLATFORM.md), readbacks included.
+// the shaded image needs come back (docs/port.md, "The GPU-resident frame"). Timings are
+// glFinish + wall clock per stage (timer queries are wrong on llvmpipe, PLATFORM.md); each
+// stage's readbacks are inside its timing.
 #include <memory>
 #include <string>
 

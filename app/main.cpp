@@ -42,6 +42,7 @@ struct FrameOptions {
   std::string costModelFile;
   std::string path = "cpu";
   int glDevice = -1;
+  std::string gpuTiming = "auto";
   std::string size = "1280x720";
   std::optional<int> samples;
   int threads = 0;
@@ -78,6 +79,10 @@ struct FrameOptions {
     app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both")
         ->capture_default_str();
     app.add_option("--gl-device", glDevice, "gpu: the EGL device index (default: the first that gives GL 3.3 core)");
+    app.add_option("--gpu-timing", gpuTiming,
+                   "gpu: stage timings by glFinish + wall clock (wall), GL_TIME_ELAPSED queries (query), or auto: "
+                   "wall on llvmpipe, whose queries are wrong, query elsewhere")
+        ->capture_default_str();
     app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
     app.add_option("--samples", samples,
                    "samples per pixel (default ssao 64, ssm 196, ssgi 288; ssao 1..1024, ssm a square n*n up to 1024, "
@@ -153,6 +158,7 @@ struct FrameOptions {
   }
 
   void checkPath(bool bothAllowed = false) const {
+    gpu::parseGpuTiming(gpuTiming);  // validates the name
     if (bothAllowed && path == "both") return;
     require(path == "cpu" || path == "gpu",
             "--path " + path + ": unknown path (expected cpu or gpu" + (bothAllowed ? ", or both" : "") + ")");
@@ -215,7 +221,7 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
   if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const Renderer cpu(rs.scene);
-  const gpu::GpuRenderer port(rs.scene, fo.glDevice);
+  const gpu::GpuRenderer port(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
   if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port.renderer() << "\n";
   bool pass = true;
   // Frames are kept for the HTML report (two frames with every stage per effect).
@@ -291,10 +297,13 @@ int run(int argc, char** argv) {
   std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut;
   bool quick = false, noSweeps = false, noStress = false;
   int glDevice = -1;
+  std::string benchGpuTiming = "auto";
   auto* bench = app.add_subcommand(
       "bench", "speed against accuracy: every method against full, side by side; charts, stability, stress scenes");
   bench->add_option("--paths", benchPaths, "cpu (the oracle) and/or gpu (the port)")->capture_default_str();
   bench->add_option("--gl-device", glDevice, "gpu: the EGL device index");
+  bench->add_option("--gpu-timing", benchGpuTiming, "gpu: auto, wall or query (as render's --gpu-timing)")
+      ->capture_default_str();
   bench->add_option("--scenes", benchOpts.scenes, "scenes of the main sweep")->capture_default_str();
   bench->add_option("--sizes", benchSizes, "sizes WxH of the main sweep (default 1280x720)");
   bench->add_option("--effects", benchOpts.effects, "effects: ssao ssm ssgi")->capture_default_str();
@@ -422,10 +431,14 @@ int run(int argc, char** argv) {
                          }});
       } else {
         // Probe the context up front, so a missing EGL device is one line before any work.
-        const std::string renderer = gpu::GlContext(glDevice).renderer();
-        paths.push_back({"gpu", "OpenGL 3.3 port on " + renderer + " (GPU-resident frame; glFinish + wall clock per stage)",
-                         [glDevice](const Scene& scene) -> RenderFn {
-                           auto r = std::make_shared<gpu::GpuRenderer>(scene, glDevice);
+        const gpu::GpuTiming timing = gpu::parseGpuTiming(benchGpuTiming);
+        const Scene noScene;
+        const gpu::GpuRenderer portProbe(noScene, glDevice, timing);
+        paths.push_back({"gpu",
+                         "OpenGL 3.3 port on " + portProbe.renderer() + " (GPU-resident frame; " +
+                             (portProbe.timerQueries() ? "GL_TIME_ELAPSED per stage" : "glFinish + wall clock per stage") + ")",
+                         [glDevice, timing](const Scene& scene) -> RenderFn {
+                           auto r = std::make_shared<gpu::GpuRenderer>(scene, glDevice, timing);
                            return [r](const Camera& c, const Constants& k, const RenderOptions& o) { return r->render(c, k, o); };
                          }});
       }
@@ -491,7 +504,7 @@ int run(int argc, char** argv) {
   std::unique_ptr<gpu::GpuRenderer> port;
   if (fo.path == "both") {  // probe only: the oracle and the port side by side
     const Renderer oracleRenderer(rs.scene);
-    const gpu::GpuRenderer portRenderer(rs.scene, fo.glDevice);
+    const gpu::GpuRenderer portRenderer(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
     const CostModel costs = fo.costModel("cpu");
     const FrameResult o = oracleRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "oracle"), &costs});
     const FrameResult p = portRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port"), &costs});
@@ -501,7 +514,7 @@ int run(int argc, char** argv) {
     return 0;
   }
   if (fo.path == "gpu") {
-    port = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice);
+    port = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
     if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port->renderer() << "\n";
   } else {
     cpu = std::make_unique<Renderer>(rs.scene);
@@ -527,8 +540,11 @@ int run(int argc, char** argv) {
                                        {false, progressPrinter(fo.quiet, "reference")});
     err = errorVsFull(frame, ref);
   }
-  RunInfo info{rs.scene.name, rs.scene.credit, fo.path, threadCount(fo.threads), {}};
-  if (port) info.renderer = port->renderer();
+  RunInfo info{rs.scene.name, rs.scene.credit, fo.path, threadCount(fo.threads), {}, {}};
+  if (port) {
+    info.renderer = port->renderer();
+    info.timingMethod = port->timingMethod();
+  }
   info.memoryEstimateBytes = memoryEstimate;
   info.peakResidentBytes = peakResidentBytes();
   if (!out.empty()) writeFinal(out, frame);

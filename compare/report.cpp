@@ -80,10 +80,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["timings_ms"] = timings;
   if (info.path == "gpu") {
     j["renderer"] = info.renderer;
-    j["timing_method"] =
-        "glFinish + wall clock around each stage (timer queries are wrong on llvmpipe); with --stages or probe, each "
-        "stage's readback is inside its timing, else the frame stays on the GPU and its host copies are the "
-        "'readback' stage";
+    j["timing_method"] = info.timingMethod;
   } else {
     j["timing_method"] = "wall clock (steady_clock) around each stage";
   }

@@ -18,7 +18,8 @@ struct RunInfo {
   std::string credit;
   std::string path = "cpu";
   int threads = 0;
-  std::string renderer;  // gpu: GL_RENDERER
+  std::string renderer;      // gpu: GL_RENDERER
+  std::string timingMethod;  // gpu: GpuRenderer::timingMethod
   int64_t memoryEstimateBytes = 0;  // the up-front estimate (common/memory.h)
   int64_t peakResidentBytes = 0;    // measured when the report is written
 };

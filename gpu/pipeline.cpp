@@ -4,8 +4,11 @@
 #include <GL/glcorearb.h>
 
 #include <chrono>
+#include <utility>
+#include <vector>
 
 #include "common/cost_model.h"
+#include "common/error.h"
 #include "cpu_ref/shade.h"
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
@@ -13,6 +16,7 @@
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
 #include "gpu/peers.h"
+#include "gpu/program.h"
 #include "gpu/shadowmap.h"
 #include "gpu/ssao.h"
 #include "gpu/ssgi.h"
@@ -23,8 +27,28 @@ namespace mrr::gpu {
 
 bool isPortOnlyStage(const std::string& stage) { return stage == "stencils" || stage == "readback"; }
 
-GpuRenderer::GpuRenderer(const Scene& scene, int deviceIndex)
-    : scene_(scene), context_(deviceIndex), gpuScene_(scene) {}
+GpuTiming parseGpuTiming(const std::string& name) {
+  if (name == "auto") return GpuTiming::Auto;
+  if (name == "wall") return GpuTiming::Wall;
+  if (name == "query") return GpuTiming::Query;
+  throw MrrError("--gpu-timing " + name + ": unknown timing (expected auto, wall or query)");
+}
+
+GpuRenderer::GpuRenderer(const Scene& scene, int deviceIndex, GpuTiming timing)
+    : scene_(scene), context_(deviceIndex), gpuScene_(scene) {
+  const std::string& r = context_.renderer();
+  const bool software = r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos;
+  timerQueries_ = timing == GpuTiming::Query || (timing == GpuTiming::Auto && !software);
+}
+
+std::string GpuRenderer::timingMethod() const {
+  if (timerQueries_)
+    return "GL_TIME_ELAPSED queries around each stage's GL work (no glFinish between stages); the host-only stages "
+           "(shade, readback) and total on the wall clock";
+  return "glFinish + wall clock around each stage (timer queries are wrong on llvmpipe); with --stages or probe, "
+         "each stage's readback is inside its timing, else the frame stays on the GPU and its host copies are the "
+         "'readback' stage";
+}
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
   using Clock = std::chrono::steady_clock;
@@ -39,8 +63,21 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   // back too, into the structures the oracle fills.
   const bool keep = options.keepStages;
   const auto frameStart = Clock::now();
+  // Timer queries: one per GL stage, read once the frame is done (timings[index] ← query).
+  std::vector<std::pair<size_t, unsigned>> queries;
   auto stage = [&](const std::string& name, auto&& body) {
     if (options.progress) options.progress(name);
+    const bool hostOnly = name == "shade" || name == "readback";
+    if (timerQueries_ && !hostOnly) {
+      unsigned query = 0;
+      glGenQueries(1, &query);
+      glBeginQuery(GL_TIME_ELAPSED, query);
+      body();
+      glEndQuery(GL_TIME_ELAPSED);
+      queries.emplace_back(f.timings.size(), query);
+      f.timings.push_back({name, 0.0});
+      return;
+    }
     const auto t0 = Clock::now();
     body();
     glFinish();
@@ -194,7 +231,15 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
       if (shadowTest) f.shadowLit = readShadowTest(*shadowTest);
     });
   stage("shade", [&] { f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, f.light, c.effect); });
+  glFinish();
   f.timings.push_back({"total", std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count()});
+  for (const auto& [index, query] : queries) {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+    f.timings[index].ms = static_cast<double>(ns) * 1e-6;
+    glDeleteQueries(1, &query);
+  }
+  checkGl("timer queries");
   return f;
 }
 

@@ -20,17 +20,28 @@ namespace mrr::gpu {
 // (without keepStages, the full-res G-buffer copied to the host for the shaded image).
 bool isPortOnlyStage(const std::string& stage);
 
+// How stages are timed. wall: glFinish + a steady clock around each stage (what llvmpipe needs:
+// its GL_TIME_ELAPSED figures are wrong, PLATFORM.md). query: GL_TIME_ELAPSED around each
+// stage's GL work, read when the frame is done, and no glFinish between stages; the host-only
+// stages (`shade`, `readback`) and `total` stay on the wall clock. auto: wall on Mesa's
+// software rasterisers (llvmpipe, softpipe), query elsewhere (NVIDIA).
+enum class GpuTiming { Auto, Wall, Query };
+GpuTiming parseGpuTiming(const std::string& name);  // auto | wall | query; throws MrrError
+
 class GpuRenderer {
  public:
-  explicit GpuRenderer(const Scene& scene, int deviceIndex = -1);
+  explicit GpuRenderer(const Scene& scene, int deviceIndex = -1, GpuTiming timing = GpuTiming::Auto);
   // SSAO, SSM and SSGI, in multires and full mode.
   FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const;
   const std::string& renderer() const { return context_.renderer(); }
+  bool timerQueries() const { return timerQueries_; }
+  std::string timingMethod() const;  // for the report's timing_method
 
  private:
   const Scene& scene_;
   GlContext context_;
   GpuScene gpuScene_;
+  bool timerQueries_ = false;
 };
 
 }  // namespace mrr::gpu

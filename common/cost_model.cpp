@@ -1,5 +1,7 @@
 #include "common/cost_model.h"
 
+#include <algorithm>
+
 #include "common/error.h"
 
 namespace mrr {
@@ -22,6 +24,7 @@ CostModel CostModel::defaults(const std::string& path) {
                 EffectCost{17.9, 4.01, 19.4, 1.61}};
     m.nsPerCoarseGbufferPixel = 38.4;
     m.nsPerBlendPixel = 25.2;
+    m.rasterGbuffer = true;
   } else {
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
     m.effect = {EffectCost{130.0, 3.40, 1.1, 1.30}, EffectCost{60.0, 0.75, 0.0, 1.45},
@@ -46,6 +49,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
     m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
+    m.rasterGbuffer = j.value("raster_gbuffer", false);
   } catch (const nlohmann::json::exception& e) {
     throw MrrError(std::string("--cost-model: ") + e.what());
   }
@@ -64,16 +68,21 @@ nlohmann::json CostModel::toJson() const {
   return {{"source", source},
           {"effects", effects},
           {"ns_per_coarse_gbuffer_pixel", nsPerCoarseGbufferPixel},
-          {"ns_per_blend_pixel", nsPerBlendPixel}};
+          {"ns_per_blend_pixel", nsPerBlendPixel},
+          {"raster_gbuffer", rasterGbuffer}};
 }
 
-// SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N)·s + P_ℓ·d) + Σ_{ℓ≥1} P_ℓ·g + W·H·β, in ms.
-double predictMultiresMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded) {
+// SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N)·s + P_ℓ·d) + Σ_{ℓ≥1} (P_ℓ·g + F) + W·H·β, in ms, where
+// F = max(T0 − P_0·g, 0) for a rasterised G-buffer measured at T0 ms, else 0.
+double predictMultiresMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded,
+                         double gbuffer0Ms) {
   const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
+  const double perSceneNs =
+      m.rasterGbuffer ? std::max(gbuffer0Ms * 1e6 - levelPixels(c.levels[0]) * m.nsPerCoarseGbufferPixel, 0.0) : 0.0;
   double ns = static_cast<double>(c.width) * c.height * m.nsPerBlendPixel;
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled) continue;
-    if (lc.index > 0) ns += levelPixels(lc) * m.nsPerCoarseGbufferPixel;
+    if (lc.index > 0) ns += levelPixels(lc) * m.nsPerCoarseGbufferPixel + perSceneNs;
     if (lc.shaded) ns += static_cast<double>(shaded[static_cast<size_t>(lc.index)]) * shadeNs(e, c.samples()) * e.sparseFactor +
                          levelPixels(lc) * e.nsPerLevelPixel;
   }
@@ -87,11 +96,12 @@ double predictFullMs(const CostModel& m, const Constants& c) {
          1e-6;
 }
 
-FallbackDecision decideFallback(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded) {
+FallbackDecision decideFallback(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded,
+                                double gbuffer0Ms) {
   FallbackDecision d;
   d.evaluated = true;
   d.predictedFullMs = predictFullMs(m, c);
-  d.predictedMultiresMs = predictMultiresMs(m, c, shaded);
+  d.predictedMultiresMs = predictMultiresMs(m, c, shaded, gbuffer0Ms);
   d.fellBack = d.predictedFullMs - d.predictedMultiresMs <= 0.0;
   d.costModel = m.source;
   return d;

@@ -30,6 +30,11 @@ struct CostModel {
   std::array<EffectCost, 3> effect{};  // by Effect
   double nsPerCoarseGbufferPixel = 0.0;  // one level-ℓ G-buffer pixel, ℓ ≥ 1
   double nsPerBlendPixel = 0.0;          // the blend, per full-res pixel
+  // A rasterised G-buffer (the port) also costs a part per scene, not per pixel (its triangles),
+  // at every level: taken from the frame's own level-0 G-buffer time, T0 − P_0·g, added per
+  // coarse level. Ray casting (the oracle) has none, and its decision stays a function of the
+  // stencils alone (deterministic).
+  bool rasterGbuffer = false;
 
   // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu").
   static CostModel defaults(const std::string& path);
@@ -48,12 +53,13 @@ struct FallbackDecision {
 
 // The remaining cost of shading `shadedPixels[ℓ]` pixels per level, plus the coarse
 // G-buffers and the blend (SPEC §11); and of shading all W·H pixels at level 0.
+// `gbuffer0Ms`: the frame's measured level-0 G-buffer time (read with rasterGbuffer; 0: none).
 double predictMultiresMs(const CostModel& model, const Constants& constants,
-                         const std::array<long long, kLevelCount>& shadedPixels);
+                         const std::array<long long, kLevelCount>& shadedPixels, double gbuffer0Ms = 0.0);
 double predictFullMs(const CostModel& model, const Constants& constants);
 
 // The rule: falls back when the predicted gain, full − multires, is ≤ 0.
 FallbackDecision decideFallback(const CostModel& model, const Constants& constants,
-                                const std::array<long long, kLevelCount>& shadedPixels);
+                                const std::array<long long, kLevelCount>& shadedPixels, double gbuffer0Ms = 0.0);
 
 }  // namespace mrr

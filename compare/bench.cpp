@@ -217,6 +217,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   };
   CostModel model;
   model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo 640x360";
+  model.rasterGbuffer = path.name == "gpu";  // the port rasterises its G-buffers (CostModel::rasterGbuffer)
   const double pixels = static_cast<double>(w) * h;
   std::vector<double> coarseNs, blendNs;
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {

@@ -77,7 +77,7 @@ std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel,
 
 void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model) {
   if (!f.constants.neverSlower) return;
-  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants));
+  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants), f.timing("gbuffer.L0"));
   if (!f.fallback.fellBack) return;
   f.constants.fallBackToFull();
   masks = fullModeMasks(f.constants);

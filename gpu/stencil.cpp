@@ -3,6 +3,8 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <utility>
+
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -30,16 +32,15 @@ void fillStencil(const GpuScene& scene, unsigned stencilMask, const std::vector<
   checkGl("stencil");
 }
 
-Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
-                      unsigned program, const std::string& stage, const std::function<void()>& setInputs,
-                      const std::vector<glm::ivec4>* fillRects) {
-  Target target = scene.target(width, height, 1, true, format);
+namespace {
+// The colour target cleared to 0, the stencil buffer ready (`prepareStencil`), then the pass
+// where the stencil is 1.
+Target drawUnderStencil(const GpuScene& scene, Target target, unsigned program, const std::string& stage,
+                        const std::function<void()>& prepareStencil, const std::function<void()>& setInputs) {
   target->bind();
   const float zero[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, zero);
-  // 1. S_ℓ into the stencil buffer
-  fillStencil(scene, stencilMask, fillRects);
-  // 2. the pass where the stencil is 1
+  prepareStencil();
   glUseProgram(program);
   setInputs();
   scene.drawFullscreen();
@@ -47,23 +48,27 @@ Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, in
   checkGl(stage);
   return target;
 }
+}  // namespace
+
+Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
+                      unsigned program, const std::string& stage, const std::function<void()>& setInputs,
+                      const std::vector<glm::ivec4>* fillRects) {
+  // 1. S_ℓ into the stencil buffer; 2. the pass where the stencil is 1
+  return drawUnderStencil(scene, scene.target(width, height, 1, true, format), program, stage,
+                          [&] { fillStencil(scene, stencilMask, fillRects); }, setInputs);
+}
 
 Target drawStencilledLike(const GpuScene& scene, const Framebuffer& stencilled, Texel format, unsigned program,
                           const std::string& stage, const std::function<void()>& setInputs) {
   Target target = scene.target(stencilled.width(), stencilled.height(), 1, false, format);
   target->shareDepthStencil(stencilled);
-  target->bind();
-  const float zero[4] = {0, 0, 0, 0};
-  glClearBufferfv(GL_COLOR, 0, zero);
-  glEnable(GL_STENCIL_TEST);
-  glStencilFunc(GL_EQUAL, 1, 0xff);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-  glUseProgram(program);
-  setInputs();
-  scene.drawFullscreen();
-  glDisable(GL_STENCIL_TEST);
-  checkGl(stage);
-  return target;
+  return drawUnderStencil(scene, std::move(target), program, stage,
+                          [] {
+                            glEnable(GL_STENCIL_TEST);
+                            glStencilFunc(GL_EQUAL, 1, 0xff);
+                            glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+                          },
+                          setInputs);
 }
 
 ImageF withHostStencil(const ImageU8& stencil, int channels, const std::function<Target(unsigned)>& draw) {

@@ -212,12 +212,24 @@ TEST(NeverSlower, PredictionCountsShadedPixelsCoarseGbuffersAndBlend) {
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
   EXPECT_NEAR(predictMultiresMs(m, c, shaded), (202.0 * 26 * 1.5 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6,
               1e-12);
+  // A measured level-0 G-buffer time changes nothing for ray casting...
+  EXPECT_NEAR(predictMultiresMs(m, c, shaded, 1.0), predictMultiresMs(m, c, shaded), 1e-12);
+  // ...and adds its per-scene part, T0 − P_0·g, to each coarse level of a rasterised one
+  // (c's levels 0–3 are 64×32 padded: P_0 = 2048).
+  m.rasterGbuffer = true;
+  const double perScene = 1.0 - 2048.0 * 3 * 1e-6;
+  EXPECT_NEAR(predictMultiresMs(m, c, shaded, 1.0), predictMultiresMs(m, c, shaded) + 3 * perScene, 1e-9);
+  EXPECT_NEAR(predictMultiresMs(m, c, shaded, 0.001), predictMultiresMs(m, c, shaded), 1e-12) << "T0 < P_0·g: 0";
 }
 
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());
   EXPECT_EQ(back.toJson(), m.toJson());
+  EXPECT_TRUE(back.rasterGbuffer);
+  nlohmann::json older = m.toJson();  // a file from before raster_gbuffer: ray-cast costs
+  older.erase("raster_gbuffer");
+  EXPECT_FALSE(CostModel::fromJson(older).rasterGbuffer);
   nlohmann::json broken = m.toJson();
   broken.erase("ns_per_blend_pixel");
   EXPECT_THROW(CostModel::fromJson(broken), MrrError);

@@ -505,8 +505,11 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
     if (!std::isfinite(r.error.rms) || !std::isfinite(r.error.ssim) || r.error.ssim > 1.0 + 1e-9)
       fails.push_back(where + ": error figures not finite or SSIM above 1");
     // Timing noise: allow 25% above the ideal before calling it wrong, and only where full's
-    // effect takes long enough (10 ms) for one timing to mean something.
-    if (r.fullEffectMs >= kMinTimedMs && r.measuredSpeedup > 1.25 * r.idealSpeedup + 0.05)
+    // effect takes long enough (10 ms) for one timing to mean something. Not where the method
+    // shades more pixels than full (ideal < 1: a stress scene where every pixel is an edge): its
+    // extra pixels are coarse ones, cheaper than full-res ones, and the pixel ratio bounds
+    // nothing there (CI measured SSM-196 mrr-norule on `alledges` at 0.96× against 0.72×).
+    if (r.fullEffectMs >= kMinTimedMs && r.idealSpeedup >= 1.0 && r.measuredSpeedup > 1.25 * r.idealSpeedup + 0.05)
       fails.push_back(where + ": measured speedup " + fixed(r.measuredSpeedup, 2) + "x above the ideal " +
                       fixed(r.idealSpeedup, 2) + "x");
     if (r.fellBack && r.error.rms != 0.0) fails.push_back(where + ": fell back to full, yet differs from full");
@@ -523,7 +526,7 @@ std::string benchMarkdown(const BenchResults& res, const std::vector<std::string
   if (paper.empty()) o << "(The paper's figures were not found at " << paperFiguresPath() << "; set MRR_PAPER_FIGURES.)\n\n";
   for (const Table& t : tables(res, paper)) o << t.markdown();
   o << "### Sanity checks\n\n";
-  if (failures.empty()) o << "All passed: full's error is 0 and it shades W·H pixels; no method beats its ideal speedup; every figure is finite.\n";
+  if (failures.empty()) o << "All passed: full's error is 0 and it shades W·H pixels; no method beats its ideal speedup (where that is above 1); every figure is finite.\n";
   for (const std::string& f : failures) o << "- FAILED: " << f << "\n";
   return o.str();
 }

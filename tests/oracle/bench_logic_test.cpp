@@ -71,6 +71,11 @@ TEST(BenchSanity, PassesHonestFiguresAndCatchesEachPlantedFault) {
   tooShort.records[1].fullEffectMs = 2.0;
   EXPECT_TRUE(sanityChecks(tooShort).empty());
 
+  BenchResults moreThanFull = ok;  // ... or the method shades more pixels than full (alledges)
+  moreThanFull.records[1].idealSpeedup = 0.72;
+  moreThanFull.records[1].measuredSpeedup = 0.96;
+  EXPECT_TRUE(sanityChecks(moreThanFull).empty());
+
   BenchResults fellBack = ok;  // a fallen-back frame must be the full frame
   fellBack.records[1].fellBack = true;
   EXPECT_EQ(sanityChecks(fellBack).size(), 1u);

@@ -32,7 +32,7 @@ struct CostModel {
   double nsPerBlendPixel = 0.0;          // the blend, per full-res pixel
   // A rasterised G-buffer (the port) also costs a part per scene, not per pixel (its triangles),
   // at every level: taken from the frame's own level-0 G-buffer time, T0 − P_0·g, added per
-  // coarse level. Ray casting (the oracle) has none, and its decision stays a function of the
+  // coarse level (the port passes T0 on warm frames only). Ray casting (the oracle) has none, and its decision stays a function of the
   // stencils alone (deterministic).
   bool rasterGbuffer = false;
 

@@ -75,9 +75,10 @@ std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel,
   return counts;
 }
 
-void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model) {
+void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model,
+                      double gbuffer0Ms) {
   if (!f.constants.neverSlower) return;
-  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants), f.timing("gbuffer.L0"));
+  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants), gbuffer0Ms);
   if (!f.fallback.fellBack) return;
   f.constants.fallBackToFull();
   masks = fullModeMasks(f.constants);

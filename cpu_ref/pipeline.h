@@ -79,7 +79,10 @@ struct RenderOptions {
 // SPEC §11 on a frame whose stencils are `masks` and nothing else of the method is paid yet:
 // when f.constants.neverSlower, decides with `model` into f.fallback and, on a fallback,
 // switches f.constants and `masks` to a full-res frame. Both pipelines call it at that point.
-void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model);
+// `gbuffer0Ms`: the frame's level-0 G-buffer time, for a model with a rasterised G-buffer (the
+// port, on a warm renderer); 0 leaves the per-scene term out.
+void applyNeverSlower(FrameResult& f, std::array<MaskLevel, kLevelCount>& masks, const CostModel& model,
+                      double gbuffer0Ms = 0.0);
 
 // The per-level |S_ℓ| of a set of stencils (0 for levels that are not shaded).
 std::array<long long, kLevelCount> shadedPixelCounts(const std::array<MaskLevel, kLevelCount>& masks,

@@ -148,7 +148,10 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     case Mode::Full: masks = fullModeMasks(c); break;
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("gpu"));
+  // The level-0 G-buffer time tells the per-scene part of a rasterised G-buffer, but only on a
+  // warm renderer: its first frame also pays shader compilation and fresh targets there.
+  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("gpu"),
+                   framesRendered_ > 0 ? f.timing("gbuffer.L0") : 0.0);
   if (!maskTargets || !maskTargets->drawn || f.fallback.fellBack)  // host stencils: to the GPU
     stage("stencils", [&] { maskTargets = uploadMasks(masks, c); });
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
@@ -231,6 +234,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
       if (shadowTest) f.shadowLit = readShadowTest(*shadowTest);
     });
   stage("shade", [&] { f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, f.light, c.effect); });
+  ++framesRendered_;
   glFinish();
   f.timings.push_back({"total", std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count()});
   for (const auto& [index, query] : queries) {

@@ -133,3 +133,42 @@ TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
 
 }  // namespace
 }  // namespace mrr
+
+namespace mrr {
+namespace {
+
+// The port's never-slower rule adds a rasterised G-buffer's per-scene part, measured from the
+// frame's level-0 G-buffer time, on warm frames only: a renderer's first frame pays shader
+// compilation there. With a model where any such part flips the decision (shading costs 1 ns a
+// pixel, nothing else), the first frame keeps the method and the second falls back.
+TEST(GpuNeverSlowerWarm, TheGbufferTermIsReadOnWarmFramesOnly) {
+  std::string why;
+  if (!gpu::glAvailable(&why)) {
+    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
+    GTEST_SKIP() << why;
+  }
+  SceneRequest req;
+  req.scene = "builtin:demo";
+  ResolvedScene rs = resolveScene(req);
+  const gpu::GpuRenderer port(rs.scene);
+  Settings s = defaultSettings(Effect::Ssao);
+  s.width = 160;
+  s.height = 90;
+  s.setSamples(8);
+  s.neverSlower = true;
+  CostModel model;
+  model.effect[static_cast<size_t>(Effect::Ssao)] = {1.0, 0.0, 0.0, 1.0};
+  model.rasterGbuffer = true;
+  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const FrameResult first = port.render(rs.camera, c, {false, {}, &model});
+  const FrameResult second = port.render(rs.camera, c, {false, {}, &model});
+  ASSERT_TRUE(first.fallback.evaluated);
+  EXPECT_FALSE(first.fallback.fellBack) << "predicted " << first.fallback.predictedMultiresMs << " against "
+                                        << first.fallback.predictedFullMs;
+  EXPECT_TRUE(second.fallback.fellBack) << "predicted " << second.fallback.predictedMultiresMs << " against "
+                                        << second.fallback.predictedFullMs;
+  EXPECT_GT(second.fallback.predictedMultiresMs, first.fallback.predictedMultiresMs);
+}
+
+}  // namespace
+}  // namespace mrr

@@ -432,11 +432,10 @@ int run(int argc, char** argv) {
       } else {
         // Probe the context up front, so a missing EGL device is one line before any work.
         const gpu::GpuTiming timing = gpu::parseGpuTiming(benchGpuTiming);
-        const Scene noScene;
-        const gpu::GpuRenderer portProbe(noScene, glDevice, timing);
+        const std::string renderer = gpu::GlContext(glDevice).renderer();
         paths.push_back({"gpu",
-                         "OpenGL 3.3 port on " + portProbe.renderer() + " (GPU-resident frame; " +
-                             (portProbe.timerQueries() ? "GL_TIME_ELAPSED per stage" : "glFinish + wall clock per stage") + ")",
+                         "OpenGL 3.3 port on " + renderer + " (GPU-resident frame; " +
+                             (gpu::usesTimerQueries(timing, renderer) ? "GL_TIME_ELAPSED per stage" : "glFinish + wall clock per stage") + ")",
                          [glDevice, timing](const Scene& scene) -> RenderFn {
                            auto r = std::make_shared<gpu::GpuRenderer>(scene, glDevice, timing);
                            return [r](const Camera& c, const Constants& k, const RenderOptions& o) { return r->render(c, k, o); };

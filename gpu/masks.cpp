@@ -90,6 +90,16 @@ ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius, int rad
   return near;
 }
 
+namespace {
+// A 0/1 block map max-pooled 2×2 (the 4×4 grid onto the 8×8 one; its sizes are even).
+ImageU8 poolBlocks(const ImageU8& fine) {
+  ImageU8 coarse(fine.width / 2, fine.height / 2);
+  for (int y = 0; y < fine.height; ++y)
+    for (int x = 0; x < fine.width; ++x) coarse.at(x / 2, y / 2) |= fine.at(x, y);
+  return coarse;
+}
+}  // namespace
+
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height) {
   // Row runs of matching blocks; a run with the same ends as one in the row above extends it,
   // so a band along an edge is a few rectangles, not one per block row.
@@ -133,8 +143,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   static_assert(kLevelCount == 4, "the pyramid below is written for levels 0–3");
   // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels
   // too. M_2 first, straight from E (a 4×4 max-pool is the max-pool of 2×2 max-pools), then
-  // M_3; both are read back (a few hundred kB at 1080p): which blocks hold an edge. M_1 is then
-  // drawn only over M_2's edge blocks; elsewhere it is 0.
+  // M_3. M_2 is read back (~130 kB at 1080p) and max-pooled into M_3 on the host: which 4×4
+  // and 8×8 blocks hold an edge. M_1 is then drawn only over M_2's edge blocks; elsewhere it is 0.
   auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
   auto maxPool = [&](int l, unsigned source, int channel, int factor, const std::vector<glm::ivec4>* rects) {
     Pass::Inputs in;
@@ -147,7 +157,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   maxPool(2, edges, edgeChannel, 4, nullptr);
   maxPool(3, mask[2]->texture(0), 0, 2, nullptr);
   const ImageU8 fineBlocks = mask[kCoarsest - 1]->readBinary(0);
-  out->edgeBlocks = mask[kCoarsest]->readBinary(0);
+  out->edgeBlocks = poolBlocks(fineBlocks);
   const std::vector<glm::ivec4> edgeRects1 = blockRects(fineBlocks, 1, 2, level(1).width, level(1).height);
   maxPool(1, edges, edgeChannel, 2, &edgeRects1);
   const ImageU8& edgeBlocks = out->edgeBlocks;
@@ -169,16 +179,11 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     // closure below works on the 8×8 grid: the max-pool.
     const ImageU8& grid = l == 0 ? fineBlocks : edgeBlocks;
     const int blockSize = l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l);  // level-ℓ pixels per block
-    const ImageU8 near = nearBlocks(grid, blockSize, radius);
-    const std::vector<glm::ivec4> rows = blockRects(nearBlocks(grid, blockSize, radius, 0), 1, blockSize, lc.width, lc.height),
+    const ImageU8 across = nearBlocks(grid, blockSize, radius, 0);  // within r across
+    const ImageU8 near = nearBlocks(across, blockSize, 0, radius);   // ... and within r down
+    const std::vector<glm::ivec4> rows = blockRects(across, 1, blockSize, lc.width, lc.height),
                                   rects = blockRects(near, 1, blockSize, lc.width, lc.height);
-    if (l == 0) {
-      support[i] = ImageU8(edgeBlocks.width, edgeBlocks.height);
-      for (int y = 0; y < near.height; ++y)
-        for (int x = 0; x < near.width; ++x) support[i].at(x / 2, y / 2) |= near.at(x, y);
-    } else {
-      support[i] = near;
-    }
+    support[i] = l == 0 ? poolBlocks(near) : near;
     out->supportRects[i] = rects;
     Pass::Inputs horizontal;
     horizontal.source = l == 0 ? edges : mask[i]->texture(0);

@@ -35,10 +35,13 @@ GpuTiming parseGpuTiming(const std::string& name) {
 }
 
 GpuRenderer::GpuRenderer(const Scene& scene, int deviceIndex, GpuTiming timing)
-    : scene_(scene), context_(deviceIndex), gpuScene_(scene) {
-  const std::string& r = context_.renderer();
-  const bool software = r.find("llvmpipe") != std::string::npos || r.find("softpipe") != std::string::npos;
-  timerQueries_ = timing == GpuTiming::Query || (timing == GpuTiming::Auto && !software);
+    : scene_(scene), context_(deviceIndex), gpuScene_(scene),
+      timerQueries_(usesTimerQueries(timing, context_.renderer())) {}
+
+bool usesTimerQueries(GpuTiming timing, const std::string& renderer) {
+  const bool software =
+      renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
+  return timing == GpuTiming::Query || (timing == GpuTiming::Auto && !software);
 }
 
 std::string GpuRenderer::timingMethod() const {

@@ -27,6 +27,8 @@ bool isPortOnlyStage(const std::string& stage);
 // software rasterisers (llvmpipe, softpipe), query elsewhere (NVIDIA).
 enum class GpuTiming { Auto, Wall, Query };
 GpuTiming parseGpuTiming(const std::string& name);  // auto | wall | query; throws MrrError
+// Whether `timing` means timer queries on the GL renderer named `renderer` (GL_RENDERER).
+bool usesTimerQueries(GpuTiming timing, const std::string& renderer);
 
 class GpuRenderer {
  public:

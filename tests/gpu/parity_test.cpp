@@ -29,19 +29,9 @@
 #include "gpu/ssao.h"
 #include "gpu/ssgi.h"
 #include "gpu/ssm.h"
+#include "tests/gpu/gl_test.h"
 #include "tests/oracle/render_helpers.h"
 #include "tests/test_support.h"
-
-// Skips, saying why, when no GL 3.3 context can be made, unless MRR_REQUIRE_GL is set (CI),
-// where that is a failure: the port's tests must never pass silently.
-#define MRR_REQUIRE_GL_OR_SKIP()                                                        \
-  do {                                                                                  \
-    std::string why_;                                                                   \
-    if (!mrr::gpu::glAvailable(&why_)) {                                                \
-      if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why_; \
-      GTEST_SKIP() << why_;                                                             \
-    }                                                                                   \
-  } while (0)
 
 namespace mrr {
 namespace {

@@ -6,17 +6,32 @@
 // in one pass (blend.frag FINAL_ONLY); this is the test that holds those to the checked path.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <memory>
 #include <ostream>
+#include <string>
 
 #include "common/cost_model.h"
-#include "gpu/context.h"
 #include "gpu/pipeline.h"
 #include "scenes/catalog.h"
+#include "tests/gpu/gl_test.h"
 
 namespace mrr {
 namespace {
+
+ResolvedScene builtinScene(const std::string& name) {
+  SceneRequest req;
+  req.scene = "builtin:" + name;
+  return resolveScene(req);
+}
+
+// Small frames of an effect at few samples; the never-slower rule as given.
+Settings smallFrame(Effect effect, int width, int height, bool neverSlower) {
+  Settings s = defaultSettings(effect);
+  s.width = width;
+  s.height = height;
+  s.setSamples(effect == Effect::Ssm ? 16 : 8);
+  s.neverSlower = neverSlower;
+  return s;
+}
 
 struct Case {
   std::string scene;
@@ -44,22 +59,13 @@ std::string caseName(const ::testing::TestParamInfo<Case>& info) {
 class GpuResident : public ::testing::TestWithParam<Case> {};
 
 TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
-  std::string why;
-  if (!gpu::glAvailable(&why)) {
-    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
-    GTEST_SKIP() << why;
-  }
+  MRR_REQUIRE_GL_OR_SKIP();
   const Case& k = GetParam();
-  SceneRequest req;
-  req.scene = "builtin:" + k.scene;
-  ResolvedScene rs = resolveScene(req);
+  const ResolvedScene rs = builtinScene(k.scene);
   const gpu::GpuRenderer port(rs.scene);
-  Settings s = defaultSettings(k.effect);
-  s.width = k.width;
-  s.height = k.height;
+  // small frames would fall back to full with the rule on (GpuResidentFallback covers that)
+  Settings s = smallFrame(k.effect, k.width, k.height, false);
   s.mode = k.mode;
-  s.setSamples(k.effect == Effect::Ssm ? 16 : 8);
-  s.neverSlower = false;  // small frames would fall back to full (GpuResidentFallback covers that)
   if (k.disabledLevel >= 0) s.levels[static_cast<size_t>(k.disabledLevel)].enabled = false;
   const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
   const FrameResult kept = port.render(rs.camera, c, {true, {}, nullptr});
@@ -106,20 +112,10 @@ INSTANTIATE_TEST_SUITE_P(Frames, GpuResident, ::testing::ValuesIn(cases()), case
 // With the never-slower rule on and a cost model that makes shading free, the rule falls back:
 // the resident frame uploads full's stencil and still gives the read-back frame's bits.
 TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
-  std::string why;
-  if (!gpu::glAvailable(&why)) {
-    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
-    GTEST_SKIP() << why;
-  }
-  SceneRequest req;
-  req.scene = "builtin:demo";
-  ResolvedScene rs = resolveScene(req);
+  MRR_REQUIRE_GL_OR_SKIP();
+  const ResolvedScene rs = builtinScene("demo");
   const gpu::GpuRenderer port(rs.scene);
-  Settings s = defaultSettings(Effect::Ssao);
-  s.width = 160;
-  s.height = 90;
-  s.setSamples(8);
-  s.neverSlower = true;
+  const Settings s = smallFrame(Effect::Ssao, 160, 90, true);
   CostModel model = CostModel::defaults("gpu");
   model.nsPerBlendPixel *= 1e6;  // the method's own overheads dwarf any saving
   const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
@@ -131,31 +127,15 @@ TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
   EXPECT_EQ(resident.shadedPixelsTotal, static_cast<int64_t>(s.width) * s.height);
 }
 
-}  // namespace
-}  // namespace mrr
-
-namespace mrr {
-namespace {
-
 // The port's never-slower rule adds a rasterised G-buffer's per-scene part, measured from the
 // frame's level-0 G-buffer time, on warm frames only: a renderer's first frame pays shader
 // compilation there. With a model where any such part flips the decision (shading costs 1 ns a
 // pixel, nothing else), the first frame keeps the method and the second falls back.
 TEST(GpuNeverSlowerWarm, TheGbufferTermIsReadOnWarmFramesOnly) {
-  std::string why;
-  if (!gpu::glAvailable(&why)) {
-    if (std::getenv("MRR_REQUIRE_GL")) FAIL() << "MRR_REQUIRE_GL is set but " << why;
-    GTEST_SKIP() << why;
-  }
-  SceneRequest req;
-  req.scene = "builtin:demo";
-  ResolvedScene rs = resolveScene(req);
+  MRR_REQUIRE_GL_OR_SKIP();
+  const ResolvedScene rs = builtinScene("demo");
   const gpu::GpuRenderer port(rs.scene);
-  Settings s = defaultSettings(Effect::Ssao);
-  s.width = 160;
-  s.height = 90;
-  s.setSamples(8);
-  s.neverSlower = true;
+  const Settings s = smallFrame(Effect::Ssao, 160, 90, true);
   CostModel model;
   model.effect[static_cast<size_t>(Effect::Ssao)] = {1.0, 0.0, 0.0, 1.0};
   model.rasterGbuffer = true;

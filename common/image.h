@@ -4,6 +4,7 @@
 #include "common/parallel.h"
 
 #include <sys/mman.h>
+#include <tbb/scalable_allocator.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -21,7 +22,10 @@ namespace mrr {
 //
 // Large images are also backed by transparent huge pages where the kernel offers them
 // (madvise mode): 2 MiB pages mean 512× fewer faults on first touch, which in a VM cost
-// more than the stages themselves.
+// more than the stages themselves. They come from TBB's scalable allocator, whose cache of
+// large blocks hands a freed image's pages to the next image of a frame: glibc unmaps a
+// block that large on free, and the next frame faulted its pages in again (the shaded
+// image's stage took 14 ms instead of 1.6 at 720p, docs/figures.md).
 template <class T>
 struct DefaultInitAllocator : std::allocator<T> {
   template <class U>
@@ -35,14 +39,22 @@ struct DefaultInitAllocator : std::allocator<T> {
     const size_t bytes = n * sizeof(T);
     if (bytes < 2 * kHugePage) return std::allocator<T>::allocate(n);
     const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-    void* p = std::aligned_alloc(kHugePage, rounded);
+#ifdef MRR_SANITIZED
+    void* p = std::aligned_alloc(kHugePage, rounded);  // the sanitizers see malloc's blocks only
+#else
+    void* p = scalable_aligned_malloc(rounded, kHugePage);
+#endif
     if (!p) throw std::bad_alloc();
     madvise(p, rounded, MADV_HUGEPAGE);  // a hint: ignored where THP is off
     return static_cast<T*>(p);
   }
   void deallocate(T* p, size_t n) {
     if (n * sizeof(T) < 2 * kHugePage) return std::allocator<T>::deallocate(p, n);
+#ifdef MRR_SANITIZED
     std::free(p);
+#else
+    scalable_aligned_free(p);
+#endif
   }
   template <class U>
   void construct(U* p) noexcept {

@@ -41,9 +41,14 @@ void tapCoordinate(int p, int s, int shift, int& base, float& fraction) {
 
 BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) { return tapsOf(px, py, level); }
 
-// The blend's inner loop: inlined there (it runs up to four times per full-res pixel).
+// The blend's inner loop: inlined there (it runs up to four times per full-res pixel), and
+// compiled per channel count (kChannels; 0 = read it from the image), so that the colour
+// stays in registers: with the count read at run time it went through the stack, and the
+// blend took twice as long.
+template <int kChannels>
 [[gnu::always_inline]] static inline Upsampled upsampleImpl(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha,
                                                      const LevelConstants& level, int px, int py) {
+  const int channels = kChannels > 0 ? kChannels : sub.channels;
   const BilinearTaps t = tapsOf(px, py, level);
   Upsampled u;
   float coverage = 0.0f;
@@ -54,11 +59,14 @@ BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) { return 
     if (!stencil.at(t.x[k], t.y[k])) continue;  // never read an unrendered value, not even × 0
     const float b = t.weight[k];
     coverage += b;
-    for (int c = 0; c < sub.channels; ++c) u.color[c] += b * sub.at(t.x[k], t.y[k], c);
+    const float* texel = &sub.at(t.x[k], t.y[k]);
+    for (int c = 0; c < channels; ++c) u.color[c] += b * texel[c];
   }
   if (coverage > 0.0f) {
     u.covered = true;
-    for (int c = 0; c < sub.channels; ++c) u.color[c] /= coverage;
+    // The weights are dyadic, so full coverage sums to 1 exactly, and x / 1 = x.
+    if (coverage != 1.0f)
+      for (int c = 0; c < channels; ++c) u.color[c] /= coverage;
     // 3. α_ℓ = min(â_ℓ · w_ℓ, 1)
     u.alpha = std::min(u.alphaHat * level.weight, 1.0f);
   } else {
@@ -70,7 +78,7 @@ BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) { return 
 
 Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
                      int px, int py) {
-  return upsampleImpl(sub, stencil, alpha, level, px, py);
+  return upsampleImpl<0>(sub, stencil, alpha, level, px, py);
 }
 
 [[gnu::always_inline]] static inline float alphaImpl(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
@@ -98,8 +106,9 @@ namespace {
 // pass below: levels are visited fine to coarse for their α first, and only the ones that
 // can change the result are upsampled. That is exact because blendStep(1, f, c) = f and
 // blendStep(0, f, c) = c in float arithmetic for finite values.
+template <int kChannels>
 void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, BlendResult& r) {
-  const int channels = r.final.channels;
+  constexpr int channels = kChannels;
   // live_ℓ(q) = some a_ℓ > 0 within q's 3×3 neighbourhood: the bilinear taps of every
   // full-res pixel inside level pixel q lie there, so where it is 0, α_ℓ = 0 exactly and the
   // level is skipped with one byte read.
@@ -141,17 +150,18 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
         }
       }
       const LevelImages& b = levels[static_cast<size_t>(base)];
-      const Upsampled bu = upsampleImpl(*b.sub, *b.stencil, *b.alpha, c.levels[static_cast<size_t>(base)], x, y);
+      const Upsampled bu = upsampleImpl<kChannels>(*b.sub, *b.stencil, *b.alpha, c.levels[static_cast<size_t>(base)], x, y);
       float composite[4] = {bu.color[0], bu.color[1], bu.color[2], bu.color[3]};
       uint8_t finest = static_cast<uint8_t>(base);
       for (int l = base - 1; l >= 0; --l) {
         if (!c.levels[static_cast<size_t>(l)].enabled || alphas[l] == 0.0f) continue;
         const LevelImages& in = levels[static_cast<size_t>(l)];
-        const Upsampled u = upsampleImpl(*in.sub, *in.stencil, *in.alpha, c.levels[static_cast<size_t>(l)], x, y);
+        const Upsampled u = upsampleImpl<kChannels>(*in.sub, *in.stencil, *in.alpha, c.levels[static_cast<size_t>(l)], x, y);
         for (int ch = 0; ch < channels; ++ch) composite[ch] = blendStep(alphas[l], u.color[ch], composite[ch]);
         finest = static_cast<uint8_t>(l);
       }
-      for (int ch = 0; ch < channels; ++ch) r.final.at(x, y, ch) = composite[ch];
+      float* out = &r.final.at(x, y);
+      for (int ch = 0; ch < channels; ++ch) out[ch] = composite[ch];
       r.levelMap.at(x, y) = finest;
     }
   });
@@ -179,7 +189,10 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
   const int channels = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
   BlendResult r = BlendResult::allocate(c, channels, c.coarsestEnabled, keepStages);
   if (!keepStages) {
-    blendFinalOnly(levels, c, r);
+    if (channels == 1)
+      blendFinalOnly<1>(levels, c, r);
+    else
+      blendFinalOnly<3>(levels, c, r);  // SSGI's RGB (Constants::channels)
     return r;
   }
   // One pass over the pixels; at each, the levels from the coarsest enabled C (c'_C = ĉ_C)
@@ -193,7 +206,7 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
         const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
         if (!lc.enabled) continue;
         const LevelImages& in = levels[static_cast<size_t>(l)];
-        const Upsampled u = upsampleImpl(*in.sub, *in.stencil, *in.alpha, lc, x, y);
+        const Upsampled u = upsampleImpl<0>(*in.sub, *in.stencil, *in.alpha, lc, x, y);
         // The coarsest level covers every pixel: it is the base the finer ones blend over.
         const float alpha = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
         for (int ch = 0; ch < channels; ++ch)

@@ -237,13 +237,20 @@ namespace mrr {
 namespace {
 
 // The benchmark's final-only blend skips levels that cannot change a pixel; it must give
-// the same bits as the full pass that keeps every stage image.
-class EveryBuiltinFast : public ::testing::TestWithParam<std::string> {};
+// the same bits as the full pass that keeps every stage image. It is compiled per channel
+// count: SSAO and SSM have one, SSGI three.
+class EveryBuiltinFast : public ::testing::TestWithParam<std::tuple<std::string, Effect>> {};
 
 TEST_P(EveryBuiltinFast, FinalOnlyBlendIsBitIdenticalToTheFullPass) {
-  const auto r = test::renderScene("builtin:" + GetParam(), test::ssaoSettings(123, 77, 8));
+  const auto& [scene, effect] = GetParam();
+  Settings s = test::ssaoSettings(123, 77, 8);
+  s.effect = effect;
+  if (effect == Effect::Ssm) s.ssm.samples = 16;
+  if (effect == Effect::Ssgi) s.ssgi.samples = 8;
+  const auto r = test::renderScene("builtin:" + scene, s);
   const FrameResult& f = r.frame;
   const std::array<LevelImages, kLevelCount> in = f.blendInputs();
+  ASSERT_EQ(in[static_cast<size_t>(f.constants.coarsestEnabled)].sub->channels, f.constants.channels());
   for (bool dropHalf : {false, true}) {
     Constants c = f.constants;
     if (dropHalf) c.levels[1].enabled = false;  // also across a disabled level
@@ -255,7 +262,12 @@ TEST_P(EveryBuiltinFast, FinalOnlyBlendIsBitIdenticalToTheFullPass) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, EveryBuiltinFast, ::testing::ValuesIn(builtinSceneNames()));
+INSTANTIATE_TEST_SUITE_P(Scenes, EveryBuiltinFast,
+                         ::testing::Combine(::testing::ValuesIn(builtinSceneNames()),
+                                            ::testing::Values(Effect::Ssao, Effect::Ssm, Effect::Ssgi)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + "_" + toString(std::get<1>(info.param));
+                         });
 
 }  // namespace
 }  // namespace mrr

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "common/error.h"
@@ -15,11 +16,10 @@ namespace mrr::gpu {
 
 namespace {
 
-constexpr int kMaxTaps = 49;  // matches weights[49] in masks.frag: σ² ≤ 64 gives r ≤ 24
+constexpr int kMaxTaps = 49;  // σ² ≤ 64 gives r ≤ 24
 
 struct Pass {
   const GpuScene& scene;
-  unsigned program;
   struct Inputs {
     unsigned source = 0, previous = 0;
     int sourceChannel = 0, factor = 1;
@@ -28,24 +28,33 @@ struct Pass {
     bool withStencil = false;
     const std::vector<glm::ivec4>* rects = nullptr;  // null: every pixel
   };
+  // The step's program, compiled once per pass shape: its parameters are constants in the
+  // shader (masks.frag), so its loops unroll.
+  unsigned program(int step, const Inputs& in) const {
+    const int radius = in.weights ? static_cast<int>(in.weights->size() / 2) : 0;
+    const std::string defines = "#define STEP " + std::to_string(step) + "\n#define FACTOR " +
+                                std::to_string(in.factor) + "\n#define RADIUS " + std::to_string(radius) +
+                                "\n#define DIRECTION ivec2(" + std::to_string(in.direction.x) + ", " +
+                                std::to_string(in.direction.y) + ")\n#define SOURCE_CHANNEL " +
+                                std::to_string(in.sourceChannel) + "\n#define WITH_STENCIL " +
+                                (in.withStencil ? "1" : "0") + "\n";
+    const std::string name = "masks." + std::to_string(step) + "." + std::to_string(in.factor) + "." +
+                             std::to_string(radius) + "." + std::to_string(in.direction.x) + "." +
+                             std::to_string(in.sourceChannel) + "." + (in.withStencil ? "s" : "-");
+    return scene.program(name, "fullscreen.vert", "masks.frag", defines);
+  }
   // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
   Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
+    if (in.weights)
+      require(static_cast<int>(in.weights->size()) <= kMaxTaps, "gpu: masks: blur kernel larger than 49 taps");
+    const unsigned prog = program(step, in);
     Target target = scene.target(width, height, formats, false);
     target->bind();
-    glUseProgram(program);
-    glUniform1i(glGetUniformLocation(program, "step"), step);
-    glUniform1i(glGetUniformLocation(program, "sourceChannel"), in.sourceChannel);
-    glUniform1i(glGetUniformLocation(program, "factor"), in.factor);
-    glUniform2i(glGetUniformLocation(program, "direction"), in.direction.x, in.direction.y);
-    glUniform1i(glGetUniformLocation(program, "withStencil"), in.withStencil ? 1 : 0);
-    if (in.weights) {
-      require(static_cast<int>(in.weights->size()) <= kMaxTaps, "gpu: masks: blur kernel larger than 49 taps");
-      glUniform1i(glGetUniformLocation(program, "radius"), static_cast<int>(in.weights->size() / 2));
-      glUniform1fv(glGetUniformLocation(program, "weights"), static_cast<GLsizei>(in.weights->size()),
-                   in.weights->data());
-    }
-    bindTextures(program, {{"source", in.source}});
-    bindTextures(program, {{"previous", in.previous ? in.previous : in.source}}, 1);
+    glUseProgram(prog);
+    if (in.weights)
+      glUniform1fv(glGetUniformLocation(prog, "weights"), static_cast<GLsizei>(in.weights->size()), in.weights->data());
+    bindTextures(prog, {{"source", in.source}});
+    if (step == 4) bindTextures(prog, {{"previous", in.previous}}, 1);
     if (in.rects) {
       const float zero[4] = {0, 0, 0, 0};
       for (size_t i = 0; i < formats.size(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
@@ -134,7 +143,7 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 }
 
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c) {
-  const Pass pass{scene, scene.program("masks", "fullscreen.vert", "masks.frag")};
+  const Pass pass{scene};
   auto out = std::make_unique<MaskTargets>();
   out->drawn = true;
   auto& mask = out->maskTarget;

@@ -1,46 +1,52 @@
 #version 330 core
-// Stage 3 — mask pyramid, blur and stencils (SPEC §3), mirrors cpu_ref/masks.cpp. One
-// program, steps chosen by `step`, each a pass at the output level's size:
-//   1 max-pool: M_ℓ = max over the factor×factor block of `source` (E or M_{ℓ−1}); M_0 is E
-//     itself, read in place (channel sourceChannel of the edge target)
-//   2 blur: one separable Gaussian pass along `direction`, clamp-to-edge (a_ℓ = G ∗ M_ℓ);
-//   3 the vertical pass also writes the stencil S_ℓ = [a_ℓ > 0] (withStencil)
-//   4 closure: S_next ∨= max-pool(S_ℓ) over the factor×factor block
-// The blur passes are drawn only over the blocks near an edge (gpu/masks.cpp: blurRects);
-// elsewhere a_ℓ and S_ℓ keep their cleared 0, which is what the blur gives there.
-uniform int step;
-uniform sampler2D source;    // the pass's input (channel sourceChannel)
+// Stage 3 — mask pyramid, blur and stencils (SPEC §3), mirrors cpu_ref/masks.cpp. One file,
+// one pass per step, at the output level's size. The host compiles a variant per pass shape
+// (gpu/masks.cpp): STEP, and the step's FACTOR, RADIUS, DIRECTION, SOURCE_CHANNEL and
+// WITH_STENCIL are constants, so loops unroll and the channel is a fixed swizzle. (As
+// uniforms, with a loop bound and a vector index known only at run time, the blur passes
+// cost half as much again on llvmpipe: docs/port.md.)
+//   STEP 1 max-pool: M_ℓ = max over the FACTOR×FACTOR block of `source` (E or M_{ℓ−1}); M_0
+//     is E itself, read in place (channel SOURCE_CHANNEL of the edge target)
+//   STEP 2 blur: one separable Gaussian pass along DIRECTION, clamp-to-edge (a_ℓ = G ∗ M_ℓ);
+//     3. with WITH_STENCIL (the vertical pass) it also writes the stencil S_ℓ = [a_ℓ > 0]
+//   STEP 4 closure: S_next ∨= max-pool(S_ℓ) over the FACTOR×FACTOR block
+// The passes are drawn only over the blocks near an edge (gpu/masks.cpp); elsewhere a_ℓ and
+// S_ℓ keep their cleared 0, which is what the blur gives there.
+uniform sampler2D source;    // the pass's input (channel SOURCE_CHANNEL)
 uniform sampler2D previous;  // step 4: the coarser level's own stencil
-uniform int sourceChannel;   // E's channel in the edge target; 0 for every other input
-uniform int factor;          // steps 1 and 4
-uniform ivec2 direction;     // step 2: (1, 0) or (0, 1)
-uniform int radius;          // step 2: r_ℓ = ceil(3σ_ℓ)
-uniform float weights[49];   // step 2: the host's normalised Gaussian weights (kernels.h)
-uniform bool withStencil;    // step 2, vertical: step 3 too
+#if STEP == 2
+uniform float weights[2 * RADIUS + 1];  // the host's normalised Gaussian weights (kernels.h)
+#endif
 layout(location = 0) out vec4 result;
-layout(location = 1) out vec4 stencil;  // step 3: S_ℓ
+#if WITH_STENCIL
+layout(location = 1) out vec4 stencil;  // 3. S_ℓ
+#endif
 
-float valueAt(ivec2 q) { return texelFetch(source, q, 0)[sourceChannel]; }
+float valueAt(ivec2 q) { return texelFetch(source, q, 0)[SOURCE_CHANNEL]; }
 
+#if STEP != 2
 float blockMax(ivec2 p) {
   float m = 0.0;
-  for (int j = 0; j < factor; ++j)
-    for (int i = 0; i < factor; ++i) m = max(m, valueAt(p * factor + ivec2(i, j)));
+  for (int j = 0; j < FACTOR; ++j)
+    for (int i = 0; i < FACTOR; ++i) m = max(m, valueAt(p * FACTOR + ivec2(i, j)));
   return m;
 }
+#endif
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   float value = 0.0;
-  if (step == 1) {
-    value = blockMax(p);
-  } else if (step == 2) {
-    ivec2 last = textureSize(source, 0) - 1;
-    for (int i = -radius; i <= radius; ++i) value += weights[i + radius] * valueAt(clamp(p + direction * i, ivec2(0), last));
-    // 3. S_ℓ = [a_ℓ > 0]
-    stencil = vec4(withStencil && value > 0.0 ? 1.0 : 0.0, 0.0, 0.0, 1.0);
-  } else {
-    value = max(texelFetch(previous, p, 0).r, blockMax(p));
-  }
+#if STEP == 1
+  value = blockMax(p);
+#elif STEP == 2
+  ivec2 last = textureSize(source, 0) - 1;
+  for (int i = -RADIUS; i <= RADIUS; ++i) value += weights[i + RADIUS] * valueAt(clamp(p + DIRECTION * i, ivec2(0), last));
+#if WITH_STENCIL
+  // 3. S_ℓ = [a_ℓ > 0]
+  stencil = vec4(value > 0.0 ? 1.0 : 0.0, 0.0, 0.0, 1.0);
+#endif
+#else
+  value = max(texelFetch(previous, p, 0).r, blockMax(p));
+#endif
   result = vec4(value, 0.0, 0.0, 1.0);
 }

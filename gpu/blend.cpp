@@ -21,12 +21,17 @@ namespace {
 // `rects`, or the whole frame when null.
 void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
                    int fine, bool coarsestCovered, const std::vector<glm::ivec4>* rects) {
-  const std::string variant = "#define FINAL_ONLY\n#define FINE_LEVELS " + std::to_string(fine) + "\n" +
+  // The levels and the coarsest's scale are constants of the variant, so bilinearTap's
+  // division by the scale is by a known power of two.
+  const int coarsest = c.coarsestEnabled;
+  const std::string variant = "#define FINAL_ONLY\n#define FINE_LEVELS " + std::to_string(fine) +
+                              "\n#define COARSEST_LEVEL " + std::to_string(coarsest) + "\n#define COARSEST_SCALE " +
+                              std::to_string(c.levels[static_cast<size_t>(coarsest)].scale) + "\n" +
                               (coarsestCovered ? "#define COARSEST_COVERED\n" : "");
-  const unsigned program = scene.program("blend.final." + std::to_string(fine) + (coarsestCovered ? ".covered" : ""),
+  const unsigned program = scene.program("blend.final." + std::to_string(fine) + "." + std::to_string(coarsest) +
+                                             (coarsestCovered ? ".covered" : ""),
                                          "fullscreen.vert", "blend.frag", variant);
   glUseProgram(program);
-  const int coarsest = c.coarsestEnabled;
   const LevelTextures& base = levels[static_cast<size_t>(coarsest)];
   bindTextures(program, {{"subC", base.sub}, {"stencilC", base.stencil}});
   int unit = 3;
@@ -40,8 +45,6 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
   }
   const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
   glUniform1fv(glGetUniformLocation(program, "weights"), 3, weights);
-  glUniform1i(glGetUniformLocation(program, "coarsestLevel"), coarsest);
-  glUniform1i(glGetUniformLocation(program, "coarsestScale"), c.levels[static_cast<size_t>(coarsest)].scale);
   if (rects)
     scene.drawRects(*rects, c.width, c.height);
   else

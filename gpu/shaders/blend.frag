@@ -136,8 +136,7 @@ uniform sampler2D subC, stencilC;          // the coarsest enabled level C: it c
 uniform sampler2D sub0, sub1, sub2;        // c_ℓ of the finer levels (those in FINE_LEVELS)
 uniform sampler2D stencil0, stencil1, stencil2;
 uniform sampler2D alpha0, alpha1, alpha2;
-uniform int coarsestLevel;  // C
-uniform int coarsestScale;  // s_C
+// COARSEST_LEVEL: C; COARSEST_SCALE: s_C (defined by the host, gpu/blend.cpp)
 uniform float weights[3];   // w_ℓ of the finer levels
 layout(location = 0) out vec4 finalOut;
 layout(location = 1) out vec4 levelMap;  // the finest level with α > 0 (ℓ/255)
@@ -167,8 +166,8 @@ void main() {
 #endif
   // 4. c' = ĉ_C (the coarsest covers every pixel), then coarse to fine each level with α > 0:
   // c' = α ĉ_ℓ + (1 − α) c' (blendStep(0, f, c) = c)
-  vec3 result = opaque ? vec3(0.0) : coarsestSample(subC, stencilC, coarsestScale, p);
-  int finest = coarsestLevel;
+  vec3 result = opaque ? vec3(0.0) : coarsestSample(subC, stencilC, COARSEST_SCALE, p);
+  int finest = COARSEST_LEVEL;
   if (a2 > 0.0) {
     result = a2 * c2 + (1.0 - a2) * result;
     finest = 2;

@@ -16,14 +16,14 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu --repeats 5` on the CI machine (2-core AMD EPYC
   // VM; the port on llvmpipe, LLVM 15), builtin:demo at 640×360. cpu: the mean of three runs,
   // which agreed within ~10% (2026-11-22). gpu: the median of three runs of the GPU-resident
-  // port (2026-11-23; one run's coarse G-buffer figure was twice the others'). Order: ssao,
-  // ssm, ssgi; {a, b, d, s} as EffectCost.
+  // port, which agreed within 5% (2026-11-23, after the one-pass blend's constants made full's
+  // blend cheaper). Order: ssao, ssm, ssgi; {a, b, d, s} as EffectCost.
   if (path == "gpu") {
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{149.0, 3.31, 0.0, 1.47}, EffectCost{256.0, 1.40, 0.0, 1.46},
-                EffectCost{17.9, 4.01, 19.4, 1.61}};
-    m.nsPerCoarseGbufferPixel = 38.4;
-    m.nsPerBlendPixel = 25.2;
+    m.effect = {EffectCost{161.7, 3.30, 0.0, 1.52}, EffectCost{272.3, 1.39, 0.0, 1.55},
+                EffectCost{29.2, 4.10, 21.2, 1.61}};
+    m.nsPerCoarseGbufferPixel = 46.4;
+    m.nsPerBlendPixel = 27.9;
     m.rasterGbuffer = true;
   } else {
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";

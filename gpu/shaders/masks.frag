@@ -3,8 +3,8 @@
 // one pass per step, at the output level's size. The host compiles a variant per pass shape
 // (gpu/masks.cpp): STEP, and the step's FACTOR, RADIUS, DIRECTION, SOURCE_CHANNEL and
 // WITH_STENCIL are constants, so loops unroll and the channel is a fixed swizzle. (As
-// uniforms, with a loop bound and a vector index known only at run time, the blur passes
-// cost half as much again on llvmpipe: docs/port.md.)
+// uniforms, with a loop bound and a vector index known only at run time, the passes took
+// twice as long on llvmpipe: docs/port.md.)
 //   STEP 1 max-pool: M_ℓ = max over the FACTOR×FACTOR block of `source` (E or M_{ℓ−1}); M_0
 //     is E itself, read in place (channel SOURCE_CHANNEL of the edge target)
 //   STEP 2 blur: one separable Gaussian pass along DIRECTION, clamp-to-edge (a_ℓ = G ∗ M_ℓ);

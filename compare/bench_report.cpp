@@ -488,6 +488,7 @@ std::vector<PaperFigure> readPaperFigures(const std::string& path) {
 }
 
 constexpr double kMinTimedMs = 10.0;
+constexpr double kJitterMs = 2.0;  // a frame's timing jitter on a loaded 2-core machine
 
 std::vector<std::string> sanityChecks(const BenchResults& res) {
   std::vector<std::string> fails;
@@ -504,12 +505,17 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
     }
     if (!std::isfinite(r.error.rms) || !std::isfinite(r.error.ssim) || r.error.ssim > 1.0 + 1e-9)
       fails.push_back(where + ": error figures not finite or SSIM above 1");
-    // Timing noise: allow 25% above the ideal before calling it wrong, and only where full's
-    // effect takes long enough (10 ms) for one timing to mean something. Not where the method
-    // shades more pixels than full (ideal < 1: a stress scene where every pixel is an edge): its
-    // extra pixels are coarse ones, cheaper than full-res ones, and the pixel ratio bounds
-    // nothing there (CI measured SSM-196 mrr-norule on `alledges` at 0.96× against 0.72×).
-    if (r.fullEffectMs >= kMinTimedMs && r.idealSpeedup >= 1.0 && r.measuredSpeedup > 1.25 * r.idealSpeedup + 0.05)
+    // Timing noise: the method's time may fall short of what the ideal allows (full's time /
+    // ideal) by 25% and, on top, by kJitterMs before it is called wrong, and only where full's
+    // effect takes long enough (10 ms) for one timing to mean something. (CI measured a bumpy
+    // 160×90 SSAO frame that fell back to full at 1.35× of full on llvmpipe: ~3 ms of jitter on
+    // ~13.) Not where the method shades more pixels than full (ideal < 1: a stress scene where
+    // every pixel is an edge): its extra pixels are coarse ones, cheaper than full-res ones, and
+    // the pixel ratio bounds nothing there (CI measured SSM-196 mrr-norule on `alledges` at
+    // 0.96× against 0.72×).
+    const double methodMs = r.fullEffectMs / std::max(r.measuredSpeedup, 1e-9);
+    const double shortestMs = r.fullEffectMs / (1.25 * r.idealSpeedup + 0.05) - kJitterMs;
+    if (r.fullEffectMs >= kMinTimedMs && r.idealSpeedup >= 1.0 && methodMs < shortestMs)
       fails.push_back(where + ": measured speedup " + fixed(r.measuredSpeedup, 2) + "x above the ideal " +
                       fixed(r.idealSpeedup, 2) + "x");
     if (r.fellBack && r.error.rms != 0.0) fails.push_back(where + ": fell back to full, yet differs from full");

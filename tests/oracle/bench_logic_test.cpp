@@ -67,6 +67,14 @@ TEST(BenchSanity, PassesHonestFiguresAndCatchesEachPlantedFault) {
   ASSERT_EQ(sanityChecks(tooFast).size(), 1u);
   EXPECT_NE(sanityChecks(tooFast)[0].find("above the ideal"), std::string::npos);
 
+  BenchResults jitter = ok;  // a fallen-back frame a few ms faster than full: timing jitter
+  jitter.records[1].idealSpeedup = 1.0;
+  jitter.records[1].fullEffectMs = 13.5;
+  jitter.records[1].measuredSpeedup = 1.35;
+  EXPECT_TRUE(sanityChecks(jitter).empty());
+  jitter.records[1].measuredSpeedup = 3.0;  // ... but not many ms faster
+  EXPECT_EQ(sanityChecks(jitter).size(), 1u);
+
   BenchResults tooShort = tooFast;  // ... unless full's time is too short to mean anything
   tooShort.records[1].fullEffectMs = 2.0;
   EXPECT_TRUE(sanityChecks(tooShort).empty());

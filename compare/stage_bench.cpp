@@ -73,12 +73,6 @@ Frame& frame() {
   return *frame;
 }
 
-int64_t setPixels(const ImageU8& stencil) {
-  int64_t n = 0;
-  for (uint8_t v : stencil.data) n += v != 0;
-  return n;
-}
-
 // Registers one benchmark: `body` runs the stage once; `pixels` it shades or visits.
 template <class Body>
 void add(const std::string& name, int64_t pixels, Body body) {
@@ -111,9 +105,9 @@ void registerStages() {
   add("masks", full, [&f, &c] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c)); });
   // The effect (and SSAO's bilateral blur) at each level over its own S_ℓ, and at level 0 over
   // every pixel too ("dense"): pixels per second, side by side.
+  // `pixels`: |S_ℓ| as the frame counted it, or every pixel for the dense run.
   auto effect = [&fr, &f, &c](const std::string& name, const LevelResult& lr, const LevelConstants& lc,
-                              const ImageU8& stencil) {
-    const int64_t pixels = setPixels(stencil);
+                              const ImageU8& stencil, int64_t pixels) {
     switch (c.effect) {
       case Effect::Ssao: {
         auto planes = std::make_shared<OccluderPlanes>(occluderPlanes(lr.gbuffer));
@@ -144,8 +138,8 @@ void registerStages() {
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     const char* names[kLevelCount] = {"L0", "L1", "L2", "L3"};
-    effect(names[l], lr, lc, lr.masks.stencil);
-    if (l == 0) effect("L0/dense", lr, lc, fr.everyPixel);
+    effect(names[l], lr, lc, lr.masks.stencil, lr.shadedPixels);
+    if (l == 0) effect("L0/dense", lr, lc, fr.everyPixel, full);
   }
   // The blend: the final image alone (what `mrr bench` times), and with every stage image kept.
   add("blend", full, [&f, &c] { benchmark::DoNotOptimize(blendLevels(f.blendInputs(), c, false)); });

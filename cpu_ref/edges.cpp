@@ -58,22 +58,99 @@ EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y
   return e;
 }
 
+namespace {
+// One interior row of detectEdges (0 < y < h−1, pixels 0 < x < w−1): the decisions edgeAt
+// makes, in its order and with its bits, without its border checks. 1/z comes from `inv`
+// (computed once per pixel, where edgeAt computes it for each neighbour that asks), and the
+// depth test divides once: max(a/d, b/d) = max(a, b)/d exactly, since rounding a division by
+// d > 0 is monotonic. tests/oracle/analytic_test.cpp checks every pixel against edgeAt.
+struct EdgeRow {
+  const uint8_t *hitUp, *hit, *hitDown;
+  const float *invUp, *inv, *invDown;
+  const float *normalUp, *normal, *normalDown;  // 3 floats per pixel
+  const uint8_t *litUp, *lit, *litDown;         // null without shadow edges
+};
+
+glm::vec3 normalOf(const float* row, int x) { return {row[3 * x], row[3 * x + 1], row[3 * x + 2]}; }
+
+void interiorRow(const EdgeRow& r, const EdgeSettings& settings, int x0, int x1, uint8_t* normalOut,
+                 uint8_t* depthOut, uint8_t* backgroundOut, uint8_t* shadowOut, uint8_t* combinedOut) {
+  for (int x = x0; x < x1; ++x) {
+    if (!r.hit[x]) {
+      normalOut[x] = depthOut[x] = backgroundOut[x] = combinedOut[x] = 0;
+      if (shadowOut) shadowOut[x] = 0;
+      continue;
+    }
+    const glm::vec3 n = normalOf(r.normal, x);
+    const bool left = r.hit[x - 1], right = r.hit[x + 1], up = r.hitUp[x], down = r.hitDown[x];
+    // 1. normal edge, over the hit 4-neighbours in edgeAt's order (left, right, up, down)
+    float normalMax = 0.0f;
+    if (left) normalMax = std::max(normalMax, 1.0f - glm::dot(n, normalOf(r.normal, x - 1)));
+    if (right) normalMax = std::max(normalMax, 1.0f - glm::dot(n, normalOf(r.normal, x + 1)));
+    if (up) normalMax = std::max(normalMax, 1.0f - glm::dot(n, normalOf(r.normalUp, x)));
+    if (down) normalMax = std::max(normalMax, 1.0f - glm::dot(n, normalOf(r.normalDown, x)));
+    // 2. depth edge: the larger numerator of the two second differences, divided once
+    const float d = r.inv[x];
+    const float numeratorX = left && right ? std::fabs(r.inv[x - 1] - 2.0f * d + r.inv[x + 1]) : 0.0f;
+    const float numeratorY = up && down ? std::fabs(r.invUp[x] - 2.0f * d + r.invDown[x]) : 0.0f;
+    const bool depth = std::max(numeratorX, numeratorY) / d > settings.depthThreshold;
+    // 3. background edge; 4. shadow edge
+    const bool background = !(left && right && up && down);
+    bool shadow = false;
+    if (shadowOut) {
+      const uint8_t lit = r.lit[x];
+      shadow = (left && r.lit[x - 1] != lit) || (right && r.lit[x + 1] != lit) || (up && r.litUp[x] != lit) ||
+               (down && r.litDown[x] != lit);
+      shadowOut[x] = shadow;
+    }
+    const bool normal = normalMax > settings.normalThreshold;
+    normalOut[x] = normal;
+    depthOut[x] = depth;
+    backgroundOut[x] = background;
+    combinedOut[x] = normal || depth || background || shadow;  // 5. E = OR of the kinds
+  }
+}
+}  // namespace
+
 EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings, const ImageU8* shadowLit) {
   EdgeImages out;
-  if (shadowLit) out.shadow = ImageU8(g.width, g.height);
-  out.normal = ImageU8(g.width, g.height);
-  out.depth = ImageU8(g.width, g.height);
-  out.background = ImageU8(g.width, g.height);
-  out.combined = ImageU8(g.width, g.height);
-  parallelFor(0, g.height, [&](int y) {
-    for (int x = 0; x < g.width; ++x) {
-      const EdgeDecision e = edgeAt(g, settings, x, y, shadowLit);
-      out.normal.at(x, y) = e.normal;
-      out.depth.at(x, y) = e.depth;
-      out.background.at(x, y) = e.background;
-      if (shadowLit) out.shadow.at(x, y) = e.shadow;
-      out.combined.at(x, y) = e.normal || e.depth || e.background || e.shadow;  // 5. E = OR of the kinds
+  const int w = g.width, h = g.height;
+  // every pixel of each is written below
+  if (shadowLit) out.shadow = ImageU8::uninitialised(w, h);
+  out.normal = ImageU8::uninitialised(w, h);
+  out.depth = ImageU8::uninitialised(w, h);
+  out.background = ImageU8::uninitialised(w, h);
+  out.combined = ImageU8::uninitialised(w, h);
+  auto decideAt = [&](int x, int y) {  // the general path, for the image border
+    const EdgeDecision e = edgeAt(g, settings, x, y, shadowLit);
+    out.normal.at(x, y) = e.normal;
+    out.depth.at(x, y) = e.depth;
+    out.background.at(x, y) = e.background;
+    if (shadowLit) out.shadow.at(x, y) = e.shadow;
+    out.combined.at(x, y) = e.normal || e.depth || e.background || e.shadow;  // 5. E = OR of the kinds
+  };
+  // d = 1/z once per hit pixel (the same division edgeAt makes; background is never read)
+  ImageF inv = ImageF::uninitialised(w, h);
+  parallelFor(0, h, [&](int y) {
+    const float* z = &g.depth.at(0, y);
+    const uint8_t* hit = &g.hit.at(0, y);
+    float* dst = &inv.at(0, y);
+    for (int x = 0; x < w; ++x) dst[x] = hit[x] ? 1.0f / z[x] : 0.0f;
+  });
+  parallelFor(0, h, [&](int y) {
+    if (y == 0 || y == h - 1 || w < 3) {
+      for (int x = 0; x < w; ++x) decideAt(x, y);
+      return;
     }
+    auto litRow = [&](int row) { return shadowLit ? &shadowLit->at(0, row) : nullptr; };
+    const EdgeRow r{&g.hit.at(0, y - 1), &g.hit.at(0, y), &g.hit.at(0, y + 1),
+                    &inv.at(0, y - 1),   &inv.at(0, y),   &inv.at(0, y + 1),
+                    &g.normal.at(0, y - 1), &g.normal.at(0, y), &g.normal.at(0, y + 1),
+                    litRow(y - 1),       litRow(y),       litRow(y + 1)};
+    decideAt(0, y);
+    interiorRow(r, settings, 1, w - 1, &out.normal.at(0, y), &out.depth.at(0, y), &out.background.at(0, y),
+                shadowLit ? &out.shadow.at(0, y) : nullptr, &out.combined.at(0, y));
+    decideAt(w - 1, y);
   });
   return out;
 }

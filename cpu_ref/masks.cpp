@@ -7,13 +7,21 @@
 namespace mrr {
 
 ImageU8 maxPool(const ImageU8& src, int factor) {
-  ImageU8 out(src.width / factor, src.height / factor);
+  ImageU8 out = ImageU8::uninitialised(src.width / factor, src.height / factor);
   parallelFor(0, out.height, [&](int y) {
+    uint8_t* dst = &out.at(0, y);
+    if (factor == 2) {  // the pyramid's step: two source rows, pairs along x (vectorises)
+      const uint8_t* a = &src.at(0, 2 * y);
+      const uint8_t* b = &src.at(0, 2 * y + 1);
+      for (int x = 0; x < out.width; ++x)
+        dst[x] = std::max(std::max(a[2 * x], a[2 * x + 1]), std::max(b[2 * x], b[2 * x + 1]));
+      return;
+    }
     for (int x = 0; x < out.width; ++x) {
       uint8_t m = 0;
       for (int j = 0; j < factor; ++j)
         for (int i = 0; i < factor; ++i) m = std::max(m, src.at(x * factor + i, y * factor + j));
-      out.at(x, y) = m;
+      dst[x] = m;
     }
   });
   return out;
@@ -22,22 +30,29 @@ ImageU8 maxPool(const ImageU8& src, int factor) {
 ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
   const int r = static_cast<int>(weights.size() / 2);
   const int w = mask.width, h = mask.height;
-  ImageF horizontal(w, h), out(w, h);
-  // The same sum in the same order either way; the clamp is needed only near the border.
-  auto horizontalAt = [&](int x, int y) {
-    float sum = 0.0f;
-    if (x >= r && x < w - r) {
-      const uint8_t* row = &mask.at(x - r, y);
-      for (int i = 0; i <= 2 * r; ++i) sum += weights[static_cast<size_t>(i)] * static_cast<float>(row[i]);
-    } else {
-      for (int i = -r; i <= r; ++i)
-        sum += weights[static_cast<size_t>(i + r)] * static_cast<float>(mask.at(std::clamp(x + i, 0, w - 1), y));
-    }
-    return sum;
-  };
-  // 1. horizontal pass, clamp-to-edge
+  ImageF horizontal = ImageF::uninitialised(w, h), out = ImageF::uninitialised(w, h);
+  // 1. horizontal pass, clamp-to-edge. Each pixel's sum is Σ_i w_i·M(x+i) from i = −r up,
+  // starting at 0, whichever way it is computed. Away from the border it is accumulated a
+  // tap at a time over the whole row (which vectorises); the clamp is needed only within r
+  // of either end.
   parallelFor(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) horizontal.at(x, y) = horizontalAt(x, y);
+    const uint8_t* row = &mask.at(0, y);
+    float* dst = &horizontal.at(0, y);
+    std::vector<float> m(row, row + w);  // M as float
+    auto clamped = [&](int x) {
+      float sum = 0.0f;
+      for (int i = -r; i <= r; ++i) sum += weights[static_cast<size_t>(i + r)] * m[static_cast<size_t>(std::clamp(x + i, 0, w - 1))];
+      return sum;
+    };
+    const int inner0 = std::min(r, w), inner1 = std::max(w - r, inner0);
+    for (int x = 0; x < inner0; ++x) dst[x] = clamped(x);
+    for (int x = inner1; x < w; ++x) dst[x] = clamped(x);
+    for (int x = inner0; x < inner1; ++x) dst[x] = 0.0f;
+    for (int i = -r; i <= r; ++i) {
+      const float wi = weights[static_cast<size_t>(i + r)];
+      const float* src = m.data() + i;
+      for (int x = inner0; x < inner1; ++x) dst[x] += wi * src[x];
+    }
   });
   // 2. vertical pass, clamp-to-edge, a row at a time so the inner loop runs along memory
   parallelFor(0, h, [&](int y) {
@@ -69,7 +84,7 @@ std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Consta
       ml.alpha = blurMask(ml.mask, lc.gaussian);
     }
     // 3. stencil S_ℓ = [a_ℓ > 0]
-    ml.stencil = ImageU8(lc.width, lc.height);
+    ml.stencil = ImageU8::uninitialised(lc.width, lc.height);
     for (size_t i = 0; i < ml.alpha.data.size(); ++i) ml.stencil.data[i] = ml.alpha.data[i] > 0.0f;
   }
   // 4. coverage closure, fine to coarse: S_next ∨= maxpool(S_ℓ), across disabled levels.

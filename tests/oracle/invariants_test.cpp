@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 
+#include "cpu_ref/edges.h"
 #include "cpu_ref/masks.h"
 #include "tests/oracle/render_helpers.h"
 
@@ -259,6 +260,33 @@ TEST_P(EveryBuiltinFast, FinalOnlyBlendIsBitIdenticalToTheFullPass) {
     EXPECT_EQ(std::memcmp(full.final.data.data(), fast.final.data.data(), full.final.data.size() * sizeof(float)), 0);
     EXPECT_EQ(full.levelMap.data, fast.levelMap.data);
     EXPECT_TRUE(fast.upsampled[0].empty());
+  }
+}
+
+// detectEdges walks interior rows without edgeAt's border checks and divides once per pixel;
+// it must make edgeAt's decision at every pixel (the probe prints edgeAt's), borders and odd
+// sizes included. SSM adds the shadow kind.
+TEST_P(EveryBuiltinFast, EdgeImagesMatchThePerPixelDecision) {
+  const auto& [scene, effect] = GetParam();
+  for (const auto& [w, h] : {std::pair{123, 77}, std::pair{2, 5}, std::pair{3, 3}}) {
+    Settings s = test::ssaoSettings(w, h, 4);
+    s.effect = effect;
+    if (effect == Effect::Ssm) s.ssm.samples = 16;
+    if (effect == Effect::Ssgi) s.ssgi.samples = 8;
+    const auto r = test::renderScene("builtin:" + scene, s);
+    const FrameResult& f = r.frame;
+    const ImageU8* lit = effect == Effect::Ssm ? &f.shadowLit : nullptr;
+    const GBuffer& g = f.levels[0].gbuffer;
+    const EdgeImages e = detectEdges(g, f.constants.edges, lit);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const EdgeDecision d = edgeAt(g, f.constants.edges, x, y, lit);
+        ASSERT_EQ(e.normal.at(x, y), d.normal) << x << "," << y;
+        ASSERT_EQ(e.depth.at(x, y), d.depth) << x << "," << y;
+        ASSERT_EQ(e.background.at(x, y), d.background) << x << "," << y;
+        if (lit) ASSERT_EQ(e.shadow.at(x, y), d.shadow) << x << "," << y;
+        ASSERT_EQ(e.combined.at(x, y), d.normal || d.depth || d.background || d.shadow) << x << "," << y;
+      }
   }
 }
 

@@ -17,58 +17,87 @@ void tapCoordinate(int p, int s, int shift, int& base, float& fraction) {
   base = num >> shift;
   fraction = static_cast<float>(num & (den - 1)) / static_cast<float>(den);
 }
+
+// One axis of the bilinear lookup: the two taps, clamped to the level's `size`, and their
+// weights 1 − t and t.
+struct TapAxis {
+  int index[2];
+  float weight[2];
+};
+
+[[gnu::always_inline]] inline TapAxis tapAxis(int p, const LevelConstants& level, int size) {
+  int base = 0;
+  float t = 0.0f;
+  tapCoordinate(p, level.scale, level.index + 1, base, t);  // 2s = 2^(ℓ+1)
+  return {{std::clamp(base, 0, size - 1), std::clamp(base + 1, 0, size - 1)}, {1.0f - t, t}};
+}
+
+// One level's images resolved for one full-res row: the y half of every tap is the same
+// along the row, so the blend works out the two level rows it reads once per row.
+struct LevelRow {
+  TapAxis y;
+  const float* alpha[2];
+  const uint8_t* stencil[2];
+  const float* sub[2];  // null where only α is wanted
+  const LevelConstants* level;
+};
+
+[[gnu::always_inline]] inline LevelRow levelRow(const ImageF* sub, const ImageU8& stencil, const ImageF& alpha,
+                                                const LevelConstants& level, int py) {
+  LevelRow r;
+  r.y = tapAxis(py, level, level.height);
+  for (int j = 0; j < 2; ++j) {
+    r.alpha[j] = &alpha.at(0, r.y.index[j]);
+    r.stencil[j] = &stencil.at(0, r.y.index[j]);
+    r.sub[j] = sub ? &sub->at(0, r.y.index[j]) : nullptr;
+  }
+  r.level = &level;
+  return r;
+}
 }  // namespace
 
-[[gnu::always_inline]] static inline BilinearTaps tapsOf(int px, int py, const LevelConstants& level) {
-  // u = (p + ½)/s − ½ in level coordinates
-  int x0 = 0, y0 = 0;
-  float tx = 0.0f, ty = 0.0f;
-  const int shift = level.index + 1;  // 2s = 2^(ℓ+1)
-  tapCoordinate(px, level.scale, shift, x0, tx);
-  tapCoordinate(py, level.scale, shift, y0, ty);
+BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
+  // u = (p + ½)/s − ½ in level coordinates; tap k = 2j + i has weight wx_i · wy_j
+  const TapAxis ax = tapAxis(px, level, level.width), ay = tapAxis(py, level, level.height);
   BilinearTaps t;
-  const int xs[2] = {std::clamp(x0, 0, level.width - 1), std::clamp(x0 + 1, 0, level.width - 1)};
-  const int ys[2] = {std::clamp(y0, 0, level.height - 1), std::clamp(y0 + 1, 0, level.height - 1)};
-  const float wx[2] = {1.0f - tx, tx}, wy[2] = {1.0f - ty, ty};
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
-      t.x[j * 2 + i] = xs[i];
-      t.y[j * 2 + i] = ys[j];
-      t.weight[j * 2 + i] = wx[i] * wy[j];
+      t.x[j * 2 + i] = ax.index[i];
+      t.y[j * 2 + i] = ay.index[j];
+      t.weight[j * 2 + i] = ax.weight[i] * ay.weight[j];
     }
   return t;
 }
 
-BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) { return tapsOf(px, py, level); }
-
 // The blend's inner loop: inlined there (it runs up to four times per full-res pixel), and
-// compiled per channel count (kChannels; 0 = read it from the image), so that the colour
+// compiled per channel count (kChannels; 0 = `channels` at run time), so that the colour
 // stays in registers: with the count read at run time it went through the stack, and the
-// blend took twice as long.
+// blend took twice as long. The taps are visited in bilinearTaps' order (k = 2j + i).
 template <int kChannels>
-[[gnu::always_inline]] static inline Upsampled upsampleImpl(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha,
-                                                     const LevelConstants& level, int px, int py) {
-  const int channels = kChannels > 0 ? kChannels : sub.channels;
-  const BilinearTaps t = tapsOf(px, py, level);
+[[gnu::always_inline]] static inline Upsampled upsampleImpl(const LevelRow& row, int channelsAtRunTime, int px) {
+  const int channels = kChannels > 0 ? kChannels : channelsAtRunTime;
+  const TapAxis ax = tapAxis(px, *row.level, row.level->width);
   Upsampled u;
   float coverage = 0.0f;
-  for (int k = 0; k < 4; ++k) {
-    // 1. masked bilinear: only rendered taps (S = 1) carry colour
-    // 2. â = Σ b_q a(q), over all taps
-    u.alphaHat += t.weight[k] * alpha.at(t.x[k], t.y[k]);
-    if (!stencil.at(t.x[k], t.y[k])) continue;  // never read an unrendered value, not even × 0
-    const float b = t.weight[k];
-    coverage += b;
-    const float* texel = &sub.at(t.x[k], t.y[k]);
-    for (int c = 0; c < channels; ++c) u.color[c] += b * texel[c];
-  }
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const float b = ax.weight[i] * row.y.weight[j];
+      const int x = ax.index[i];
+      // 1. masked bilinear: only rendered taps (S = 1) carry colour
+      // 2. â = Σ b_q a(q), over all taps
+      u.alphaHat += b * row.alpha[j][x];
+      if (!row.stencil[j][x]) continue;  // never read an unrendered value, not even × 0
+      coverage += b;
+      const float* texel = row.sub[j] + static_cast<size_t>(x) * channels;
+      for (int c = 0; c < channels; ++c) u.color[c] += b * texel[c];
+    }
   if (coverage > 0.0f) {
     u.covered = true;
     // The weights are dyadic, so full coverage sums to 1 exactly, and x / 1 = x.
     if (coverage != 1.0f)
       for (int c = 0; c < channels; ++c) u.color[c] /= coverage;
     // 3. α_ℓ = min(â_ℓ · w_ℓ, 1)
-    u.alpha = std::min(u.alphaHat * level.weight, 1.0f);
+    u.alpha = std::min(u.alphaHat * row.level->weight, 1.0f);
   } else {
     for (float& c : u.color) c = 0.0f;
     u.alpha = 0.0f;  // the level contributes nothing here
@@ -78,22 +107,23 @@ template <int kChannels>
 
 Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
                      int px, int py) {
-  return upsampleImpl<0>(sub, stencil, alpha, level, px, py);
+  return upsampleImpl<0>(levelRow(&sub, stencil, alpha, level, py), sub.channels, px);
 }
 
-[[gnu::always_inline]] static inline float alphaImpl(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
-                                              int px, int py) {
-  const BilinearTaps t = tapsOf(px, py, level);
+[[gnu::always_inline]] static inline float alphaImpl(const LevelRow& row, int px) {
+  const TapAxis ax = tapAxis(px, *row.level, row.level->width);
   float coverage = 0.0f, alphaHat = 0.0f;
-  for (int k = 0; k < 4; ++k) {
-    alphaHat += t.weight[k] * alpha.at(t.x[k], t.y[k]);
-    if (stencil.at(t.x[k], t.y[k])) coverage += t.weight[k];
-  }
-  return coverage > 0.0f ? std::min(alphaHat * level.weight, 1.0f) : 0.0f;  // as upsampleAt
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const float b = ax.weight[i] * row.y.weight[j];
+      alphaHat += b * row.alpha[j][ax.index[i]];
+      if (row.stencil[j][ax.index[i]]) coverage += b;
+    }
+  return coverage > 0.0f ? std::min(alphaHat * row.level->weight, 1.0f) : 0.0f;  // as upsampleAt
 }
 
 float alphaAt(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level, int px, int py) {
-  return alphaImpl(stencil, alpha, level, px, py);
+  return alphaImpl(levelRow(nullptr, stencil, alpha, level, py), px);
 }
 
 float blendStep(float alpha, float fine, float coarserComposite) {
@@ -118,8 +148,8 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
     if (!lc.enabled) continue;
     const ImageF& a = *levels[static_cast<size_t>(l)].alpha;
     ImageU8& m = live[static_cast<size_t>(l)];
-    ImageU8 rows(lc.width, lc.height);  // 3-wide max along x of [a > 0], then along y
-    m = ImageU8(lc.width, lc.height);
+    ImageU8 rows = ImageU8::uninitialised(lc.width, lc.height);  // 3-wide max along x of [a > 0], then along y
+    m = ImageU8::uninitialised(lc.width, lc.height);
     parallelFor(0, lc.height, [&](int y) {
       const float* src = &a.at(0, y);
       uint8_t* dst = &rows.at(0, y);
@@ -135,45 +165,51 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
     });
   }
   parallelFor(0, c.height, [&](int y) {
+    std::array<LevelRow, kLevelCount> rows;
+    std::array<const uint8_t*, kLevelCount> liveRow{};
+    for (int l = 0; l <= c.coarsestEnabled; ++l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled) continue;
+      const LevelImages& in = levels[static_cast<size_t>(l)];
+      rows[static_cast<size_t>(l)] = levelRow(in.sub, *in.stencil, *in.alpha, lc, y);
+      if (l < c.coarsestEnabled) liveRow[static_cast<size_t>(l)] = &live[static_cast<size_t>(l)].at(0, y >> lc.index);
+    }
+    float* out = &r.final.at(0, y);
+    uint8_t* levelMap = &r.levelMap.at(0, y);
     for (int x = 0; x < c.width; ++x) {
       float alphas[kLevelCount] = {0, 0, 0, 0};
       int base = c.coarsestEnabled;  // the finest level whose α is 1: nothing coarser shows
       for (int l = 0; l < c.coarsestEnabled; ++l) {
-        const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-        if (!lc.enabled) continue;
-        if (!live[static_cast<size_t>(l)].at(x >> lc.index, y >> lc.index)) continue;  // α = 0 (s = 2^ℓ)
-        const LevelImages& in = levels[static_cast<size_t>(l)];
-        alphas[l] = alphaImpl(*in.stencil, *in.alpha, lc, x, y);
+        if (!liveRow[static_cast<size_t>(l)]) continue;  // disabled
+        if (!liveRow[static_cast<size_t>(l)][x >> l]) continue;  // α = 0 (s = 2^ℓ)
+        alphas[l] = alphaImpl(rows[static_cast<size_t>(l)], x);
         if (alphas[l] == 1.0f) {
           base = l;
           break;
         }
       }
-      const LevelImages& b = levels[static_cast<size_t>(base)];
-      const Upsampled bu = upsampleImpl<kChannels>(*b.sub, *b.stencil, *b.alpha, c.levels[static_cast<size_t>(base)], x, y);
+      const Upsampled bu = upsampleImpl<kChannels>(rows[static_cast<size_t>(base)], channels, x);
       float composite[4] = {bu.color[0], bu.color[1], bu.color[2], bu.color[3]};
       uint8_t finest = static_cast<uint8_t>(base);
       for (int l = base - 1; l >= 0; --l) {
-        if (!c.levels[static_cast<size_t>(l)].enabled || alphas[l] == 0.0f) continue;
-        const LevelImages& in = levels[static_cast<size_t>(l)];
-        const Upsampled u = upsampleImpl<kChannels>(*in.sub, *in.stencil, *in.alpha, c.levels[static_cast<size_t>(l)], x, y);
+        if (alphas[l] == 0.0f) continue;  // also every disabled level
+        const Upsampled u = upsampleImpl<kChannels>(rows[static_cast<size_t>(l)], channels, x);
         for (int ch = 0; ch < channels; ++ch) composite[ch] = blendStep(alphas[l], u.color[ch], composite[ch]);
         finest = static_cast<uint8_t>(l);
       }
-      float* out = &r.final.at(x, y);
-      for (int ch = 0; ch < channels; ++ch) out[ch] = composite[ch];
-      r.levelMap.at(x, y) = finest;
+      for (int ch = 0; ch < channels; ++ch) out[x * channels + ch] = composite[ch];
+      levelMap[x] = finest;
     }
   });
 }
 
 }  // namespace
 
-BlendResult BlendResult::allocate(const Constants& c, int channels, int baseLevel, bool keepStages) {
+BlendResult BlendResult::allocate(const Constants& c, int channels, bool keepStages) {
   BlendResult r;
   const int w = c.width, h = c.height;
-  r.levelMap = ImageU8(w, h, 1, static_cast<uint8_t>(baseLevel));
-  r.final = ImageF(w, h, channels);
+  r.levelMap = ImageU8::uninitialised(w, h);
+  r.final = ImageF::uninitialised(w, h, channels);
   if (keepStages)
     for (int l = 0; l < kLevelCount; ++l) {
       if (!c.levels[static_cast<size_t>(l)].enabled) continue;
@@ -187,7 +223,7 @@ BlendResult BlendResult::allocate(const Constants& c, int channels, int baseLeve
 BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, bool keepStages) {
   const int w = c.width, h = c.height;
   const int channels = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
-  BlendResult r = BlendResult::allocate(c, channels, c.coarsestEnabled, keepStages);
+  BlendResult r = BlendResult::allocate(c, channels, keepStages);
   if (!keepStages) {
     if (channels == 1)
       blendFinalOnly<1>(levels, c, r);
@@ -206,7 +242,7 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
         const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
         if (!lc.enabled) continue;
         const LevelImages& in = levels[static_cast<size_t>(l)];
-        const Upsampled u = upsampleImpl<0>(*in.sub, *in.stencil, *in.alpha, lc, x, y);
+        const Upsampled u = upsampleImpl<0>(levelRow(in.sub, *in.stencil, *in.alpha, lc, y), channels, x);
         // The coarsest level covers every pixel: it is the base the finer ones blend over.
         const float alpha = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
         for (int ch = 0; ch < channels; ++ch)

@@ -40,9 +40,9 @@ struct BlendResult {
   ImageF final;                               // c'_finest
   ImageU8 levelMap;                           // finest level with α > 0 at each pixel
 
-  // W×H final (`channels`) and level map (filled with `baseLevel`); with `keepStages`, also
-  // ĉ_ℓ, α_ℓ and c'_ℓ for every enabled level.
-  static BlendResult allocate(const Constants& constants, int channels, int baseLevel, bool keepStages);
+  // W×H final (`channels`) and level map, unfilled: the caller writes every pixel of both.
+  // With `keepStages`, also ĉ_ℓ, α_ℓ and c'_ℓ for every enabled level, zero-filled.
+  static BlendResult allocate(const Constants& constants, int channels, bool keepStages);
 };
 
 struct LevelImages {

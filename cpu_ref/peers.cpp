@@ -129,7 +129,7 @@ BlendResult composePeer(const std::array<LevelImages, kLevelCount>& levels,
   const bool uniform = c.mode != Mode::Tiles;
   const int k = uniform ? shadedLevel(c) : 0;
   const int channels = levels[static_cast<size_t>(uniform ? k : 0)].sub->channels;
-  BlendResult r = BlendResult::allocate(c, channels, k, keepStages);
+  BlendResult r = BlendResult::allocate(c, channels, keepStages);
   parallelFor(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       float value[4] = {0, 0, 0, 0};

@@ -49,7 +49,7 @@ RayScene::~RayScene() {
 }
 
 GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstants& level) {
-  GBuffer g(level.width, level.height);
+  GBuffer g = GBuffer::uninitialised(level.width, level.height);  // castGrid visits every pixel
   const Scene& scene = rays.scene();
   const float s = static_cast<float>(level.scale);
   castGrid(
@@ -60,7 +60,12 @@ GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstan
         direction = view.worldRay((static_cast<float>(x) + 0.5f) * s, (static_cast<float>(y) + 0.5f) * s);
       },
       [&](int x, int y, const RayHit& hit) {
-        if (hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+        if (hit.geomID == RTC_INVALID_GEOMETRY_ID) {  // background: all zero
+          g.hit.at(x, y) = 0;
+          g.depth.at(x, y) = 0.0f;
+          for (int c = 0; c < 3; ++c) g.position.at(x, y, c) = g.normal.at(x, y, c) = g.albedo.at(x, y, c) = 0.0f;
+          return;
+        }
         const Mesh& mesh = scene.meshes[hit.geomID];
         const size_t tri = 3 * static_cast<size_t>(hit.primID);
         const uint32_t i0 = mesh.indices[tri], i1 = mesh.indices[tri + 1], i2 = mesh.indices[tri + 2];

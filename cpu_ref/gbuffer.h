@@ -15,6 +15,18 @@ struct GBuffer {
   GBuffer() = default;
   GBuffer(int w, int h)  // all background
       : width(w), height(h), depth(w, h, 1), position(w, h, 3), normal(w, h, 3), albedo(w, h, 3), hit(w, h, 1) {}
+  // Unfilled: for a renderer that writes every pixel, background included.
+  static GBuffer uninitialised(int w, int h) {
+    GBuffer g;
+    g.width = w;
+    g.height = h;
+    g.depth = ImageF::uninitialised(w, h, 1);
+    g.position = ImageF::uninitialised(w, h, 3);
+    g.normal = ImageF::uninitialised(w, h, 3);
+    g.albedo = ImageF::uninitialised(w, h, 3);
+    g.hit = ImageU8::uninitialised(w, h, 1);
+    return g;
+  }
 
   int width = 0, height = 0;
   ImageF depth;     // linear view depth z > 0 (0 on background)

@@ -153,8 +153,15 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
     parallelFor(0, lc.height, [&](int y) {
       const float* src = &a.at(0, y);
       uint8_t* dst = &rows.at(0, y);
-      for (int x = 0; x < lc.width; ++x)
-        dst[x] = (src[x] > 0.0f) | (x > 0 && src[x - 1] > 0.0f) | (x + 1 < lc.width && src[x + 1] > 0.0f);
+      auto at = [&](int x) {  // the neighbours that exist
+        return static_cast<uint8_t>((src[x] > 0.0f) | (x > 0 && src[x - 1] > 0.0f) |
+                                    (x + 1 < lc.width && src[x + 1] > 0.0f));
+      };
+      const int last = lc.width - 1;
+      dst[0] = at(0);
+      for (int x = 1; x < last; ++x)  // inside, without the border tests (vectorises)
+        dst[x] = static_cast<uint8_t>((src[x - 1] > 0.0f) | (src[x] > 0.0f) | (src[x + 1] > 0.0f));
+      if (last > 0) dst[last] = at(last);
     });
     parallelFor(0, lc.height, [&](int y) {
       const uint8_t* mid = &rows.at(0, y);

@@ -63,7 +63,7 @@ namespace {
 // makes, in its order and with its bits, without its border checks. 1/z comes from `inv`
 // (computed once per pixel, where edgeAt computes it for each neighbour that asks), and the
 // depth test divides once: max(a/d, b/d) = max(a, b)/d exactly, since rounding a division by
-// d > 0 is monotonic. tests/oracle/analytic_test.cpp checks every pixel against edgeAt.
+// d > 0 is monotonic. tests/oracle/invariants_test.cpp checks every pixel against edgeAt.
 struct EdgeRow {
   const uint8_t *hitUp, *hit, *hitDown;
   const float *invUp, *inv, *invDown;

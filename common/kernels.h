@@ -17,4 +17,11 @@ int gaussianRadius(float sigma2);
 // every run, machine and thread count.
 std::vector<glm::vec3> ssaoKernel(int n, uint32_t seed = 0x5eed5a0u);
 
+// Tap i of an n-tap regular grid over [−h, h] sits at gridTapFactor(i, n) · h (texel centres of
+// the grid): SSM's blocker search and PCF. The GL port takes these factors from the host, so its
+// taps land on the same bits.
+inline float gridTapFactor(int i, int n) {
+  return (static_cast<float>(i) + 0.5f) / static_cast<float>(n) * 2.0f - 1.0f;
+}
+
 }  // namespace mrr

@@ -37,6 +37,7 @@ constexpr int kMaxSsaoSamples = 1024;    // the paper stops at 256
 constexpr int kMaxSsmSamples = 1024;     // PCF taps, a square n² (the paper: 10² .. 18²)
 constexpr int kMaxSsgiSamples = 8192;    // the paper goes to 4224
 constexpr int kMaxShadowMapSize = 8192;
+constexpr int kTileSize = 16;            // tiles peer: full-res pixels per tile side (SPEC §9)
 
 struct LevelSettings {
   bool enabled = true;

@@ -34,15 +34,14 @@ double median(std::vector<double> v) {
 
 // The method's own cost: everything but the full-res G-buffer, which a deferred renderer
 // has anyway and every method shares.
-// The method's own time: the frame less the stages every method pays alike and that are not
-// the effect: the full-res G-buffer, and the port's copy of it to the host for the shaded
-// image (`readback`, gpu/pipeline.cpp).
+// The method's own time: the frame less the stage every method pays alike and that is not
+// the effect: the full-res G-buffer.
 double effectMs(const std::map<std::string, double>& ms) {
   auto at = [&](const char* k) {
     const auto it = ms.find(k);
     return it != ms.end() ? it->second : 0.0;
   };
-  return at("total") - at("gbuffer.L0") - at("readback");
+  return at("total") - at("gbuffer.L0");
 }
 
 std::string fixed(double v, int digits) {

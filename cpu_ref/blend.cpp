@@ -122,10 +122,6 @@ Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& al
   return coverage > 0.0f ? std::min(alphaHat * row.level->weight, 1.0f) : 0.0f;  // as upsampleAt
 }
 
-float alphaAt(const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level, int px, int py) {
-  return alphaImpl(levelRow(nullptr, stencil, alpha, level, py), px);
-}
-
 float blendStep(float alpha, float fine, float coarserComposite) {
   return alpha * fine + (1.0f - alpha) * coarserComposite;
 }
@@ -211,21 +207,6 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
 }
 
 }  // namespace
-
-BlendResult BlendResult::allocate(const Constants& c, int channels, bool keepStages) {
-  BlendResult r;
-  const int w = c.width, h = c.height;
-  r.levelMap = ImageU8::uninitialised(w, h);
-  r.final = ImageF::uninitialised(w, h, channels);
-  if (keepStages)
-    for (int l = 0; l < kLevelCount; ++l) {
-      if (!c.levels[static_cast<size_t>(l)].enabled) continue;
-      r.upsampled[static_cast<size_t>(l)] = ImageF(w, h, channels);
-      r.alpha[static_cast<size_t>(l)] = ImageF(w, h, 1);
-      r.composite[static_cast<size_t>(l)] = ImageF(w, h, channels);
-    }
-  return r;
-}
 
 BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, bool keepStages) {
   const int w = c.width, h = c.height;

@@ -2,17 +2,9 @@
 // Stage 2 — edge image E (SPEC §2), on the full-res (level 0) G-buffer, each kind kept apart.
 #include "common/image.h"
 #include "common/params.h"
-#include "cpu_ref/gbuffer.h"
+#include "common/frame.h"
 
 namespace mrr {
-
-struct EdgeImages {
-  ImageU8 normal;      // first derivative of N above τ_n
-  ImageU8 depth;       // second derivative of 1/z above τ_z
-  ImageU8 background;  // a hit pixel with a background 4-neighbour
-  ImageU8 shadow;      // a hit pixel whose one-tap shadow test differs from a hit 4-neighbour's (SSM only)
-  ImageU8 combined;    // E = OR of the kinds
-};
 
 // Everything that decided one pixel: printed by `mrr probe`.
 struct EdgeDecision {

@@ -98,14 +98,4 @@ std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Consta
   return levels;
 }
 
-std::array<MaskLevel, kLevelCount> fullModeMasks(const Constants& c) {
-  std::array<MaskLevel, kLevelCount> levels;
-  const LevelConstants& l0 = c.levels[0];
-  levels[0].alpha = ImageF(l0.width, l0.height, 1, 1.0f);
-  levels[0].stencil = ImageU8(l0.width, l0.height);
-  for (int y = 0; y < c.height; ++y)
-    for (int x = 0; x < c.width; ++x) levels[0].stencil.at(x, y) = 1;
-  return levels;
-}
-
 }  // namespace mrr

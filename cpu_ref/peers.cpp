@@ -16,25 +16,6 @@ int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / s
 int shadedLevel(const Constants& c) { return c.mode == Mode::Uniform1 ? 1 : 2; }
 }  // namespace
 
-std::array<MaskLevel, kLevelCount> uniformMasks(const Constants& c) {
-  std::array<MaskLevel, kLevelCount> levels;
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    MaskLevel& ml = levels[static_cast<size_t>(l)];
-    ml.stencil = ImageU8(lc.width, lc.height);
-    ml.alpha = ImageF(lc.width, lc.height);
-    if (!lc.shaded) continue;  // level 0: the G-buffer the upsampling is guided by
-    const int w = levelExtent(c.width, lc.scale), h = levelExtent(c.height, lc.scale);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        ml.stencil.at(x, y) = 1;
-        ml.alpha.at(x, y) = 1.0f;
-      }
-  }
-  return levels;
-}
-
 ImageU8 tileRates(const ImageU8& edges) {
   const int tw = (edges.width + kTileSize - 1) / kTileSize, th = (edges.height + kTileSize - 1) / kTileSize;
   // 1. a tile holds an edge: max over its 16×16 pixels of E

@@ -15,12 +15,6 @@
 
 namespace mrr {
 
-constexpr int kTileSize = 16;  // full-res pixels per tile side (SPEC §9)
-
-// uniform-k: S_k = 1 on every level-k pixel whose block starts inside W×H; level 0 keeps
-// its G-buffer but shades nothing (S_0 = 0).
-std::array<MaskLevel, kLevelCount> uniformMasks(const Constants& constants);
-
 // tiles, step 1: the rate of every tile as the level it shades at: 0 (1×1) when the tile
 // holds an edge pixel, 1 (2×2) when one of its 8 neighbours does, else 2 (4×4). `edges` is
 // E on the padded full-res grid; the tile grid is ⌈padded / 16⌉ per side.

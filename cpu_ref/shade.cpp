@@ -1,13 +1,14 @@
 #include "cpu_ref/shade.h"
 
 #include "common/parallel.h"
+#include "common/shader_constants.h"
 
 #include <algorithm>
 
 namespace mrr {
 
 namespace {
-constexpr float kSky[3] = {0.62f, 0.70f, 0.80f};
+constexpr float kSky[3] = {kSkyRed, kSkyGreen, kSkyBlue};  // common/shader_constants.h
 
 // The light a pixel receives, per effect (the header lists the formulas).
 glm::vec3 lighting(Effect effect, const glm::vec3& lightColor, float nl, const ImageF& e, const ImageU8& lit, int x,

@@ -9,32 +9,6 @@
 
 namespace mrr {
 
-ShadowMap shadowMapFrame(const DirectionalLight& light, const Bounds& bounds, int size) {
-  ShadowMap m;
-  m.size = size;
-  // 1. light basis: forward along the light, right/up spanning the light plane
-  m.forward = glm::normalize(light.direction);
-  const glm::vec3 reference = std::fabs(m.forward.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-  m.right = glm::normalize(glm::cross(m.forward, reference));
-  m.up = glm::cross(m.right, m.forward);
-  // 2. fit a square to the bounds' eight corners seen from the light
-  glm::vec3 lo(3.0e38f), hi(-3.0e38f);
-  for (int i = 0; i < 8; ++i) {
-    const glm::vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x, (i & 2) ? bounds.hi.y : bounds.lo.y,
-                           (i & 4) ? bounds.hi.z : bounds.lo.z);
-    const glm::vec3 l(glm::dot(corner, m.right), glm::dot(corner, m.up), glm::dot(corner, m.forward));
-    lo = glm::min(lo, l);
-    hi = glm::max(hi, l);
-  }
-  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.001f;
-  const float margin = 0.01f * extent;
-  m.texel = extent / static_cast<float>(size);
-  const float u0 = 0.5f * (lo.x + hi.x) - 0.5f * extent, v0 = 0.5f * (lo.y + hi.y) - 0.5f * extent;
-  m.origin = m.right * u0 + m.up * v0 + m.forward * (lo.z - margin);
-  m.farDepth = (hi.z - lo.z) + 2.0f * margin;  // every hit lies in [margin, hi.z − lo.z + margin]
-  return m;
-}
-
 ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, const Bounds& bounds, int size) {
   ShadowMap m = shadowMapFrame(light, bounds, size);
   // 3. one ray per texel centre, from the light plane along the light

@@ -5,39 +5,13 @@
 #include <glm/glm.hpp>
 
 #include "common/camera.h"
+#include "common/frame.h"
 #include "common/image.h"
 #include "common/params.h"
 #include "common/scene.h"
 #include "cpu_ref/gbuffer.h"
 
 namespace mrr {
-
-struct ShadowMap {
-  int size = 0;
-  float texel = 0.0f;              // world units per texel
-  float farDepth = 0.0f;           // distance from the light plane to the bounds' farthest corner
-  glm::vec3 origin{0.0f};          // corner of texel (0, 0) on the light plane
-  glm::vec3 right{1, 0, 0}, up{0, 0, 1}, forward{0, -1, 0};  // forward = the light's direction
-  ImageF depth;                    // distance from the light plane to the first hit; kNoBlocker on a miss
-
-  static constexpr float kNoBlocker = 3.0e38f;
-
-  // Continuous texel coordinates (u, v) and the distance from the light plane, of a world point.
-  glm::vec3 lightCoordinates(const glm::vec3& world) const {
-    const glm::vec3 d = world - origin;
-    return {glm::dot(d, right) / texel, glm::dot(d, up) / texel, glm::dot(d, forward)};
-  }
-  // The stored depth at the texel holding (u, v); outside the map nothing blocks.
-  float depthAt(float u, float v) const {
-    if (!(u >= 0.0f && v >= 0.0f && u < static_cast<float>(size) && v < static_cast<float>(size))) return kNoBlocker;
-    return depth.at(static_cast<int>(u), static_cast<int>(v));
-  }
-};
-
-// The light's frame fitted to the bounds (steps 1–2 of renderShadowMap): basis, origin, texel
-// size and depth range, with `depth` left empty. Shared by the oracle and the GL port
-// (gpu/shadowmap.cpp), so both render the same map texel for texel.
-ShadowMap shadowMapFrame(const DirectionalLight& light, const Bounds& bounds, int size);
 
 ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, const Bounds& bounds, int size);
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/shader_constants.h"
 #include "cpu_ref/hemisphere.h"
 #include "cpu_ref/stencil.h"
 
@@ -35,7 +36,7 @@ float rangeCheck(float radius, float receiverDepth, float bufferDepth) {
 float occluderDepth(const glm::vec3& sample, const OccluderPlane& plane, float texelDepth, bool tangentPlane) {
   if (!tangentPlane) return texelDepth;  // the classic depth-buffer test (for comparison)
   const float along = glm::dot(plane.normal, sample);
-  if (along * along <= 0.01f * glm::dot(sample, sample)) return texelDepth;  // |cos| <= 0.1
+  if (along * along <= kGrazingCosine2 * glm::dot(sample, sample)) return texelDepth;
   return -sample.z * (plane.offset / along);
 }
 }  // namespace

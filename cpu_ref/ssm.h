@@ -4,6 +4,7 @@
 // visibility V in [0, 1], evaluated only where the stencil is set.
 #include "common/camera.h"
 #include "common/image.h"
+#include "common/kernels.h"
 #include "common/params.h"
 #include "cpu_ref/gbuffer.h"
 #include "cpu_ref/shadowmap.h"
@@ -21,12 +22,6 @@ struct SsmDetail {
   float filterTexels = 0.0f;    // PCF half-width
   int litTaps = 0, pcfTaps = 0;
 };
-
-// Tap i of an n-tap regular grid over [−h, h] sits at gridTapFactor(i, n) · h (texel centres of
-// the grid). The GL port takes these factors from the host, so its taps land on the same bits.
-inline float gridTapFactor(int i, int n) {
-  return (static_cast<float>(i) + 0.5f) / static_cast<float>(n) * 2.0f - 1.0f;
-}
 
 float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y,
             SsmDetail* detail = nullptr);

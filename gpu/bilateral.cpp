@@ -17,10 +17,10 @@ Target drawBilateral(const GpuScene& scene, unsigned raw, unsigned stencil, cons
                            {"stencilMask", stencil},
                            {"positionHit", gbuffer.texture(0)},
                            {"normalDepth", gbuffer.texture(1)}});
-    glUniform1i(glGetUniformLocation(program, "radius"), b.radius);
-    glUniform1fv(glGetUniformLocation(program, "spatial"), static_cast<GLsizei>(b.spatial.size()), b.spatial.data());
-    glUniform1f(glGetUniformLocation(program, "sigmaDepth"), b.sigmaDepth);
-    glUniform1f(glGetUniformLocation(program, "normalPower"), b.normalPower);
+    glUniform1i(uniform(program, "radius"), b.radius);
+    glUniform1fv(uniform(program, "spatial"), static_cast<GLsizei>(b.spatial.size()), b.spatial.data());
+    glUniform1f(uniform(program, "sigmaDepth"), b.sigmaDepth);
+    glUniform1f(uniform(program, "normalPower"), b.normalPower);
   };
   if (rawTarget) return drawStencilledLike(scene, *rawTarget, Texel::R32f, program, "bilateral", setInputs);
   return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "bilateral", setInputs);

@@ -44,7 +44,7 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
     unit += 3;
   }
   const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
-  glUniform1fv(glGetUniformLocation(program, "weights"), 3, weights);
+  if (fine) glUniform1fv(uniform(program, "weights"), 3, weights);  // without finer levels, nothing reads them
   if (rects)
     scene.drawRects(*rects, c.width, c.height);
   else
@@ -52,11 +52,11 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
 }
 
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                           const Constants& c, const ImageU8* edgeBlocks) {
+                           const Constants& c, const ImageU8* edgeBlocks, GpuImage* finalOnGpu) {
   int fine = 0;  // the enabled levels finer than C, a bit each (the shader's FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
-  const Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
+  Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
   target->bind();
   if (edgeBlocks && fine) {
     // Near an edge, every level; far from every edge, the coarsest alone. A finer level's α
@@ -82,14 +82,15 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
   BlendResult r;
   r.final = target->read(0, channels);
   r.levelMap = target->readBytes(1);
+  if (finalOnGpu) *finalOnGpu = {std::move(target), 0};
   return r;
 }
 
 }  // namespace
 
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks) {
-  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks);
+                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks, GpuImage* finalOnGpu) {
+  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks, finalOnGpu);
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const Texel color = effectTexel(channels);
   BlendResult r;
@@ -107,10 +108,10 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
                            {"alphaMask", in.alpha},
                            {"coarser", previous ? previous->texture(2) : in.sub},
                            {"coarserLevel", previous ? previous->texture(3) : in.stencil}});
-    glUniform1i(glGetUniformLocation(program, "coarsest"), previous ? 0 : 1);
-    glUniform1i(glGetUniformLocation(program, "level"), l);
-    glUniform1i(glGetUniformLocation(program, "scale"), lc.scale);
-    glUniform1f(glGetUniformLocation(program, "weight"), lc.weight);
+    glUniform1i(uniform(program, "coarsest"), previous ? 0 : 1);
+    glUniform1i(uniform(program, "level"), l);
+    glUniform1i(uniform(program, "scale"), lc.scale);
+    glUniform1f(uniform(program, "weight"), lc.weight);
     scene.drawFullscreen();
     checkGl("blend");
     r.upsampled[static_cast<size_t>(l)] = target->read(0, channels);
@@ -120,6 +121,7 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
   }
   r.final = r.composite[static_cast<size_t>(c.finestEnabled)];
   r.levelMap = previous->readBytes(3);
+  if (finalOnGpu) *finalOnGpu = {std::move(previous), 2};  // c'_finest
   return r;
 }
 

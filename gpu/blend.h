@@ -3,7 +3,7 @@
 // fine, each writing ĉ_ℓ, α_ℓ, c'_ℓ and the level map; read back into the oracle's BlendResult.
 #include <array>
 
-#include "cpu_ref/blend.h"
+#include "common/frame.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {
@@ -18,7 +18,9 @@ struct LevelTextures {
 // plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), and only the
 // final image and level map leave the GPU, as the oracle keeps only those then. With
 // `edgeBlocks` (MaskTargets::edgeBlocks), that pass blends the finer levels only near edges.
+// `finalOnGpu`: where the final image stays on the GPU for the passes after (the shaded image).
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& constants, bool keepStages = true, const ImageU8* edgeBlocks = nullptr);
+                        const Constants& constants, bool keepStages = true, const ImageU8* edgeBlocks = nullptr,
+                        GpuImage* finalOnGpu = nullptr);
 
 }  // namespace mrr::gpu

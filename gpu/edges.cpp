@@ -24,8 +24,8 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
   target->bind();
   glUseProgram(program);
   bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
-  glUniform1f(glGetUniformLocation(program, "normalThreshold"), settings.normalThreshold);
-  glUniform1f(glGetUniformLocation(program, "depthThreshold"), settings.depthThreshold);
+  glUniform1f(uniform(program, "normalThreshold"), settings.normalThreshold);
+  glUniform1f(uniform(program, "depthThreshold"), settings.depthThreshold);
   if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 1);
   scene.drawFullscreen();
   checkGl("edges");

@@ -280,8 +280,8 @@ void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int he
     const glm::vec2 a(static_cast<float>(r.x), static_cast<float>(r.y)), b(static_cast<float>(r.z), static_cast<float>(r.w));
     corners.insert(corners.end(), {a, {b.x, a.y}, b, a, b, {a.x, b.y}});
   }
-  glUniform1i(glGetUniformLocation(program, "useRects"), 1);
-  glUniform2f(glGetUniformLocation(program, "targetSize"), static_cast<float>(width), static_cast<float>(height));
+  glUniform1i(uniform(program, "useRects"), 1);
+  glUniform2f(uniform(program, "targetSize"), static_cast<float>(width), static_cast<float>(height));
   glBindVertexArray(rectVao_);
   glBindBuffer(GL_ARRAY_BUFFER, rectBuffer_);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec2)), corners.data(),
@@ -334,10 +334,10 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   const float nearZ = std::max(nearest * 0.99f, farZ * 1e-5f);
   target.bind();
   glUseProgram(program);
-  glUniformMatrix4fv(glGetUniformLocation(program, "worldToView"), 1, GL_FALSE, worldToView);
-  glUniform4f(glGetUniformLocation(program, "projection"), 2.0f * view.focal / wp, 2.0f * view.cx / wp - 1.0f,
+  glUniformMatrix4fv(uniform(program, "worldToView"), 1, GL_FALSE, worldToView);
+  glUniform4f(uniform(program, "projection"), 2.0f * view.focal / wp, 2.0f * view.cx / wp - 1.0f,
               -2.0f * view.focal / hp, 2.0f * view.cy / hp - 1.0f);
-  glUniform2f(glGetUniformLocation(program, "depthMapping"), -(farZ + nearZ) / (farZ - nearZ),
+  glUniform2f(uniform(program, "depthMapping"), -(farZ + nearZ) / (farZ - nearZ),
               -2.0f * farZ * nearZ / (farZ - nearZ));
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -345,7 +345,7 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   const float zero[4] = {0, 0, 0, 0};
   for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, i, zero);
   glClear(GL_DEPTH_BUFFER_BIT);
-  const GLint albedo = glGetUniformLocation(program, "albedo");
+  const GLint albedo = uniform(program, "albedo");
   for (const GpuScene::MeshGl& m : scene.meshes()) {
     glUniform3f(albedo, m.color.x, m.color.y, m.color.z);
     glBindVertexArray(m.vao);

@@ -9,7 +9,7 @@
 #include "common/camera.h"
 #include "common/params.h"
 #include "common/scene.h"
-#include "cpu_ref/gbuffer.h"
+#include "common/frame.h"
 
 namespace mrr::gpu {
 
@@ -62,6 +62,13 @@ struct TargetRelease {
   void operator()(Framebuffer* target) const;
 };
 using Target = std::unique_ptr<Framebuffer, TargetRelease>;
+
+// An image kept on the GPU: a pooled target and which colour attachment of it holds the image.
+struct GpuImage {
+  Target target;
+  int attachment = 0;
+  unsigned texture() const { return target ? target->texture(attachment) : 0; }
+};
 
 // A float image as a texture (1–4 channels, nearest filtering); the caller deletes it.
 unsigned uploadTexture(const ImageF& image);

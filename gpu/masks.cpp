@@ -52,7 +52,7 @@ struct Pass {
     target->bind();
     glUseProgram(prog);
     if (in.weights)
-      glUniform1fv(glGetUniformLocation(prog, "weights"), static_cast<GLsizei>(in.weights->size()), in.weights->data());
+      glUniform1fv(uniform(prog, "weights"), static_cast<GLsizei>(in.weights->size()), in.weights->data());
     bindTextures(prog, {{"source", in.source}});
     if (step == 4) bindTextures(prog, {{"previous", in.previous}}, 1);
     if (in.rects) {

@@ -6,8 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "cpu_ref/edges.h"
-#include "cpu_ref/masks.h"
+#include "common/frame.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {

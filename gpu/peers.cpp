@@ -27,8 +27,8 @@ Target tileStep(const GpuScene& scene, int step, int width, int height, unsigned
   Target target = scene.target(width, height, 1, false);
   target->bind();
   glUseProgram(program);
-  glUniform1i(glGetUniformLocation(program, "step"), step);
-  glUniform1i(glGetUniformLocation(program, "sourceChannel"), sourceChannel);
+  glUniform1i(uniform(program, "step"), step);
+  glUniform1i(uniform(program, "sourceChannel"), sourceChannel);
   if (setUniforms) setUniforms(program);
   bindTextures(program, {{"source", source}});
   scene.drawFullscreen();
@@ -62,9 +62,9 @@ std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU
     if (!lc.enabled) continue;
     // 3. M_ℓ = rate, S_ℓ = a_ℓ = [rate == ℓ, inside W×H] (r, g, b of one target)
     const auto target = tileStep(scene, 3, lc.width, lc.height, rateTexture, [&](unsigned program) {
-      glUniform1i(glGetUniformLocation(program, "level"), l);
-      glUniform1i(glGetUniformLocation(program, "perTile"), kTileSize / lc.scale);
-      glUniform2i(glGetUniformLocation(program, "extent"), levelExtent(c.width, lc.scale),
+      glUniform1i(uniform(program, "level"), l);
+      glUniform1i(uniform(program, "perTile"), kTileSize / lc.scale);
+      glUniform2i(uniform(program, "extent"), levelExtent(c.width, lc.scale),
                   levelExtent(c.height, lc.scale));
     });
     const ImageF read = target->read(0, 3);
@@ -84,11 +84,11 @@ std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU
 
 BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevelCount>& subs, int channels,
                         const std::array<const Framebuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
-                        const Constants& c, bool keepStages) {
-  const bool uniform = c.mode != Mode::Tiles;
-  const int k = uniform ? shadedLevel(c) : 0;
+                        const Constants& c, bool keepStages, GpuImage* finalOnGpu) {
+  const bool uniformK = c.mode != Mode::Tiles;
+  const int k = uniformK ? shadedLevel(c) : 0;
   // The composition: the final value and the level it came from, at full res.
-  const Target composedTarget = scene.target(c.width, c.height, 2, false);
+  Target composedTarget = scene.target(c.width, c.height, 2, false);
   const Framebuffer& composed = *composedTarget;
   std::vector<unsigned> uploaded;
   auto upload = [&](const ImageF& image) {
@@ -96,7 +96,7 @@ BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevel
     return uploaded.back();
   };
   composed.bind();
-  if (uniform) {
+  if (uniformK) {
     const unsigned program = scene.program("peers.uniform", "fullscreen.vert", "peers.frag",
                                            "#define COMPOSE\n#define JOINT_BILATERAL\n");
     glUseProgram(program);
@@ -107,10 +107,10 @@ BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevel
                            {"coarseNormalDepth", coarse.texture(1)},
                            {"fullPositionHit", full.texture(0)},
                            {"fullNormalDepth", full.texture(1)}});
-    glUniform1i(glGetUniformLocation(program, "level"), k);
-    glUniform1i(glGetUniformLocation(program, "scale"), c.levels[static_cast<size_t>(k)].scale);
-    glUniform1f(glGetUniformLocation(program, "sigmaDepth"), c.bilateral.sigmaDepth);
-    glUniform1f(glGetUniformLocation(program, "normalPower"), c.bilateral.normalPower);
+    glUniform1i(uniform(program, "level"), k);
+    glUniform1i(uniform(program, "scale"), c.levels[static_cast<size_t>(k)].scale);
+    glUniform1f(uniform(program, "sigmaDepth"), c.bilateral.sigmaDepth);
+    glUniform1f(uniform(program, "normalPower"), c.bilateral.normalPower);
   } else {
     const unsigned program =
         scene.program("peers.broadcast", "fullscreen.vert", "peers.frag", "#define COMPOSE\n");
@@ -138,7 +138,7 @@ BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevel
       target.bind();
       glUseProgram(program);
       bindTextures(program, {{"composed", composed.texture(0)}, {"levelMap", composed.texture(1)}});
-      glUniform1i(glGetUniformLocation(program, "level"), l);
+      glUniform1i(uniform(program, "level"), l);
       scene.drawFullscreen();
       checkGl("blend");
       r.upsampled[static_cast<size_t>(l)] = target.read(0, channels);
@@ -147,6 +147,7 @@ BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevel
     }
   }
   glDeleteTextures(static_cast<GLsizei>(uploaded.size()), uploaded.data());
+  if (finalOnGpu) *finalOnGpu = {std::move(composedTarget), 0};
   return r;
 }
 

@@ -2,12 +2,10 @@
 // The port's peers (gpu/shaders/peers.frag), mirroring cpu_ref/peers.cpp: tiles' stage 3 (the
 // rate map and the per-level masks) and stage 5 for every peer (the joint bilateral upsampling
 // of uniform-k, the tiles' broadcast), read back into the oracle's structures. uniform-k's
-// stage 3 is a constant stencil: the pipeline calls the oracle's uniformMasks (it reads no image).
+// stage 3 is a constant stencil: the pipeline calls common/frame.h's uniformMasks (it reads no image).
 #include <array>
 
-#include "cpu_ref/blend.h"
-#include "cpu_ref/masks.h"
-#include "cpu_ref/peers.h"
+#include "common/frame.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {
@@ -28,6 +26,6 @@ std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU
 // `rates` is tileRates' map (tiles only).
 BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevelCount>& subs, int channels,
                         const std::array<const Framebuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
-                        const Constants& constants, bool keepStages);
+                        const Constants& constants, bool keepStages, GpuImage* finalOnGpu = nullptr);
 
 }  // namespace mrr::gpu

@@ -9,7 +9,7 @@
 
 #include "common/cost_model.h"
 #include "common/error.h"
-#include "cpu_ref/shade.h"
+#include "gpu/shade.h"
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
 #include "gpu/edges.h"
@@ -25,7 +25,7 @@
 
 namespace mrr::gpu {
 
-bool isPortOnlyStage(const std::string& stage) { return stage == "stencils" || stage == "readback"; }
+bool isPortOnlyStage(const std::string& stage) { return stage == "stencils"; }
 
 GpuTiming parseGpuTiming(const std::string& name) {
   if (name == "auto") return GpuTiming::Auto;
@@ -46,11 +46,11 @@ bool usesTimerQueries(GpuTiming timing, const std::string& renderer) {
 
 std::string GpuRenderer::timingMethod() const {
   if (timerQueries_)
-    return "GL_TIME_ELAPSED queries around each stage's GL work (no glFinish between stages); the host-only stages "
-           "(shade, readback) and total on the wall clock";
-  return "glFinish + wall clock around each stage (timer queries are wrong on llvmpipe); with --stages or probe, "
-         "each stage's readback is inside its timing, else the frame stays on the GPU and its host copies are the "
-         "'readback' stage";
+    return "GL_TIME_ELAPSED queries around each stage's GL work (no glFinish between stages); total on the wall "
+           "clock";
+  return "glFinish + wall clock around each stage (timer queries are wrong on llvmpipe); each stage's readbacks are "
+         "inside its timing (with --stages or probe every stage is read back, else only S_l, the final image, level "
+         "map and shaded image)";
 }
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
@@ -70,8 +70,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   std::vector<std::pair<size_t, unsigned>> queries;
   auto stage = [&](const std::string& name, auto&& body) {
     if (options.progress) options.progress(name);
-    const bool hostOnly = name == "shade" || name == "readback";
-    if (timerQueries_ && !hostOnly) {
+    if (timerQueries_) {
       unsigned query = 0;
       glGenQueries(1, &query);
       glBeginQuery(GL_TIME_ELAPSED, query);
@@ -215,28 +214,28 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   }
 
   // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
+  GpuImage finalOnGpu;  // for the shaded image
   if (isPeer(c.mode)) {
     std::array<const Framebuffer*, kLevelCount> targets{};
     for (size_t l = 0; l < targets.size(); ++l)
       if (c.levels[l].enabled) targets[l] = gbuffers[l].get();
     stage("blend", [&] {
-      f.blend = composePeer(gpuScene_, subTexture, c.channels(), targets, f.tileRates, c, options.keepStages);
+      f.blend = composePeer(gpuScene_, subTexture, c.channels(), targets, f.tileRates, c, options.keepStages, &finalOnGpu);
     });
   } else {
     std::array<LevelTextures, kLevelCount> inputs;
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture[l], maskTargets->stencil[l], maskTargets->alpha[l]};
     const ImageU8* edgeBlocks = maskTargets->drawn ? &maskTargets->edgeBlocks : nullptr;
-    stage("blend", [&] { f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages, edgeBlocks); });
-  }
-  // 6. The shaded image for viewing: the oracle's function on the port's buffers, which needs
-  // the full-res G-buffer (and the shadow test) on the host. Without keepStages that copy is
-  // its own stage, `readback`: the same for every method, and no part of the effect's cost.
-  if (!keep)
-    stage("readback", [&] {
-      f.levels[0].gbuffer = readGBuffer(*gbuffers[0]);
-      if (shadowTest) f.shadowLit = readShadowTest(*shadowTest);
+    stage("blend", [&] {
+      f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages, edgeBlocks, &finalOnGpu);
     });
-  stage("shade", [&] { f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, f.light, c.effect); });
+  }
+  // 6. The shaded image for viewing (shade.frag), from the level-0 G-buffer and the final image
+  // on the GPU: the same for every method, and no part of the effect's cost.
+  stage("shade", [&] {
+    f.shaded = drawShade(gpuScene_, *gbuffers[0], finalOnGpu.texture(), shadowTest ? shadowTest->texture(0) : 0, f.view,
+                         f.light, c);
+  });
   ++framesRendered_;
   glFinish();
   f.timings.push_back({"total", std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count()});

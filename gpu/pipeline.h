@@ -9,21 +9,20 @@
 #include <memory>
 #include <string>
 
-#include "cpu_ref/pipeline.h"
+#include "common/frame.h"
 #include "gpu/context.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {
 
-// The stages only the port has, beside the oracle's: `stencils` (host-made stencils of full,
-// uniform-k, tiles or a never-slower fallback, uploaded for the stencil test) and `readback`
-// (without keepStages, the full-res G-buffer copied to the host for the shaded image).
+// The stage only the port has, beside the oracle's: `stencils` (host-made stencils of full,
+// uniform-k, tiles or a never-slower fallback, uploaded for the stencil test).
 bool isPortOnlyStage(const std::string& stage);
 
 // How stages are timed. wall: glFinish + a steady clock around each stage (what llvmpipe needs:
 // its GL_TIME_ELAPSED figures are wrong, PLATFORM.md). query: GL_TIME_ELAPSED around each
-// stage's GL work, read when the frame is done, and no glFinish between stages; the host-only
-// stages (`shade`, `readback`) and `total` stay on the wall clock. auto: wall on Mesa's
+// stage's GL work, read when the frame is done, and no glFinish between stages; `total` stays
+// on the wall clock. auto: wall on Mesa's
 // software rasterisers (llvmpipe, softpipe), query elsewhere (NVIDIA).
 enum class GpuTiming { Auto, Wall, Query };
 GpuTiming parseGpuTiming(const std::string& name);  // auto | wall | query; throws MrrError

@@ -3,10 +3,13 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <map>
 #include <vector>
 
 #include "common/error.h"
+#include "common/shader_constants.h"
 #include "gpu/faults.h"
 #include "gpu/shader_sources.h"
 
@@ -18,7 +21,27 @@ const char* shaderSource(const std::string& name) {
   throw MrrError("gpu: no shader named " + name);
 }
 
+std::string sharedConstantsGlsl() {
+  std::string text;
+  for (const ShaderConstant& k : kShaderConstants) {
+    char line[96];
+    std::snprintf(line, sizeof line, "const float %s = %.9g;\n", k.name, static_cast<double>(k.value));
+    text += line;
+  }
+  return text;
+}
+
 namespace {
+// Which stage each linked program was compiled for, to name it in errors.
+std::map<unsigned, std::string>& programStages() {
+  static std::map<unsigned, std::string> stages;
+  return stages;
+}
+std::string programStage(unsigned program) {
+  const auto it = programStages().find(program);
+  return it == programStages().end() ? std::string("unknown stage") : "stage " + it->second;
+}
+
 std::string oneLine(std::string s) {
   for (char& c : s)
     if (c == '\n' || c == '\r') c = ' ';
@@ -51,11 +74,10 @@ GLuint compile(const std::string& stage, const std::string& name, const std::str
     source.replace(start, close + 1 - start, pasted);
     at = start + pasted.size();
   }
-  // Defines (one "#define X" line each) go right after the #version line.
-  if (!defines.empty()) {
-    const size_t eol = source.find('\n');
-    source.insert(eol == std::string::npos ? source.size() : eol + 1, defines);
-  }
+  // Defines (one "#define X" line each) and the shared constants (common/shader_constants.h)
+  // go right after the #version line.
+  const size_t eol = source.find('\n');
+  source.insert(eol == std::string::npos ? source.size() : eol + 1, defines + sharedConstantsGlsl() + "#line 2\n");  // driver logs keep the file's line numbers
   const char* sourceText = source.c_str();
   glShaderSource(shader, 1, &sourceText, nullptr);
   glCompileShader(shader);
@@ -101,7 +123,22 @@ unsigned compileProgramFromSource(const std::string& stage, const std::string& v
     glDeleteProgram(program);
     throw MrrError("gpu: stage " + stage + ": link failed: " + log);
   }
+  programStages()[program] = stage;
   return program;
+}
+
+int uniform(unsigned program, const char* name) {
+  const GLint location = glGetUniformLocation(program, name);
+  if (location < 0) {
+    // A planted fault (gpu/faults.h) may delete the code that read a uniform: not a host bug.
+    static const bool strict = [] {
+      const char* s = std::getenv("MRR_STRICT_UNIFORMS");
+      return s && std::string(s) == "1" && !plantedFault();
+    }();
+    require(!strict, "gpu: program " + std::to_string(program) + " (" + programStage(program) +
+                         ") has no active uniform named " + name);
+  }
+  return location;
 }
 
 void bindTextures(unsigned program, std::initializer_list<std::pair<const char*, unsigned>> samplers, int firstUnit) {
@@ -109,15 +146,15 @@ void bindTextures(unsigned program, std::initializer_list<std::pair<const char*,
   for (const auto& [name, texture] : samplers) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
     glBindTexture(GL_TEXTURE_2D, texture);
-    glUniform1i(glGetUniformLocation(program, name), unit);
+    glUniform1i(uniform(program, name), unit);
     ++unit;
   }
 }
 
 void setLevelUniforms(unsigned program, const View& view, const LevelConstants& level) {
-  glUniform1i(glGetUniformLocation(program, "level"), level.index);
-  glUniform1f(glGetUniformLocation(program, "invScale"), 1.0f / static_cast<float>(level.scale));
-  glUniform3f(glGetUniformLocation(program, "camera"), view.focal, view.cx, view.cy);
+  glUniform1i(uniform(program, "level"), level.index);
+  glUniform1f(uniform(program, "invScale"), 1.0f / static_cast<float>(level.scale));
+  glUniform3f(uniform(program, "camera"), view.focal, view.cx, view.cy);
 }
 
 void checkGl(const std::string& stage) {

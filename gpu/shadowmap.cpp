@@ -52,18 +52,17 @@ ImageF ShadowMapTarget::read() const {
 
 namespace {
 void setVec3(unsigned program, const char* name, const glm::vec3& v) {
-  glUniform3f(glGetUniformLocation(program, name), v.x, v.y, v.z);
+  glUniform3f(uniform(program, name), v.x, v.y, v.z);
 }
 
 // The light frame's uniforms of shadowmap.glsl (no view, no texture).
 void setFrameUniforms(unsigned program, const ShadowMap& map) {
-  glUniform1i(glGetUniformLocation(program, "mapSize"), map.size);
-  glUniform1f(glGetUniformLocation(program, "mapTexel"), map.texel);
+  glUniform1i(uniform(program, "mapSize"), map.size);
+  glUniform1f(uniform(program, "mapTexel"), map.texel);
   setVec3(program, "mapOrigin", map.origin);
   setVec3(program, "mapRight", map.right);
   setVec3(program, "mapUp", map.up);
   setVec3(program, "mapForward", map.forward);
-  glUniform1f(glGetUniformLocation(program, "noBlocker"), ShadowMap::kNoBlocker);
 }
 }  // namespace
 
@@ -72,7 +71,7 @@ void drawShadowMap(const GpuScene& scene, const ShadowMap& frame, const ShadowMa
   target.bind();
   glUseProgram(program);
   setFrameUniforms(program, frame);
-  glUniform1f(glGetUniformLocation(program, "farDepth"), frame.farDepth);
+  glUniform1f(uniform(program, "farDepth"), frame.farDepth);
   // 1. clear to "no blocker"; 2. the nearest surface per texel centre wins the depth test
   const float none[4] = {ShadowMap::kNoBlocker, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, none);
@@ -102,7 +101,7 @@ ShadowMap renderShadowMap(const GpuScene& scene, const DirectionalLight& light, 
 void bindShadowMap(unsigned program, const ShadowMap& map, unsigned mapTexture, int unit, const View& view,
                    float biasTexels) {
   setFrameUniforms(program, map);
-  glUniform1f(glGetUniformLocation(program, "biasTexels"), biasTexels);
+  glUniform1f(uniform(program, "biasTexels"), biasTexels);
   setVec3(program, "viewEye", view.eye);
   setVec3(program, "viewRight", view.right);
   setVec3(program, "viewUp", view.up);

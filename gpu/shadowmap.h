@@ -5,7 +5,7 @@
 // every pixel of the level-0 G-buffer. Both are read back into the oracle's structures.
 #include "common/camera.h"
 #include "common/scene.h"
-#include "cpu_ref/shadowmap.h"
+#include "common/frame.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {

@@ -18,10 +18,10 @@ Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned sten
     bindTextures(program,
                  {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}, {"kernel", kernelTexture}});
     setLevelUniforms(program, view, level);
-    glUniform1i(glGetUniformLocation(program, "samples"), ssao.samples);
-    glUniform1f(glGetUniformLocation(program, "radius"), ssao.radius);
-    glUniform1f(glGetUniformLocation(program, "bias"), ssao.bias);
-    glUniform1i(glGetUniformLocation(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
+    glUniform1i(uniform(program, "samples"), ssao.samples);
+    glUniform1f(uniform(program, "radius"), ssao.radius);
+    glUniform1f(uniform(program, "bias"), ssao.bias);
+    glUniform1i(uniform(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
   }, fillRects);
 }
 
@@ -36,7 +36,7 @@ std::vector<uint32_t> hashGrid(const GpuScene& scene, int width, int height, int
   target.bind();
   const unsigned program = scene.program("hash", "fullscreen.vert", "hash.frag");
   glUseProgram(program);
-  glUniform1i(glGetUniformLocation(program, "level"), level);
+  glUniform1i(uniform(program, "level"), level);
   scene.drawFullscreen();
   checkGl("hash");
   const ImageF halves = target.read(0);

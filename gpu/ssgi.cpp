@@ -19,8 +19,8 @@ void drawDirectLight(const GpuScene& scene, const Framebuffer& gbuffer, const Sh
   bindShadowMap(program, map, mapTexture, 3, view, biasTexels);
   // the same expression as the oracle's directLight, so both shade with the same bits
   const glm::vec3 toLight = -glm::normalize(view.directionToView(light.direction));
-  glUniform3f(glGetUniformLocation(program, "toLight"), toLight.x, toLight.y, toLight.z);
-  glUniform3f(glGetUniformLocation(program, "lightColor"), light.color.x, light.color.y, light.color.z);
+  glUniform3f(uniform(program, "toLight"), toLight.x, toLight.y, toLight.z);
+  glUniform3f(uniform(program, "lightColor"), light.color.x, light.color.y, light.color.z);
   scene.drawFullscreen();
   checkGl("direct");
 }
@@ -44,10 +44,10 @@ Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned dire
                            {"direct", directTexture},
                            {"kernel", kernelTexture}});
     setLevelUniforms(program, view, level);
-    glUniform1i(glGetUniformLocation(program, "samples"), ssgi.samples);
-    glUniform1f(glGetUniformLocation(program, "radius"), ssgi.radius);
-    glUniform1f(glGetUniformLocation(program, "patchArea"), ssgi.patchArea);
-    glUniform1f(glGetUniformLocation(program, "minDistance2"), ssgi.minDistance2);
+    glUniform1i(uniform(program, "samples"), ssgi.samples);
+    glUniform1f(uniform(program, "radius"), ssgi.radius);
+    glUniform1f(uniform(program, "patchArea"), ssgi.patchArea);
+    glUniform1f(uniform(program, "minDistance2"), ssgi.minDistance2);
   }, fillRects);
 }
 

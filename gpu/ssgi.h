@@ -5,7 +5,7 @@
 #include "common/camera.h"
 #include "common/params.h"
 #include "common/scene.h"
-#include "cpu_ref/shadowmap.h"
+#include "common/frame.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {

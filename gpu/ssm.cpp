@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "cpu_ref/ssm.h"
+#include "common/kernels.h"
 #include "gpu/program.h"
 #include "gpu/shadowmap.h"
 #include "gpu/stencil.h"
@@ -17,11 +17,11 @@ namespace {
 constexpr int kMaxBlockerGrid = 16;  // ssm.frag: blockerFactors[16] (validateSettings: [1, 16])
 constexpr int kMaxPcfGrid = 32;      // ssm.frag: pcfFactors[32] (kMaxSsmSamples = 1024 = 32²)
 
-// The n tap factors of a grid (cpu_ref/ssm.h: gridTapFactor) as a uniform array.
+// The n tap factors of a grid (common/kernels.h: gridTapFactor) as a uniform array.
 void setTapFactors(unsigned program, const char* name, int n) {
   std::vector<float> factors(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) factors[static_cast<size_t>(i)] = gridTapFactor(i, n);
-  glUniform1fv(glGetUniformLocation(program, name), n, factors.data());
+  glUniform1fv(uniform(program, name), n, factors.data());
 }
 }  // namespace
 
@@ -34,9 +34,9 @@ Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stenc
   return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "ssm", [&] {
     bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}});
     bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
-    glUniform1f(glGetUniformLocation(program, "tanHalfAngle"), ssm.tanHalfAngle);
-    glUniform1i(glGetUniformLocation(program, "blockerGrid"), ssm.blockerGrid);
-    glUniform1i(glGetUniformLocation(program, "grid"), ssm.grid);
+    glUniform1f(uniform(program, "tanHalfAngle"), ssm.tanHalfAngle);
+    glUniform1i(uniform(program, "blockerGrid"), ssm.blockerGrid);
+    glUniform1i(uniform(program, "grid"), ssm.grid);
     setTapFactors(program, "blockerFactors", ssm.blockerGrid);
     setTapFactors(program, "pcfFactors", ssm.grid);
   }, fillRects);

@@ -4,7 +4,7 @@
 // effect runs only where it is set.
 #include "common/camera.h"
 #include "common/params.h"
-#include "cpu_ref/shadowmap.h"
+#include "common/frame.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {

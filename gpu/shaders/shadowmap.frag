@@ -2,7 +2,7 @@
 // The light's shadow map and its one-tap test (SPEC §2 shadow edges, §6 SSM), mirrors
 // cpu_ref/shadowmap.cpp. Two variants of this file:
 //  - default: the rasterised map (renderShadowMap): the distance from the light plane to the
-//    nearest surface at each texel centre; texels no surface covers keep the clear, noBlocker.
+//    nearest surface at each texel centre; texels no surface covers keep the clear, kNoBlocker.
 //  - SHADOW_TEST: shadowTestImage, the one-tap test at every pixel of the level-0 G-buffer
 //    (1 lit, 0 shadowed; background 1).
 #ifdef SHADOW_TEST

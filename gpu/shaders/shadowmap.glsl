@@ -3,12 +3,11 @@
 // ssgi.frag's direct light. Mirrors cpu_ref/shadowmap.h: ShadowMap::lightCoordinates,
 // ShadowMap::depthAt, receiverAt, shadowTest (SPEC §6 SSM, docs/spec.md §6.4). The uniforms
 // are set by gpu/shadowmap.cpp: bindShadowMap, from the oracle's own frame (shadowMapFrame).
-uniform sampler2D shadowMap;  // size² R32F: distance from the light plane; noBlocker on a miss
+uniform sampler2D shadowMap;  // size² R32F: distance from the light plane; kNoBlocker on a miss
 uniform int mapSize;
 uniform float mapTexel;       // world units per texel
 uniform vec3 mapOrigin;       // corner of texel (0, 0) on the light plane
 uniform vec3 mapRight, mapUp, mapForward;
-uniform float noBlocker;      // ShadowMap::kNoBlocker, from the host
 uniform float biasTexels;     // receiver offset and depth bias, in texels
 uniform vec3 viewEye, viewRight, viewUp, viewForward;  // the camera's world-space basis (View)
 
@@ -25,7 +24,7 @@ vec3 lightCoordinates(vec3 world) {
 // The stored depth at the texel holding (u, v); outside the map nothing blocks.
 float depthAt(float u, float v) {
   float size = float(mapSize);
-  if (!(u >= 0.0 && v >= 0.0 && u < size && v < size)) return noBlocker;
+  if (!(u >= 0.0 && v >= 0.0 && u < size && v < size)) return kNoBlocker;  // common/shader_constants.h
   return texelFetch(shadowMap, ivec2(int(u), int(v)), 0).r;
 }
 

@@ -30,7 +30,7 @@ float rangeCheck(float receiverDepth, float bufferDepth) {
 float occluderDepth(vec3 s, vec3 texelNormal, vec3 texelPosition, float texelDepth) {
   if (!tangentPlaneDepth) return texelDepth;
   float along = dot(texelNormal, s);
-  if (along * along <= 0.01 * dot(s, s)) return texelDepth;
+  if (along * along <= kGrazingCosine2 * dot(s, s)) return texelDepth;  // common/shader_constants.h
   return -s.z * (dot(texelNormal, texelPosition) / along);
 }
 

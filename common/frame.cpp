@@ -1,0 +1,187 @@
+#include "common/frame.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/parallel.h"
+
+namespace mrr {
+
+GBuffer GBuffer::uninitialised(int w, int h) {
+  GBuffer g;
+  g.width = w;
+  g.height = h;
+  g.depth = ImageF::uninitialised(w, h, 1);
+  g.position = ImageF::uninitialised(w, h, 3);
+  g.normal = ImageF::uninitialised(w, h, 3);
+  g.albedo = ImageF::uninitialised(w, h, 3);
+  g.hit = ImageU8::uninitialised(w, h, 1);
+  return g;
+}
+
+ShadowMap shadowMapFrame(const DirectionalLight& light, const Bounds& bounds, int size) {
+  ShadowMap m;
+  m.size = size;
+  // 1. light basis: forward along the light, right/up spanning the light plane
+  m.forward = glm::normalize(light.direction);
+  const glm::vec3 reference = std::fabs(m.forward.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+  m.right = glm::normalize(glm::cross(m.forward, reference));
+  m.up = glm::cross(m.right, m.forward);
+  // 2. fit a square to the bounds' eight corners seen from the light
+  glm::vec3 lo(3.0e38f), hi(-3.0e38f);
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 corner((i & 1) ? bounds.hi.x : bounds.lo.x, (i & 2) ? bounds.hi.y : bounds.lo.y,
+                           (i & 4) ? bounds.hi.z : bounds.lo.z);
+    const glm::vec3 l(glm::dot(corner, m.right), glm::dot(corner, m.up), glm::dot(corner, m.forward));
+    lo = glm::min(lo, l);
+    hi = glm::max(hi, l);
+  }
+  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.001f;
+  const float margin = 0.01f * extent;
+  m.texel = extent / static_cast<float>(size);
+  const float u0 = 0.5f * (lo.x + hi.x) - 0.5f * extent, v0 = 0.5f * (lo.y + hi.y) - 0.5f * extent;
+  m.origin = m.right * u0 + m.up * v0 + m.forward * (lo.z - margin);
+  m.farDepth = (hi.z - lo.z) + 2.0f * margin;  // every hit lies in [margin, hi.z − lo.z + margin]
+  return m;
+}
+
+Masks fullModeMasks(const Constants& c) {
+  Masks levels;
+  const LevelConstants& l0 = c.levels[0];
+  levels[0].alpha = ImageF(l0.width, l0.height, 1, 1.0f);
+  levels[0].stencil = ImageU8(l0.width, l0.height);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) levels[0].stencil.at(x, y) = 1;
+  return levels;
+}
+
+Masks uniformMasks(const Constants& c) {
+  // The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image: the ones a full-res
+  // pixel can take its value from.
+  auto levelExtent = [](int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; };
+  Masks levels;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    MaskLevel& ml = levels[static_cast<size_t>(l)];
+    ml.stencil = ImageU8(lc.width, lc.height);
+    ml.alpha = ImageF(lc.width, lc.height);
+    if (!lc.shaded) continue;  // level 0: the G-buffer the upsampling is guided by
+    const int w = levelExtent(c.width, lc.scale), h = levelExtent(c.height, lc.scale);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        ml.stencil.at(x, y) = 1;
+        ml.alpha.at(x, y) = 1.0f;
+      }
+  }
+  return levels;
+}
+
+std::array<long long, kLevelCount> shadedPixelCounts(const Masks& masks, const Constants& c) {
+  std::array<long long, kLevelCount> counts{};
+  for (int l = 0; l < kLevelCount; ++l) {
+    if (!c.levels[static_cast<size_t>(l)].shaded) continue;
+    for (uint8_t v : masks[static_cast<size_t>(l)].stencil.data) counts[static_cast<size_t>(l)] += v;
+  }
+  return counts;
+}
+
+BlendResult BlendResult::allocate(const Constants& c, int channels, bool keepStages) {
+  BlendResult r;
+  const int w = c.width, h = c.height;
+  r.levelMap = ImageU8::uninitialised(w, h);
+  r.final = ImageF::uninitialised(w, h, channels);
+  if (keepStages)
+    for (int l = 0; l < kLevelCount; ++l) {
+      if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+      r.upsampled[static_cast<size_t>(l)] = ImageF(w, h, channels);
+      r.alpha[static_cast<size_t>(l)] = ImageF(w, h, 1);
+      r.composite[static_cast<size_t>(l)] = ImageF(w, h, channels);
+    }
+  return r;
+}
+
+void FrameResult::countShadedPixels() {
+  shadedPixelsTotal = 0;
+  int64_t blockTotal = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    LevelResult& lr = levels[static_cast<size_t>(l)];
+    lr.shadedPixels = lr.shadedBlockPixels = 0;
+    if (!constants.levels[static_cast<size_t>(l)].enabled) continue;
+    const ImageU8& s = lr.masks.stencil;
+    // Per pair of rows (one row of 4×2 blocks): its set pixels and its blocks holding any;
+    // integer sums, so the total is the same for any thread count.
+    const int blockRows = (s.height + 1) / 2;
+    std::vector<int64_t> setPixels(static_cast<size_t>(blockRows)), blockPixels(static_cast<size_t>(blockRows));
+    parallelFor(0, blockRows, [&](int by) {
+      const uint8_t* top = &s.at(0, 2 * by);
+      const uint8_t* bottom = 2 * by + 1 < s.height ? &s.at(0, 2 * by + 1) : nullptr;
+      int64_t set = 0, blocks = 0;
+      for (int bx = 0; bx < s.width; bx += 4) {
+        uint8_t any = 0;
+        for (int x = bx; x < std::min(bx + 4, s.width); ++x) {
+          set += top[x] + (bottom ? bottom[x] : 0);
+          any |= top[x] | (bottom ? bottom[x] : 0);
+        }
+        blocks += any ? 8 : 0;
+      }
+      setPixels[static_cast<size_t>(by)] = set;
+      blockPixels[static_cast<size_t>(by)] = blocks;
+    });
+    for (int by = 0; by < blockRows; ++by) {
+      lr.shadedPixels += setPixels[static_cast<size_t>(by)];
+      lr.shadedBlockPixels += blockPixels[static_cast<size_t>(by)];
+    }
+    shadedPixelsTotal += lr.shadedPixels;
+    blockTotal += lr.shadedBlockPixels;
+  }
+  const double pixels = static_cast<double>(constants.width) * constants.height;
+  idealSpeedup = pixels / static_cast<double>(std::max<int64_t>(shadedPixelsTotal, 1));
+  blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
+}
+
+std::array<LevelImages, kLevelCount> FrameResult::blendInputs() const {
+  std::array<LevelImages, kLevelCount> in;
+  for (size_t l = 0; l < in.size(); ++l) in[l] = {&levels[l].sub, &levels[l].masks.stencil, &levels[l].masks.alpha};
+  return in;
+}
+
+double FrameResult::timing(const std::string& stage) const {
+  double ms = 0.0;
+  for (const StageTiming& t : timings)
+    if (t.stage == stage) ms += t.ms;
+  return ms;
+}
+
+void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model, double gbuffer0Ms) {
+  if (!f.constants.neverSlower) return;
+  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants), gbuffer0Ms);
+  if (!f.fallback.fellBack) return;
+  f.constants.fallBackToFull();
+  masks = fullModeMasks(f.constants);
+}
+
+int64_t estimateFrameBytes(const Constants& c, bool keepStages) {
+  const int64_t channels = c.channels();
+  int64_t bytes = 0;
+  for (const LevelConstants& lc : c.levels) {
+    if (!lc.enabled) continue;
+    const int64_t pixels = static_cast<int64_t>(lc.width) * lc.height;
+    int64_t perPixel = 4 + 12 + 12 + 12 + 1;  // G-buffer: depth, position, normal, albedo, hit
+    perPixel += 1 + 4 + 1;                    // M_ℓ, a_ℓ, S_ℓ
+    perPixel += 2 * 4 * channels;             // raw and blurred sub-image
+    if (c.effect == Effect::Ssao) perPixel += 16;  // occluder planes
+    if (c.effect == Effect::Ssgi) perPixel += 12;  // direct light
+    bytes += pixels * perPixel;
+  }
+  const int64_t padded = static_cast<int64_t>(c.paddedWidth) * c.paddedHeight;
+  const int64_t pixels = static_cast<int64_t>(c.width) * c.height;
+  bytes += padded * 5;                            // edge kinds and E
+  bytes += pixels * (4 * channels + 1 + 12 + 1);  // final, level map, shaded, one-tap shadow test
+  if (keepStages) bytes += pixels * kLevelCount * (8 * channels + 4);  // ĉ_ℓ, c'_ℓ, α_ℓ
+  if (c.needsShadowMap()) bytes += static_cast<int64_t>(c.ssm.shadowMapSize) * c.ssm.shadowMapSize * 4;
+  bytes += pixels * 12;  // the largest image being written (an 8-bit or float copy of it)
+  return bytes;
+}
+
+}  // namespace mrr

@@ -1,0 +1,190 @@
+#pragma once
+// The frame contract: the data every stage of both paths reads and writes, and the host logic
+// both paths share. The oracle (cpu_ref/) fills these from its own images; the port (gpu/)
+// from its textures, read back. Nothing here knows how a stage is computed: gpu/ includes
+// nothing from cpu_ref/, and the port builds without Embree (CMake option MRR_BUILD_ORACLE).
+//
+// Data flows one way: scene → G-buffer → edges → masks → sub-images → blend → report.
+// The stage list (common/stages.h) names every image here, its EXR part and its parity rule.
+#include <glm/glm.hpp>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/camera.h"
+#include "common/cost_model.h"
+#include "common/image.h"
+#include "common/params.h"
+#include "common/scene.h"
+#include "common/shader_constants.h"
+
+namespace mrr {
+
+// Stage 1 — one level's G-buffer (SPEC §1).
+struct GBuffer {
+  GBuffer() = default;
+  GBuffer(int w, int h)  // all background
+      : width(w), height(h), depth(w, h, 1), position(w, h, 3), normal(w, h, 3), albedo(w, h, 3), hit(w, h, 1) {}
+  // Unfilled: for a renderer that writes every pixel, background included.
+  static GBuffer uninitialised(int w, int h);
+
+  int width = 0, height = 0;
+  ImageF depth;     // linear view depth z > 0 (0 on background)
+  ImageF position;  // view-space position, 3 channels
+  ImageF normal;    // view-space shading normal, unit, facing the camera, 3 channels
+  ImageF albedo;    // base colour, 3 channels
+  ImageU8 hit;      // 1 = geometry, 0 = background
+
+  glm::vec3 positionAt(int x, int y) const {
+    return {position.at(x, y, 0), position.at(x, y, 1), position.at(x, y, 2)};
+  }
+  glm::vec3 normalAt(int x, int y) const { return {normal.at(x, y, 0), normal.at(x, y, 1), normal.at(x, y, 2)}; }
+};
+
+// The directional light's shadow map (SPEC §6 SSM): orthographic, fitted to the scene's
+// bounds. Used by the shadow edges (SPEC §2), by SSM's PCSS and by SSGI's one-tap sender shadow.
+struct ShadowMap {
+  int size = 0;
+  float texel = 0.0f;              // world units per texel
+  float farDepth = 0.0f;           // distance from the light plane to the bounds' farthest corner
+  glm::vec3 origin{0.0f};          // corner of texel (0, 0) on the light plane
+  glm::vec3 right{1, 0, 0}, up{0, 0, 1}, forward{0, -1, 0};  // forward = the light's direction
+  ImageF depth;                    // distance from the light plane to the first hit; kNoBlocker on a miss
+
+  static constexpr float kNoBlocker = mrr::kNoBlocker;  // common/shader_constants.h
+
+  // Continuous texel coordinates (u, v) and the distance from the light plane, of a world point.
+  glm::vec3 lightCoordinates(const glm::vec3& world) const {
+    const glm::vec3 d = world - origin;
+    return {glm::dot(d, right) / texel, glm::dot(d, up) / texel, glm::dot(d, forward)};
+  }
+  // The stored depth at the texel holding (u, v); outside the map nothing blocks.
+  float depthAt(float u, float v) const {
+    if (!(u >= 0.0f && v >= 0.0f && u < static_cast<float>(size) && v < static_cast<float>(size))) return kNoBlocker;
+    return depth.at(static_cast<int>(u), static_cast<int>(v));
+  }
+};
+
+// The light's frame fitted to the bounds: basis, origin, texel size and depth range, with
+// `depth` left empty. One function for both paths, so both render the same map texel for texel.
+ShadowMap shadowMapFrame(const DirectionalLight& light, const Bounds& bounds, int size);
+
+// Stage 2 — the edge image E (SPEC §2), each kind kept apart.
+struct EdgeImages {
+  ImageU8 normal;      // first derivative of N above τ_n
+  ImageU8 depth;       // second derivative of 1/z above τ_z
+  ImageU8 background;  // a hit pixel with a background 4-neighbour
+  ImageU8 shadow;      // a hit pixel whose one-tap shadow test differs from a hit 4-neighbour's (SSM only)
+  ImageU8 combined;    // E = OR of the kinds
+};
+
+// Stage 3 — one level of the mask pyramid (SPEC §3).
+struct MaskLevel {
+  ImageU8 mask;     // M_ℓ: 2×2 max-pool chain of E
+  ImageF alpha;     // a_ℓ = G(σ_ℓ²) ∗ M_ℓ (≡ 1 at the coarsest enabled level); empty if disabled
+  ImageU8 stencil;  // S_ℓ = [a_ℓ > 0], closed from fine to coarse; empty if disabled
+};
+using Masks = std::array<MaskLevel, kLevelCount>;
+
+// Stencils that are a constant of the frame's size, made on the host for every path:
+// mode `full` (level 0 shades exactly the W×H pixels) and uniform-k (S_k = 1 on every level-k
+// pixel whose block starts inside W×H; level 0 keeps its G-buffer but shades nothing).
+Masks fullModeMasks(const Constants& constants);
+Masks uniformMasks(const Constants& constants);
+
+// |S_ℓ| per level (0 for levels that are not shaded).
+std::array<long long, kLevelCount> shadedPixelCounts(const Masks& masks, const Constants& constants);
+
+// Stage 5's inputs for one level, and its outputs.
+struct LevelImages {
+  const ImageF* sub = nullptr;       // c_ℓ (after the bilateral blur)
+  const ImageU8* stencil = nullptr;  // S_ℓ
+  const ImageF* alpha = nullptr;     // a_ℓ
+};
+
+struct BlendResult {
+  std::array<ImageF, kLevelCount> upsampled;  // ĉ_ℓ on W×H (empty for disabled levels, or unless kept)
+  std::array<ImageF, kLevelCount> alpha;      // α_ℓ on W×H
+  std::array<ImageF, kLevelCount> composite;  // c'_ℓ on W×H
+  ImageF final;                               // c'_finest
+  ImageU8 levelMap;                           // finest level with α > 0 at each pixel
+
+  // W×H final (`channels`) and level map, unfilled: the caller writes every pixel of both.
+  // With `keepStages`, also ĉ_ℓ, α_ℓ and c'_ℓ for every enabled level, zero-filled.
+  static BlendResult allocate(const Constants& constants, int channels, bool keepStages);
+};
+
+struct LevelResult {
+  GBuffer gbuffer;   // empty for disabled levels
+  MaskLevel masks;   // M_ℓ, a_ℓ, S_ℓ
+  ImageF raw;        // the effect before the bilateral blur
+  ImageF sub;        // c_ℓ, after the bilateral blur
+  int64_t shadedPixels = 0;       // |S_ℓ|
+  int64_t shadedBlockPixels = 0;  // 8 × the 4×2 blocks holding any S_ℓ = 1: what llvmpipe shades
+};
+
+struct StageTiming {
+  std::string stage;
+  double ms = 0.0;
+};
+
+// One rendered frame, as either path fills it. With RenderOptions::keepStages every stage's
+// images are here (for --stages, probe and compare); without, the port fills only what the
+// report and the outputs need.
+struct FrameResult {
+  Constants constants;
+  View view;
+  DirectionalLight light;  // the scene's light, as rendered
+  ShadowMap shadowMap;     // SSM and SSGI
+  ImageU8 shadowLit;       // the one-tap shadow test on the full-res grid (SSM, SSGI)
+  EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
+  ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
+  FallbackDecision fallback;  // SPEC §11, mode mrr
+  std::array<LevelResult, kLevelCount> levels;
+  BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
+  int64_t shadedPixelsTotal = 0;
+  double idealSpeedup = 1.0;  // W·H / Σ|S_ℓ| (SPEC §4)
+  // The same over whole 4×2 blocks: llvmpipe skips a block only when all eight fail the
+  // stencil (PLATFORM.md), so this is the most a stencilled pass can gain there.
+  double blockIdealSpeedup = 1.0;
+  std::vector<StageTiming> timings;  // in pipeline order; "total" last
+
+  ImageF shaded;  // W×H linear RGB for viewing (SPEC §6)
+
+  const ImageF& final() const { return blend.final; }
+  // What stage 5 blends: each level's c_ℓ, S_ℓ and a_ℓ (both paths' blend takes these).
+  std::array<LevelImages, kLevelCount> blendInputs() const;
+  // |S_ℓ| per level, their sum and the ideal speedup W·H / Σ|S_ℓ| (SPEC §4), from the stencils.
+  void countShadedPixels();
+  double timing(const std::string& stage) const;
+};
+
+// Receives "stage name" as each stage starts (progress lines on stderr).
+using ProgressFn = std::function<void(const std::string&)>;
+
+struct RenderOptions {
+  // Keep the per-level full-res blend images (ĉ_ℓ, α_ℓ, c'_ℓ) for --stages and probe. The
+  // benchmark turns it off: they are debugging output, not part of the method's cost.
+  bool keepStages = true;
+  ProgressFn progress;
+  // The never-slower rule's per-pixel costs (SPEC §11); null: CostModel::defaults of the path.
+  const CostModel* costModel = nullptr;
+};
+
+// SPEC §11 on a frame whose stencils are `masks` and nothing else of the method is paid yet:
+// when f.constants.neverSlower, decides with `model` into f.fallback and, on a fallback,
+// switches f.constants and `masks` to a full-res frame. Both pipelines call it at that point.
+// `gbuffer0Ms`: the frame's level-0 G-buffer time, for a model with a rasterised G-buffer (the
+// port, on a warm renderer); 0 leaves the per-scene term out.
+void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model, double gbuffer0Ms = 0.0);
+
+// The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred
+// sub-images and per-effect scratch; the full-res edges, blend, level map and shaded image;
+// the shadow map), plus the full-res images written out. An estimate made from the sizes
+// alone, before anything is allocated: the memory check up front (common/memory.h).
+int64_t estimateFrameBytes(const Constants& constants, bool keepStages);
+
+}  // namespace mrr

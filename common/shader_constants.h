@@ -1,0 +1,31 @@
+#pragma once
+// Numbers both paths use, defined once (issue 16: "constants defined once"). The oracle reads
+// these C++ constants; the port's shaders see the same values as GLSL `const float`
+// declarations that gpu/program.cpp pastes after each shader's #version line, printed with
+// enough digits (%.9g) that the GLSL compiler rounds them back to the same float.
+// Per-frame numbers (thresholds, radii, kernels) are uniforms made from Constants instead.
+namespace mrr {
+
+// SSAO, occluderDepth (docs/spec.md §6.1): below this |cos|² between the sample ray and the
+// texel's normal the tangent plane is too grazing to intersect, and the texel depth is used.
+inline constexpr float kGrazingCosine2 = 0.01f;  // |cos| <= 0.1
+
+// A shadow-map texel no surface covers: nothing blocks there (ShadowMap::kNoBlocker).
+inline constexpr float kNoBlocker = 3.0e38f;
+
+// The shaded image's sky colour on background pixels (SPEC §6, cpu_ref/shade.cpp).
+inline constexpr float kSkyRed = 0.62f, kSkyGreen = 0.70f, kSkyBlue = 0.80f;
+
+struct ShaderConstant {
+  const char* name;  // the same identifier in C++ and GLSL
+  float value;
+};
+inline constexpr ShaderConstant kShaderConstants[] = {
+    {"kGrazingCosine2", kGrazingCosine2},
+    {"kNoBlocker", kNoBlocker},
+    {"kSkyRed", kSkyRed},
+    {"kSkyGreen", kSkyGreen},
+    {"kSkyBlue", kSkyBlue},
+};
+
+}  // namespace mrr

@@ -6,8 +6,10 @@
 #include <functional>
 #include <vector>
 
+#include "common/stages.h"
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/peers.h"
+#include "cpu_ref/shade.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
 
@@ -151,7 +153,6 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   const Constants& c = o.constants;
   ParityResult result;
   auto add = [&](StageRow row) { result.rows.push_back(std::move(row)); };
-  const std::string tag = ".L";
 
   // 1. A level's G-buffer: hit, relative depth, 1 − N·N' where both hit. In pipeline order:
   // level 0 first (the masks are made from it), the coarser levels once the masks are known.
@@ -160,8 +161,8 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     if (!lc.enabled) return;
     const GBuffer& a = p.levels[static_cast<size_t>(l)].gbuffer;
     const GBuffer& b = o.levels[static_cast<size_t>(l)].gbuffer;
-    const std::string L = tag + std::to_string(l);
-    add({"gbuffer" + L + ".hit", l, lc.scale, check("gbuffer.hit", diffImages(a.hit, b.hit)), {}});
+    const std::string L = partName(Part::GBuffer, l);
+    add({L + ".hit", l, lc.scale, check("gbuffer.hit", diffImages(a.hit, b.hit)), {}});
     const auto bothHit = [&](size_t i) { return a.hit.data.size() == b.hit.data.size() && a.hit.data[i] && b.hit.data[i]; };
     ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero, albedoOff = zero,
         positionOff = zero;
@@ -180,24 +181,24 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
         albedoOff.data[i] = albedo;
         positionOff.data[i] = position / std::max(b.depth.data[i], 1e-30f);  // relative to the depth, like depth
       }
-    add({"gbuffer" + L + ".depth", l, lc.scale,
+    add({L + ".depth", l, lc.scale,
          check("gbuffer.depth", diffImages(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
-    add({"gbuffer" + L + ".position", l, lc.scale,
+    add({L + ".position", l, lc.scale,
          check("gbuffer.depth", diffImages(positionOff, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
-    add({"gbuffer" + L + ".normal", l, lc.scale,
+    add({L + ".normal", l, lc.scale,
          check("gbuffer.normal", diffImages(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit)), {}});
-    add({"gbuffer" + L + ".albedo", l, lc.scale,
+    add({L + ".albedo", l, lc.scale,
          check("gbuffer.albedo", diffImages(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
   };
   gbufferRows(0);
 
   // 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
   if (c.needsShadowMap()) {
-    add({"shadowmap", -1, 0,
+    add({partName(Part::ShadowMap), -1, 0,
          check("shadowmap.depth", diffShadowMaps(p.shadowMap, o.shadowMap, tolerance("shadowmap.depth").pixelThreshold)),
          {}});
     const ImageU8 same = shadowTestImage(p.levels[0].gbuffer, p.shadowMap, p.view, c.ssm.biasTexels);
-    add({"shadowtest", -1, 1, check("shadowtest", diffImages(p.shadowLit, o.shadowLit)),
+    add({partName(Part::ShadowTest), -1, 1, check("shadowtest", diffImages(p.shadowLit, o.shadowLit)),
          check("shadowtest.same_input", diffImages(p.shadowLit, same))});
   }
 
@@ -207,15 +208,16 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
     const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
     // Each kind on its own, then their OR, E.
+    const std::string edgesPart = partName(Part::Edges);
     const std::pair<const char*, const ImageU8 EdgeImages::*> kinds[] = {
-        {"edges.normal", &EdgeImages::normal}, {"edges.depth", &EdgeImages::depth},
-        {"edges.background", &EdgeImages::background}, {"edges.shadow", &EdgeImages::shadow}};
-    for (const auto& [name, kind] : kinds) {
+        {".normal", &EdgeImages::normal}, {".depth", &EdgeImages::depth},
+        {".background", &EdgeImages::background}, {".shadow", &EdgeImages::shadow}};
+    for (const auto& [kindName, kind] : kinds) {
       if ((p.edges.*kind).data.empty() && (o.edges.*kind).data.empty()) continue;  // shadow: SSM only
-      add({name, -1, 1, check("edges", diffImages(p.edges.*kind, o.edges.*kind)),
+      add({edgesPart + kindName, -1, 1, check("edges", diffImages(p.edges.*kind, o.edges.*kind)),
            check("edges.same_input", diffImages(p.edges.*kind, same.*kind, &edgeBand))});
     }
-    add({"edges", -1, 1, check("edges", diffImages(p.edges.combined, o.edges.combined)),
+    add({edgesPart, -1, 1, check("edges", diffImages(p.edges.combined, o.edges.combined)),
          check("edges.same_input", diffImages(p.edges.combined, same.combined, &edgeBand))});
   }
   // The decision comes right after the masks in the pipeline, but it chooses the stencils the
@@ -233,7 +235,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   if (multires) {
     masks = buildMasks(p.edges.combined, c);
   } else if (c.mode == Mode::Tiles) {
-    add({"tilerates", -1, kTileSize, check("stencil", diffImages(p.tileRates, o.tileRates)),
+    add({partName(Part::TileRates), -1, kTileSize, check("stencil", diffImages(p.tileRates, o.tileRates)),
          check("masks.same_input", diffImages(p.tileRates, tileRates(p.edges.combined)))});
     masks = tileMasks(p.tileRates, c);
   } else if (c.mode == Mode::Uniform1 || c.mode == Mode::Uniform2) {
@@ -246,15 +248,14 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     const MaskLevel& pm = p.levels[static_cast<size_t>(l)].masks;
     const MaskLevel& om = o.levels[static_cast<size_t>(l)].masks;
     const MaskLevel& sm = masks[static_cast<size_t>(l)];
-    const std::string L = tag + std::to_string(l);
     if (!pm.mask.data.empty() || !sm.mask.data.empty())
-      add({"mask" + L, l, lc.scale, {}, check("masks.same_input", diffImages(pm.mask, sm.mask))});
+      add({partName(Part::Mask, l), l, lc.scale, {}, check("masks.same_input", diffImages(pm.mask, sm.mask))});
     if (!lc.enabled) continue;
-    add({"alpha" + L, l, lc.scale, {},
+    add({partName(Part::Alpha, l), l, lc.scale, {},
          check("alpha.same_input", diffImages(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
     // Only the method's S_ℓ = [a_ℓ > 0] has a cutoff to guard; the others are exact.
     const std::vector<char> stencilBand = multires ? stencilGuardBand(sm.alpha) : std::vector<char>{};
-    add({"stencil" + L, l, lc.scale, check("stencil", diffImages(pm.stencil, om.stencil)),
+    add({partName(Part::Stencil, l), l, lc.scale, check("stencil", diffImages(pm.stencil, om.stencil)),
          check("masks.same_input", diffImages(pm.stencil, sm.stencil, multires ? &stencilBand : nullptr))});
   }
 
@@ -283,14 +284,13 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
       return pl.masks.stencil.data.size() == ol.masks.stencil.data.size() && pl.masks.stencil.data[i] &&
              ol.masks.stencil.data[i];
     };
-    const std::string L = tag + std::to_string(l);
     const ToleranceRule& end = tolerance(effect);
     const ToleranceRule& sameRule = tolerance(effect + ".same_input");
-    add({"raw" + L, l, lc.scale, check(effect, diffImages(pl.raw, ol.raw, end.pixelThreshold, bothShaded)),
+    add({partName(Part::Raw, l), l, lc.scale, check(effect, diffImages(pl.raw, ol.raw, end.pixelThreshold, bothShaded)),
          check(effect + ".same_input", diffImages(pl.raw, same, sameRule.pixelThreshold, portShaded))});
     if (c.effect == Effect::Ssao) {
       const ImageF blurred = bilateralBlur(pl.raw, pl.masks.stencil, pl.gbuffer, c.bilateral);
-      add({"sub" + L, l, lc.scale, {},
+      add({partName(Part::Sub, l), l, lc.scale, {},
            check("bilateral.same_input",
                  diffImages(pl.sub, blurred, tolerance("bilateral.same_input").pixelThreshold, portShaded))});
     }
@@ -315,12 +315,11 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     for (int l = kLevelCount - 1; l >= 0; --l) {
       const size_t i = static_cast<size_t>(l);
       if (!c.levels[i].enabled || p.blend.upsampled[i].data.empty()) continue;
-      const std::string L = tag + std::to_string(l);
-      add({"upsample" + L, l, 1, {},
+      add({partName(Part::Upsample, l), l, 1, {},
            check("blend.same_input", diffImages(p.blend.upsampled[i], same.upsampled[i], blendThreshold, {}))});
-      add({"blendalpha" + L, l, 1, {},
+      add({partName(Part::BlendAlpha, l), l, 1, {},
            check("blend.same_input", diffImages(p.blend.alpha[i], same.alpha[i], blendThreshold, {}))});
-      add({"composite" + L, l, 1, {},
+      add({partName(Part::Composite, l), l, 1, {},
            check("blend.same_input", diffImages(p.blend.composite[i], same.composite[i], blendThreshold, {}))});
     }
     finalSame = check("blend.same_input", diffImages(p.final(), same.final, blendThreshold, {}));
@@ -348,10 +347,11 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
                                      p.blend.composite[static_cast<size_t>(coarser)].at(x, y, k));
           }
         }
-      const std::string L = tag + std::to_string(l);
-      add({"upsample" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.upsampled[i], up, blendThreshold, {}))});
-      add({"blendalpha" + L, l, 1, {}, check("blend.same_input", diffImages(p.blend.alpha[i], alpha, blendThreshold, {}))});
-      add({"composite" + L, l, 1, {},
+      add({partName(Part::Upsample, l), l, 1, {},
+           check("blend.same_input", diffImages(p.blend.upsampled[i], up, blendThreshold, {}))});
+      add({partName(Part::BlendAlpha, l), l, 1, {},
+           check("blend.same_input", diffImages(p.blend.alpha[i], alpha, blendThreshold, {}))});
+      add({partName(Part::Composite, l), l, 1, {},
            check("blend.same_input", diffImages(p.blend.composite[i], composite, blendThreshold, {}))});
       coarser = l;
     }
@@ -360,8 +360,18 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
                         diffImages(p.final(), p.blend.composite[static_cast<size_t>(coarser)], blendThreshold, {}));
   }
   // The final image is the finest composite; end to end it carries everything above.
-  add({"final", -1, 1, check("final", diffImages(p.final(), o.final(), tolerance("final").pixelThreshold, {})),
-       finalSame});
+  add({partName(Part::Final), -1, 1,
+       check("final", diffImages(p.final(), o.final(), tolerance("final").pixelThreshold, {})), finalSame});
+
+  // 6. The shaded image: end to end, and the oracle's shadeFinal on the port's own level-0
+  // G-buffer, final image and one-tap test (shade.frag's arithmetic alone).
+  if (!p.shaded.empty() && !o.shaded.empty() && !p.levels[0].gbuffer.depth.empty()) {
+    const ImageF same = shadeFinal(p.levels[0].gbuffer, p.final(), p.shadowLit, p.view, light, c.effect);
+    add({partName(Part::Shaded), -1, 1,
+         check("shaded", diffImages(p.shaded, o.shaded, tolerance("shaded").pixelThreshold, {})),
+         check("shaded.same_input",
+               diffImages(p.shaded, same, tolerance("shaded.same_input").pixelThreshold, {}))});
+  }
   return result;
 }
 

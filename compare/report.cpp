@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "cpu_ref/peers.h"
+#include "common/stages.h"
 
 namespace mrr {
 
@@ -102,7 +102,6 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
-    const std::string L = ".L" + std::to_string(l);
     const GBuffer& g = lr.gbuffer;
     ImageF gb(g.width, g.height, 11);
     for (int y = 0; y < g.height; ++y)
@@ -112,15 +111,15 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
                        g.albedo.at(x, y, 1),   g.albedo.at(x, y, 2),   static_cast<float>(g.hit.at(x, y))};
         for (int k = 0; k < 11; ++k) gb.at(x, y, k) = v[k];
       }
-    parts.push_back({"gbuffer" + L, gb, {"depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "albedo.R", "albedo.G",
+    parts.push_back({partName(Part::GBuffer, l), gb, {"depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "albedo.R", "albedo.G",
                                           "albedo.B", "hit"}});
   }
   if (!f.shadowMap.depth.empty()) {
     ImageF depth = f.shadowMap.depth;  // misses as +inf would wreck viewers: write -1
     for (float& v : depth.data)
       if (v == ShadowMap::kNoBlocker) v = -1.0f;
-    parts.push_back({"shadowmap", depth, {"depth"}});
-    parts.push_back({"shadowtest", toFloat(crop(f.shadowLit, c.width, c.height)), {"lit"}});
+    parts.push_back({partName(Part::ShadowMap), depth, {"depth"}});
+    parts.push_back({partName(Part::ShadowTest), toFloat(crop(f.shadowLit, c.width, c.height)), {"lit"}});
   }
   if (!f.edges.combined.empty()) {  // modes mrr and tiles
     const EdgeImages& e = f.edges;
@@ -136,28 +135,27 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
       }
     std::vector<std::string> names = {"normal", "depth", "background", "E"};
     if (shadow) names.push_back("shadow");
-    parts.push_back({"edges", edges, names});
+    parts.push_back({partName(Part::Edges), edges, names});
   }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
-    const std::string L = ".L" + std::to_string(l);
-    if (!lr.masks.mask.empty()) parts.push_back({"mask" + L, toFloat(lr.masks.mask), {"M"}});
-    parts.push_back({"alpha" + L, lr.masks.alpha, {"a"}});
-    parts.push_back({"stencil" + L, toFloat(lr.masks.stencil), {"S"}});
-    parts.push_back({"raw" + L, lr.raw, effectChannels("c_raw", lr.raw.channels)});
-    parts.push_back({"sub" + L, lr.sub, effectChannels("c", lr.sub.channels)});
+    if (!lr.masks.mask.empty()) parts.push_back({partName(Part::Mask, l), toFloat(lr.masks.mask), {"M"}});
+    parts.push_back({partName(Part::Alpha, l), lr.masks.alpha, {"a"}});
+    parts.push_back({partName(Part::Stencil, l), toFloat(lr.masks.stencil), {"S"}});
+    parts.push_back({partName(Part::Raw, l), lr.raw, effectChannels("c_raw", lr.raw.channels)});
+    parts.push_back({partName(Part::Sub, l), lr.sub, effectChannels("c", lr.sub.channels)});
     if (f.blend.upsampled[static_cast<size_t>(l)].empty()) continue;  // rendered without keepStages
-    parts.push_back({"upsample" + L, f.blend.upsampled[static_cast<size_t>(l)],
+    parts.push_back({partName(Part::Upsample, l), f.blend.upsampled[static_cast<size_t>(l)],
                      effectChannels("c_hat", lr.sub.channels)});
-    parts.push_back({"blendalpha" + L, f.blend.alpha[static_cast<size_t>(l)], {"alpha"}});
-    parts.push_back({"composite" + L, f.blend.composite[static_cast<size_t>(l)],
+    parts.push_back({partName(Part::BlendAlpha, l), f.blend.alpha[static_cast<size_t>(l)], {"alpha"}});
+    parts.push_back({partName(Part::Composite, l), f.blend.composite[static_cast<size_t>(l)],
                      effectChannels("c_prime", lr.sub.channels)});
   }
-  parts.push_back({"levelmap", toFloat(f.blend.levelMap), {"level"}});
-  parts.push_back({"final", f.final(), effectChannels("Y", f.final().channels)});
-  parts.push_back({"shaded", f.shaded, {"R", "G", "B"}});
+  parts.push_back({partName(Part::LevelMap), toFloat(f.blend.levelMap), {"level"}});
+  parts.push_back({partName(Part::Final), f.final(), effectChannels("Y", f.final().channels)});
+  parts.push_back({partName(Part::Shaded), f.shaded, {"R", "G", "B"}});
   return parts;
 }
 

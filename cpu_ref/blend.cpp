@@ -8,7 +8,8 @@
 namespace mrr {
 
 namespace {
-// floor(u) and u − floor(u) for u = (p + ½)/s − ½ = (2p + 1 − s) / 2s, in integers. Every
+// Fast path, equal to step 1 (bilinearTapsReference's floor form): floor(u) and u − floor(u)
+// for u = (p + ½)/s − ½ = (2p + 1 − s) / 2s, in integers. Every
 // quantity here is a small dyadic rational, so float arithmetic (what a shader does with
 // floor()) gives exactly these values. 2s is a power of two: the floor division is an
 // arithmetic shift (C++20 defines >> on negative values as floor), the remainder a mask.
@@ -56,6 +57,76 @@ struct LevelRow {
 }
 }  // namespace
 
+BilinearTaps bilinearTapsReference(int px, int py, const LevelConstants& level) {
+  // 1. u = (p + ½)/s − ½ in level coordinates, its floor and fraction; tap k = 2j + i is
+  // (f + i, f + j) clamped to the level grid, with weight (i ? t.x : 1 − t.x)·(j ? t.y : 1 − t.y)
+  const float s = static_cast<float>(level.scale);
+  const float ux = (static_cast<float>(px) + 0.5f) / s - 0.5f, uy = (static_cast<float>(py) + 0.5f) / s - 0.5f;
+  const float fx = std::floor(ux), fy = std::floor(uy);
+  const float tx = ux - fx, ty = uy - fy;
+  BilinearTaps t;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int k = j * 2 + i;
+      t.x[k] = std::clamp(static_cast<int>(fx) + i, 0, level.width - 1);
+      t.y[k] = std::clamp(static_cast<int>(fy) + j, 0, level.height - 1);
+      t.weight[k] = (i == 1 ? tx : 1.0f - tx) * (j == 1 ? ty : 1.0f - ty);
+    }
+  return t;
+}
+
+Upsampled upsampleReference(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha,
+                            const LevelConstants& level, int px, int py) {
+  const BilinearTaps taps = bilinearTapsReference(px, py, level);
+  Upsampled u;
+  float coverage = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    const float b = taps.weight[k];
+    // 2. â = Σ b_q a(q) over all taps; ĉ and the coverage over the rendered taps (S = 1) only
+    u.alphaHat += b * alpha.at(taps.x[k], taps.y[k]);
+    if (!stencil.at(taps.x[k], taps.y[k])) continue;  // an unrendered value is never read
+    coverage += b;
+    for (int c = 0; c < sub.channels; ++c) u.color[c] += b * sub.at(taps.x[k], taps.y[k], c);
+  }
+  if (coverage > 0.0f) {
+    u.covered = true;
+    if (coverage != 1.0f)  // x / 1 = x: the fast path skips the division there, to the same bits
+      for (int c = 0; c < sub.channels; ++c) u.color[c] /= coverage;
+    // 3. α = min(â·w, 1)
+    u.alpha = std::min(u.alphaHat * level.weight, 1.0f);
+  }
+  return u;  // 3. no rendered tap: ĉ = 0, α = 0 (the level contributes nothing here)
+}
+
+BlendResult blendReference(const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
+  const int channels = levels[static_cast<size_t>(c.coarsestEnabled)].sub->channels;
+  BlendResult r = BlendResult::allocate(c, channels, true);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      float composite[4] = {0, 0, 0, 0};
+      int finest = c.coarsestEnabled;
+      for (int l = c.coarsestEnabled; l >= 0; --l) {
+        const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+        if (!lc.enabled) continue;
+        const LevelImages& in = levels[static_cast<size_t>(l)];
+        const Upsampled u = upsampleReference(*in.sub, *in.stencil, *in.alpha, lc, x, y);
+        const bool coarsest = l == c.coarsestEnabled;  // it covers every pixel: the base, α = 1
+        const float alpha = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
+        for (int ch = 0; ch < channels; ++ch)  // 4. c'_ℓ = α ĉ_ℓ + (1 − α) c'_coarser
+          composite[ch] = coarsest ? u.color[ch] : blendStep(alpha, u.color[ch], composite[ch]);
+        if (!coarsest && alpha > 0.0f) finest = l;  // 5. the finest level with α > 0
+        r.alpha[static_cast<size_t>(l)].at(x, y) = alpha;
+        for (int ch = 0; ch < channels; ++ch) {
+          r.upsampled[static_cast<size_t>(l)].at(x, y, ch) = u.color[ch];
+          r.composite[static_cast<size_t>(l)].at(x, y, ch) = composite[ch];
+        }
+      }
+      for (int ch = 0; ch < channels; ++ch) r.final.at(x, y, ch) = composite[ch];
+      r.levelMap.at(x, y) = static_cast<uint8_t>(finest);
+    }
+  return r;
+}
+
 BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
   // u = (p + ½)/s − ½ in level coordinates; tap k = 2j + i has weight wx_i · wy_j
   const TapAxis ax = tapAxis(px, level, level.width), ay = tapAxis(py, level, level.height);
@@ -69,7 +140,7 @@ BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
   return t;
 }
 
-// The blend's inner loop: inlined there (it runs up to four times per full-res pixel), and
+// Fast path, equal to steps 2–3 (upsampleReference). The blend's inner loop: inlined there (it runs up to four times per full-res pixel), and
 // compiled per channel count (kChannels; 0 = `channels` at run time), so that the colour
 // stays in registers: with the count read at run time it went through the stack, and the
 // blend took twice as long. The taps are visited in bilinearTaps' order (k = 2j + i).
@@ -83,8 +154,7 @@ template <int kChannels>
     for (int i = 0; i < 2; ++i) {
       const float b = ax.weight[i] * row.y.weight[j];
       const int x = ax.index[i];
-      // 1. masked bilinear: only rendered taps (S = 1) carry colour
-      // 2. â = Σ b_q a(q), over all taps
+      // 2. â = Σ b_q a(q), over all taps; masked bilinear: only rendered taps (S = 1) carry colour
       u.alphaHat += b * row.alpha[j][x];
       if (!row.stencil[j][x]) continue;  // never read an unrendered value, not even × 0
       coverage += b;
@@ -128,8 +198,8 @@ float blendStep(float alpha, float fine, float coarserComposite) {
 
 namespace {
 
-// The final image and level map without the per-level images, bit-identical to the full
-// pass below: levels are visited fine to coarse for their α first, and only the ones that
+// Fast path, equal to blendReference's final image and level map (steps 1–5), without the
+// per-level images, bit-identical to the full pass below: levels are visited fine to coarse for their α first, and only the ones that
 // can change the result are upsampled. That is exact because blendStep(1, f, c) = f and
 // blendStep(0, f, c) = c in float arithmetic for finite values.
 template <int kChannels>

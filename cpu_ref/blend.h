@@ -1,6 +1,14 @@
 #pragma once
-// Stage 6 — masked-bilinear upsampling and the coarse-to-fine blend (SPEC §5, the paper's
+// Stage 5 — masked-bilinear upsampling and the coarse-to-fine blend (SPEC §5, the paper's
 // Eq. 1 with its erratum corrected: the right-hand side blends over the coarser composite).
+// The steps are numbered as in gpu/shaders/blend.frag, which computes the same function:
+//   1. the bilinear taps of u = (p + ½)/s − ½        (bilinearTapsReference, tapAxis)
+//   2. masked bilinear ĉ and â over the four taps    (upsampleReference, upsampleImpl)
+//   3. α = min(â·w, 1) where a tap is rendered, else 0
+//   4. c'_ℓ = α ĉ_ℓ + (1 − α) c'_coarser             (blendStep)
+//   5. the level map: the finest level with α > 0
+// blendReference is the readable rule, one pixel at a time in that order; blendLevels is the
+// fast path, equal to it bit for bit (tests/oracle/invariants_test.cpp, BlendFastPathsMatchTheReference).
 #include <array>
 
 #include "common/frame.h"
@@ -18,6 +26,11 @@ struct BilinearTaps {
 };
 BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level);
 
+// Step 1, readable: the shader's floor form, u = (p + ½)/s − ½, f = floor(u), t = u − f. Every
+// quantity is a small dyadic rational, so float gives exactly what bilinearTaps' integer
+// shift-and-mask gives (tested equal at every pixel).
+BilinearTaps bilinearTapsReference(int px, int py, const LevelConstants& level);
+
 // ĉ_ℓ(p), â_ℓ(p) and α_ℓ(p) at one pixel. `covered` is false when Σ b_q S(q) = 0.
 struct Upsampled {
   float color[4] = {0, 0, 0, 0};
@@ -28,10 +41,19 @@ struct Upsampled {
 Upsampled upsampleAt(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha, const LevelConstants& level,
                      int px, int py);
 
-// One blend step: c'_ℓ = α ĉ_ℓ + (1 − α) c'_{coarser} (SPEC §5, corrected Eq. 1).
+// Steps 1–3, readable: ĉ_ℓ(p), â_ℓ(p) and α_ℓ(p) from bilinearTapsReference's taps.
+Upsampled upsampleReference(const ImageF& sub, const ImageU8& stencil, const ImageF& alpha,
+                            const LevelConstants& level, int px, int py);
+
+// Step 4. One blend step: c'_ℓ = α ĉ_ℓ + (1 − α) c'_{coarser} (SPEC §5, corrected Eq. 1).
 float blendStep(float alpha, float fine, float coarserComposite);
 
-// The final image and level map; with `keepStages`, also every ĉ_ℓ, α_ℓ and c'_ℓ.
+// Steps 1–5, readable: every pixel, every enabled level from the coarsest (which covers every
+// pixel: α = 1 there) to the finest; keeps every ĉ_ℓ, α_ℓ and c'_ℓ.
+BlendResult blendReference(const std::array<LevelImages, kLevelCount>& levels, const Constants& constants);
+
+// Fast path, equal to blendReference: the final image and level map; with `keepStages`, also
+// every ĉ_ℓ, α_ℓ and c'_ℓ.
 BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& constants,
                         bool keepStages = true);
 

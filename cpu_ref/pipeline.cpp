@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "common/parallel.h"
+#include "common/stages.h"
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
@@ -37,7 +38,7 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
     f.timings.push_back({name, msSince(t0)});
   };
   auto gbuffer = [&](int l) {
-    stage("gbuffer.L" + std::to_string(l),
+    stage(stageName(Part::GBuffer, l),
           [&] { f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, c.levels[static_cast<size_t>(l)]); });
   };
 
@@ -46,8 +47,8 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
 
   // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
   if (c.needsShadowMap()) {
-    stage("shadowmap", [&] { f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), c.ssm.shadowMapSize); });
-    stage("shadowtest", [&] {
+    stage(stageName(Part::ShadowMap), [&] { f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), c.ssm.shadowMapSize); });
+    stage(stageName(Part::ShadowTest), [&] {
       f.shadowLit = shadowTestImage(f.levels[0].gbuffer, f.shadowMap, f.view, c.ssm.biasTexels);
     });
   }
@@ -56,12 +57,12 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
   std::array<MaskLevel, kLevelCount> masks;
   if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
     const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
-    stage("edges", [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges, shadowEdges); });
+    stage(stageName(Part::Edges), [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges, shadowEdges); });
   }
   switch (c.mode) {
-    case Mode::Multires: stage("masks", [&] { masks = buildMasks(f.edges.combined, c); }); break;
+    case Mode::Multires: stage(stageName(Part::Stencil), [&] { masks = buildMasks(f.edges.combined, c); }); break;
     case Mode::Tiles:
-      stage("masks", [&] {
+      stage(stageName(Part::Stencil), [&] {
         f.tileRates = tileRates(f.edges.combined);
         masks = tileMasks(f.tileRates, c);
       });
@@ -96,19 +97,19 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
         std::function<void(double)> tenths;
         const double work = static_cast<double>(lc.width) * lc.height * c.ssao.samples;
         if (progress && work > 2e8)
-          tenths = [&](double done) { progress("effect" + L + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%"); };
-        stage("effect" + L, [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
-        stage("bilateral" + L, [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
+          tenths = [&](double done) { progress(stageName(Part::Raw, l) + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%"); };
+        stage(stageName(Part::Raw, l), [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
+        stage(stageName(Part::Sub, l), [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
         break;
       }
       case Effect::Ssm:
-        stage("effect" + L, [&] { lr.raw = renderSsm(lr.gbuffer, f.shadowMap, lr.masks.stencil, f.view, c.ssm); });
+        stage(stageName(Part::Raw, l), [&] { lr.raw = renderSsm(lr.gbuffer, f.shadowMap, lr.masks.stencil, f.view, c.ssm); });
         lr.sub = lr.raw;  // PCF is its own filter: no blur (the paper blurs SSAO only)
         break;
       case Effect::Ssgi: {
         ImageF direct;
         stage("direct" + L, [&] { direct = directLight(lr.gbuffer, f.shadowMap, f.view, scene_.light, c.ssm.biasTexels); });
-        stage("effect" + L, [&] { lr.raw = renderSsgi(lr.gbuffer, direct, lr.masks.stencil, f.view, lc, c.ssgi); });
+        stage(stageName(Part::Raw, l), [&] { lr.raw = renderSsgi(lr.gbuffer, direct, lr.masks.stencil, f.view, lc, c.ssgi); });
         lr.sub = lr.raw;
         break;
       }
@@ -121,12 +122,12 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
     std::array<const GBuffer*, kLevelCount> gbuffers{};
     for (size_t l = 0; l < gbuffers.size(); ++l)
       if (c.levels[l].enabled) gbuffers[l] = &f.levels[l].gbuffer;
-    stage("blend", [&] { f.blend = composePeer(f.blendInputs(), gbuffers, f.tileRates, c, options.keepStages); });
+    stage(stageName(Part::Final), [&] { f.blend = composePeer(f.blendInputs(), gbuffers, f.tileRates, c, options.keepStages); });
   } else {
-    stage("blend", [&] { f.blend = blendLevels(f.blendInputs(), c, options.keepStages); });
+    stage(stageName(Part::Final), [&] { f.blend = blendLevels(f.blendInputs(), c, options.keepStages); });
   }
   // 6. The shaded image for viewing (SPEC §6).
-  stage("shade", [&] {
+  stage(stageName(Part::Shaded), [&] {
     f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, scene_.light, c.effect);
   });
   f.timings.push_back({"total", msSince(frameStart)});

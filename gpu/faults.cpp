@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "common/error.h"
+#include "common/stages.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -13,27 +14,27 @@ const std::vector<ShaderFault>& shaderFaults() {
        "a syntax error: the driver refuses the G-buffer shader", "compile"},
       {"half-pixel", "blend.frag", "vec2 u = (vec2(p) + 0.5) / float(scale) - 0.5;",
        "vec2 u = (vec2(p) + 0.5) / float(scale);", "upsampling taps off by half a level pixel (the −½ dropped)",
-       "upsample"},
+       partName(Part::Upsample)},
       {"blend-weight", "blend.frag", "alpha = min(alphaHat * weight, 1.0);", "alpha = min(alphaHat * weight * 0.5, 1.0);",
-       "the blend weight w_ℓ halved", "blendalpha"},
+       "the blend weight w_ℓ halved", partName(Part::BlendAlpha)},
       {"uncorrected-blend", "blend.frag", "vec3 below = coarsest ? vec3(0.0) : texelFetch(coarser, p, 0).rgb;",
        "vec3 below = vec3(0.0);",
-       "the paper's printed Eq. 1: blends with c'_{i-1}, the finer composite, not yet written (0)", "composite"},
+       "the paper's printed Eq. 1: blends with c'_{i-1}, the finer composite, not yet written (0)", partName(Part::Composite)},
       {"unmasked-bilinear", "blend.frag", "if (texelFetch(stencilMask, q, 0).r < 0.5) continue;", "",
-       "bilinear upsampling that ignores S_ℓ (reads unrendered texels)", "upsample"},
+       "bilinear upsampling that ignores S_ℓ (reads unrendered texels)", partName(Part::Upsample)},
       {"ssao-bias-sign", "ssao.frag", "if (bufferDepth < sampleDepth - bias)", "if (bufferDepth < sampleDepth + bias)",
-       "the SSAO depth bias with its sign flipped", "raw"},
+       "the SSAO depth bias with its sign flipped", partName(Part::Raw)},
       {"pcf-one-short", "ssm.frag", "if (r.depth <= b) ++litTaps;",
        "if (r.depth <= b && !(i == grid - 1 && j == grid - 1)) ++litTaps;",
-       "a PCF grid one sample short (the last tap never counts as lit)", "raw"},
+       "a PCF grid one sample short (the last tap never counts as lit)", partName(Part::Raw)},
       {"ssgi-no-ndotl", "ssgi.frag", "float nl = max(dot(n, toLight), 0.0);", "float nl = 1.0;",
-       "SSGI senders without the N·L term", "raw"},
+       "SSGI senders without the N·L term", partName(Part::Raw)},
       {"tiles-no-dilation", "peers.frag",
        "near = max(near, texelFetch(source, ivec2(i, j), 0).r);", "near = max(near, texelFetch(source, p, 0).r);",
-       "tiles' rate without the 8-neighbourhood: no tile is ever shaded at 2×2", "tilerates"},
+       "tiles' rate without the 8-neighbourhood: no tile is ever shaded at 2×2", partName(Part::TileRates)},
       {"jbu-no-depth", "peers.frag", "return b * exp(-dz * dz) * normalSimilarity(cosine, normalPower);",
        "return b * normalSimilarity(cosine, normalPower);",
-       "uniform-k's joint bilateral upsampling without its depth term", "upsample"},
+       "uniform-k's joint bilateral upsampling without its depth term", partName(Part::Upsample)},
   };
   return faults;
 }

@@ -9,7 +9,7 @@
 
 #include "common/cost_model.h"
 #include "common/error.h"
-#include "gpu/shade.h"
+#include "common/stages.h"
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
 #include "gpu/edges.h"
@@ -17,6 +17,7 @@
 #include "gpu/masks.h"
 #include "gpu/peers.h"
 #include "gpu/program.h"
+#include "gpu/shade.h"
 #include "gpu/shadowmap.h"
 #include "gpu/ssao.h"
 #include "gpu/ssgi.h"
@@ -91,7 +92,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   auto gbuffer = [&](int l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const int targets = keep || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
-    stage("gbuffer.L" + std::to_string(l), [&] {
+    stage(stageName(Part::GBuffer, l), [&] {
       gbuffers[static_cast<size_t>(l)] = gpuScene_.target(lc.width, lc.height, targets, true);
       drawGBuffer(gpuScene_, f.view, lc, *gbuffers[static_cast<size_t>(l)]);
       if (keep) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
@@ -105,13 +106,13 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   std::unique_ptr<ShadowMapTarget> shadowMap;
   Target shadowTest;
   if (c.needsShadowMap()) {
-    stage("shadowmap", [&] {
+    stage(stageName(Part::ShadowMap), [&] {
       f.shadowMap = shadowMapFrame(scene_.light, gpuScene_.bounds(), c.ssm.shadowMapSize);
       shadowMap = std::make_unique<ShadowMapTarget>(c.ssm.shadowMapSize);
       drawShadowMap(gpuScene_, f.shadowMap, *shadowMap);
       if (keep) f.shadowMap.depth = shadowMap->read();
     });
-    stage("shadowtest", [&] {
+    stage(stageName(Part::ShadowTest), [&] {
       shadowTest = gpuScene_.target(gbuffers[0]->width(), gbuffers[0]->height(), 1, false, Texel::R8);
       drawShadowTest(gpuScene_, *gbuffers[0], f.shadowMap, shadowMap->texture(), f.view, c.ssm.biasTexels, *shadowTest);
       if (keep) f.shadowLit = readShadowTest(*shadowTest);
@@ -122,7 +123,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   Target edges;
   if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
     const unsigned shadowEdges = c.effect == Effect::Ssm ? shadowTest->texture(0) : 0;
-    stage("edges", [&] {
+    stage(stageName(Part::Edges), [&] {
       edges = drawEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges, !keep);
       if (keep) f.edges = readEdges(*edges);
     });
@@ -131,14 +132,14 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   std::unique_ptr<MaskTargets> maskTargets;
   switch (c.mode) {
     case Mode::Multires:
-      stage("masks", [&] {
+      stage(stageName(Part::Stencil), [&] {
         maskTargets = drawMasks(gpuScene_, edges->texture(0), edgeChannel(!keep), c);
         masks = readMasks(*maskTargets, c, !keep);
         if (keep) masks[0].mask = f.edges.combined;  // M_0 = E
       });
       break;
     case Mode::Tiles:
-      stage("masks", [&] {
+      stage(stageName(Part::Stencil), [&] {
         f.tileRates = tileRates(gpuScene_, edges->texture(0), edgeChannel(!keep), edges->width(), edges->height());
         masks = tileMasks(gpuScene_, f.tileRates, c);
       });
@@ -185,11 +186,11 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     const std::string L = ".L" + std::to_string(l);
     switch (c.effect) {
       case Effect::Ssao:
-        stage("effect" + L, [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao, fill); });
-        stage("bilateral" + L, [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral, raw[i].get()); });
+        stage(stageName(Part::Raw, l), [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao, fill); });
+        stage(stageName(Part::Sub, l), [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral, raw[i].get()); });
         break;
       case Effect::Ssm:  // PCF is its own filter: no blur (the paper blurs SSAO only)
-        stage("effect" + L, [&] {
+        stage(stageName(Part::Raw, l), [&] {
           raw[i] = drawSsm(gpuScene_, targets, stencil, f.shadowMap, shadowMap->texture(), f.view, c.ssm, fill);
         });
         break;
@@ -199,7 +200,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
           drawDirectLight(gpuScene_, targets, f.shadowMap, shadowMap->texture(), f.view, scene_.light, c.ssm.biasTexels,
                           *direct);
         });
-        stage("effect" + L, [&] {
+        stage(stageName(Part::Raw, l), [&] {
           raw[i] = drawSsgi(gpuScene_, targets, direct->texture(0), stencil, f.view, lc, c.ssgi, fill);
         });
         break;
@@ -219,20 +220,20 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
     std::array<const Framebuffer*, kLevelCount> targets{};
     for (size_t l = 0; l < targets.size(); ++l)
       if (c.levels[l].enabled) targets[l] = gbuffers[l].get();
-    stage("blend", [&] {
+    stage(stageName(Part::Final), [&] {
       f.blend = composePeer(gpuScene_, subTexture, c.channels(), targets, f.tileRates, c, options.keepStages, &finalOnGpu);
     });
   } else {
     std::array<LevelTextures, kLevelCount> inputs;
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture[l], maskTargets->stencil[l], maskTargets->alpha[l]};
     const ImageU8* edgeBlocks = maskTargets->drawn ? &maskTargets->edgeBlocks : nullptr;
-    stage("blend", [&] {
+    stage(stageName(Part::Final), [&] {
       f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages, edgeBlocks, &finalOnGpu);
     });
   }
   // 6. The shaded image for viewing (shade.frag), from the level-0 G-buffer and the final image
   // on the GPU: the same for every method, and no part of the effect's cost.
-  stage("shade", [&] {
+  stage(stageName(Part::Shaded), [&] {
     f.shaded = drawShade(gpuScene_, *gbuffers[0], finalOnGpu.texture(), shadowTest ? shadowTest->texture(0) : 0, f.view,
                          f.light, c);
   });

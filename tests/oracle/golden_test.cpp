@@ -22,6 +22,7 @@
 #include <string>
 
 #include "common/image_io.h"
+#include "common/stages.h"
 #include "tests/oracle/render_helpers.h"
 
 namespace mrr {
@@ -48,8 +49,11 @@ std::string digest(const Image& image) {
   return OIIO::ImageBufAlgo::computePixelHashSHA1(buffer);
 }
 
-const char* const kStages[] = {"gbuffer.depth", "gbuffer.normal", "shadowmap", "edges", "alpha",
-                               "stencil", "sub", "final", "shaded"};
+// The recorded stages, in pipeline order, named from the stage list (common/stages.h).
+const std::vector<std::string> kStages = {partName(Part::GBuffer) + ".depth", partName(Part::GBuffer) + ".normal",
+                                          partName(Part::ShadowMap), partName(Part::Edges), partName(Part::Alpha),
+                                          partName(Part::Stencil), partName(Part::Sub), partName(Part::Final),
+                                          partName(Part::Shaded)};
 
 // One digest per stage; a stage spanning levels hashes the digests of its levels.
 json stageDigests(const FrameResult& f) {
@@ -61,15 +65,15 @@ json stageDigests(const FrameResult& f) {
     return joined;
   };
   json j;
-  j["gbuffer.depth"] = levels([](const LevelResult& l) -> const ImageF& { return l.gbuffer.depth; });
-  j["gbuffer.normal"] = levels([](const LevelResult& l) -> const ImageF& { return l.gbuffer.normal; });
-  j["shadowmap"] = digest(f.shadowMap.depth);
-  j["edges"] = digest(f.edges.combined);
-  j["alpha"] = levels([](const LevelResult& l) -> const ImageF& { return l.masks.alpha; });
-  j["stencil"] = levels([](const LevelResult& l) -> const ImageU8& { return l.masks.stencil; });
-  j["sub"] = levels([](const LevelResult& l) -> const ImageF& { return l.sub; });
-  j["final"] = digest(f.final());
-  j["shaded"] = digest(f.shaded);
+  j[kStages[0]] = levels([](const LevelResult& l) -> const ImageF& { return l.gbuffer.depth; });
+  j[kStages[1]] = levels([](const LevelResult& l) -> const ImageF& { return l.gbuffer.normal; });
+  j[kStages[2]] = digest(f.shadowMap.depth);
+  j[kStages[3]] = digest(f.edges.combined);
+  j[kStages[4]] = levels([](const LevelResult& l) -> const ImageF& { return l.masks.alpha; });
+  j[kStages[5]] = levels([](const LevelResult& l) -> const ImageU8& { return l.masks.stencil; });
+  j[kStages[6]] = levels([](const LevelResult& l) -> const ImageF& { return l.sub; });
+  j[kStages[7]] = digest(f.final());
+  j[kStages[8]] = digest(f.shaded);
   return j;
 }
 
@@ -111,7 +115,7 @@ TEST(Golden, OracleStagesMatchTheRecordedDigests) {
       continue;
     }
     std::string moved;
-    for (const char* stage : kStages)  // in pipeline order, so the first named is where it started
+    for (const std::string& stage : kStages)  // in pipeline order, so the first named is where it started
       if (recorded[frame].value(stage, "") != stages.value(stage, "")) moved += std::string(" ") + stage;
     EXPECT_TRUE(moved.empty()) << frame << ": stages that changed:" << moved
                                << " (the first is where to look; record again only if the change is intended)";

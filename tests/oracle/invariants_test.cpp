@@ -290,6 +290,51 @@ TEST_P(EveryBuiltinFast, EdgeImagesMatchThePerPixelDecision) {
   }
 }
 
+// The blend's fast paths (integer tap coordinates, rows resolved once, the final-only pass that
+// stops at the first opaque level) against the readable reference of cpu_ref/blend.h, which
+// numbers its steps as blend.frag does: bit for bit, every pixel and every per-level image,
+// with and without a disabled level, at odd sizes.
+TEST_P(EveryBuiltinFast, BlendFastPathsMatchTheReference) {
+  const auto& [scene, effect] = GetParam();
+  for (const auto& [w, h, disabled] : {std::tuple{123, 77, 0}, std::tuple{61, 45, 1}, std::tuple{3, 3, 0}}) {
+    Settings s = test::ssaoSettings(w, h, 4);
+    s.effect = effect;
+    if (effect == Effect::Ssm) s.ssm.samples = 16;
+    if (effect == Effect::Ssgi) s.ssgi.samples = 8;
+    if (disabled > 0) s.levels[static_cast<size_t>(disabled)].enabled = false;
+    const auto r = test::renderScene("builtin:" + scene, s);
+    const FrameResult& f = r.frame;
+    const Constants& c = f.constants;
+    const BlendResult reference = blendReference(f.blendInputs(), c);
+    const BlendResult finalOnly = blendLevels(f.blendInputs(), c, false);
+    auto same = [](const auto& a, const auto& b) {
+      return a.width == b.width && a.height == b.height && a.channels == b.channels &&
+             std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(a.data[0])) == 0;
+    };
+    EXPECT_TRUE(same(f.blend.final, reference.final)) << w << "x" << h;
+    EXPECT_TRUE(same(f.blend.levelMap, reference.levelMap)) << w << "x" << h;
+    EXPECT_TRUE(same(finalOnly.final, reference.final)) << "final-only pass, " << w << "x" << h;
+    EXPECT_TRUE(same(finalOnly.levelMap, reference.levelMap)) << "final-only pass, " << w << "x" << h;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled) continue;
+      const size_t i = static_cast<size_t>(l);
+      EXPECT_TRUE(same(f.blend.upsampled[i], reference.upsampled[i])) << "upsample L" << l;
+      EXPECT_TRUE(same(f.blend.alpha[i], reference.alpha[i])) << "blendalpha L" << l;
+      EXPECT_TRUE(same(f.blend.composite[i], reference.composite[i])) << "composite L" << l;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {  // step 1: the integer taps are the floor form's
+          const BilinearTaps a = bilinearTaps(x, y, lc), b = bilinearTapsReference(x, y, lc);
+          for (int k = 0; k < 4; ++k) {
+            ASSERT_EQ(a.x[k], b.x[k]) << x << "," << y << " L" << l;
+            ASSERT_EQ(a.y[k], b.y[k]) << x << "," << y << " L" << l;
+            ASSERT_EQ(a.weight[k], b.weight[k]) << x << "," << y << " L" << l;
+          }
+        }
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenes, EveryBuiltinFast,
                          ::testing::Combine(::testing::ValuesIn(builtinSceneNames()),
                                             ::testing::Values(Effect::Ssao, Effect::Ssm, Effect::Ssgi)),

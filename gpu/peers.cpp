@@ -49,11 +49,6 @@ ImageU8 tileRates(const GpuScene& scene, unsigned edges, int edgeChannel, int wi
   return rates;
 }
 
-ImageU8 tileRates(const GpuScene& scene, const ImageU8& edges) {
-  TextureSet uploaded;
-  return tileRates(scene, uploaded.add(uploadBinary(edges)), 0, edges.width, edges.height);
-}
-
 std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU8& rates, const Constants& c) {
   const unsigned rateTexture = uploadTexture(toFloat(rates));
   std::array<MaskLevel, kLevelCount> levels;

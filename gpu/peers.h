@@ -10,10 +10,9 @@
 
 namespace mrr::gpu {
 
-// tiles, steps 1–2: each 16×16 tile's rate, 0 (1×1), 1 (2×2) or 2 (4×4). `edges` is E on the
-// padded full-res grid (uploaded as a texture); the result is on the ⌈padded / 16⌉ tile grid.
-ImageU8 tileRates(const GpuScene& scene, const ImageU8& edges);
-// The same from E on the GPU: channel `edgeChannel` of the texture `edges`, width×height.
+// tiles, steps 1–2: each 16×16 tile's rate, 0 (1×1), 1 (2×2) or 2 (4×4), from E on the GPU:
+// channel `edgeChannel` of the texture `edges` (the padded full-res grid, width×height); the
+// result is on the ⌈padded / 16⌉ tile grid.
 ImageU8 tileRates(const GpuScene& scene, unsigned edges, int edgeChannel, int width, int height);
 
 // tiles, step 3: M_ℓ = rate, S_ℓ = a_ℓ = [rate == ℓ and the level pixel's block starts inside

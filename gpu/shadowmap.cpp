@@ -90,14 +90,6 @@ void drawShadowMap(const GpuScene& scene, const ShadowMap& frame, const ShadowMa
   checkGl("shadowmap");
 }
 
-ShadowMap renderShadowMap(const GpuScene& scene, const DirectionalLight& light, int size) {
-  ShadowMap map = shadowMapFrame(light, scene.bounds(), size);
-  const ShadowMapTarget target(size);
-  drawShadowMap(scene, map, target);
-  map.depth = target.read();
-  return map;
-}
-
 void bindShadowMap(unsigned program, const ShadowMap& map, unsigned mapTexture, int unit, const View& view,
                    float biasTexels) {
   setFrameUniforms(program, map);
@@ -121,12 +113,5 @@ void drawShadowTest(const GpuScene& scene, const Framebuffer& gbuffer0, const Sh
 }
 
 ImageU8 readShadowTest(const Framebuffer& target) { return target.readBinary(0); }
-
-ImageU8 shadowTestImage(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
-                        const View& view, float biasTexels) {
-  const Target target = scene.target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R8);
-  drawShadowTest(scene, gbuffer0, map, mapTexture, view, biasTexels, *target);
-  return readShadowTest(*target);
-}
 
 }  // namespace mrr::gpu

@@ -31,9 +31,6 @@ class ShadowMapTarget {
 // of `frame` (its depth is not read); texels no surface covers hold ShadowMap::kNoBlocker.
 void drawShadowMap(const GpuScene& scene, const ShadowMap& frame, const ShadowMapTarget& target);
 
-// Draw and read back in one call: shadowMapFrame's frame, depth from the GPU.
-ShadowMap renderShadowMap(const GpuScene& scene, const DirectionalLight& light, int size);
-
 // Sets shadowmap.glsl's uniforms of `program` (in use) from the map's frame and the view, and
 // binds the map texture to texture unit `unit`. Shared by every pass that reads the map.
 void bindShadowMap(unsigned program, const ShadowMap& map, unsigned mapTexture, int unit, const View& view,
@@ -44,9 +41,5 @@ void bindShadowMap(unsigned program, const ShadowMap& map, unsigned mapTexture, 
 void drawShadowTest(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
                     const View& view, float biasTexels, const Framebuffer& target);
 ImageU8 readShadowTest(const Framebuffer& target);
-
-// Draw and read back: the port's shadowTestImage.
-ImageU8 shadowTestImage(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
-                        const View& view, float biasTexels);
 
 }  // namespace mrr::gpu

@@ -31,18 +31,12 @@
 namespace mrr {
 namespace {
 using mrr::test::base64;
+using mrr::test::readFile;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 // ---- running the binary -----------------------------------------------------------------
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 void writeFile(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -29,12 +28,7 @@ namespace fs = std::filesystem;
 namespace mrr {
 namespace {
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string readFile(const fs::path& path) { return test::readFile(path.string()); }
 
 size_t count(const std::string& text, const std::string& what) {
   size_t n = 0;

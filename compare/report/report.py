@@ -102,6 +102,7 @@ class Chart:
 
 
 def plot_method(ax, method, xs, ys, label=None, line=True, ideal=False):
+    ys = [math.nan if y is None else y for y in ys]  # JSON's null: a figure that was not finite
     ax.plot(xs, ys, label=label or method, color=COLOR.get(method, "#000000"),
             marker=MARKER.get(method, "o"), linestyle=("--" if ideal else "-") if line else "none",
             markerfacecolor="white" if ideal else None, markersize=6)

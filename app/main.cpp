@@ -23,6 +23,7 @@
 #include "compare/html_report.h"
 #include "compare/parity.h"
 #include "compare/probe_both.h"
+#include "compare/report_python.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
 #include "gpu/pipeline.h"
@@ -211,7 +212,10 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
     settings.push_back(one.settings());
   }
   require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");
-  if (!reportDir.empty()) checkOutputLocation((std::filesystem::path(reportDir) / "index.html").string(), "--report");
+  if (!reportDir.empty()) {
+    checkOutputLocation((std::filesystem::path(reportDir) / "index.html").string(), "--report");
+    requireReportPython();
+  }
   int64_t memory = 0;
   for (const Settings& s : settings) memory = std::max(memory, 2 * estimateFrameBytes(makeConstants(s, 1.0f), true));
   requireMemory(memory, memoryLimit(fo.memoryLimitGiB), "comparing a " + fo.size + " frame on both paths");
@@ -411,6 +415,7 @@ int run(int argc, char** argv) {
     if (!benchOpts.markdownOut.empty()) checkOutput(benchOpts.markdownOut, "--markdown", {".md"});
     if (!benchOpts.csvOut.empty()) checkOutput(benchOpts.csvOut, "--csv", {".csv"});
     if (!benchOpts.reportDir.empty()) {
+      requireReportPython();  // before the folder is made: a missing package writes nothing
       std::error_code ec;  // the folder itself is made when its parent exists; else the check names it
       if (!std::filesystem::exists(benchOpts.reportDir) &&
           std::filesystem::is_directory(std::filesystem::absolute(benchOpts.reportDir).parent_path()))

@@ -12,7 +12,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/paths.h"
-#include "compare/chart.h"
+#include "compare/report_python.h"
 
 namespace mrr {
 
@@ -43,21 +43,6 @@ int methodRank(const std::string& m) {
   const auto it = std::find(kMethodOrder.begin(), kMethodOrder.end(), m);
   return static_cast<int>(it - kMethodOrder.begin());
 }
-// One colour per method on every chart (tab10's order).
-std::string methodColor(const std::string& m) {
-  static const std::map<std::string, std::string> colors = {
-      {"full", "#7f7f7f"},  {"uniform-1", "#1f77b4"}, {"uniform-2", "#17becf"},
-      {"tiles", "#ff7f0e"}, {"mrr", "#d62728"},       {"mrr-norule", "#9467bd"}};
-  const auto it = colors.find(m);
-  return it != colors.end() ? it->second : "#000000";
-}
-chart::Marker methodMarker(const std::string& m) {
-  if (m == "uniform-1") return chart::Marker::Square;
-  if (m == "uniform-2") return chart::Marker::Diamond;
-  if (m == "tiles") return chart::Marker::Triangle;
-  if (m == "mrr-norule") return chart::Marker::Cross;
-  return chart::Marker::Circle;
-}
 
 template <class T, class Key>
 std::vector<Key> distinct(const std::vector<T>& items, std::function<Key(const T&)> key) {
@@ -82,19 +67,7 @@ std::vector<BenchRecord> select(const std::vector<BenchRecord>& rs, const std::f
   return out;
 }
 
-std::string escapeHtml(const std::string& s) {
-  std::string o;
-  for (char ch : s) {
-    if (ch == '&') o += "&amp;";
-    else if (ch == '<') o += "&lt;";
-    else if (ch == '>') o += "&gt;";
-    else if (ch == '"') o += "&quot;";
-    else o += ch;
-  }
-  return o;
-}
-
-// A Markdown table that the HTML page also shows (one source for both).
+// A Markdown table that the HTML page also shows (one source for both: report.py gets its rows).
 struct Table {
   std::string title;
   std::vector<std::string> header;
@@ -112,18 +85,6 @@ struct Table {
       o << "\n";
     }
     return o.str() + "\n";
-  }
-  std::string html() const {
-    std::ostringstream o;
-    o << "<h3>" << escapeHtml(title) << "</h3>\n<table><thead><tr>";
-    for (const auto& h : header) o << "<th>" << escapeHtml(h) << "</th>";
-    o << "</tr></thead><tbody>\n";
-    for (const auto& r : rows) {
-      o << "<tr>";
-      for (const auto& c : r) o << "<td>" << escapeHtml(c) << "</td>";
-      o << "</tr>\n";
-    }
-    return o.str() + "</tbody></table>\n";
   }
 };
 
@@ -260,197 +221,6 @@ std::string header(const BenchResults& res) {
   return o.str();
 }
 
-// ---- Charts ----------------------------------------------------------------------------------
-
-struct NamedChart {
-  std::string file;  // without extension
-  std::string caption;
-  chart::Chart chart;
-};
-
-chart::Series methodSeries(const std::string& method, const std::string& suffix = "") {
-  chart::Series s;
-  s.name = method + suffix;
-  s.color = methodColor(method);
-  s.marker = methodMarker(method);
-  return s;
-}
-
-chart::Series paperSeries(const std::string& name) {
-  chart::Series s;
-  s.name = name;
-  s.color = "#2ca02c";
-  s.marker = chart::Marker::Diamond;
-  s.hollow = true;
-  s.line = true;
-  s.dashed = true;
-  return s;
-}
-
-std::vector<NamedChart> charts(const BenchResults& res, const std::vector<PaperFigure>& paper) {
-  std::vector<NamedChart> out;
-  const auto& rs = res.records;
-  const std::string machine = res.options.machine;
-  for (const std::string& path : distinct<BenchRecord, std::string>(rs, [](const BenchRecord& r) { return r.path; })) {
-    const std::string device = res.devices.count(path) ? res.devices.at(path) : path;
-    const auto ofPath = select(rs, [&](const BenchRecord& r) { return r.path == path; });
-    for (const std::string& effect : distinct<BenchRecord, std::string>(ofPath, [](const BenchRecord& r) { return r.effect; })) {
-      // Chart 1: measured speedup against RMS, every method × setting, the Pareto front.
-      const auto main = select(ofPath, [&](const BenchRecord& r) { return r.group == "main" && r.effect == effect; });
-      if (!main.empty()) {
-        NamedChart nc{"speed-vs-rms-" + path + "-" + effect, "", {}};
-        chart::Chart& c = nc.chart;
-        c.title = "Speed against accuracy, " + effect + " (" + path + " path)";
-        c.subtitle = device;
-        c.x = {"RMS against full (log)", true, {}, {}};
-        c.y = {"measured speedup over full (x)", false, {}, {}};
-        c.guides.push_back({1.0, false, "full (RMS 0)"});
-        std::vector<chart::Point> all;
-        // A log axis cannot show RMS 0 (frames the never-slower rule shaded at full res): they
-        // are drawn at the axis' left end, a third of the smallest non-zero RMS, and say so.
-        double floorRms = 1.0;
-        for (const BenchRecord& r : main)
-          if (r.method != "full" && r.error.rms > 0.0) floorRms = std::min(floorRms, r.error.rms / 3.0);
-        for (const std::string& m : methodsOf(main)) {
-          if (m == "full") continue;
-          chart::Series s = methodSeries(m);
-          for (const BenchRecord& r : select(main, [&](const BenchRecord& x) { return x.method == m; })) {
-            const chart::Point p{r.error.rms > 0.0 ? r.error.rms : floorRms, r.measuredSpeedup,
-                                 std::string(r.error.rms > 0.0 ? "" : "RMS 0 (drawn at the left end): ") +
-                                 m + ": " + r.scene + " camera " + std::to_string(r.camera) + " " + sizeName(r.width, r.height) +
-                                     " " + r.effect + "-" + std::to_string(r.samples) + " ideal " + fixed(r.idealSpeedup, 2) +
-                                     "x" + (r.fellBack ? " (fell back)" : "")};
-            s.points.push_back(p);
-            all.push_back(p);
-          }
-          c.series.push_back(s);
-        }
-        chart::Series front;
-        front.name = "Pareto front";
-        front.color = "#000000";
-        front.line = true;
-        front.dashed = true;
-        front.marker = chart::Marker::None;
-        for (size_t i : chart::paretoFront(all)) front.points.push_back({all[i].x, all[i].y, ""});
-        c.series.push_back(front);
-        nc.caption = "Chart 1 (" + path + ", " + effect + "): one point per method × scene × camera × setting; up and left is "
-                     "better. The dashed line joins the points no other point beats on both axes. Frames with RMS 0 "
-                     "(mrr falling back to full) sit at the left end of the axis.";
-        out.push_back(nc);
-      }
-      // Fig. 6: speedup against samples; Fig. 7: against resolution; Fig. 9: RMS against resolution.
-      for (const std::string group : {"samples", "resolution"}) {
-        const bool bySamples = group == std::string("samples");
-        const auto sel = select(ofPath, [&](const BenchRecord& r) { return r.group == group && r.effect == effect; });
-        if (sel.empty()) continue;
-        auto xOf = [&](const BenchRecord& r) { return bySamples ? double(r.samples) : double(r.height); };
-        const std::string sizeText = sizeName(sel.front().width, sel.front().height);
-        for (const bool rmsChart : {false, true}) {
-          if (bySamples && rmsChart) continue;
-          NamedChart nc{std::string(bySamples ? "fig6" : rmsChart ? "fig9" : "fig7") + "-" + path + "-" + effect, "", {}};
-          chart::Chart& c = nc.chart;
-          c.title = rmsChart ? "RMS against resolution, " + effect + "-" + std::to_string(sel.front().samples) + " (Fig. 9)"
-                    : bySamples ? "Speedup against samples, " + effect + " at " + sizeText + " (Fig. 6)"
-                                : "Speedup against resolution, " + effect + "-" + std::to_string(sel.front().samples) + " (Fig. 7)";
-          c.subtitle = device + "; " + sel.front().scene + ", camera 0";
-          c.x = {bySamples ? "samples per pixel (log)" : "image height (pixels)", bySamples, {}, {}};
-          c.y = {rmsChart ? "RMS against full" : "speedup over full (x)", false, {}, {}};
-          if (!rmsChart) c.guides.push_back({1.0, false, "full"});
-          for (const std::string& m : methodsOf(sel)) {
-            if (m == "full") continue;
-            chart::Series s = methodSeries(m, rmsChart ? "" : " measured");
-            s.line = true;
-            chart::Series ideal = methodSeries(m, " ideal");
-            ideal.line = true;
-            ideal.dashed = true;
-            ideal.hollow = true;
-            for (const BenchRecord& r : select(sel, [&](const BenchRecord& x) { return x.method == m; })) {
-              const std::string label = m + " " + sizeName(r.width, r.height) + " " + r.effect + "-" + std::to_string(r.samples);
-              s.points.push_back({xOf(r), rmsChart ? r.error.rms : r.measuredSpeedup, label});
-              ideal.points.push_back({xOf(r), r.idealSpeedup, label + " ideal"});
-            }
-            c.series.push_back(s);
-            if (!rmsChart && m == "mrr") c.series.push_back(ideal);
-          }
-          chart::Series ps = paperSeries(rmsChart ? "paper, Fig. 9 (GTX 1080)"
-                                                  : bySamples ? "paper, Fig. 6 (GTX 1080, at 4K)" : "paper, Fig. 7 (GTX 1080)");
-          for (const PaperFigure& p : paper) {
-            if (p.effect != effect || p.figure != (rmsChart ? "fig9" : bySamples ? "fig6" : "fig7")) continue;
-            ps.points.push_back({bySamples ? double(p.samples) : double(p.height), rmsChart ? p.rms : p.speedup,
-                                 p.figure + " " + p.effect + "-" + std::to_string(p.samples) + " " + sizeName(p.width, p.height)});
-          }
-          if (!ps.points.empty()) c.series.push_back(ps);
-          nc.caption = rmsChart ? "RMS of each method against full at the same samples; the paper's Fig. 9 in green."
-                       : bySamples ? "Measured (solid) and ideal (dashed, mrr) speedup; the paper's Fig. 6, measured at 4K on "
-                                     "a GTX 1080, in green."
-                                   : "Measured (solid) and ideal (dashed, mrr) speedup by resolution; the paper's Fig. 7 in "
-                                     "green (it loses 17% for SSM at 720p; mrr's never-slower rule keeps it at or above 1).";
-          out.push_back(nc);
-        }
-      }
-      // Stress scenes: measured speedup per scene and method.
-      const auto stress = select(ofPath, [&](const BenchRecord& r) { return r.group == "stress" && r.effect == effect; });
-      if (!stress.empty()) {
-        NamedChart nc{"stress-" + path + "-" + effect, "", {}};
-        chart::Chart& c = nc.chart;
-        c.title = "Stress scenes, " + effect + ": measured speedup (" + path + " path)";
-        c.subtitle = device;
-        c.categories = distinct<BenchRecord, std::string>(stress, [](const BenchRecord& r) { return r.scene; });
-        c.x = {"scene", false, {}, {}};
-        c.y = {"measured speedup over full (x)", false, 0.0, {}};
-        c.guides.push_back({1.0, false, "full"});
-        for (const std::string& m : methodsOf(stress)) {
-          if (m == "full") continue;
-          chart::Series s = methodSeries(m);
-          s.bars = true;
-          for (const BenchRecord& r : select(stress, [&](const BenchRecord& x) { return x.method == m; })) {
-            const auto idx = std::find(c.categories.begin(), c.categories.end(), r.scene) - c.categories.begin();
-            s.points.push_back({double(idx), r.measuredSpeedup,
-                                m + " on " + r.scene + ": ideal " + fixed(r.idealSpeedup, 2) + "x, RMS " + sci(r.error.rms) +
-                                    (r.fellBack ? ", fell back to full" : "")});
-          }
-          c.series.push_back(s);
-        }
-        nc.caption = "Each stress scene models one failure: bumpy normals (edges explode), wires thinner than a coarse "
-                     "pixel, an image that is all edges, and one with none (builtin:plane). mrr-norule is the method "
-                     "without the never-slower rule.";
-        out.push_back(nc);
-      }
-    }
-    // Chart 4: flicker per method.
-    std::vector<StabilityRecord> st;
-    for (const StabilityRecord& s : res.stability)
-      if (s.path == path) st.push_back(s);
-    if (!st.empty()) {
-      NamedChart nc{"flicker-" + path, "", {}};
-      chart::Chart& c = nc.chart;
-      c.title = "Flicker along camera paths (" + path + " path)";
-      c.subtitle = device + "; " + std::to_string(st.front().frames) + " frames at " + sizeName(st.front().width, st.front().height);
-      c.categories = distinct<StabilityRecord, std::string>(
-          st, [](const StabilityRecord& s) { return s.scene + " " + s.kind + " " + s.effect; });
-      c.x = {"scene, camera path, effect", false, {}, {}};
-      c.y = {"flicker: mean |error(t) - error(t-1)|", false, 0.0, {}};
-      std::vector<std::string> methods = distinct<StabilityRecord, std::string>(st, [](const StabilityRecord& s) { return s.method; });
-      std::sort(methods.begin(), methods.end(), [](const std::string& a, const std::string& b) { return methodRank(a) < methodRank(b); });
-      for (const std::string& m : methods) {
-        chart::Series s = methodSeries(m);
-        s.bars = true;
-        for (const StabilityRecord& r : st) {
-          if (r.method != m) continue;
-          const std::string cat = r.scene + " " + r.kind + " " + r.effect;
-          const auto idx = std::find(c.categories.begin(), c.categories.end(), cat) - c.categories.begin();
-          s.points.push_back({double(idx), r.flicker, m + ": flicker " + sci(r.flicker) + ", mean RMS " + sci(r.meanRms)});
-        }
-        c.series.push_back(s);
-      }
-      nc.caption = "Chart 4: the frame-to-frame change of each method's error against full (SPEC §10); lower is steadier.";
-      out.push_back(nc);
-    }
-  }
-  (void)machine;
-  return out;
-}
-
 }  // namespace
 
 std::vector<PaperFigure> readPaperFigures(const std::string& path) {
@@ -571,57 +341,23 @@ std::string benchCsv(const BenchResults& res) {
 
 void writeBenchReport(const std::string& dir, const BenchResults& res, const std::vector<std::string>& failures) {
   const std::vector<PaperFigure> paper = readPaperFigures(paperFiguresPath());
-  std::filesystem::create_directories(dir + "/charts");
-  std::ostringstream h;
-  h << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>mrr bench: speed against accuracy</title>\n"
-    << "<style>body{font-family:DejaVu Sans,Arial,sans-serif;max-width:1200px;margin:2em auto;color:#222}"
-    << "table{border-collapse:collapse;font-size:12px;margin:1em 0}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
-    << "th{background:#f3f3f3}figure{margin:1.5em 0}figcaption{font-size:13px;color:#555}img.chart{max-width:100%}"
-    << ".examples{display:grid;grid-template-columns:repeat(3,1fr);gap:6px}.examples img{width:100%;image-rendering:pixelated}"
-    << ".fail{color:#b00}.ok{color:#070}</style></head><body>\n"
-    << "<h1>Speed against accuracy</h1>\n<p>" << escapeHtml(header(res)) << "</p>\n";
-  if (paper.empty()) h << "<p>The paper's figures were not found (" << escapeHtml(paperFiguresPath()) << ").</p>\n";
-  h << "<h2>Sanity checks</h2>\n";
-  if (failures.empty()) h << "<p class=\"ok\" id=\"sanity\">All passed.</p>\n";
-  else {
-    h << "<ul class=\"fail\" id=\"sanity\">";
-    for (const std::string& f : failures) h << "<li>" << escapeHtml(f) << "</li>";
-    h << "</ul>\n";
-  }
-  h << "<h2>Charts</h2>\n";
-  for (const NamedChart& nc : charts(res, paper)) {
-    chart::writeSvg(nc.chart, dir + "/charts/" + nc.file + ".svg");
-    chart::writePng(nc.chart, dir + "/charts/" + nc.file + ".png");
-    h << "<figure id=\"" << nc.file << "\"><img class=\"chart\" src=\"charts/" << nc.file << ".svg\" alt=\""
-      << escapeHtml(nc.chart.title) << "\"><figcaption>" << escapeHtml(nc.caption) << " (<a href=\"charts/" << nc.file
-      << ".png\">PNG</a>)</figcaption></figure>\n";
-  }
-  h << "<h2>Tables</h2>\n";
-  for (const Table& t : tables(res, paper)) h << t.html();
-  // Example images, written by the sweep: each method on the same frame.
-  if (std::filesystem::exists(dir + "/images")) {
-    h << "<h2>Each method on the same frame</h2>\n<p>Effect buffer, shaded image, and |method − full| × 10.</p>\n";
-    std::vector<std::string> groups;
-    for (const auto& e : std::filesystem::directory_iterator(dir + "/images"))
-      if (e.is_directory()) groups.push_back(e.path().filename().string());
-    std::sort(groups.begin(), groups.end());
-    for (const std::string& g : groups) {
-      h << "<h3>" << escapeHtml(g) << "</h3>\n";
-      for (const std::string& m : kMethodOrder) {
-        if (!std::filesystem::exists(dir + "/images/" + g + "/" + m + ".png")) continue;
-        h << "<p><b>" << m << "</b></p><div class=\"examples\">";
-        for (const char* kind : {"", "-shaded", "-diff10"})
-          h << "<img src=\"images/" << g << "/" << m << kind << ".png\" alt=\"" << m << kind << "\">";
-        h << "</div>\n";
-      }
-    }
-  }
-  // On load: how many images decoded (scripts/test-bench-report.sh checks it in Chromium).
-  h << "<script>window.addEventListener('load',()=>{const i=[...document.images];"
-       "document.body.dataset.loaded=i.filter(x=>x.complete&&x.naturalWidth>0).length;"
-       "document.body.dataset.images=i.length;});</script>\n";
-  h << "</body></html>\n";
-  writeTextFile(dir + "/index.html", h.str());
+  nlohmann::json paperData = nlohmann::json::array(), tableData = nlohmann::json::array();
+  for (const PaperFigure& p : paper)
+    paperData.push_back({{"figure", p.figure}, {"effect", p.effect}, {"samples", p.samples}, {"width", p.width},
+                         {"height", p.height}, {"speedup", p.speedup}, {"rms", p.rms}});
+  for (const Table& t : tables(res, paper)) tableData.push_back({{"title", t.title}, {"header", t.header}, {"rows", t.rows}});
+  // report.py draws the charts from the runs into DIR/charts and lists DIR/images (the sweep's
+  // example images); the page names both relative to DIR.
+  const ReportJob job;
+  const std::string page = job.makePage({{"kind", "bench"},
+                                         {"out_dir", std::filesystem::absolute(dir).string()},
+                                         {"header", header(res)},
+                                         {"paper", paperData},
+                                         {"paper_path", paperFiguresPath()},
+                                         {"failures", failures},
+                                         {"tables", tableData},
+                                         {"results", benchJson(res, failures)}});
+  writeTextFile(dir + "/index.html", page);
 }
 
 }  // namespace mrr

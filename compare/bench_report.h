@@ -1,6 +1,6 @@
 #pragma once
 // What `mrr bench` measured, and everything written from it: the sanity checks, the Markdown
-// tables, JSON and CSV, the charts (compare/chart) and the HTML page (issue 7).
+// tables, JSON and CSV, and the HTML page with its charts (drawn by compare/report/report.py).
 #include <map>
 #include <string>
 #include <vector>
@@ -56,8 +56,8 @@ std::string benchMarkdown(const BenchResults& results, const std::vector<std::st
 nlohmann::json benchJson(const BenchResults& results, const std::vector<std::string>& failures);
 std::string benchCsv(const BenchResults& results);
 
-// DIR/index.html with the charts (DIR/charts/*.svg and *.png), the tables and the example
-// images (written by the sweep into DIR/images/).
+// DIR/index.html with the charts (DIR/charts/*.svg and *.png, drawn by matplotlib), the tables
+// and the example images (written by the sweep into DIR/images/). Needs requireReportPython().
 void writeBenchReport(const std::string& dir, const BenchResults& results, const std::vector<std::string>& failures);
 
 // The paper's plotted figures (../shared/design/paper-figures.csv): speedup as a factor

@@ -1,8 +1,5 @@
 #include "compare/html_report.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,47 +7,22 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
-#include <sstream>
 #include <string_view>
+
+#include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/parallel.h"
 #include "common/tolerance.h"
+#include "compare/report_python.h"
 
 namespace mrr {
 
 namespace {
 
 // ---------------------------------------------------------------------------------------------
-// Text helpers.
-
-std::string escape(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char ch : text) {
-    switch (ch) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      default:
-        out += ch;
-    }
-  }
-  return out;
-}
+// Figures as the page shows them (JSON cannot carry inf or NaN, and the page shows them).
 
 std::string format(const char* fmt, double value) {
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
@@ -68,56 +40,6 @@ const ToleranceRule* findRule(std::string_view name) {
   for (const ToleranceRule& r : kTolerances)
     if (r.stage == name) return &r;
   return nullptr;
-}
-
-// The anchor of one stage section: "<effect>-<stage>" (stage names hold only [a-z0-9.]).
-std::string anchor(const std::string& effect, const std::string& stage) { return effect + "-" + stage; }
-
-std::string base64(const std::vector<unsigned char>& bytes) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = (unsigned{bytes[i]} << 16) | (unsigned{bytes[i + 1]} << 8) | unsigned{bytes[i + 2]};
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += kAlphabet[v & 63];
-  }
-  if (i < bytes.size()) {
-    const bool two = i + 1 < bytes.size();
-    const unsigned v = (unsigned{bytes[i]} << 16) | (two ? unsigned{bytes[i + 1]} << 8 : 0u);
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += two ? kAlphabet[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
-// An 8-bit grey or RGB image as an in-memory PNG (OpenImageIO, through an IOProxy).
-std::string oneLine(std::string message) {
-  for (char& ch : message)
-    if (ch == '\n' || ch == '\r') ch = ' ';
-  return message.empty() ? std::string("unknown OpenImageIO error") : message;
-}
-
-std::vector<unsigned char> encodePng(const ImageU8& image) {
-  std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput proxy(bytes);
-  auto out = OIIO::ImageOutput::create("report.png", &proxy);
-  if (!out) throw MrrError("--report: cannot encode a PNG: " + oneLine(OIIO::geterror()));
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
-  spec.alpha_channel = -1;
-  spec.attribute("png:compressionLevel", 9);
-  spec.attribute("DateTime", "");
-  const auto fail = [&] { throw MrrError("--report: cannot encode a PNG: " + oneLine(out->geterror())); };
-  if (!out->set_ioproxy(&proxy)) fail();
-  if (!out->open("report.png", spec)) fail();
-  if (!out->write_image(OIIO::TypeDesc::UINT8, image.data.data())) fail();
-  if (!out->close()) fail();
-  return bytes;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -463,390 +385,157 @@ const StageCheck* worstCheck(const StageRow& row, const std::string& verdict) {
   return row.sameInput ? &*row.sameInput : nullptr;
 }
 
+
 // ---------------------------------------------------------------------------------------------
-// The page.
+// The page's data, shown by compare/report/templates/compare.html.j2.
 
-// One image to embed, encoded in parallel once all are known.
-struct Embedded {
-  ImageU8 image;
-  int width = 0, height = 0;
-  std::string uri;
-};
+std::string pixelText(int x, int y) { return x >= 0 ? std::to_string(x) + "," + std::to_string(y) : "–"; }
 
-struct WorstPixel {
-  bool shown = false;
-  std::string check;  // "end to end" / "same input"
-  const StageCheck* source = nullptr;
-  int gridX = -1, gridY = -1;
-  bool probe = false;
-  int x = -1, y = -1;  // full-res
-  std::string command;
-};
-
-struct RowPage {
-  const StageRow* row = nullptr;
-  std::string verdict;
-  StageView view;
-  int oracleImage = -1, portImage = -1, heatImage = -1;
-  double heatScale = 0.0;
-  std::string heatCaption;
-  WorstPixel worst;
-};
-
-struct FramePage {
-  const ComparedFrame* frame = nullptr;
-  std::vector<RowPage> rows;
-};
-
-constexpr std::string_view kStyle = R"(
-*{box-sizing:border-box}
-body{font:14px/1.4 system-ui,-apple-system,"Segoe UI",Roboto,Helvetica,Arial,sans-serif;margin:0;color:#1c1c1c;background:#f4f4f2}
-main{max-width:1400px;margin:0 auto;padding:16px 20px 40px}
-h1{font-size:22px;margin:4px 0 8px}
-h2{font-size:19px;margin:28px 0 8px;padding-top:8px;border-top:2px solid #bbb}
-h3{font-size:16px;margin:0 0 6px}
-a{color:#1a4fa0}
-code,.mono{font-family:ui-monospace,SFMono-Regular,Menlo,Consolas,"DejaVu Sans Mono",monospace;font-size:12.5px}
-dl.meta{display:grid;grid-template-columns:max-content 1fr;gap:2px 14px;margin:8px 0 12px}
-dl.meta dt{font-weight:600;color:#555}
-dl.meta dd{margin:0;word-break:break-all}
-.overview{display:grid;gap:8px;margin:8px 0 10px}
-.ov{display:grid;grid-template-columns:250px repeat(3,minmax(0,300px));gap:10px;align-items:start;background:#fff;border:1px solid #ccc;border-left:6px solid #2e7d32;border-radius:6px;padding:8px 10px}
-.ov.FAIL{border-left-color:#c62828}
-.ovname{font-size:18px;font-weight:700;margin-bottom:4px}
-.v{display:inline-block;font-weight:700;font-size:12px;padding:1px 7px;border-radius:4px;color:#fff}
-.v.PASS{background:#2e7d32}.v.FAIL{background:#c62828}.v.UPSTREAM{background:#b26a00}
-table{border-collapse:collapse;background:#fff}
-th,td{border:1px solid #d4d4d4;padding:2px 7px;text-align:right;white-space:nowrap}
-th{background:#ebebeb;font-weight:600}
-td.l,th.l{text-align:left}
-td.bad{color:#c62828;font-weight:700}
-tr.FAIL td:first-child{border-left:4px solid #c62828}
-tr.UPSTREAM td:first-child{border-left:4px solid #b26a00}
-.scroll{overflow-x:auto}
-section.stage{background:#fff;border:1px solid #d4d4d4;border-radius:6px;margin:14px 0;padding:10px 12px}
-section.stage.FAIL{border-color:#c62828;box-shadow:0 0 0 2px #f3c2c2}
-section.stage.UPSTREAM{border-color:#d9a441}
-.trio{display:grid;grid-template-columns:repeat(3,minmax(0,1fr));gap:10px;margin:6px 0}
-figure{margin:0}
-figcaption{font-size:12px;color:#444;margin-top:3px}
-.wrap{position:relative;line-height:0;background:#000}
-.wrap img{width:100%;height:auto;image-rendering:crisp-edges;image-rendering:pixelated;display:block}
-.mark{position:absolute;min-width:12px;min-height:12px;transform:translate(-50%,-50%);border:2px solid #00e5ff;outline:1px solid #000;pointer-events:none}
-.ramp{display:inline-block;width:90px;height:9px;vertical-align:middle;border:1px solid #888;margin:0 4px}
-.missing{color:#777;font-style:italic}
-code.cmd{display:block;user-select:all;background:#f1f3f6;border:1px solid #d0d5dd;padding:4px 6px;margin:3px 0;white-space:pre-wrap;word-break:break-all}
-.small{font-size:12px;color:#555}
-)";
-
-std::string verdictBadge(const std::string& verdict) {
-  return "<span class=\"v " + escape(verdict) + "\">" + escape(verdict) + "</span>";
-}
-
-std::string checkCells(const std::optional<StageCheck>& c) {
-  if (!c) return "<td class=\"l\">–</td><td></td><td></td><td></td><td></td>";
+nlohmann::json checkData(const std::optional<StageCheck>& c) {
+  if (!c) return nullptr;
   const DiffFigures& f = c->figures;
   const ToleranceRule* rule = findRule(c->rule);
-  const std::string bad = c->pass ? "" : " class=\"bad\"";
-  std::string title = rule ? " title=\"" + escape(rule->why) + "\"" : "";
-  return "<td class=\"l\"" + title + ">" + escape(c->rule) + (c->pass ? "" : " ✗") + "</td><td>" +
-         std::to_string(f.pixels) + "</td><td>" + num(f.maxAbs) + "</td><td" + bad + ">" + percent(f.shareOver) +
-         "</td><td" + bad + ">" + num(f.rms) + "</td>";
+  return {{"rule", c->rule},
+          {"pass", c->pass},
+          {"pixels", f.pixels},
+          {"max_abs", num(f.maxAbs)},
+          {"over", percent(f.shareOver)},
+          {"rms", num(f.rms)},
+          {"allowed", rule ? percent(rule->shareOver) : "?"},
+          {"rms_bound", rule ? (std::isinf(rule->rmsBound) ? "–" : num(rule->rmsBound)) : "?"},
+          {"threshold", rule ? num(rule->pixelThreshold) : "?"},
+          {"worst", pixelText(f.worstX, f.worstY)},
+          {"why", rule ? std::string(rule->why) : ""}};
 }
 
-std::string checkTableRow(const std::string& name, const std::optional<StageCheck>& c) {
-  if (!c) return {};
-  const DiffFigures& f = c->figures;
-  const ToleranceRule* rule = findRule(c->rule);
-  std::string out = "<tr><td class=\"l\">" + name + "</td><td class=\"l\">" + escape(c->rule) +
-                    "</td><td class=\"l\">" + (c->pass ? "pass" : "<b style=\"color:#c62828\">fail</b>") + "</td><td>" +
-                    std::to_string(f.pixels) + "</td><td>" + num(f.maxAbs) + "</td><td>" + percent(f.shareOver) +
-                    "</td><td>" + (rule ? percent(rule->shareOver) : "?") + "</td><td>" + num(f.rms) + "</td><td>" +
-                    (rule ? (std::isinf(rule->rmsBound) ? std::string("–") : num(rule->rmsBound)) : "?") + "</td><td>" +
-                    (rule ? num(rule->pixelThreshold) : "?") + "</td><td>" +
-                    (f.worstX >= 0 ? std::to_string(f.worstX) + "," + std::to_string(f.worstY) : "–") +
-                    "</td><td class=\"l small\" style=\"white-space:normal\">" + (rule ? escape(rule->why) : "") +
-                    "</td></tr>\n";
-  return out;
+// The heat map's full scale and what it means.
+std::pair<double, std::string> heatScale(const StageRow& row, const StageView& v, bool sameInputMap) {
+  float top = 0.0f;
+  for (const float d : v.delta.data)
+    if (std::isfinite(d)) top = std::max(top, d);
+  if (v.binary) return {1.0, "black = 0, full scale = 1 (a mismatch)"};
+  if (sameInputMap) {
+    const double scale = top > 0.0f ? top : 1.0;
+    return {scale, "|port − the oracle's function on the port's own inputs| (the failing same-input check); "
+                   "black = 0, full scale = " + num(scale) + " = the largest |Δ| here"};
+  }
+  if (row.endToEnd && findRule(row.endToEnd->rule)) {
+    const double threshold = findRule(row.endToEnd->rule)->pixelThreshold;
+    return {10.0 * threshold, "black = 0, full scale = " + num(10.0 * threshold) + " = 10 × the " +
+                                  row.endToEnd->rule + " threshold (" + num(threshold) + ")"};
+  }
+  if (top > 0.0f) return {top, "black = 0, full scale = " + num(top) + " = the largest |Δ| here (normalised to the max)"};
+  return {1.0, "no difference anywhere"};
 }
 
-std::string markStyle(const RowPage& r) {
-  const double w = r.view.gridW, h = r.view.gridH;
-  char style[200];
-  std::snprintf(style, sizeof style, "left:%.4f%%;top:%.4f%%;width:%.4f%%;height:%.4f%%",
-                100.0 * (r.worst.gridX + 0.5) / w, 100.0 * (r.worst.gridY + 0.5) / h, 100.0 / w + 0.0, 100.0 / h + 0.0);
-  return style;
+// The worst pixel of a row that did not pass (and of the final row): where, by which check,
+// and the `mrr probe` command that follows it. Null when the row has no check.
+nlohmann::json worstData(const StageRow& row, const std::string& verdict, const ComparedFrame& frame) {
+  const StageCheck* source = worstCheck(row, verdict);
+  if (!source) return nullptr;
+  const int gx = source->figures.worstX, gy = source->figures.worstY;
+  const bool probe = row.scale > 0 && gx >= 0;  // shadow-map texels (scale 0) are no screen pixels
+  const int width = frame.oracle->constants.width, height = frame.oracle->constants.height;
+  const int x = probe ? std::clamp(gx * row.scale + row.scale / 2, 0, std::max(width - 1, 0)) : -1;
+  const int y = probe ? std::clamp(gy * row.scale + row.scale / 2, 0, std::max(height - 1, 0)) : -1;
+  return {{"check", row.sameInput && source == &*row.sameInput ? "same-input" : "end-to-end"},
+          {"rule", source->rule},
+          {"max_abs", num(source->figures.maxAbs)},
+          {"grid_x", gx},
+          {"grid_y", gy},
+          {"probe", probe},
+          {"x", x},
+          {"y", y},
+          {"command", probe ? frame.probeCommand + " --pixel " + pixelText(x, y) : ""}};
 }
 
-std::string worstText(const RowPage& r) {
-  const WorstPixel& w = r.worst;
-  if (w.gridX < 0) return "<span class=\"missing\">no pixel compared</span>";
-  std::string text = "largest |Δ| of its " + w.check + " check (" + escape(w.source->rule) + ": " +
-                     num(w.source->figures.maxAbs) + ") at ";
-  if (!w.probe)
-    return text + "texel " + std::to_string(w.gridX) + "," + std::to_string(w.gridY) +
-           " of the shadow map (no probe: <code>mrr probe</code> follows screen pixels)";
-  text += "grid pixel " + std::to_string(w.gridX) + "," + std::to_string(w.gridY) + " = full-res pixel <b>" +
-          std::to_string(w.x) + "," + std::to_string(w.y) + "</b>; probe it:";
-  return text + "<code class=\"cmd\">" + escape(w.command) + "</code>";
+// An 8-bit display image as a PNG (writeImage takes floats in [0, 1]; n/255 comes back as n).
+void writeDisplayPng(const std::string& path, const ImageU8& image) {
+  ImageF scaled(image.width, image.height, image.channels);
+  for (size_t i = 0; i < image.data.size(); ++i) scaled.data[i] = static_cast<float>(image.data[i]) / 255.0f;
+  writeImage(path, scaled);
 }
 
 }  // namespace
 
 void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
                         const std::vector<ComparedFrame>& frames) {
-  const std::string path = (std::filesystem::path(dir) / "index.html").string();
-  std::vector<Embedded> images;
-  const auto add = [&](ImageU8 image) {
-    if (image.empty()) return -1;
-    const int w = image.width, h = image.height;
-    images.push_back({std::move(image), w, h, {}});
-    return static_cast<int>(images.size()) - 1;
+  const ReportJob job;
+  // Every image, written into the scratch folder once all are known (in parallel); the page
+  // embeds them.
+  std::vector<std::pair<std::string, ImageU8>> images;
+  const auto add = [&](ImageU8 image) -> nlohmann::json {
+    if (image.empty()) return nullptr;
+    const std::string file = "image" + std::to_string(images.size()) + ".png";
+    nlohmann::json ref = {{"file", file}, {"width", image.width}, {"height", image.height}};
+    images.emplace_back(file, std::move(image));
+    return ref;
   };
 
-  // 1. Every row's images and worst pixel.
-  std::vector<FramePage> pages;
+  nlohmann::json frameData = nlohmann::json::array();
   for (const ComparedFrame& frame : frames) {
     if (!frame.oracle || !frame.port) throw MrrError("--report: frame " + frame.effect + " has no images to show");
-    FramePage page{&frame, {}};
-    const int width = frame.oracle->constants.width, height = frame.oracle->constants.height;
+    nlohmann::json rows = nlohmann::json::array();
     for (const StageRow& row : frame.result.rows) {
-      RowPage r;
-      r.row = &row;
-      r.verdict = row.verdict();
-      r.view = viewFor(row, *frame.oracle, *frame.port);
-      StageView& v = r.view;
-      // A stage that fails on the port's own inputs: show what that check measured — the port
-      // against the oracle's function on the same inputs — not the end-to-end difference.
-      const bool sameInputMap = r.verdict == "FAIL" && row.sameInput && !row.sameInput->pass &&
-                                !row.sameInput->figures.deltaMap.empty() && v.missing.empty();
-      if (sameInputMap) v.delta = row.sameInput->figures.deltaMap;
+      const std::string verdict = row.verdict();
+      StageView v = viewFor(row, *frame.oracle, *frame.port);
+      nlohmann::json r = {{"stage", row.stage}, {"verdict", verdict},  {"level", row.level},
+                          {"scale", row.scale}, {"missing", v.missing}, {"grid_w", v.gridW},
+                          {"grid_h", v.gridH},  {"oracle_image", nullptr}, {"port_image", nullptr},
+                          {"heat_image", nullptr}, {"end_to_end", checkData(row.endToEnd)},
+                          {"same_input", checkData(row.sameInput)}, {"worst", nullptr}};
+      if (verdict != "PASS" || row.stage == "final") r["worst"] = worstData(row, verdict, frame);
       if (v.missing.empty()) {
+        // A stage that fails on the port's own inputs: show what that check measured — the
+        // port against the oracle's function on the same inputs — not the end-to-end difference.
+        const bool sameInputMap = verdict == "FAIL" && row.sameInput && !row.sameInput->pass &&
+                                  !row.sameInput->figures.deltaMap.empty();
+        if (sameInputMap) v.delta = row.sameInput->figures.deltaMap;
+        auto [scale, heatCaption] = heatScale(row, v, sameInputMap);
         const int factor = std::max(1, (std::max(v.gridW, v.gridH) + v.shrinkLimit - 1) / v.shrinkLimit);
-        if (v.binary) {
-          r.heatScale = 1.0;
-          r.heatCaption = "black = 0, full scale = 1 (a mismatch)";
-        } else if (sameInputMap) {
-          float top = 0.0f;
-          for (const float d : v.delta.data)
-            if (std::isfinite(d)) top = std::max(top, d);
-          r.heatScale = top > 0.0f ? top : 1.0;
-          r.heatCaption = "black = 0, full scale = " + num(r.heatScale) + " = the largest |Δ| here";
-        } else if (row.endToEnd && findRule(row.endToEnd->rule)) {
-          r.heatScale = 10.0 * findRule(row.endToEnd->rule)->pixelThreshold;
-          r.heatCaption = "black = 0, full scale = " + num(r.heatScale) + " = 10 × the " + escape(row.endToEnd->rule) +
-                          " threshold (" + num(r.heatScale / 10.0) + ")";
-        } else {
-          float top = 0.0f;
-          for (const float d : v.delta.data)
-            if (std::isfinite(d)) top = std::max(top, d);
-          r.heatScale = top > 0.0f ? top : 1.0;
-          r.heatCaption =
-              top > 0.0f ? "black = 0, full scale = " + num(top) + " = the largest |Δ| here (normalised to the max)"
-                         : "no difference anywhere";
-        }
-        if (sameInputMap)
-          r.heatCaption = "|port − the oracle's function on the port's own inputs| (the failing same-input check); " +
-                          r.heatCaption;
-        if (factor > 1)
-          r.heatCaption += "; shown ÷" + std::to_string(factor) + " (max over each " + std::to_string(factor) + "×" +
-                           std::to_string(factor) + " block)";
-        r.oracleImage = add(shrink(v.oracle, factor));
-        r.portImage = add(shrink(v.port, factor));
-        if (!v.delta.empty()) r.heatImage = add(heatMap(shrinkMax(v.delta, factor), r.heatScale));
-        if (factor > 1)
+        if (factor > 1) {
+          const std::string f = std::to_string(factor);
+          heatCaption += "; shown ÷" + f + " (max over each " + f + "×" + f + " block)";
           v.valueCaption += "; shown at " + gridText((v.gridW + factor - 1) / factor, (v.gridH + factor - 1) / factor) +
-                            " (every " + std::to_string(factor) + "th texel)";
-        v.oracle = {};  // encoded from the copies above; only the grid size is needed from here
-        v.port = {};
-        v.delta = {};
-      }
-      if (r.verdict != "PASS" || row.stage == "final") {
-        WorstPixel& w = r.worst;
-        w.shown = true;
-        w.source = worstCheck(row, r.verdict);
-        if (w.source) {
-          w.check = row.sameInput && w.source == &*row.sameInput ? "same-input" : "end-to-end";
-          w.gridX = w.source->figures.worstX;
-          w.gridY = w.source->figures.worstY;
-          w.probe = row.scale > 0 && w.gridX >= 0;
-          if (w.probe) {
-            w.x = std::clamp(w.gridX * row.scale + row.scale / 2, 0, std::max(width - 1, 0));
-            w.y = std::clamp(w.gridY * row.scale + row.scale / 2, 0, std::max(height - 1, 0));
-            w.command = frame.probeCommand + " --pixel " + std::to_string(w.x) + "," + std::to_string(w.y);
-          }
-        } else {
-          w.shown = false;
+                            " (every " + f + "th texel)";
         }
+        r["oracle_image"] = add(shrink(v.oracle, factor));
+        r["port_image"] = add(shrink(v.port, factor));
+        if (!v.delta.empty()) r["heat_image"] = add(heatMap(shrinkMax(v.delta, factor), scale));
+        r["heat_scale"] = num(scale);
+        r["heat_caption"] = heatCaption;
+        r["value_caption"] = v.valueCaption;
+        r["delta_caption"] = v.deltaCaption;
       }
-      page.rows.push_back(std::move(r));
+      rows.push_back(std::move(r));
     }
-    pages.push_back(std::move(page));
+    frameData.push_back({{"effect", frame.effect},
+                         {"pass", frame.result.pass()},
+                         {"first_failing", frame.result.firstFailing()},
+                         {"inherited", frame.result.inherited()},
+                         {"rows", std::move(rows)}});
   }
-
-  // 2. Encode every image (independent: in parallel).
   parallelFor(size_t{0}, images.size(), [&](size_t i) {
-    images[i].uri = "data:image/png;base64," + base64(encodePng(images[i].image));
-    images[i].image = {};
+    writeDisplayPng(job.folder() + "/" + images[i].first, images[i].second);
+    images[i].second = {};
   });
 
-  const auto img = [&](int index, const std::string& alt) {
-    if (index < 0) return std::string("<p class=\"missing\">no image</p>");
-    const Embedded& e = images[static_cast<size_t>(index)];
-    return "<img src=\"" + e.uri + "\" width=\"" + std::to_string(e.width) + "\" height=\"" + std::to_string(e.height) +
-           "\" alt=\"" + escape(alt) + "\">";
-  };
-
-  // 3. The page.
-  std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">\n"
-       << "<title>mrr compare: " << escape(std::filesystem::path(info.scene).filename().string()) << "</title>\n"
-       << "<style>" << kStyle << ".ramp{background:" << rampGradient() << "}\n</style>\n</head>\n<body>\n<main>\n";
-  html << "<h1 id=\"top\">mrr compare: oracle (cpu_ref) against the GL port</h1>\n<dl class=\"meta\">\n"
-       << "<dt>scene</dt><dd>" << escape(info.scene) << "</dd>\n"
-       << "<dt>credit</dt><dd>" << (info.credit.empty() ? std::string("(none given)") : escape(info.credit))
-       << "</dd>\n"
-       << "<dt>renderer</dt><dd>" << escape(info.renderer) << "</dd>\n"
-       << "<dt>command</dt><dd><code class=\"cmd\">" << escape(info.command) << "</code></dd>\n";
-  if (!frames.empty() && frames.front().oracle) {
+  std::string frameText;
+  if (!frames.empty()) {
     const Constants& c = frames.front().oracle->constants;
-    html << "<dt>frame</dt><dd>" << gridText(c.width, c.height) << " (padded "
-         << gridText(c.paddedWidth, c.paddedHeight) << "), mode " << escape(toString(c.mode)) << "</dd>\n";
+    frameText = gridText(c.width, c.height) + " (padded " + gridText(c.paddedWidth, c.paddedHeight) + "), mode " +
+                toString(c.mode);
   }
-  html << "</dl>\n<div class=\"overview\">\n";
-  for (const FramePage& page : pages) {
-    const ParityResult& result = page.frame->result;
-    const std::string first = result.firstFailing();
-    const std::string& effect = page.frame->effect;
-    html << "<div class=\"ov " << (first.empty() ? "PASS" : "FAIL") << "\" data-effect=\"" << escape(effect)
-         << "\"><div class=\"ovtext\"><div class=\"ovname\">" << escape(effect) << " "
-         << verdictBadge(first.empty() ? "PASS" : "FAIL") << "</div>";
-    if (!first.empty())
-      html << "<div>first failing stage <a href=\"#" << escape(anchor(effect, first)) << "\"><b>" << escape(first)
-           << "</b></a></div>";
-    else
-      html << "<div>every stage's own computation within tolerance</div>";
-    if (result.inherited() > 0)
-      html << "<div class=\"small\">" << result.inherited() << " stage(s) UPSTREAM (over the end-to-end rule by "
-           << "what they inherit)</div>";
-    html << "<div class=\"small\">" << page.rows.size() << " stages · <a href=\"#" << escape(anchor(effect, "summary"))
-         << "\">summary table</a></div></div>\n";
-    const auto finalRow =
-        std::find_if(page.rows.begin(), page.rows.end(), [](const RowPage& r) { return r.row->stage == "final"; });
-    if (finalRow != page.rows.end() && finalRow->view.missing.empty()) {
-      const RowPage& r = *finalRow;
-      html << "<figure><div class=\"wrap\">" << img(r.oracleImage, effect + " final, oracle")
-           << "</div><figcaption>final, <b>oracle</b></figcaption></figure>"
-           << "<figure><div class=\"wrap\">" << img(r.portImage, effect + " final, port")
-           << "</div><figcaption>final, <b>port</b></figcaption></figure>"
-           << "<figure><div class=\"wrap\">" << img(r.heatImage, effect + " final, |Δ|");
-      if (r.heatImage >= 0 && r.worst.shown && r.worst.gridX >= 0)
-        html << "<span class=\"mark\" style=\"" << markStyle(r) << "\" title=\"worst pixel\"></span>";
-      html << "</div><figcaption><a href=\"#" << escape(anchor(effect, "final")) << "\">final</a>, <b>|Δ|</b> "
-           << "<span class=\"ramp\"></span> full scale " << num(r.heatScale) << "</figcaption></figure>";
-    }
-    html << "</div>\n";
-  }
-  html << "</div>\n<p class=\"small\">A check passes when its over% (share of pixels with |Δ| over the rule's "
-          "threshold) and RMS are within the rule's bounds (common/tolerance.h). <b>end to end</b>: the port's stage "
-          "against the oracle's; <b>same input</b>: against the oracle's function run on the port's own inputs. "
-          "UPSTREAM: over the end-to-end rule while the same-input check passes, so inherited from an earlier "
-          "stage. Images: oracle, port, and a heat map of end-to-end |Δ| (black = 0, then the ramp "
-          "<span class=\"ramp\"></span>).</p>\n";
-
-  for (const FramePage& page : pages) {
-    const std::string& effect = page.frame->effect;
-    const ParityResult& result = page.frame->result;
-    html << "<h2 id=\"" << escape(anchor(effect, "summary")) << "\">" << escape(effect) << ": "
-         << verdictBadge(result.pass() ? "PASS" : "FAIL");
-    if (!result.pass())
-      html << " first failing stage <a href=\"#" << escape(anchor(effect, result.firstFailing())) << "\">"
-           << escape(result.firstFailing()) << "</a>";
-    html << "</h2>\n<div class=\"scroll\"><table class=\"summary\">\n"
-         << "<tr><th class=\"l\" rowspan=\"2\">stage</th><th class=\"l\" rowspan=\"2\">verdict</th>"
-         << "<th colspan=\"5\">end to end</th><th colspan=\"5\">same input</th></tr>\n<tr>";
-    for (int k = 0; k < 2; ++k)
-      html << "<th class=\"l\">rule</th><th>pixels</th><th>max|Δ|</th><th>over%</th><th>rms</th>";
-    html << "</tr>\n";
-    for (const RowPage& r : page.rows)
-      html << "<tr class=\"" << escape(r.verdict) << "\"><td class=\"l\"><a href=\"#"
-           << escape(anchor(effect, r.row->stage)) << "\">" << escape(r.row->stage) << "</a></td><td class=\"l\">"
-           << verdictBadge(r.verdict) << "</td>" << checkCells(r.row->endToEnd) << checkCells(r.row->sameInput)
-           << "</tr>\n";
-    html << "</table></div>\n";
-
-    html << "<h3 style=\"margin-top:14px\">Worst pixels</h3>\n<div class=\"scroll\"><table class=\"worst\">\n"
-         << "<tr><th class=\"l\">stage</th><th class=\"l\">verdict</th><th class=\"l\">check</th><th>max|Δ|</th>"
-         << "<th>grid pixel</th><th>full-res pixel</th><th class=\"l\">probe</th></tr>\n";
-    for (const RowPage& r : page.rows) {
-      if (!r.worst.shown) continue;
-      const WorstPixel& w = r.worst;
-      html << "<tr class=\"" << escape(r.verdict) << "\"><td class=\"l\"><a href=\"#"
-           << escape(anchor(effect, r.row->stage)) << "\">" << escape(r.row->stage) << "</a></td><td class=\"l\">"
-           << verdictBadge(r.verdict) << "</td><td class=\"l\">" << w.check << " (" << escape(w.source->rule)
-           << ")</td><td>" << num(w.source->figures.maxAbs) << "</td><td>"
-           << (w.gridX >= 0 ? std::to_string(w.gridX) + "," + std::to_string(w.gridY) : "–") << "</td><td>"
-           << (w.probe ? std::to_string(w.x) + "," + std::to_string(w.y) : "–")
-           << "</td><td class=\"l\" style=\"white-space:normal\">"
-           << (w.probe ? "<code class=\"cmd\">" + escape(w.command) + "</code>"
-                       : std::string("<span class=\"small\">no probe (shadow-map texel)</span>"))
-           << "</td></tr>\n";
-    }
-    html << "</table></div>\n";
-
-    for (const RowPage& r : page.rows) {
-      const StageRow& row = *r.row;
-      const StageView& v = r.view;
-      const std::string id = anchor(effect, row.stage);
-      html << "<section class=\"stage " << escape(r.verdict) << "\" id=\"" << escape(id) << "\" data-effect=\""
-           << escape(effect) << "\" data-stage=\"" << escape(row.stage) << "\" data-verdict=\"" << escape(r.verdict)
-           << "\">\n<h3><a href=\"#" << escape(id) << "\">" << escape(effect) << " · " << escape(row.stage) << "</a> "
-           << verdictBadge(r.verdict) << " <span class=\"small\">";
-      if (row.level >= 0) html << "level " << row.level << ", ";
-      if (v.missing.empty()) html << "grid " << gridText(v.gridW, v.gridH);
-      if (row.scale > 1) html << " (1/" << row.scale << " of full res)";
-      html << " · <a href=\"#" << escape(anchor(effect, "summary")) << "\">summary</a></span></h3>\n";
-      if (!v.missing.empty()) {
-        html << "<p class=\"missing\">" << escape(v.missing) << "</p>\n";
-      } else {
-        html << "<div class=\"trio\">\n<figure><div class=\"wrap\">" << img(r.oracleImage, "oracle " + row.stage)
-             << "</div><figcaption><b>oracle</b> (cpu_ref)</figcaption></figure>\n"
-             << "<figure><div class=\"wrap\">" << img(r.portImage, "port " + row.stage)
-             << "</div><figcaption><b>port</b> (" << escape(info.renderer) << ")</figcaption></figure>\n"
-             << "<figure><div class=\"wrap\">";
-        if (r.heatImage >= 0) {
-          html << img(r.heatImage, "|Δ| " + row.stage);
-          if (r.worst.shown && r.worst.gridX >= 0)
-            html << "<span class=\"mark\" style=\"" << markStyle(r) << "\" title=\"worst pixel\"></span>";
-        } else {
-          html << "<p class=\"missing\" style=\"line-height:1.4;color:#ccc;padding:8px\">the two images differ in "
-                  "size</p>";
-        }
-        html << "</div><figcaption><b>|Δ|</b> <span class=\"ramp\"></span> " << escape(v.deltaCaption) << "; "
-             << r.heatCaption;
-        if (r.worst.shown && r.worst.gridX >= 0) html << "; <span style=\"color:#0097a7\">■</span> the worst pixel";
-        html << "</figcaption></figure>\n</div>\n<p class=\"small\">shown: " << escape(v.valueCaption) << "</p>\n";
-      }
-      html << "<div class=\"scroll\"><table class=\"figs\">\n<tr><th class=\"l\">check</th><th class=\"l\">rule</th>"
-           << "<th class=\"l\">result</th><th>pixels</th><th>max|Δ|</th><th>over%</th><th>allowed%</th><th>rms</th>"
-           << "<th>rms bound</th><th>threshold</th><th>worst (grid)</th><th class=\"l\">why</th></tr>\n"
-           << checkTableRow("end to end", row.endToEnd) << checkTableRow("same input", row.sameInput)
-           << "</table></div>\n";
-      if (r.worst.shown) html << "<p>Worst pixel: " << worstText(r) << "</p>\n";
-      html << "</section>\n";
-    }
-  }
-  html << "<p class=\"small\">Scene credit: "
-       << (info.credit.empty() ? std::string("(none given)") : escape(info.credit)) << "</p>\n</main>\n"
-       << "<script>window.addEventListener('load',function(){var n=0,i,im=document.images;"
-          "for(i=0;i<im.length;i++)if(im[i].complete&&im[i].naturalWidth>0)n++;"
-          "document.body.dataset.loaded=String(n);document.body.dataset.images=String(im.length);"
-          // Back to the #anchor once the images have their size.
-          "var t=location.hash&&document.getElementById(decodeURIComponent(location.hash.slice(1)));"
-          "if(t)t.scrollIntoView();});</script>\n"
-       << "</body>\n</html>\n";
-  writeTextFile(path, html.str());
+  const nlohmann::json data = {{"kind", "compare"},
+                               {"title", std::filesystem::path(info.scene).filename().string()},
+                               {"scene", info.scene},
+                               {"credit", info.credit},
+                               {"renderer", info.renderer},
+                               {"command", info.command},
+                               {"frame", frameText},
+                               {"ramp", rampGradient()},
+                               {"frames", std::move(frameData)}};
+  writeTextFile((std::filesystem::path(dir) / "index.html").string(), job.makePage(data));
 }
 
 }  // namespace mrr

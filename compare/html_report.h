@@ -4,7 +4,8 @@
 // stage of every compared frame, the oracle's and the port's images side by side with a
 // heat map of |Δ| and the figures of compare/parity.h; the worst pixels of each failing or
 // inherited stage with the `mrr probe --path both` command that explains them; and the
-// scene's credit line.
+// scene's credit line. C++ prepares the images (display images, heat maps, shrinking) and the
+// figures; compare/report/templates/compare.html.j2 lays out the page (compare/report_python.h).
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ struct CompareReportInfo {
   std::string command;   // the `mrr compare …` command that made the report
 };
 
-// Writes DIR/index.html atomically (DIR must exist and be writable).
+// Writes DIR/index.html atomically (DIR must exist and be writable). Needs requireReportPython().
 void writeCompareReport(const std::string& dir, const CompareReportInfo& info, const std::vector<ComparedFrame>& frames);
 
 }  // namespace mrr

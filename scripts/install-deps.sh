@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs mrr's build and run dependencies on Debian 12 (all from Debian's own packages;
-# fonts-dejavu-core is the font `mrr bench` draws its PNG charts with).
+# python3-matplotlib and python3-jinja2 make the `--report` pages and charts, run with
+# /usr/bin/python3; fonts-dejavu-core labels scripts/make-doc-images.sh's pictures, and
+# matplotlib's data package needs it too).
 # `install-deps.sh test` adds what only the tests need: Chromium (the compare report's
 # browser test) and clang with its fuzzer runtime (scripts/fuzz.sh).
 # Safe to run repeatedly; skips apt when every package is already installed.
@@ -11,7 +13,7 @@ pkgs=(
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
-  fonts-dejavu-core
+  python3-matplotlib python3-jinja2 fonts-dejavu-core
 )
 if [ "${1:-}" = test ]; then
   pkgs+=(chromium clang libclang-rt-14-dev)

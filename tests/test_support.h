@@ -18,6 +18,9 @@ std::string sharedScene(const std::string& relative);
 // True when that file exists; tests call GTEST_SKIP() with a reason otherwise.
 bool haveSharedScene(const std::string& relative);
 
+// The whole file as bytes (empty when it cannot be read).
+std::string readFile(const std::string& path);
+
 // Standard base64 (RFC 4648, with padding), for glTF data URIs written by tests.
 std::string base64(const std::vector<uint8_t>& bytes);
 

@@ -31,18 +31,12 @@
 namespace mrr {
 namespace {
 using mrr::test::base64;
+using mrr::test::readFile;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 // ---- running the binary -----------------------------------------------------------------
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 void writeFile(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -659,6 +653,14 @@ const std::vector<BadCase> kBadCases = {
     {"BenchUnknownPath", {"bench", "--paths", "tpu"}, "--paths tpu"},
     {"BenchFramesOne", {"bench", "--frames", "1"}, "--frames"},
     {"BenchJsonBadExtension", {"bench", "--quick", "--json", "{out}/figures.txt"}, "figures.txt"},
+    // --report: the pages need matplotlib and Jinja2 under /usr/bin/python3 (MRR_PYTHON names
+    // another interpreter); checked before anything renders, so nothing is written
+    {"CompareReportWithoutPython", {"compare", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                                    "--report", "{out}"},
+     "--report needs matplotlib and Jinja2 (Debian: apt-get install python3-matplotlib python3-jinja2)", false,
+     {.env = {"MRR_PYTHON=/nonexistent/python3"}}},
+    {"BenchReportWithoutPackages", {"bench", "--quick", "--report", "{out}/report"},
+     "--report needs matplotlib and Jinja2", false, {.env = {"MRR_PYTHON=/bin/false"}}},
 };
 
 class CliBadInputTest : public ::testing::TestWithParam<BadCase> {};

@@ -1,0 +1,270 @@
+"""The pages of `mrr compare --report DIR` and `mrr bench --report DIR`, and the bench's charts.
+
+mrr compiles this file and templates/*.html.j2 into its binary, writes them to a scratch
+folder and runs `/usr/bin/python3 report.py DATA.json PAGE.html` (compare/report_python.cpp).
+DATA.json holds what C++ measured, with "kind": "compare" or "bench". This program writes the
+page to PAGE.html (mrr then moves it into place) and, for the bench, every chart as SVG and
+PNG into DIR/charts/. Any failure is an exception; mrr shows its last line.
+"""
+import base64
+import json
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")  # headless: no display is ever needed
+matplotlib.rcParams["svg.hashsalt"] = "mrr"  # the SVG's ids: the same figures give the same file
+import jinja2  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+# One colour and marker per method on every chart (tab10 colours); the references first.
+METHODS = ["full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-norule"]
+COLOR = {"full": "#7f7f7f", "uniform-1": "#1f77b4", "uniform-2": "#17becf", "tiles": "#ff7f0e",
+         "mrr": "#d62728", "mrr-norule": "#9467bd"}
+MARKER = {"uniform-1": "s", "uniform-2": "D", "tiles": "^", "mrr-norule": "X"}
+PAPER_COLOR = "#2ca02c"
+WIDTH, HEIGHT = 880, 560  # pixels of the PNG (the SVG has the same proportions)
+
+
+def pareto_front(points):
+    """Indices of the Pareto-optimal (x, y) points when x (error) is minimised and y (speedup)
+    maximised: a point is dropped when another has x <= and y >= with one of them strict (so
+    exact duplicates both stay). Points with a non-finite coordinate are dropped. Sorted by x,
+    then y descending, then index: the order the front's line joins them."""
+    finite = [i for i, (x, y) in enumerate(points) if math.isfinite(x) and math.isfinite(y)]
+
+    def beaten(i):
+        xi, yi = points[i]
+        return any(points[j][0] <= xi and points[j][1] >= yi and tuple(points[j]) != (xi, yi) for j in finite)
+
+    return sorted((i for i in finite if not beaten(i)), key=lambda i: (points[i][0], -points[i][1], i))
+
+
+def method_order(methods):
+    return sorted(set(methods), key=lambda m: (METHODS.index(m) if m in METHODS else len(METHODS), m))
+
+
+def distinct(items):
+    """The values in first-seen order."""
+    return list(dict.fromkeys(items))
+
+
+def size_name(r):
+    return "%dx%d" % (r["width"], r["height"])
+
+
+# ---- Charts ----------------------------------------------------------------------------------
+
+class Chart:
+    """One figure: a title, a grey subtitle (the machine), matplotlib's default look."""
+
+    def __init__(self, name, title, subtitle, caption, xlabel, ylabel):
+        self.name, self.caption, self.title = name, caption, title
+        self.fig, self.ax = plt.subplots(figsize=(WIDTH / 100, HEIGHT / 100), dpi=100)
+        self.fig.suptitle(title, fontweight="bold")
+        self.ax.set_title(subtitle, fontsize=9, color="#666666")
+        self.ax.set_xlabel(xlabel)
+        self.ax.set_ylabel(ylabel)
+        self.ax.grid(True, color="#e5e5e5")
+        self.ax.set_axisbelow(True)
+
+    def guide(self, y, label):
+        self.ax.axhline(y, color="#7f7f7f", linestyle="--", linewidth=1)
+        self.ax.annotate(label, (1, y), xycoords=("axes fraction", "data"), xytext=(-3, 3),
+                         textcoords="offset points", ha="right", fontsize=8, color="#7f7f7f")
+
+    def bars(self, categories, series):
+        """Grouped bars: series is [(method, {category: value})], side by side in 80% of a slot."""
+        width = 0.8 / max(len(series), 1)
+        for k, (method, values) in enumerate(series):
+            xs = [categories.index(c) - 0.4 + (k + 0.5) * width for c in values]
+            self.ax.bar(xs, list(values.values()), width, label=method, color=COLOR.get(method, "#000000"))
+        self.ax.set_xticks(range(len(categories)), categories, rotation=20 if len(categories) > 4 else 0,
+                           ha="right" if len(categories) > 4 else "center")
+        self.ax.set_ylim(bottom=0)
+
+    def save(self, folder):
+        """SVG and PNG, each written under a temporary name and renamed into place."""
+        if self.ax.get_legend_handles_labels()[0]:
+            self.ax.legend(fontsize=9)
+        self.fig.tight_layout()
+        for ext in ("svg", "png"):
+            path = os.path.join(folder, self.name + "." + ext)
+            temporary = os.path.join(folder, ".%s.tmp-%d.%s" % (self.name, os.getpid(), ext))
+            # No date in the SVG, so that the same figures give the same file.
+            self.fig.savefig(temporary, format=ext, dpi=100, metadata={"Date": None} if ext == "svg" else None)
+            os.replace(temporary, path)
+        plt.close(self.fig)
+
+
+def plot_method(ax, method, xs, ys, label=None, line=True, ideal=False):
+    ys = [math.nan if y is None else y for y in ys]  # JSON's null: a figure that was not finite
+    ax.plot(xs, ys, label=label or method, color=COLOR.get(method, "#000000"),
+            marker=MARKER.get(method, "o"), linestyle=("--" if ideal else "-") if line else "none",
+            markerfacecolor="white" if ideal else None, markersize=6)
+
+
+def speed_vs_rms(path, effect, runs, device):
+    """Chart 1: measured speedup against RMS, one point per method and setting, the Pareto front."""
+    c = Chart("speed-vs-rms-%s-%s" % (path, effect), "Speed against accuracy, %s (%s path)" % (effect, path), device,
+              "Chart 1 (%s, %s): one point per method × scene × camera × setting; up and left is better. The dashed "
+              "line joins the points no other point beats on both axes. Frames with RMS 0 (mrr falling back to "
+              "full) sit at the left end of the axis." % (path, effect),
+              "RMS against full (log)", "measured speedup over full (x)")
+    others = [r for r in runs if r["method"] != "full"]
+    # A log axis cannot show RMS 0 (frames the never-slower rule shaded at full res): they are
+    # drawn at a third of the smallest non-zero RMS, which the caption says.
+    floor = min([r["rms"] / 3 for r in others if r["rms"] and r["rms"] > 0] or [1.0])
+    points = []
+    for m in method_order(r["method"] for r in others):
+        mine = [(r["rms"] if r["rms"] and r["rms"] > 0 else floor, r["measured_speedup"])
+                for r in others if r["method"] == m and r["rms"] is not None]
+        plot_method(c.ax, m, [p[0] for p in mine], [p[1] for p in mine], line=False)
+        points += mine
+    front = [points[i] for i in pareto_front(points)]
+    c.ax.plot([p[0] for p in front], [p[1] for p in front], "k--", linewidth=1, label="Pareto front")
+    c.ax.set_xscale("log")
+    c.guide(1.0, "full (RMS 0)")
+    return c
+
+
+def sweep(figure, path, effect, runs, paper, device):
+    """The paper's Fig. 6 (speedup against samples), 7 (against resolution) or 9 (RMS against
+    resolution), with the paper's own figures drawn beside ours (green, hollow, dashed)."""
+    first = runs[0]
+    by_samples, rms = figure == "fig6", figure == "fig9"
+    x_of = (lambda r: r["samples"]) if by_samples else (lambda r: r["height"])
+    title = {"fig6": "Speedup against samples, %s at %s (Fig. 6)" % (effect, size_name(first)),
+             "fig7": "Speedup against resolution, %s-%d (Fig. 7)" % (effect, first["samples"]),
+             "fig9": "RMS against resolution, %s-%d (Fig. 9)" % (effect, first["samples"])}[figure]
+    caption = {"fig6": "Measured (solid) and ideal (dashed, mrr) speedup; the paper's Fig. 6, measured at 4K on a "
+                       "GTX 1080, in green.",
+               "fig7": "Measured (solid) and ideal (dashed, mrr) speedup by resolution; the paper's Fig. 7 in green "
+                       "(it loses 17% for SSM at 720p; mrr's never-slower rule keeps it at or above 1).",
+               "fig9": "RMS of each method against full at the same samples; the paper's Fig. 9 in green."}[figure]
+    c = Chart("%s-%s-%s" % (figure, path, effect), title, "%s; %s, camera 0" % (device, first["scene"]), caption,
+              "samples per pixel (log)" if by_samples else "image height (pixels)",
+              "RMS against full" if rms else "speedup over full (x)")
+    for m in method_order(r["method"] for r in runs):
+        if m == "full":
+            continue
+        mine = sorted((r for r in runs if r["method"] == m), key=x_of)
+        xs = [x_of(r) for r in mine]
+        plot_method(c.ax, m, xs, [r["rms" if rms else "measured_speedup"] for r in mine],
+                    label=m if rms else m + " measured")
+        if m == "mrr" and not rms:
+            plot_method(c.ax, m, xs, [r["ideal_speedup"] for r in mine], label="mrr ideal", ideal=True)
+    theirs = sorted((p for p in paper if p["figure"] == figure and p["effect"] == effect),
+                    key=lambda p: p["samples"] if by_samples else p["height"])
+    if theirs:
+        c.ax.plot([p["samples"] if by_samples else p["height"] for p in theirs],
+                  [p["rms"] if rms else p["speedup"] for p in theirs], color=PAPER_COLOR, linestyle="--", marker="D",
+                  markerfacecolor="white",
+                  label="paper, Fig. %s (GTX 1080%s)" % (figure[3:], ", at 4K" if by_samples else ""))
+    if by_samples:
+        c.ax.set_xscale("log")
+    if not rms:
+        c.guide(1.0, "full")
+    return c
+
+
+def stress(path, effect, runs, device):
+    """Measured speedup of every method on each stress scene (mrr-norule: without the rule)."""
+    c = Chart("stress-%s-%s" % (path, effect), "Stress scenes, %s: measured speedup (%s path)" % (effect, path),
+              device, "Each stress scene models one failure: bumpy normals (edges explode), wires thinner than a "
+              "coarse pixel, an image that is all edges, and one with none (builtin:plane). mrr-norule is the "
+              "method without the never-slower rule.", "scene", "measured speedup over full (x)")
+    scenes = distinct(r["scene"] for r in runs)
+    c.bars(scenes, [(m, {r["scene"]: r["measured_speedup"] for r in runs if r["method"] == m})
+                    for m in method_order(r["method"] for r in runs) if m != "full"])
+    c.guide(1.0, "full")
+    return c
+
+
+def flicker(path, stability, device):
+    """Chart 4: SPEC §10 flicker of each method along each camera path."""
+    s0 = stability[0]
+    c = Chart("flicker-" + path, "Flicker along camera paths (%s path)" % path,
+              "%s; %d frames at %s" % (device, s0["frames"], size_name(s0)),
+              "Chart 4: the frame-to-frame change of each method's error against full (SPEC §10); lower is steadier.",
+              "scene, camera path, effect", "flicker: mean |error(t) - error(t-1)|")
+    key = lambda s: "%s %s %s" % (s["scene"], s["camera_path"], s["effect"])  # noqa: E731
+    c.bars(distinct(key(s) for s in stability),
+           [(m, {key(s): s["flicker"] for s in stability if s["method"] == m})
+            for m in method_order(s["method"] for s in stability)])
+    return c
+
+
+def bench_charts(results, paper):
+    """Every chart, in the order the page shows them."""
+    runs, out = results["runs"], []
+    for path in distinct(r["path"] for r in runs):
+        device = results["devices"].get(path, path)
+        of_path = [r for r in runs if r["path"] == path]
+        for effect in distinct(r["effect"] for r in of_path):
+            group = lambda g: [r for r in of_path if r["group"] == g and r["effect"] == effect]  # noqa: E731
+            if group("main"):
+                out.append(speed_vs_rms(path, effect, group("main"), device))
+            if group("samples"):
+                out.append(sweep("fig6", path, effect, group("samples"), paper, device))
+            if group("resolution"):
+                out += [sweep(f, path, effect, group("resolution"), paper, device) for f in ("fig7", "fig9")]
+            if group("stress"):
+                out.append(stress(path, effect, group("stress"), device))
+        stability = [s for s in results["stability"] if s["path"] == path]
+        if stability:
+            out.append(flicker(path, stability, device))
+    return out
+
+
+# ---- Pages -----------------------------------------------------------------------------------
+
+def environment(work):
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(os.path.join(HERE, "templates")),
+                             autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
+
+    def data_uri(name):
+        """A PNG that mrr wrote into the scratch folder, embedded (the page fetches nothing)."""
+        with open(os.path.join(work, name), "rb") as f:
+            return "data:image/png;base64," + base64.b64encode(f.read()).decode("ascii")
+
+    env.filters["data_uri"] = data_uri
+    return env
+
+
+def bench_page(data, env):
+    out_dir = data["out_dir"]
+    os.makedirs(os.path.join(out_dir, "charts"), exist_ok=True)
+    figures = []
+    for chart in bench_charts(data["results"], data["paper"]):
+        chart.save(os.path.join(out_dir, "charts"))
+        figures.append({"name": chart.name, "title": chart.title, "caption": chart.caption})
+    # Example images, written by the sweep: each method on the same frame.
+    examples, images = [], os.path.join(out_dir, "images")
+    if os.path.isdir(images):
+        for group in sorted(g for g in os.listdir(images) if os.path.isdir(os.path.join(images, g))):
+            present = [m for m in METHODS if os.path.exists(os.path.join(images, group, m + ".png"))]
+            examples.append({"group": group, "methods": present})
+    return env.get_template("bench.html.j2").render(figures=figures, examples=examples, **data)
+
+
+def main(argv):
+    if len(argv) != 3:
+        raise SystemExit("usage: report.py DATA.json PAGE.html")
+    with open(argv[1], encoding="utf-8") as f:
+        data = json.load(f)
+    env = environment(os.path.dirname(os.path.abspath(argv[1])))
+    if data["kind"] == "bench":
+        page = bench_page(data, env)
+    else:
+        page = env.get_template("compare.html.j2").render(**data)
+    with open(argv[2], "w", encoding="utf-8") as f:
+        f.write(page)
+
+
+if __name__ == "__main__":
+    main(sys.argv)

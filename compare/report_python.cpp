@@ -1,0 +1,122 @@
+#include "compare/report_python.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "common/error.h"
+#include "compare/report_files.h"
+
+extern char** environ;
+
+namespace mrr {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Runs `args` (args[0] is a path, not looked up in PATH) with stdin from /dev/null and stdout
+// and stderr into `log`; returns its exit status (128 + the signal when killed), or -1 with
+// `why` set when it could not be started.
+int runProcess(const std::vector<std::string>& args, const std::string& log, std::string& why) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int error = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (error != 0) {
+    why = args[0] + ": " + std::strerror(error);
+    return -1;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) {
+      why = std::string("waitpid: ") + std::strerror(errno);
+      return -1;
+    }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string lastLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (const size_t start = line.find_first_not_of(" \t\r"); start != std::string::npos) last = line.substr(start);
+  return last.empty() ? "(no message)" : last;
+}
+
+void writeScratch(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw MrrError("--report: cannot write " + path.string() + ": " + std::strerror(errno));
+}
+
+}  // namespace
+
+std::string reportPython() {
+  const char* env = std::getenv("MRR_PYTHON");
+  return env && *env ? env : "/usr/bin/python3";
+}
+
+void requireReportPython() {
+  std::string why;
+  if (runProcess({reportPython(), "-c", "import matplotlib, jinja2"}, "/dev/null", why) != 0)
+    throw MrrError("--report needs matplotlib and Jinja2 (Debian: apt-get install python3-matplotlib python3-jinja2)");
+}
+
+ReportJob::ReportJob() {
+  std::string name = (fs::temp_directory_path() / "mrr-report-XXXXXX").string();
+  if (!mkdtemp(name.data()))
+    throw MrrError("--report: cannot make a scratch folder " + name + ": " + std::strerror(errno));
+  folder_ = name;
+  try {
+    for (const ReportFile& f : kReportFiles) {
+      const fs::path path = fs::path(folder_) / f.path;
+      fs::create_directories(path.parent_path());
+      writeScratch(path, f.text);
+    }
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(folder_, ignored);
+    throw;
+  }
+}
+
+ReportJob::~ReportJob() {
+  std::error_code ignored;
+  fs::remove_all(folder_, ignored);
+}
+
+std::string ReportJob::makePage(const nlohmann::json& data) const {
+  const std::string input = folder_ + "/data.json", page = folder_ + "/index.html", log = folder_ + "/python.log";
+  // Invalid UTF-8 (a scene's credit line) is replaced rather than refused: the page still says the rest.
+  writeScratch(input, data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  std::string why;
+  const int status = runProcess({reportPython(), folder_ + "/report.py", input, page}, log, why);
+  if (status != 0)
+    throw MrrError("--report: " + (status < 0 ? "cannot run " + why
+                                              : reportPython() + " report.py exited " + std::to_string(status) +
+                                                    ": " + lastLine(log)));
+  std::ifstream in(page, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in || text.str().empty()) throw MrrError("--report: " + reportPython() + " report.py wrote no page");
+  return text.str();
+}
+
+}  // namespace mrr

@@ -1,0 +1,59 @@
+"""Unit tests of compare/report/report.py (ctest: report_py_unit): the Pareto front of chart 1,
+and one chart drawn from a handful of runs. Run with /usr/bin/python3, as mrr runs the program."""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "compare", "report"))
+import report  # noqa: E402
+
+
+class ParetoFrontTest(unittest.TestCase):
+    def test_keeps_the_points_no_other_beats_on_both_axes(self):
+        # (RMS, speedup): lower RMS and higher speedup are better.
+        points = [(0.01, 2.0), (0.02, 3.0), (0.015, 1.5), (0.03, 2.5), (0.005, 1.2)]
+        # (0.015, 1.5) loses to (0.01, 2.0); (0.03, 2.5) loses to (0.02, 3.0).
+        self.assertEqual(report.pareto_front(points), [4, 0, 1])
+
+    def test_exact_duplicates_both_stay_and_ties_on_one_axis_drop(self):
+        points = [(0.01, 2.0), (0.01, 2.0), (0.01, 1.0), (0.02, 2.0)]
+        self.assertEqual(report.pareto_front(points), [0, 1])
+
+    def test_non_finite_points_are_dropped_and_cannot_beat_others(self):
+        points = [(0.01, 2.0), (float("nan"), 9.0), (0.0, math.inf), (0.02, 3.0)]
+        self.assertEqual(report.pareto_front(points), [0, 3])
+
+    def test_order_is_by_error_then_speedup_descending(self):
+        points = [(0.3, 5.0), (0.1, 1.0), (0.2, 4.0)]
+        self.assertEqual(report.pareto_front(points), [1, 2, 0])
+        self.assertEqual(report.pareto_front([]), [])
+
+
+class ChartTest(unittest.TestCase):
+    def test_sweep_draws_the_papers_figures_beside_ours(self):
+        runs = [{"path": "cpu", "scene": "builtin:demo", "method": m, "effect": "ssao", "samples": 64, "width": w,
+                 "height": h, "rms": 0.01, "measured_speedup": s, "ideal_speedup": 2 * s}
+                for m, s in (("full", 1.0), ("mrr", 1.8)) for w, h in ((320, 180), (640, 360))]
+        paper = [{"figure": "fig7", "effect": "ssao", "samples": 64, "width": 1280, "height": 720,
+                  "speedup": 1.287, "rms": 0}]
+        chart = report.sweep("fig7", "cpu", "ssao", runs, paper, "a test machine")
+        labels = chart.ax.get_legend_handles_labels()[1]
+        self.assertEqual(labels, ["mrr measured", "mrr ideal", "paper, Fig. 7 (GTX 1080)"])
+        paper_line = chart.ax.get_lines()[2]
+        self.assertEqual(list(paper_line.get_xdata()), [720])
+        self.assertEqual(paper_line.get_linestyle(), "--")
+        self.assertEqual(paper_line.get_markerfacecolor(), "white")  # hollow
+        with tempfile.TemporaryDirectory() as folder:
+            chart.save(folder)
+            self.assertEqual(sorted(os.listdir(folder)), ["fig7-cpu-ssao.png", "fig7-cpu-ssao.svg"])
+            with open(os.path.join(folder, "fig7-cpu-ssao.png"), "rb") as f:
+                header = f.read(24)
+            self.assertEqual(header[:8], b"\x89PNG\r\n\x1a\n")
+            self.assertEqual((int.from_bytes(header[16:20], "big"), int.from_bytes(header[20:24], "big")),
+                             (report.WIDTH, report.HEIGHT))
+
+
+if __name__ == "__main__":
+    unittest.main()

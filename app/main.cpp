@@ -37,7 +37,7 @@ namespace {
 struct FrameOptions {
   std::string scene = "builtin:demo";
   std::string effect = "ssao";
-  std::string mode = "multires";
+  std::string mode = "mrr";
   std::string neverSlower;          // on|off; empty: neverSlowerDefault
   bool neverSlowerDefault = true;   // compare turns it off: it validates every stage of the method
   std::string costModelFile;
@@ -245,7 +245,7 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
               << formatParityTable(result) << "\n";
     pass = pass && result.pass();
     if (!reportDir.empty()) {
-      std::string probe = "mrr probe --path both --scene " + fo.scene + " --effect " + toString(s.effect) + " --mode " +
+      std::string probe = "mrr probe --path both --scene " + fo.scene + " --effect " + toString(s.effect) + " --method " +
                           toString(s.mode) + " --size " + fo.size + " --samples " + std::to_string(k.samples());
       compared.push_back({toString(s.effect), oracle.get(), ported.get(), std::move(result), probe});
       kept.push_back(std::move(oracle));
@@ -253,7 +253,7 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
     }
   }
   if (!reportDir.empty()) {
-    std::string command = "mrr compare --scene " + fo.scene + " --effect " + fo.effect + " --mode " + fo.mode +
+    std::string command = "mrr compare --scene " + fo.scene + " --effect " + fo.effect + " --method " + fo.mode +
                           " --size " + fo.size;
     if (fo.samples) command += " --samples " + std::to_string(*fo.samples);
     const std::string label = fo.scene == rs.scene.name
@@ -559,7 +559,7 @@ int run(int argc, char** argv) {
     std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
               << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total") << " ms\n";
     if (frame.fallback.fellBack)
-      std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMultiresMs << " ms multires against "
+      std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMrrMs << " ms mrr against "
                 << frame.fallback.predictedFullMs << " ms full; shaded at full resolution\n";
     if (err)
       std::cerr << "[mrr] vs full: RMS " << err->effect.rms << ", SSIM " << err->effect.ssim << " (shaded: RMS "

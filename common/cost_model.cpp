@@ -74,7 +74,7 @@ nlohmann::json CostModel::toJson() const {
 
 // SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N)·s + P_ℓ·d) + Σ_{ℓ≥1} (P_ℓ·g + F) + W·H·β, in ms, where
 // F = max(T0 − P_0·g, 0) for a rasterised G-buffer measured at T0 ms, else 0.
-double predictMultiresMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded,
+double predictMrrMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded,
                          double gbuffer0Ms) {
   const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
   const double perSceneNs =
@@ -101,8 +101,8 @@ FallbackDecision decideFallback(const CostModel& m, const Constants& c, const st
   FallbackDecision d;
   d.evaluated = true;
   d.predictedFullMs = predictFullMs(m, c);
-  d.predictedMultiresMs = predictMultiresMs(m, c, shaded, gbuffer0Ms);
-  d.fellBack = d.predictedFullMs - d.predictedMultiresMs <= 0.0;
+  d.predictedMrrMs = predictMrrMs(m, c, shaded, gbuffer0Ms);
+  d.fellBack = d.predictedFullMs - d.predictedMrrMs <= 0.0;
   d.costModel = m.source;
   return d;
 }

@@ -47,14 +47,14 @@ struct FallbackDecision {
   bool evaluated = false;       // mode mrr with the rule on
   bool fellBack = false;        // the frame was shaded at full resolution
   double predictedFullMs = 0.0;      // the rest of a `full` frame: every pixel shaded
-  double predictedMultiresMs = 0.0;  // the rest of this frame: coarse G-buffers, Σ|S_ℓ|, blend
+  double predictedMrrMs = 0.0;  // the rest of this frame: coarse G-buffers, Σ|S_ℓ|, blend
   std::string costModel;        // CostModel::source
 };
 
 // The remaining cost of shading `shadedPixels[ℓ]` pixels per level, plus the coarse
 // G-buffers and the blend (SPEC §11); and of shading all W·H pixels at level 0.
 // `gbuffer0Ms`: the frame's measured level-0 G-buffer time (read with rasterGbuffer; 0: none).
-double predictMultiresMs(const CostModel& model, const Constants& constants,
+double predictMrrMs(const CostModel& model, const Constants& constants,
                          const std::array<long long, kLevelCount>& shadedPixels, double gbuffer0Ms = 0.0);
 double predictFullMs(const CostModel& model, const Constants& constants);
 

@@ -22,12 +22,10 @@ std::string toString(Mode mode) {
     case Mode::Uniform1: return "uniform-1";
     case Mode::Uniform2: return "uniform-2";
     case Mode::Tiles: return "tiles";
-    case Mode::Multires: break;
+    case Mode::Mrr: break;
   }
-  return "multires";
+  return "mrr";
 }
-
-std::string methodName(Mode mode) { return mode == Mode::Multires ? "mrr" : toString(mode); }
 
 bool isPeer(Mode mode) { return mode == Mode::Uniform1 || mode == Mode::Uniform2 || mode == Mode::Tiles; }
 
@@ -39,7 +37,7 @@ Effect parseEffect(const std::string& name) {
 }
 
 Mode parseMode(const std::string& name) {
-  if (name == "multires" || name == "mrr") return Mode::Multires;
+  if (name == "multires") return Mode::Mrr;  // the old spelling, still accepted from scripts
   for (Mode m : kAllModes)
     if (name == toString(m)) return m;
   throw MrrError("--method " + name + ": unknown method (expected mrr, full, uniform-1, uniform-2 or tiles)");
@@ -173,7 +171,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
     lc.width = c.paddedWidth / lc.scale;
     lc.height = c.paddedHeight / lc.scale;
     switch (s.mode) {
-      case Mode::Multires: lc.enabled = ls.enabled; break;
+      case Mode::Mrr: lc.enabled = ls.enabled; break;
       case Mode::Full: lc.enabled = l == 0; break;
       case Mode::Uniform1: lc.enabled = l == 0 || l == 1; lc.shaded = l == 1; break;
       case Mode::Uniform2: lc.enabled = l == 0 || l == 2; lc.shaded = l == 2; break;
@@ -190,7 +188,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   for (int l = 0; l < kLevelCount; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) c.coarsestEnabled = l;
   c.edges = s.edges;
-  c.neverSlower = s.neverSlower && s.mode == Mode::Multires;
+  c.neverSlower = s.neverSlower && s.mode == Mode::Mrr;
 
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f

@@ -16,19 +16,18 @@ enum class Effect { Ssao, Ssm, Ssgi };
 // Every mode runs the same effect code on the same G-buffers; only which pixels of which
 // level are shaded, and how the levels are put together, differ.
 enum class Mode {
-  Multires,  // the method (SPEC §§2–5); `--method mrr`
+  Mrr,       // the method (SPEC §§2–5); `--method mrr`
   Full,      // every full-res pixel: the reference for every error figure
   Uniform1,  // every pixel of level 1 (½), then joint bilateral upsampling
   Uniform2,  // every pixel of level 2 (¼), then joint bilateral upsampling
   Tiles,     // 16×16 VRS-style tiles at 1×1, 2×2 or 4×4 by their edges, broadcast unfiltered
 };
-constexpr Mode kAllModes[] = {Mode::Full, Mode::Uniform1, Mode::Uniform2, Mode::Tiles, Mode::Multires};
+constexpr Mode kAllModes[] = {Mode::Full, Mode::Uniform1, Mode::Uniform2, Mode::Tiles, Mode::Mrr};
 
 std::string toString(Effect effect);
-std::string toString(Mode mode);        // "multires", "full", "uniform-1", "uniform-2", "tiles"
-std::string methodName(Mode mode);     // the same, with "mrr" for the method (charts, bench)
+std::string toString(Mode mode);        // "mrr", "full", "uniform-1", "uniform-2", "tiles"
 Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
-Mode parseMode(const std::string& name);  // accepts both spellings ("mrr" = "multires")
+Mode parseMode(const std::string& name);  // also accepts "multires", the old name of "mrr"
 bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
 
 constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
@@ -85,7 +84,7 @@ struct Settings {
   int width = 1280;
   int height = 720;
   Effect effect = Effect::Ssao;
-  Mode mode = Mode::Multires;
+  Mode mode = Mode::Mrr;
   std::array<LevelSettings, kLevelCount> levels{};
   EdgeSettings edges;
   SsaoSettings ssao;
@@ -123,7 +122,7 @@ struct Constants {
   int width = 0, height = 0;              // W×H
   int paddedWidth = 0, paddedHeight = 0;  // multiples of the coarsest scale (SPEC §0)
   Effect effect = Effect::Ssao;
-  Mode mode = Mode::Multires;
+  Mode mode = Mode::Mrr;
   std::array<LevelConstants, kLevelCount> levels{};
   int finestEnabled = 0;
   int coarsestEnabled = kLevelCount - 1;

@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/parallel.h"
+#include "common/stages.h"
 #include "common/tolerance.h"
 #include "compare/report_python.h"
 
@@ -330,49 +331,55 @@ StageView shadowMapView(const ShadowMap& o, const ShadowMap& p) {
 
 StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& p) {
   const std::string& stage = row.stage;
-  const std::string kind = stage.substr(0, stage.find('.'));
-  const std::string part = stage.substr(stage.rfind('.') + 1);
+  const std::string sub = stage.substr(stage.rfind('.') + 1);  // a G-buffer channel or an edge kind
   const int l = row.level;
   const bool hasLevel = l >= 0 && l < kLevelCount;
   const size_t li = hasLevel ? static_cast<size_t>(l) : 0;
   StageView none;
-  const auto needLevel = [&] {
-    if (!hasLevel) none.missing = "no level for stage " + stage;
-    return hasLevel;
-  };
-  if (kind == "gbuffer") return needLevel() ? gbufferView(o.levels[li].gbuffer, p.levels[li].gbuffer, part) : none;
-  if (kind == "shadowmap") return shadowMapView(o.shadowMap, p.shadowMap);
-  if (kind == "shadowtest") return binaryView(o.shadowLit, p.shadowLit, "one-tap shadow test (1 = lit)");
-  if (kind == "edges") {
-    if (part == "normal") return binaryView(o.edges.normal, p.edges.normal, "normal edges (first derivative of N)");
-    if (part == "depth") return binaryView(o.edges.depth, p.edges.depth, "depth edges (second derivative of 1/z)");
-    if (part == "background") return binaryView(o.edges.background, p.edges.background, "background edges");
-    if (part == "shadow") return binaryView(o.edges.shadow, p.edges.shadow, "shadow edges (one-tap test differs)");
-    return binaryView(o.edges.combined, p.edges.combined, "edge image E (the OR of the kinds)");
+  Part part{};
+  if (!partOf(stage, part)) {  // a decision row (fallback): no image
+    none.missing = "no images for stage " + stage;
+    return none;
   }
-  if (kind == "mask")
-    return needLevel() ? binaryView(o.levels[li].masks.mask, p.levels[li].masks.mask, "mask M_ℓ") : none;
-  if (kind == "stencil")
-    return needLevel() ? binaryView(o.levels[li].masks.stencil, p.levels[li].masks.stencil, "stencil S_ℓ") : none;
-  if (kind == "alpha") return needLevel() ? valueView(o.levels[li].masks.alpha, p.levels[li].masks.alpha, "a_ℓ") : none;
-  if (kind == "raw" || kind == "sub") {
-    if (!needLevel()) return none;
-    const LevelResult& ol = o.levels[li];
-    const LevelResult& pl = p.levels[li];
-    const ImageF& a = kind == "raw" ? ol.raw : ol.sub;
-    const ImageF& b = kind == "raw" ? pl.raw : pl.sub;
-    const bool stencils =
-        ol.masks.stencil.data.size() == a.pixelCount() && pl.masks.stencil.data.size() == a.pixelCount();
-    const auto bothShaded = [&](size_t i) { return ol.masks.stencil.data[i] && pl.masks.stencil.data[i]; };
-    return valueView(a, b, kind == "raw" ? "the effect before the blur" : "c_ℓ (after the bilateral blur)",
-                     stencils ? std::function<bool(size_t)>(bothShaded) : std::function<bool(size_t)>{},
-                     stencils ? " where both stencils shade" : "");
+  if (partInfo(part).perLevel && !hasLevel) {
+    none.missing = "no level for stage " + stage;
+    return none;
   }
-  if (kind == "upsample") return needLevel() ? valueView(o.blend.upsampled[li], p.blend.upsampled[li], "ĉ_ℓ") : none;
-  if (kind == "blendalpha") return needLevel() ? valueView(o.blend.alpha[li], p.blend.alpha[li], "α_ℓ") : none;
-  if (kind == "composite") return needLevel() ? valueView(o.blend.composite[li], p.blend.composite[li], "c′_ℓ") : none;
-  if (kind == "final") return valueView(o.final(), p.final(), "the final effect buffer");
-  none.missing = "no images for stage " + stage;
+  const LevelResult& ol = o.levels[li];
+  const LevelResult& pl = p.levels[li];
+  switch (part) {
+    case Part::GBuffer: return gbufferView(ol.gbuffer, pl.gbuffer, sub);
+    case Part::ShadowMap: return shadowMapView(o.shadowMap, p.shadowMap);
+    case Part::ShadowTest: return binaryView(o.shadowLit, p.shadowLit, "one-tap shadow test (1 = lit)");
+    case Part::Edges:
+      if (sub == "normal") return binaryView(o.edges.normal, p.edges.normal, "normal edges (first derivative of N)");
+      if (sub == "depth") return binaryView(o.edges.depth, p.edges.depth, "depth edges (second derivative of 1/z)");
+      if (sub == "background") return binaryView(o.edges.background, p.edges.background, "background edges");
+      if (sub == "shadow") return binaryView(o.edges.shadow, p.edges.shadow, "shadow edges (one-tap test differs)");
+      return binaryView(o.edges.combined, p.edges.combined, "edge image E (the OR of the kinds)");
+    case Part::TileRates: return binaryView(o.tileRates, p.tileRates, "tile rates (0 = 1x1)");
+    case Part::Mask: return binaryView(ol.masks.mask, pl.masks.mask, "mask M_ℓ");
+    case Part::Stencil: return binaryView(ol.masks.stencil, pl.masks.stencil, "stencil S_ℓ");
+    case Part::Alpha: return valueView(ol.masks.alpha, pl.masks.alpha, "a_ℓ");
+    case Part::Raw:
+    case Part::Sub: {
+      const bool raw = part == Part::Raw;
+      const ImageF& a = raw ? ol.raw : ol.sub;
+      const ImageF& b = raw ? pl.raw : pl.sub;
+      const bool stencils =
+          ol.masks.stencil.data.size() == a.pixelCount() && pl.masks.stencil.data.size() == a.pixelCount();
+      const auto bothShaded = [&](size_t i) { return ol.masks.stencil.data[i] && pl.masks.stencil.data[i]; };
+      return valueView(a, b, raw ? "the effect before the blur" : "c_ℓ (after the bilateral blur)",
+                       stencils ? std::function<bool(size_t)>(bothShaded) : std::function<bool(size_t)>{},
+                       stencils ? " where both stencils shade" : "");
+    }
+    case Part::Upsample: return valueView(o.blend.upsampled[li], p.blend.upsampled[li], "ĉ_ℓ");
+    case Part::BlendAlpha: return valueView(o.blend.alpha[li], p.blend.alpha[li], "α_ℓ");
+    case Part::Composite: return valueView(o.blend.composite[li], p.blend.composite[li], "c′_ℓ");
+    case Part::LevelMap: return binaryView(o.blend.levelMap, p.blend.levelMap, "level map");
+    case Part::Final: return valueView(o.final(), p.final(), "the final effect buffer");
+    case Part::Shaded: return valueView(o.shaded, p.shaded, "the shaded image (linear RGB)");
+  }
   return none;
 }
 
@@ -484,7 +491,7 @@ void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
                           {"grid_h", v.gridH},  {"oracle_image", nullptr}, {"port_image", nullptr},
                           {"heat_image", nullptr}, {"end_to_end", checkData(row.endToEnd)},
                           {"same_input", checkData(row.sameInput)}, {"worst", nullptr}};
-      if (verdict != "PASS" || row.stage == "final") r["worst"] = worstData(row, verdict, frame);
+      if (verdict != "PASS" || row.stage == partName(Part::Final)) r["worst"] = worstData(row, verdict, frame);
       if (v.missing.empty()) {
         // A stage that fails on the port's own inputs: show what that check measured — the
         // port against the oracle's function on the same inputs — not the end-to-end difference.

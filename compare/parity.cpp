@@ -204,7 +204,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
 
   // 3. Which pixels of which level are shaded: the edges (modes mrr and tiles), the
   // never-slower decision (SPEC §11), then the stencils the frame was shaded with.
-  if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
+  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
     const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
     // Each kind on its own, then their OR, E.
@@ -224,13 +224,14 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   // frame keeps: when the paths decide differently, their frames differ in kind from here on
   // and nothing later can be compared.
   if (o.fallback.evaluated || p.fallback.evaluated) {
-    const ImageU8 portDecision(1, 1, 1, static_cast<uint8_t>(p.fallback.fellBack)),
-        oracleDecision(1, 1, 1, static_cast<uint8_t>(o.fallback.fellBack));
-    add({"fallback", -1, 1, check("fallback", diffImages(portDecision, oracleDecision)), {}});
+    // one "pixel" each, 0 or 1 (float: GCC 12 warns falsely on a 1×1 byte image, PR 106199)
+    const ImageF portDecision(1, 1, 1, p.fallback.fellBack ? 1.0f : 0.0f),
+        oracleDecision(1, 1, 1, o.fallback.fellBack ? 1.0f : 0.0f);
+    add({"fallback", -1, 1, check("fallback", diffImages(portDecision, oracleDecision, 0.5)), {}});
     if (p.fallback.fellBack != o.fallback.fellBack) return result;
   }
   // The oracle's stage-3 function of the frame's mode, on the port's own inputs.
-  const bool multires = c.mode == Mode::Multires && !o.fallback.fellBack;
+  const bool multires = c.mode == Mode::Mrr && !o.fallback.fellBack;
   std::array<MaskLevel, kLevelCount> masks;
   if (multires) {
     masks = buildMasks(p.edges.combined, c);

@@ -30,12 +30,12 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["effect"] = toString(c.effect);
   j["path"] = info.path;
   j["mode"] = toString(c.mode);
-  j["method"] = methodName(c.mode);
+  j["method"] = toString(c.mode);
   if (f.fallback.evaluated)
     j["never_slower"] = {{"fell_back_to_full", f.fallback.fellBack},
                          {"predicted_full_ms", f.fallback.predictedFullMs},
-                         {"predicted_multires_ms", f.fallback.predictedMultiresMs},
-                         {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMultiresMs},
+                         {"predicted_mrr_ms", f.fallback.predictedMrrMs},
+                         {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
                          {"cost_model", f.fallback.costModel}};
   if (c.mode == Mode::Tiles) {
     std::array<int, 3> tiles{};

@@ -55,12 +55,12 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
 
   // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9).
   std::array<MaskLevel, kLevelCount> masks;
-  if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
+  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) {
     const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
     stage(stageName(Part::Edges), [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges, shadowEdges); });
   }
   switch (c.mode) {
-    case Mode::Multires: stage(stageName(Part::Stencil), [&] { masks = buildMasks(f.edges.combined, c); }); break;
+    case Mode::Mrr: stage(stageName(Part::Stencil), [&] { masks = buildMasks(f.edges.combined, c); }); break;
     case Mode::Tiles:
       stage(stageName(Part::Stencil), [&] {
         f.tileRates = tileRates(f.edges.combined);

@@ -121,7 +121,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
 
   // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9).
   Target edges;
-  if (c.mode == Mode::Multires || c.mode == Mode::Tiles) {
+  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) {
     const unsigned shadowEdges = c.effect == Effect::Ssm ? shadowTest->texture(0) : 0;
     stage(stageName(Part::Edges), [&] {
       edges = drawEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges, !keep);
@@ -131,7 +131,7 @@ FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants
   std::array<MaskLevel, kLevelCount> masks;
   std::unique_ptr<MaskTargets> maskTargets;
   switch (c.mode) {
-    case Mode::Multires:
+    case Mode::Mrr:
       stage(stageName(Part::Stencil), [&] {
         maskTargets = drawMasks(gpuScene_, edges->texture(0), edgeChannel(!keep), c);
         masks = readMasks(*maskTargets, c, !keep);

@@ -14,16 +14,16 @@ size="${MRR_DEMO_SIZE:-1280x720}"
 mkdir -p "$out"
 common=(--scene builtin:demo --effect ssao --size "$size" --samples 64)
 echo "== multires (the method) and full (the reference), compared" >&2
-"$mrr" render "${common[@]}" --mode multires --reference \
+"$mrr" render "${common[@]}" --method mrr --reference \
   --out "$out/final.exr" --shaded "$out/shaded.png" --stages "$out/stages.exr" --report "$out/report.json"
-"$mrr" render "${common[@]}" --mode full --quiet --out "$out/reference.exr" --shaded "$out/reference_shaded.png"
-"$mrr" render "${common[@]}" --mode multires --quiet --out "$out/final.png"
-"$mrr" render "${common[@]}" --mode full --quiet --out "$out/reference.png"
+"$mrr" render "${common[@]}" --method full --quiet --out "$out/reference.exr" --shaded "$out/reference_shaded.png"
+"$mrr" render "${common[@]}" --method mrr --quiet --out "$out/final.png"
+"$mrr" render "${common[@]}" --method full --quiet --out "$out/reference.png"
 bash "$here/scripts/stage-previews.sh" "$out/stages.exr" "$out"
 # The port: the same frame through OpenGL 3.3 (headless EGL; Mesa's llvmpipe here), then the
 # oracle against the port on every stage of all three effects (mrr compare, docs/compare.md):
 # the table in cpu_vs_gpu.txt, the HTML report in compare/index.html.
-if "$mrr" render "${common[@]}" --path gpu --mode multires --quiet --out "$out/gpu_final.exr" \
+if "$mrr" render "${common[@]}" --path gpu --method mrr --quiet --out "$out/gpu_final.exr" \
      --stages "$out/gpu_stages.exr" --report "$out/gpu_report.json" 2> "$out/gpu_error.txt"; then
   rm -f "$out/gpu_error.txt"
   echo "== oracle vs port, every stage of ssao, ssm and ssgi (mrr compare)" >&2
@@ -44,7 +44,7 @@ w="${size%x*}"; h="${size#*x}"
 for e in ssm ssgi; do
   echo "== $e" >&2
   mkdir -p "$out/$e"
-  "$mrr" render --scene builtin:demo --effect "$e" --size "$size" --mode multires --reference --quiet \
+  "$mrr" render --scene builtin:demo --effect "$e" --size "$size" --method mrr --reference --quiet \
     --out "$out/$e/final.exr" --shaded "$out/$e/shaded.png" --stages "$out/$e/stages.exr" --report "$out/$e/report.json"
   bash "$here/scripts/stage-previews.sh" "$out/$e/stages.exr" "$out/$e"
   python3 -c "import json,sys; r=json.load(open(sys.argv[1])); e=r['error_vs_full']; print(f\"{r['effect']}-{r['samples']}: ideal speedup {r['ideal_speedup']:.2f}x, RMS vs full {e['rms']:.5f}, SSIM {e['ssim']:.4f}\")" "$out/$e/report.json"

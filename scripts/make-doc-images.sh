@@ -21,7 +21,7 @@ label() {  # label IN OUT TEXT
 echo "[docs] demo scene stages" >&2
 common=(--scene builtin:demo --size 640x360 --samples 64 --quiet)
 "$mrr" render "${common[@]}" --out "$work/final.exr" --shaded "$work/shaded.png" --stages "$work/stages.exr"
-"$mrr" render "${common[@]}" --mode full --out "$work/reference.exr"
+"$mrr" render "${common[@]}" --method full --out "$work/reference.exr"
 bash "$here/scripts/stage-previews.sh" "$work/stages.exr" "$work"
 for f in final reference; do oiiotool "$work/$f.exr" --ch Y,Y,Y -d uint8 -o "$work/$f.png"; done
 oiiotool "$work/final.exr" "$work/reference.exr" --absdiff --mulc 10 --clamp:min=0:max=1 --ch Y,Y,Y -d uint8 -o "$work/diff.png"
@@ -44,7 +44,7 @@ effect_mosaic() {  # effect samples gain
   mkdir -p "$d"
   local c=(--scene apartment --effect "$e" --samples "$n" --size 640x360 --quiet)
   "$mrr" render "${c[@]}" --out "$d/final.exr" --shaded "$d/shaded.png" --stages "$d/stages.exr"
-  "$mrr" render "${c[@]}" --mode full --out "$d/reference.exr"
+  "$mrr" render "${c[@]}" --method full --out "$d/reference.exr"
   GAIN="$g" bash "$here/scripts/stage-previews.sh" "$d/stages.exr" "$d" >/dev/null
   local ch=Y,Y,Y
   [ "$e" = ssgi ] && ch=R,G,B

@@ -278,7 +278,8 @@ TEST_F(CliRenderTest, RenderWritesEveryOutputAndAFullReport) {
   ASSERT_TRUE(j.contains("levels") && j.contains("width") && j.contains("error_vs_full"));
   EXPECT_EQ(j["effect"], "ssao");
   EXPECT_EQ(j["path"], "cpu");
-  EXPECT_EQ(j["mode"], "multires");
+  EXPECT_EQ(j["mode"], "mrr");
+  EXPECT_EQ(j["method"], "mrr");
   EXPECT_EQ(j["width"], 64);
   EXPECT_EQ(j["height"], 48);
   EXPECT_EQ(j["samples"], 4);
@@ -326,7 +327,7 @@ TEST_F(CliRenderTest, NeverSlowerReportsTheFallback) {
     if (rule == "on") {
       ASSERT_TRUE(j.contains("never_slower")) << j.dump(2);
       EXPECT_TRUE(j["never_slower"]["fell_back_to_full"].get<bool>());
-      EXPECT_GT(j["never_slower"]["predicted_multires_ms"].get<double>(), j["never_slower"]["predicted_full_ms"].get<double>());
+      EXPECT_GT(j["never_slower"]["predicted_mrr_ms"].get<double>(), j["never_slower"]["predicted_full_ms"].get<double>());
       EXPECT_EQ(j["ideal_speedup"].get<double>(), 1.0);
       EXPECT_NE(r.err.find("never slower"), std::string::npos) << describe(r);
     } else {
@@ -894,7 +895,7 @@ TEST_P(CliCompareTest, EveryStagePassesForEveryEffectAndMode) {
   if (shared.count(scene) && !test::haveSharedScene(shared.at(scene)))
     GTEST_SKIP() << "shared scene missing: " << test::sharedScene(shared.at(scene));
   if (!shared.count(scene)) scene = "builtin:" + scene;
-  for (const char* mode : {"multires", "full"}) {
+  for (const char* mode : {"multires", "full"}) {  // "multires": the old spelling, still accepted
     const RunResult r = runMrr({"compare", "--scene", scene, "--effect", "all", "--mode", mode, "--size", "96x64",
                                 "--samples", "16", "--shadow-map-size", "512", "-q"},
                                dir);

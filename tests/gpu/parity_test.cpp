@@ -192,7 +192,7 @@ namespace {
 // End to end: the port's final SSAO image against the oracle's, same scene and camera.
 TEST(GpuPipeline, SsaoFinalImageMatchesTheOracle) {
   MRR_REQUIRE_GL_OR_SKIP();
-  for (Mode mode : {Mode::Multires, Mode::Full}) {
+  for (Mode mode : {Mode::Mrr, Mode::Full}) {
     const Settings s = test::ssaoSettings(203, 117, 16, mode);
     const auto r = test::renderScene("builtin:demo", s);
     const gpu::GpuRenderer port(*r.scene);
@@ -276,7 +276,7 @@ const ToleranceRule& kDirectSame = tolerance("ssgi.direct.same_input");
 const ToleranceRule& kSsgi = tolerance("ssgi");
 const ToleranceRule& kSsgiSame = tolerance("ssgi.same_input");
 
-Settings shadowSettings(Effect effect, int w, int h, Mode mode = Mode::Multires) {
+Settings shadowSettings(Effect effect, int w, int h, Mode mode = Mode::Mrr) {
   Settings s = defaultSettings(effect);
   s.width = w;
   s.height = h;
@@ -448,7 +448,7 @@ TEST(GpuPipeline, SsmAndSsgiFinalImagesMatchTheOracle) {
   MRR_REQUIRE_GL_OR_SKIP();
   for (const auto& [sceneName, effect] : {std::pair{"shadows", Effect::Ssm}, std::pair{"redwall", Effect::Ssgi},
                                           std::pair{"redwall", Effect::Ssm}, std::pair{"shadows", Effect::Ssgi}}) {
-    for (Mode mode : {Mode::Multires, Mode::Full}) {
+    for (Mode mode : {Mode::Mrr, Mode::Full}) {
       const auto r = test::renderScene(std::string("builtin:") + sceneName, shadowSettings(effect, 203, 117, mode));
       const gpu::GpuRenderer port(*r.scene);
       // The oracle's cost model (as `mrr compare` passes it): the never-slower decision is then the
@@ -614,7 +614,7 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
         model.nsPerCoarseGbufferPixel = 0.0;
         for (EffectCost& e : model.effect) e.sparseFactor = 1.0;
       }
-      const BothPaths b = renderBoth("builtin:demo", peerSettings(effect, Mode::Multires, 97, 61), model);
+      const BothPaths b = renderBoth("builtin:demo", peerSettings(effect, Mode::Mrr, 97, 61), model);
       const std::string what = toString(effect) + (expensive ? " expensive blend" : " free overhead");
       ASSERT_TRUE(b.cpu.fallback.evaluated && b.port.fallback.evaluated) << what;
       EXPECT_EQ(b.cpu.fallback.fellBack, expensive) << what;
@@ -622,8 +622,8 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
       EXPECT_EQ(b.port.fallback.costModel, model.source) << what;
       // Full's prediction depends on the constants alone; the method's on the stencil counts.
       EXPECT_EQ(b.port.fallback.predictedFullMs, b.cpu.fallback.predictedFullMs) << what;
-      EXPECT_NEAR(b.port.fallback.predictedMultiresMs, b.cpu.fallback.predictedMultiresMs,
-                  1e-3 * b.cpu.fallback.predictedMultiresMs)
+      EXPECT_NEAR(b.port.fallback.predictedMrrMs, b.cpu.fallback.predictedMrrMs,
+                  1e-3 * b.cpu.fallback.predictedMrrMs)
           << what;
       for (int l = 1; l < kLevelCount; ++l)
         EXPECT_EQ(b.port.constants.levels[static_cast<size_t>(l)].enabled, !expensive && b.cpu.constants.levels[static_cast<size_t>(l)].enabled) << what;
@@ -646,7 +646,7 @@ TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
   fallsBack.nsPerBlendPixel = 1e9;
   staysMultires.nsPerBlendPixel = staysMultires.nsPerCoarseGbufferPixel = 0.0;
   for (EffectCost& e : staysMultires.effect) e.sparseFactor = 1.0;
-  const Settings s = peerSettings(Effect::Ssao, Mode::Multires, 97, 61);
+  const Settings s = peerSettings(Effect::Ssao, Mode::Mrr, 97, 61);
   const auto r = test::renderScene("builtin:demo", s);
   const Constants k = makeConstants(s, r.scene->bounds().diagonal());
   const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &staysMultires});

@@ -42,13 +42,13 @@ struct Case {
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
-  *os << c.scene << " " << toString(c.effect) << " " << methodName(c.mode) << " " << c.width << "x" << c.height;
+  *os << c.scene << " " << toString(c.effect) << " " << toString(c.mode) << " " << c.width << "x" << c.height;
   if (c.disabledLevel >= 0) *os << " without level " << c.disabledLevel;
 }
 
 std::string caseName(const ::testing::TestParamInfo<Case>& info) {
   const Case& c = info.param;
-  std::string name = c.scene + "_" + toString(c.effect) + "_" + methodName(c.mode) + "_" + std::to_string(c.width) +
+  std::string name = c.scene + "_" + toString(c.effect) + "_" + toString(c.mode) + "_" + std::to_string(c.width) +
                      "x" + std::to_string(c.height);
   if (c.disabledLevel >= 0) name += "_noL" + std::to_string(c.disabledLevel);
   for (char& ch : name)
@@ -83,7 +83,7 @@ TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
   EXPECT_TRUE(resident.blend.composite[0].data.empty());
   EXPECT_TRUE(resident.levels[0].raw.data.empty());
   // A frame where finer levels show at all, or the comparison above proves little.
-  if (k.mode == Mode::Multires) {
+  if (k.mode == Mode::Mrr) {
     ASSERT_FALSE(resident.fallback.fellBack);
     int finer = 0, coarser = 0;
     for (uint8_t v : resident.blend.levelMap.data) {
@@ -99,11 +99,11 @@ std::vector<Case> cases() {
   std::vector<Case> out;
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
     for (Mode m : kAllModes) out.push_back({"demo", e, m, 160, 90, -1});
-  out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, -1});  // odd: the padding
-  out.push_back({"demo", Effect::Ssao, Mode::Multires, 480, 270, -1});  // blocks far from any edge too
-  out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, 1});   // a level disabled
-  out.push_back({"demo", Effect::Ssao, Mode::Multires, 161, 97, 3});   // the coarsest disabled
-  out.push_back({"shadows", Effect::Ssm, Mode::Multires, 97, 61, 2});
+  out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, -1});  // odd: the padding
+  out.push_back({"demo", Effect::Ssao, Mode::Mrr, 480, 270, -1});  // blocks far from any edge too
+  out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, 1});   // a level disabled
+  out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, 3});   // the coarsest disabled
+  out.push_back({"shadows", Effect::Ssm, Mode::Mrr, 97, 61, 2});
   return out;
 }
 
@@ -143,11 +143,11 @@ TEST(GpuNeverSlowerWarm, TheGbufferTermIsReadOnWarmFramesOnly) {
   const FrameResult first = port.render(rs.camera, c, {false, {}, &model});
   const FrameResult second = port.render(rs.camera, c, {false, {}, &model});
   ASSERT_TRUE(first.fallback.evaluated);
-  EXPECT_FALSE(first.fallback.fellBack) << "predicted " << first.fallback.predictedMultiresMs << " against "
+  EXPECT_FALSE(first.fallback.fellBack) << "predicted " << first.fallback.predictedMrrMs << " against "
                                         << first.fallback.predictedFullMs;
-  EXPECT_TRUE(second.fallback.fellBack) << "predicted " << second.fallback.predictedMultiresMs << " against "
+  EXPECT_TRUE(second.fallback.fellBack) << "predicted " << second.fallback.predictedMrrMs << " against "
                                         << second.fallback.predictedFullMs;
-  EXPECT_GT(second.fallback.predictedMultiresMs, first.fallback.predictedMultiresMs);
+  EXPECT_GT(second.fallback.predictedMrrMs, first.fallback.predictedMrrMs);
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ namespace {
 
 using test::countSet;
 
-Settings effectSettings(Effect e, int w, int h, int samples, Mode mode = Mode::Multires) {
+Settings effectSettings(Effect e, int w, int h, int samples, Mode mode = Mode::Mrr) {
   Settings s = defaultSettings(e);
   s.width = w;
   s.height = h;

@@ -159,9 +159,9 @@ TEST(Peers, ErrorAgainstFullIsFiniteAndOrdered) {
     ASSERT_TRUE(std::isfinite(rms[static_cast<int>(m)]));
   }
   EXPECT_EQ(rms[static_cast<int>(Mode::Full)], 0.0);
-  for (Mode m : {Mode::Multires, Mode::Uniform1, Mode::Tiles}) EXPECT_GT(rms[static_cast<int>(m)], 0.0);
+  for (Mode m : {Mode::Mrr, Mode::Uniform1, Mode::Tiles}) EXPECT_GT(rms[static_cast<int>(m)], 0.0);
   EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Uniform1)]);
-  EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Multires)]);
+  EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Mrr)]);
 }
 
 // SPEC §11: the decision, both ways, and a fallen-back frame is the full frame bit for bit.
@@ -180,7 +180,7 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   const FrameResult fell = renderer.render(rs.camera, c, {true, {}, &costly});
   EXPECT_TRUE(fell.fallback.evaluated);
   EXPECT_TRUE(fell.fallback.fellBack);
-  EXPECT_GT(fell.fallback.predictedMultiresMs, fell.fallback.predictedFullMs);
+  EXPECT_GT(fell.fallback.predictedMrrMs, fell.fallback.predictedFullMs);
   EXPECT_EQ(fell.final().data, full.final().data) << "a fallen-back frame is the full frame";
   EXPECT_DOUBLE_EQ(fell.idealSpeedup, 1.0);
   EXPECT_FALSE(fell.edges.combined.empty()) << "its edges are kept for debugging";
@@ -210,16 +210,16 @@ TEST(NeverSlower, PredictionCountsShadedPixelsCoarseGbuffersAndBlend) {
   const std::array<long long, kLevelCount> shaded = {100, 50, 20, 32};
   // shaded × 26 × 1.5 (sparse) + level pixels × 2 + coarse G-buffers × 3 + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
-  EXPECT_NEAR(predictMultiresMs(m, c, shaded), (202.0 * 26 * 1.5 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6,
+  EXPECT_NEAR(predictMrrMs(m, c, shaded), (202.0 * 26 * 1.5 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6,
               1e-12);
   // A measured level-0 G-buffer time changes nothing for ray casting...
-  EXPECT_NEAR(predictMultiresMs(m, c, shaded, 1.0), predictMultiresMs(m, c, shaded), 1e-12);
+  EXPECT_NEAR(predictMrrMs(m, c, shaded, 1.0), predictMrrMs(m, c, shaded), 1e-12);
   // ...and adds its per-scene part, T0 − P_0·g, to each coarse level of a rasterised one
   // (c's levels 0–3 are 64×32 padded: P_0 = 2048).
   m.rasterGbuffer = true;
   const double perScene = 1.0 - 2048.0 * 3 * 1e-6;
-  EXPECT_NEAR(predictMultiresMs(m, c, shaded, 1.0), predictMultiresMs(m, c, shaded) + 3 * perScene, 1e-9);
-  EXPECT_NEAR(predictMultiresMs(m, c, shaded, 0.001), predictMultiresMs(m, c, shaded), 1e-12) << "T0 < P_0·g: 0";
+  EXPECT_NEAR(predictMrrMs(m, c, shaded, 1.0), predictMrrMs(m, c, shaded) + 3 * perScene, 1e-9);
+  EXPECT_NEAR(predictMrrMs(m, c, shaded, 0.001), predictMrrMs(m, c, shaded), 1e-12) << "T0 < P_0·g: 0";
 }
 
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
@@ -253,7 +253,7 @@ TEST(StressScenes, AllEdgesIsEdgesEverywhereAndTheRuleFallsBack) {
   EXPECT_LT(off.frame.idealSpeedup, 1.1);
   s.neverSlower = true;
   const auto on = renderScene("builtin:alledges", s);
-  EXPECT_TRUE(on.frame.fallback.fellBack) << "predicted " << on.frame.fallback.predictedMultiresMs << " vs "
+  EXPECT_TRUE(on.frame.fallback.fellBack) << "predicted " << on.frame.fallback.predictedMrrMs << " vs "
                                           << on.frame.fallback.predictedFullMs << " ms";
 }
 

@@ -17,7 +17,7 @@ struct Rendered {
   FrameResult frame;
 };
 
-inline Settings ssaoSettings(int w, int h, int samples = 16, Mode mode = Mode::Multires) {
+inline Settings ssaoSettings(int w, int h, int samples = 16, Mode mode = Mode::Mrr) {
   Settings s = defaultSettings(Effect::Ssao);
   s.width = w;
   s.height = h;

@@ -338,6 +338,11 @@ MrrError usageError(const CLI::App& app, const CLI::ParseError& e, const std::st
     return MrrError("unknown command " + first +
                     (best.empty() ? " (expected render, probe, compare or bench)" : " (did you mean " + best + "?)"));
   }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) && what.find(" required ") != std::string::npos &&
+      what.find(" missing") != std::string::npos) {
+    // "--size: 1 required TEXT missing": the option came last, without its value.
+    return MrrError(where + what.substr(0, what.find(':')) + ": needs a value");
+  }
   if (dynamic_cast<const CLI::ConversionError*>(&e)) {
     // "Could not convert: --samples = abc": say what the option takes.
     const size_t colon = what.find(": "), equals = what.find(" = ");

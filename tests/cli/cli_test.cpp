@@ -674,7 +674,7 @@ const std::vector<BadCase> kBadCases = {
      "render: unknown option --szie (did you mean --size?)"},
     {"UnknownOption", demoWith({"--out", "{out}/o.exr", "--frobnicate"}), "render: unknown option --frobnicate"},
     {"ProbeWithoutPixel", {"probe", "--scene", "builtin:demo", "--size", "32x24", "-q"}, "probe: --pixel is required"},
-    {"OptionWithoutValue", demoWith({"--out", "{out}/o.exr", "--size"}), "--size"},
+    {"OptionWithoutValue", demoWith({"--out", "{out}/o.exr", "--size"}), "render: --size: needs a value"},
     // bench: options checked before any scene is loaded
     {"BenchRepeatsZero", {"bench", "--repeats", "0"}, "--repeats"},
     {"BenchSsmSweepNotSquare", {"bench", "--ssm-sweep", "150"}, "square"},

@@ -6,6 +6,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <cctype>
 #include <csignal>
 #include <filesystem>
@@ -14,6 +15,9 @@
 #include <memory>
 #include <new>
 #include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "app/options.h"
 #include "common/error.h"
@@ -198,6 +202,13 @@ int threadCount(int requested) {
   return requested > 0 ? requested : tbb::this_task_arena::max_concurrency();
 }
 
+// `--report DIR` of compare and bench: the folder is made, parents too, as `mkdir -p` would.
+// What cannot be made is left to checkOutputLocation, which names the reason.
+void makeReportDir(const std::string& dir) {
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) std::filesystem::create_directories(dir, ec);
+}
+
 // `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
 // Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input.
 int runCompare(FrameOptions& fo, const std::string& reportDir) {
@@ -213,8 +224,9 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
   }
   require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");
   if (!reportDir.empty()) {
+    requireReportPython();  // before the folder is made: a missing package writes nothing
+    makeReportDir(reportDir);
     checkOutputLocation((std::filesystem::path(reportDir) / "index.html").string(), "--report");
-    requireReportPython();
   }
   int64_t memory = 0;
   for (const Settings& s : settings) memory = std::max(memory, 2 * estimateFrameBytes(makeConstants(s, 1.0f), true));
@@ -265,9 +277,94 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
   return pass ? 0 : 1;
 }
 
+// Levenshtein distance, for "did you mean" on a mistyped option.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// CLI11's parse errors as mrr's one line (MrrError: "mrr: error: ...", exit 2), the same as
+// every other bad input; CLI11 words them for a terminal and exits 100+.
+// The closest of `known` to `word`: at most two edits, and fewer than half its length.
+std::string closest(const std::string& word, const std::vector<std::string>& known) {
+  std::string best;
+  size_t bestDistance = 3;
+  for (const std::string& k : known) {
+    const size_t d = editDistance(word, k);
+    if (d < bestDistance && 2 * d < k.size()) {
+      best = k;
+      bestDistance = d;
+    }
+  }
+  return best;
+}
+
+// `first`: the first argument, when there is one (a mistyped command lands there).
+MrrError usageError(const CLI::App& app, const CLI::ParseError& e, const std::string& first) {
+  // The subcommand given, if the parse got that far: its options are the ones meant.
+  const std::vector<const CLI::App*> given = app.get_subcommands([](const CLI::App*) { return true; });
+  const CLI::App* sub = nullptr;
+  for (const CLI::App* s : given)
+    if (s->parsed()) sub = s;
+  const std::string where = sub ? sub->get_name() + ": " : "";
+  const std::string what = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+    std::vector<std::string> known;
+    for (const CLI::App* s : sub ? std::vector<const CLI::App*>{sub} : given)
+      for (const CLI::Option* o : s->get_options())
+        for (const std::string& n : o->get_lnames()) known.push_back("--" + n);
+    std::string unknown, positional;
+    std::istringstream words(what.substr(what.find(':') + 1));
+    for (std::string w; words >> w;) {
+      if (w.rfind("-", 0) == 0) unknown = w.substr(0, w.find('='));  // CLI11 lists them last to first
+      else positional = w;
+    }
+    if (unknown.empty()) return MrrError(where + "unexpected argument " + positional + " (mrr --help lists the commands and options)");
+    const std::string best = closest(unknown, known);
+    return MrrError(where + "unknown option " + unknown + (best.empty() ? "" : " (did you mean " + best + "?)"));
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && !sub) {
+    if (first.empty() || first[0] == '-')
+      return MrrError("a command is required: render, probe, compare or bench (mrr --help)");
+    std::vector<std::string> commands;
+    for (const CLI::App* s : given) commands.push_back(s->get_name());
+    const std::string best = closest(first, commands);
+    return MrrError("unknown command " + first +
+                    (best.empty() ? " (expected render, probe, compare or bench)" : " (did you mean " + best + "?)"));
+  }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) && what.find(" required ") != std::string::npos &&
+      what.find(" missing") != std::string::npos) {
+    // "--size: 1 required TEXT missing": the option came last, without its value.
+    return MrrError(where + what.substr(0, what.find(':')) + ": needs a value");
+  }
+  if (dynamic_cast<const CLI::ConversionError*>(&e)) {
+    // "Could not convert: --samples = abc": say what the option takes.
+    const size_t colon = what.find(": "), equals = what.find(" = ");
+    if (colon != std::string::npos && equals != std::string::npos && equals > colon) {
+      const std::string name = what.substr(colon + 2, equals - colon - 2);
+      const std::string value = what.substr(equals + 3);
+      const CLI::Option* option = sub ? sub->get_option_no_throw(name) : nullptr;
+      const std::string type = option ? option->get_type_name() : "";
+      const std::string expected = type == "INT" || type == "UINT" ? "a whole number" : type == "FLOAT" ? "a number" : "";
+      return MrrError(name + " " + value + ": " + (expected.empty() ? "not a valid value" : "expected " + expected));
+    }
+  }
+  return MrrError(where + what);
+}
+
 int run(int argc, char** argv) {
-  CLI::App app{"mrr: multi-resolution rendering of expensive screen-space lighting (Besenthal et al.), "
-               "CPU oracle"};
+  CLI::App app{"mrr: multi-resolution rendering of expensive screen-space lighting (Besenthal et al.): "
+               "the CPU oracle (cpu_ref/, --path cpu) and the OpenGL 3.3 port (gpu/, --path gpu)"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every subcommand");
 
@@ -348,7 +445,8 @@ int run(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --help-all
+    throw usageError(app, e, argc > 1 ? argv[1] : "");
   }
 
   if (*bench) {
@@ -416,10 +514,7 @@ int run(int argc, char** argv) {
     if (!benchOpts.csvOut.empty()) checkOutput(benchOpts.csvOut, "--csv", {".csv"});
     if (!benchOpts.reportDir.empty()) {
       requireReportPython();  // before the folder is made: a missing package writes nothing
-      std::error_code ec;  // the folder itself is made when its parent exists; else the check names it
-      if (!std::filesystem::exists(benchOpts.reportDir) &&
-          std::filesystem::is_directory(std::filesystem::absolute(benchOpts.reportDir).parent_path()))
-        std::filesystem::create_directory(benchOpts.reportDir, ec);
+      makeReportDir(benchOpts.reportDir);
     }
     if (!benchOpts.reportDir.empty())
       checkOutputLocation((std::filesystem::path(benchOpts.reportDir) / "index.html").string(), "--report");

@@ -1,5 +1,8 @@
 #include "common/gltf_loader.h"
 
+#include <draco/compression/decode.h>
+#include <meshoptimizer.h>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <glm/gtc/quaternion.hpp>
@@ -12,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <system_error>
 
@@ -36,6 +40,28 @@ constexpr size_t kMaxCreditLines = 6;
 constexpr int kMaxNodeDepth = 1000;
 // One file is read whole into memory, and tinygltf takes its size as a 32-bit count.
 constexpr uintmax_t kMaxFileBytes = 2000000000;
+// Counts and offsets in extension objects are JSON numbers: beyond 2^53 they are not exact.
+constexpr double kMaxExactInteger = 9007199254740992.0;
+// meshoptimizer's codecs expand at most 64:1 (the vertex codec spends 2 bits on 16 zero
+// bytes); a stream claiming more than this ratio (plus slack for tiny streams) is corrupt.
+constexpr size_t kMeshoptMaxRatio = 256;
+constexpr size_t kMeshoptSlack = 256;
+// A sparse accessor without a bufferView is zeros that nothing in the file bounds.
+constexpr size_t kMaxZeroFilledElements = size_t{1} << 24;
+// What a zero element reads from (an accessor element here is at most a FLOAT VEC3).
+constexpr unsigned char kZeros[16] = {};
+
+// Required extensions mrr honours: it reads them (lights, compression, quantization), or
+// they only change what it ignores anyway (textures and extra material properties).
+bool readableExtension(const std::string& ext) {
+  return ext == "KHR_lights_punctual" || ext.rfind("KHR_materials_", 0) == 0 || ext.rfind("KHR_texture_", 0) == 0 ||
+         ext == "EXT_texture_webp" || ext == "KHR_mesh_quantization" || ext == "EXT_meshopt_compression" ||
+         ext == "KHR_draco_mesh_compression";
+}
+
+std::string unreadableExtension(const std::string& ext) {
+  return "requires glTF extension " + ext + ", which mrr does not read";
+}
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -161,6 +187,10 @@ class Loader {
     meshCache_.resize(model_.meshes.size());
     onStack_.assign(model_.nodes.size(), 0);
     for (int root : rootNodes()) visit(root, glm::dmat4(1.0), 0);
+    if (skinned_ > 0 || morphed_ > 0)
+      warn("skins and morph targets are not applied (" + std::to_string(skinned_) + " skinned mesh nodes, " +
+           std::to_string(morphed_) + " primitives with morph targets): rendered in the bind pose");
+    warnAlphaModes();
     scene_.name = path_;
     return std::move(scene_);
   }
@@ -174,15 +204,23 @@ class Loader {
     if (!quiet_) std::cerr << "mrr: warning: " << path_ << ": " << message << "\n";
   }
 
+  // prepareJson already refused these before any buffer was read; this covers JSON that
+  // only tinygltf could parse.
   void checkRequiredExtensions() const {
-    // Extensions that only change what we ignore anyway (textures, extra material
-    // properties) or that we read (lights) are fine; anything else changes the geometry.
-    for (const std::string& ext : model_.extensionsRequired) {
-      const bool harmless = ext == "KHR_lights_punctual" || ext.rfind("KHR_materials_", 0) == 0 ||
-                            ext.rfind("KHR_texture_", 0) == 0 || ext == "EXT_texture_webp" ||
-                            ext == "KHR_mesh_quantization";
-      if (!harmless) fail("requires the unsupported glTF extension " + ext);
+    for (const std::string& ext : model_.extensionsRequired)
+      if (!readableExtension(ext)) fail(unreadableExtension(ext));
+  }
+
+  // Materials are opaque here (one albedo per mesh): BLEND is drawn opaque, and MASK without
+  // its cutout, which needs the base-colour texture's alpha (see materialColor).
+  void warnAlphaModes() const {
+    size_t blend = 0, mask = 0;
+    for (const tinygltf::Material& material : model_.materials) {
+      if (material.alphaMode == "BLEND") ++blend;
+      if (material.alphaMode == "MASK") ++mask;
     }
+    if (blend > 0) warn(std::to_string(blend) + " materials are alphaMode BLEND, rendered opaque");
+    if (mask > 0) warn(std::to_string(mask) + " materials are alphaMode MASK, rendered opaque without their cutouts");
   }
 
   std::vector<int> rootNodes() const {
@@ -246,6 +284,7 @@ class Loader {
       if (!std::isfinite(world[c / 4][c % 4])) fail("node " + std::to_string(index) + " has a non-finite transform");
 
     if (node.mesh >= 0) addMeshInstance(node.mesh, world);
+    if (node.mesh >= 0 && node.skin >= 0) ++skinned_;
     else if (node.mesh < -1) fail("node " + std::to_string(index) + " mesh index " + std::to_string(node.mesh) + " is invalid");
     if (node.camera != -1) addCamera(node, world);
     readLight(node, world);
@@ -253,82 +292,275 @@ class Loader {
     onStack_[i] = 0;
   }
 
-  // ---- accessors -------------------------------------------------------------------------
+  // ---- buffer views and accessors ----------------------------------------------------------
 
-  struct AccessorView {
-    const unsigned char* data = nullptr;  // first element
-    size_t stride = 0;
-    size_t count = 0;
-    int componentType = 0;
+  // A bufferView's bytes: a checked range of its buffer, or the data EXT_meshopt_compression
+  // decodes for it (decoded once and kept while the loader runs).
+  struct Bytes {
+    const unsigned char* data = nullptr;
+    size_t size = 0;
   };
 
-  // Resolves accessor -> bufferView -> buffer with every range checked, so that reading
-  // `count` elements of `stride` bytes from `data` stays inside the buffer.
-  AccessorView view(int accessorIndex, const std::string& what) const {
+  static bool isMeshoptFallback(const tinygltf::Buffer& buffer) {
+    const auto ext = buffer.extensions.find("EXT_meshopt_compression");
+    return ext != buffer.extensions.end() && ext->second.Get("fallback").IsBool() &&
+           ext->second.Get("fallback").Get<bool>();
+  }
+
+  const tinygltf::Buffer& bufferAt(int index, const std::string& where) const {
+    if (index < 0 || static_cast<size_t>(index) >= model_.buffers.size())
+      fail(where + " names buffer " + std::to_string(index) + ", which does not exist");
+    const tinygltf::Buffer& buffer = model_.buffers[static_cast<size_t>(index)];
+    // The fallback was replaced by a placeholder before parsing (prepareJson): its data is
+    // only ever reached through a compressed view, never directly.
+    if (isMeshoptFallback(buffer))
+      fail(where + " reads buffer " + std::to_string(index) +
+           ", an EXT_meshopt_compression fallback that holds no data");
+    return buffer;
+  }
+
+  Bytes viewBytes(int index, const std::string& where) const {
+    if (index < 0 || static_cast<size_t>(index) >= model_.bufferViews.size())
+      fail(where + " has no valid bufferView (" + std::to_string(index) + ")");
+    const tinygltf::BufferView& bufferView = model_.bufferViews[static_cast<size_t>(index)];
+    const auto meshopt = bufferView.extensions.find("EXT_meshopt_compression");
+    if (meshopt != bufferView.extensions.end()) {
+      const std::vector<unsigned char>& decoded = decodeMeshopt(index, meshopt->second);
+      return {decoded.data(), decoded.size()};
+    }
+    const std::string name = "bufferView " + std::to_string(index);
+    const tinygltf::Buffer& buffer = bufferAt(bufferView.buffer, where + " " + name);
+    const size_t bufferSize = buffer.data.size();
+    if (bufferView.byteOffset > bufferSize || bufferView.byteLength > bufferSize - bufferView.byteOffset)
+      fail(where + " " + name + " (offset " + std::to_string(bufferView.byteOffset) + ", length " +
+           std::to_string(bufferView.byteLength) + ") runs past the end of buffer " +
+           std::to_string(bufferView.buffer) + " (" + std::to_string(bufferSize) + " bytes)");
+    return {buffer.data.data() + bufferView.byteOffset, bufferView.byteLength};
+  }
+
+  // A non-negative integer member of an extension object; `fallback` when absent, if given.
+  size_t extensionCount(const tinygltf::Value& object, const char* key, const std::string& where,
+                        std::optional<size_t> fallback = std::nullopt) const {
+    if (!object.Has(key)) {
+      if (fallback) return *fallback;
+      fail(where + " has no '" + key + "'");
+    }
+    const tinygltf::Value& value = object.Get(key);
+    const double number = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
+    if (!(number >= 0.0 && number <= kMaxExactInteger) || std::floor(number) != number)
+      fail(where + " '" + key + "' is not a valid count or offset");
+    return static_cast<size_t>(number);
+  }
+
+  std::string extensionString(const tinygltf::Value& object, const char* key, const std::string& fallback) const {
+    if (!object.Has(key) || !object.Get(key).IsString()) return fallback;
+    return object.Get(key).Get<std::string>();
+  }
+
+  // EXT_meshopt_compression: the view's data is `count` elements of `byteStride` bytes, coded
+  // in a range of another buffer. Every parameter the decoders assert on is checked first;
+  // the decoders themselves reject corrupt streams with a non-zero status.
+  const std::vector<unsigned char>& decodeMeshopt(int index, const tinygltf::Value& ext) const {
+    const auto cached = decoded_.find(index);
+    if (cached != decoded_.end()) return cached->second;
+    const std::string where = "bufferView " + std::to_string(index) + " (EXT_meshopt_compression)";
+    if (!ext.IsObject()) fail(where + " is not an object");
+    const size_t bufferIndex = extensionCount(ext, "buffer", where);
+    const size_t byteOffset = extensionCount(ext, "byteOffset", where, 0);
+    const size_t byteLength = extensionCount(ext, "byteLength", where);
+    const size_t stride = extensionCount(ext, "byteStride", where);
+    const size_t count = extensionCount(ext, "count", where);
+    const std::string mode = extensionString(ext, "mode", "");
+    const std::string filter = extensionString(ext, "filter", "NONE");
+    const tinygltf::Buffer& buffer =
+        bufferAt(bufferIndex > INT32_MAX ? -1 : static_cast<int>(bufferIndex), where);
+    if (byteOffset > buffer.data.size() || byteLength > buffer.data.size() - byteOffset)
+      fail(where + " (offset " + std::to_string(byteOffset) + ", length " + std::to_string(byteLength) +
+           ") runs past the end of buffer " + std::to_string(bufferIndex) + " (" +
+           std::to_string(buffer.data.size()) + " bytes)");
+
+    const bool attributes = mode == "ATTRIBUTES";
+    if (attributes) {
+      if (stride == 0 || stride > 256 || stride % 4 != 0)
+        fail(where + " byteStride " + std::to_string(stride) + " must be a multiple of 4 up to 256 for ATTRIBUTES");
+    } else if (mode == "TRIANGLES" || mode == "INDICES") {
+      if (stride != 2 && stride != 4) fail(where + " byteStride " + std::to_string(stride) + " must be 2 or 4 for " + mode);
+      if (mode == "TRIANGLES" && count % 3 != 0)
+        fail(where + " count " + std::to_string(count) + " is not a multiple of 3 for TRIANGLES");
+    } else {
+      fail(where + " has unknown mode '" + mode + "'");
+    }
+    const bool filterFits = filter == "NONE" || (attributes && filter == "OCTAHEDRAL" && (stride == 4 || stride == 8)) ||
+                            (attributes && filter == "QUATERNION" && stride == 8) ||
+                            (attributes && filter == "EXPONENTIAL");
+    if (!filterFits) fail(where + " filter '" + filter + "' does not apply to " + mode + " with byteStride " + std::to_string(stride));
+    // No codec expands data more than 64:1 (the vertex codec spends 2 bits on 16 zero bytes):
+    // a larger claim is a corrupt file, refused before it allocates.
+    if (count > (byteLength + kMeshoptSlack) * kMeshoptMaxRatio / stride)
+      fail(where + " claims " + std::to_string(count) + " elements of " + std::to_string(stride) +
+           " bytes from " + std::to_string(byteLength) + " compressed bytes; the data is corrupt");
+
+    std::vector<unsigned char> out(count * stride);
+    if (count > 0) {
+      const unsigned char* source = buffer.data.data() + byteOffset;
+      const int status = attributes ? meshopt_decodeVertexBuffer(out.data(), count, stride, source, byteLength)
+                         : mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out.data(), count, stride, source, byteLength)
+                                               : meshopt_decodeIndexSequence(out.data(), count, stride, source, byteLength);
+      if (status != 0)
+        fail(where + ": the " + mode + " data is corrupt (meshoptimizer's decoder returned " +
+             std::to_string(status) + ")");
+      if (filter == "OCTAHEDRAL") meshopt_decodeFilterOct(out.data(), count, stride);
+      else if (filter == "QUATERNION") meshopt_decodeFilterQuat(out.data(), count, stride);
+      else if (filter == "EXPONENTIAL") meshopt_decodeFilterExp(out.data(), count, stride);
+    }
+    return decoded_.emplace(index, std::move(out)).first->second;
+  }
+
+  // The start of `count` elements of `elementSize` bytes, `stride` apart, from `byteOffset`
+  // into `bytes`: reading them stays inside (computed without overflow).
+  const unsigned char* locate(const Bytes& bytes, size_t byteOffset, size_t count, size_t elementSize,
+                              size_t stride, const std::string& where) const {
+    if (count == 0) return bytes.data;
+    const size_t available = bytes.size;
+    const bool fits = byteOffset <= available && elementSize <= available - byteOffset &&
+                      count - 1 <= (available - byteOffset - elementSize) / stride;
+    if (!fits)
+      fail(where + " needs " + std::to_string(count) + " elements of " + std::to_string(elementSize) +
+           " bytes from offset " + std::to_string(byteOffset) + " but its bufferView holds only " +
+           std::to_string(available) + " bytes");
+    return bytes.data + byteOffset;
+  }
+
+  // Where each element of an accessor lies, every range checked: in its bufferView, in the
+  // sparse values where glTF 2.0 §3.6.2.3 substitutes it, or in zeros (a sparse accessor
+  // without a bufferView).
+  std::vector<const unsigned char*> elements(int accessorIndex, const std::string& what) const {
     if (accessorIndex < 0 || static_cast<size_t>(accessorIndex) >= model_.accessors.size())
       fail(what + " accessor " + std::to_string(accessorIndex) + " is out of range (" +
            std::to_string(model_.accessors.size()) + " accessors)");
     const tinygltf::Accessor& accessor = model_.accessors[static_cast<size_t>(accessorIndex)];
     const std::string where = what + " (accessor " + std::to_string(accessorIndex) + ")";
-    if (accessor.sparse.isSparse) fail(where + " is sparse; sparse accessors are not supported");
-    if (accessor.bufferView < 0 || static_cast<size_t>(accessor.bufferView) >= model_.bufferViews.size())
-      fail(where + " has no valid bufferView (" + std::to_string(accessor.bufferView) + ")");
-    const tinygltf::BufferView& bufferView = model_.bufferViews[static_cast<size_t>(accessor.bufferView)];
-    if (bufferView.buffer < 0 || static_cast<size_t>(bufferView.buffer) >= model_.buffers.size())
-      fail(where + " bufferView " + std::to_string(accessor.bufferView) + " names buffer " +
-           std::to_string(bufferView.buffer) + ", which does not exist");
-    const tinygltf::Buffer& buffer = model_.buffers[static_cast<size_t>(bufferView.buffer)];
-
     const size_t elementSize = componentSize(accessor.componentType) * componentCount(accessor.type);
     if (elementSize == 0) fail(where + " has an invalid componentType or type");
-    const size_t stride = bufferView.byteStride != 0 ? bufferView.byteStride : elementSize;
-    if (stride < elementSize)
-      fail(where + " byteStride " + std::to_string(stride) + " is smaller than its element size " +
-           std::to_string(elementSize));
-    const size_t bufferSize = buffer.data.size();
-    if (bufferView.byteOffset > bufferSize || bufferView.byteLength > bufferSize - bufferView.byteOffset)
-      fail(where + " bufferView " + std::to_string(accessor.bufferView) + " (offset " +
-           std::to_string(bufferView.byteOffset) + ", length " + std::to_string(bufferView.byteLength) +
-           ") runs past the end of buffer " + std::to_string(bufferView.buffer) + " (" +
-           std::to_string(bufferSize) + " bytes)");
-    AccessorView result;
-    result.stride = stride;
-    result.count = accessor.count;
-    result.componentType = accessor.componentType;
-    if (accessor.count == 0) return result;
-    // Bytes needed: byteOffset + stride·(count−1) + elementSize, computed without overflow.
-    const size_t available = bufferView.byteLength;
-    const bool fits = accessor.byteOffset <= available &&
-                      elementSize <= available - accessor.byteOffset &&
-                      accessor.count - 1 <= (available - accessor.byteOffset - elementSize) / stride;
-    if (!fits)
-      fail(where + " needs " + std::to_string(accessor.count) + " elements of " +
-           std::to_string(elementSize) + " bytes from offset " + std::to_string(accessor.byteOffset) +
-           " but its bufferView holds only " + std::to_string(available) + " bytes");
-    result.data = buffer.data.data() + bufferView.byteOffset + accessor.byteOffset;
-    return result;
+    if (elementSize > sizeof kZeros) fail(where + " has elements of " + std::to_string(elementSize) + " bytes");
+
+    std::vector<const unsigned char*> out;
+    if (accessor.bufferView >= 0 || !accessor.sparse.isSparse) {
+      const Bytes bytes = viewBytes(accessor.bufferView, where);
+      const size_t viewStride = model_.bufferViews[static_cast<size_t>(accessor.bufferView)].byteStride;
+      const size_t stride = viewStride != 0 ? viewStride : elementSize;
+      if (stride < elementSize)
+        fail(where + " byteStride " + std::to_string(stride) + " is smaller than its element size " +
+             std::to_string(elementSize));
+      const unsigned char* base = locate(bytes, accessor.byteOffset, accessor.count, elementSize, stride, where);
+      out.resize(accessor.count);
+      for (size_t i = 0; i < accessor.count; ++i) out[i] = base + i * stride;
+    } else {
+      // All zeros but the substitutions: nothing in the file bounds the count, so we do.
+      if (accessor.count > kMaxZeroFilledElements)
+        fail(where + " is sparse without a bufferView and claims " + std::to_string(accessor.count) +
+             " elements, over the limit of " + std::to_string(kMaxZeroFilledElements));
+      out.assign(accessor.count, kZeros);
+    }
+    if (accessor.sparse.isSparse) substituteSparse(accessor, elementSize, out, where);
+    return out;
   }
 
-  // Non-finite positions are an error; non-finite normals (exporters write NaN for the normal
-  // of a degenerate face) are allowed here and repaired from the geometry later.
+  void substituteSparse(const tinygltf::Accessor& accessor, size_t elementSize,
+                        std::vector<const unsigned char*>& out, const std::string& where) const {
+    const auto& sparse = accessor.sparse;
+    const std::string what = where + " sparse";
+    if (sparse.count < 1 || static_cast<size_t>(sparse.count) > out.size())
+      fail(what + " count " + std::to_string(sparse.count) + " is not between 1 and the accessor's " +
+           std::to_string(out.size()) + " elements");
+    if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0) fail(what + " has a negative byteOffset");
+    const int ct = sparse.indices.componentType;
+    const size_t indexSize = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                             : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                             : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                            : 0;
+    if (indexSize == 0)
+      fail(what + " indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, not " + componentName(ct));
+    const size_t count = static_cast<size_t>(sparse.count);
+    // Both arrays are tightly packed (§3.6.2.3: their bufferViews have no byteStride).
+    const unsigned char* indices = locate(viewBytes(sparse.indices.bufferView, what + " indices"),
+                                          static_cast<size_t>(sparse.indices.byteOffset), count, indexSize,
+                                          indexSize, what + " indices");
+    const unsigned char* values = locate(viewBytes(sparse.values.bufferView, what + " values"),
+                                         static_cast<size_t>(sparse.values.byteOffset), count, elementSize,
+                                         elementSize, what + " values");
+    for (size_t i = 0; i < count; ++i) {
+      const auto target = static_cast<size_t>(component(indices + i * indexSize, ct, false));
+      if (target >= out.size())
+        fail(what + " index " + std::to_string(target) + " is out of range (" + std::to_string(out.size()) +
+             " elements)");
+      out[target] = values + i * elementSize;
+    }
+  }
+
+  // One component as a number; normalized integers map to [-1, 1] or [0, 1] (glTF 2.0 §3.11).
+  static double component(const unsigned char* p, int componentType, bool normalized) {
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        int8_t v;
+        std::memcpy(&v, p, sizeof v);
+        return normalized ? std::max(v / 127.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t v;
+        std::memcpy(&v, p, sizeof v);
+        return normalized ? std::max(v / 32767.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t v;
+        std::memcpy(&v, p, sizeof v);
+        return normalized ? v / 65535.0 : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t v;
+        std::memcpy(&v, p, sizeof v);
+        return normalized ? v / 4294967295.0 : v;
+      }
+      default: {  // FLOAT: the callers accept no other type
+        float v;
+        std::memcpy(&v, p, sizeof v);  // no alignment assumptions
+        return v;
+      }
+    }
+  }
+
+  // FLOAT, or with KHR_mesh_quantization (signed or unsigned, normalized or not) BYTE and
+  // SHORT VEC3; the node transform then scales them as usual. Non-finite positions are an
+  // error; non-finite normals (exporters write NaN for the normal of a degenerate face) are
+  // allowed here and repaired from the geometry later.
   std::vector<glm::vec3> readVec3(int accessorIndex, const std::string& what, bool allowNonFinite = false) const {
     const tinygltf::Accessor* accessor =
         (accessorIndex >= 0 && static_cast<size_t>(accessorIndex) < model_.accessors.size())
             ? &model_.accessors[static_cast<size_t>(accessorIndex)]
             : nullptr;
-    if (accessor && (accessor->componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
-                     accessor->type != TINYGLTF_TYPE_VEC3))
-      fail(what + " (accessor " + std::to_string(accessorIndex) + ") must be FLOAT VEC3, not " +
-           componentName(accessor->componentType) + " " + typeName(accessor->type));
-    const AccessorView v = view(accessorIndex, what);
-    std::vector<glm::vec3> out(v.count);
-    for (size_t i = 0; i < v.count; ++i) {
-      float xyz[3];
-      std::memcpy(xyz, v.data + i * v.stride, sizeof xyz);  // no alignment assumptions
-      out[i] = glm::vec3(xyz[0], xyz[1], xyz[2]);
-      if (!allowNonFinite && (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2])))
-        fail(what + " element " + std::to_string(i) + " is not finite (" + std::to_string(xyz[0]) +
-             ", " + std::to_string(xyz[1]) + ", " + std::to_string(xyz[2]) + ")");
+    int ct = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    bool normalized = false;
+    if (accessor) {
+      ct = accessor->componentType;
+      normalized = accessor->normalized;
+      const bool okType = ct == TINYGLTF_COMPONENT_TYPE_FLOAT || ct == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                          ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT ||
+                          ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+      if (!okType || accessor->type != TINYGLTF_TYPE_VEC3)
+        fail(what + " (accessor " + std::to_string(accessorIndex) +
+             ") must be FLOAT VEC3, or BYTE or SHORT VEC3 (KHR_mesh_quantization), not " +
+             componentName(accessor->componentType) + " " + typeName(accessor->type));
+    }
+    const std::vector<const unsigned char*> at = elements(accessorIndex, what);
+    const size_t size = componentSize(ct);
+    std::vector<glm::vec3> out(at.size());
+    for (size_t i = 0; i < at.size(); ++i) {
+      for (int c = 0; c < 3; ++c)
+        out[i][c] = static_cast<float>(component(at[i] + static_cast<size_t>(c) * size, ct, normalized));
+      if (!allowNonFinite && !isFinite(glm::dvec3(out[i])))
+        fail(what + " element " + std::to_string(i) + " is not finite (" + std::to_string(out[i].x) + ", " +
+             std::to_string(out[i].y) + ", " + std::to_string(out[i].z) + ")");
     }
     return out;
   }
@@ -348,19 +580,60 @@ class Loader {
              ") must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT SCALAR, not " +
              componentName(ct) + " " + typeName(accessor->type));
     }
-    const AccessorView v = view(accessorIndex, what);
-    std::vector<uint32_t> out(v.count);
-    for (size_t i = 0; i < v.count; ++i) {
-      const unsigned char* p = v.data + i * v.stride;
-      if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-        out[i] = p[0];
-      } else if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-        uint16_t value;
-        std::memcpy(&value, p, sizeof value);
-        out[i] = value;
-      } else {
-        std::memcpy(&out[i], p, sizeof(uint32_t));
-      }
+    const std::vector<const unsigned char*> at = elements(accessorIndex, what);
+    const int ct = model_.accessors[static_cast<size_t>(accessorIndex)].componentType;
+    std::vector<uint32_t> out(at.size());
+    for (size_t i = 0; i < at.size(); ++i) out[i] = static_cast<uint32_t>(component(at[i], ct, false));
+    return out;
+  }
+
+  // KHR_draco_mesh_compression: the primitive's triangles and attributes are one Draco mesh in
+  // a bufferView; the extension maps glTF attribute names to Draco attribute ids. Draco
+  // returns a status for corrupt data; values and ids are checked here before use.
+  void decodeDraco(const tinygltf::Value& ext, bool wantNormals, const std::string& what, LocalPrimitive& out,
+                   std::vector<uint32_t>& indices) const {
+    const std::string where = what + " (KHR_draco_mesh_compression)";
+    if (!ext.IsObject() || !ext.Get("attributes").IsObject()) fail(where + " has no 'attributes' object");
+    const size_t viewIndex = extensionCount(ext, "bufferView", where);
+    const Bytes bytes = viewBytes(viewIndex > INT32_MAX ? -1 : static_cast<int>(viewIndex), where);
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(bytes.data), bytes.size);
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok())
+      fail(where + ": the data is corrupt (Draco: " + oneLine(decoded.status().error_msg_string()) + ")");
+    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    if (!mesh) fail(where + ": Draco decoded no mesh");
+    const tinygltf::Value& attributes = ext.Get("attributes");
+    out.positions = dracoVec3(*mesh, attributes, "POSITION", where, false);
+    // A NORMAL the primitive lists but the Draco attributes lack is an error like any other.
+    if (wantNormals || attributes.Has("NORMAL")) out.normals = dracoVec3(*mesh, attributes, "NORMAL", where, true);
+    indices.resize(3 * static_cast<size_t>(mesh->num_faces()));
+    for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
+      const draco::Mesh::Face& face = mesh->face(f);
+      for (size_t c = 0; c < 3; ++c) indices[3 * static_cast<size_t>(f.value()) + c] = face[c].value();
+    }
+  }
+
+  std::vector<glm::vec3> dracoVec3(const draco::Mesh& mesh, const tinygltf::Value& attributes, const char* name,
+                                   const std::string& where, bool allowNonFinite) const {
+    const size_t id = extensionCount(attributes, name, where + " attributes");
+    const draco::PointAttribute* attribute =
+        id > UINT32_MAX ? nullptr : mesh.GetAttributeByUniqueId(static_cast<uint32_t>(id));
+    if (!attribute)
+      fail(where + " " + name + " is Draco attribute " + std::to_string(id) + ", which the data does not hold");
+    if (attribute->num_components() != 3)
+      fail(where + " " + name + " has " + std::to_string(attribute->num_components()) + " components, expected 3");
+    std::vector<glm::vec3> out(mesh.num_points());
+    for (draco::PointIndex p(0); p < mesh.num_points(); ++p) {
+      const draco::AttributeValueIndex value = attribute->mapped_index(p);
+      float xyz[3];
+      if (value.value() >= attribute->size() || !attribute->ConvertValue<float>(value, 3, xyz))
+        fail(where + " " + name + " of point " + std::to_string(p.value()) + " cannot be read");
+      glm::vec3& v = out[p.value()];
+      v = glm::vec3(xyz[0], xyz[1], xyz[2]);
+      if (!allowNonFinite && !isFinite(glm::dvec3(v)))
+        fail(where + " " + name + " of point " + std::to_string(p.value()) + " is not finite");
     }
     return out;
   }
@@ -372,6 +645,10 @@ class Loader {
     if (material < 0 || static_cast<size_t>(material) >= model_.materials.size())
       fail(what + " material " + std::to_string(material) + " is out of range (" +
            std::to_string(model_.materials.size()) + " materials)");
+    // The factor only: images are never read (prepareJson drops them before tinygltf would
+    // load them). Alpha MASK cutouts will need the base-colour texture's alpha: the hook is
+    // pbrMetallicRoughness.baseColorTexture.index -> textures[].source -> the image that
+    // prepareJson drops; read that one image there, and keep it with the primitive.
     const std::vector<double>& factor =
         model_.materials[static_cast<size_t>(material)].pbrMetallicRoughness.baseColorFactor;
     glm::vec3 color(1.0f);
@@ -422,10 +699,20 @@ class Loader {
 
       LocalPrimitive out;
       out.name = meshName + "/" + std::to_string(k);
-      out.positions = readVec3(position->second, what + " POSITION");
+      if (!primitive.targets.empty()) ++morphed_;
+      const auto draco = primitive.extensions.find("KHR_draco_mesh_compression");
+      const bool compressed = draco != primitive.extensions.end();
+      std::vector<uint32_t> indices;
       const auto normal = primitive.attributes.find("NORMAL");
-      if (normal != primitive.attributes.end()) {
-        out.normals = readVec3(normal->second, what + " NORMAL", true);
+      if (compressed) {
+        if (mode != kModeTriangles)
+          fail(what + " is a Draco-compressed " + modeName(mode) + "; mrr reads Draco TRIANGLES only");
+        decodeDraco(draco->second, normal != primitive.attributes.end(), what, out, indices);
+      } else {
+        out.positions = readVec3(position->second, what + " POSITION");
+        if (normal != primitive.attributes.end()) out.normals = readVec3(normal->second, what + " NORMAL", true);
+      }
+      if (!out.normals.empty()) {
         if (out.normals.size() != out.positions.size())
           fail(what + " has " + std::to_string(out.normals.size()) + " normals for " +
                std::to_string(out.positions.size()) + " positions");
@@ -435,8 +722,9 @@ class Loader {
         if (broken > 0)
           warn(what + " has " + std::to_string(broken) + " zero or non-finite normals, replaced by computed ones");
       }
-      std::vector<uint32_t> indices;
-      if (primitive.indices >= 0) {
+      if (compressed) {
+        // The triangles came with the Draco mesh.
+      } else if (primitive.indices >= 0) {
         indices = readIndices(primitive.indices, what + " indices");
       } else {
         if (out.positions.size() > UINT32_MAX) fail(what + " has too many vertices");
@@ -577,6 +865,9 @@ class Loader {
   Scene scene_;
   std::vector<std::optional<std::vector<LocalPrimitive>>> meshCache_;
   std::vector<char> onStack_;
+  mutable std::map<int, std::vector<unsigned char>> decoded_;  // EXT_meshopt_compression views
+  size_t skinned_ = 0;
+  size_t morphed_ = 0;
 };
 
 // The credit line from ATTRIBUTION.txt beside the file: the text after the first label that
@@ -635,6 +926,128 @@ bool noReadWholeFile(std::vector<unsigned char>*, std::string* err, const std::s
 }
 bool noWriteWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
 
+// A buffer URI percent-decoded, as tinygltf decodes it before it looks for the file.
+std::string decodeUri(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+      out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+bool isMeshoptFallback(const nlohmann::json& buffer) {
+  const auto extensions = buffer.find("extensions");
+  if (extensions == buffer.end() || !extensions->is_object()) return false;
+  const auto meshopt = extensions->find("EXT_meshopt_compression");
+  if (meshopt == extensions->end() || !meshopt->is_object()) return false;
+  const auto fallback = meshopt->find("fallback");
+  return fallback != meshopt->end() && fallback->is_boolean() && fallback->get<bool>();
+}
+
+// What mrr settles in the JSON before tinygltf parses it, since tinygltf 2.7.0 reads every
+// buffer and image first and reports what goes wrong there in its own words:
+// - a required extension mrr cannot honour is refused by name, before any buffer is read;
+// - an absent external buffer is named with the path where it was expected;
+// - EXT_meshopt_compression fallback buffers (no uri and no data, which tinygltf refuses)
+//   become a one-byte placeholder: their data is only ever the compressed views' output;
+// - KHR_draco_mesh_compression primitives lose `indices` (an accessor without a bufferView,
+//   which tinygltf refuses): the triangles come with the Draco mesh;
+// - images are dropped, so no texture is read or decoded and absent ones warn of nothing.
+// Returns the bytes to parse: the same when nothing changed, else the JSON (or the GLB)
+// rewritten. Bytes whose JSON does not parse go to tinygltf unchanged, for it to report.
+std::vector<unsigned char> prepareJson(const std::vector<unsigned char>& bytes, const std::string& name,
+                                       const std::string& baseDir, bool binary) {
+  using nlohmann::json;
+  size_t jsonBegin = 0, jsonSize = bytes.size(), glbLength = 0;
+  if (binary) {
+    // The GLB header as tinygltf checks it (little-endian, like every machine mrr runs on).
+    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) return bytes;
+    uint32_t length = 0, chunkLength = 0, chunkType = 0;
+    std::memcpy(&length, bytes.data() + 8, 4);
+    std::memcpy(&chunkLength, bytes.data() + 12, 4);
+    std::memcpy(&chunkType, bytes.data() + 16, 4);
+    const uint64_t jsonEnd = 20ull + chunkLength;
+    if (length > bytes.size() || chunkType != 0x4E4F534Au || chunkLength < 1 || jsonEnd > length || jsonEnd % 4 != 0)
+      return bytes;
+    jsonBegin = 20;
+    jsonSize = chunkLength;
+    glbLength = length;
+  }
+  const auto begin = bytes.begin() + static_cast<std::ptrdiff_t>(jsonBegin);
+  json doc = json::parse(begin, begin + static_cast<std::ptrdiff_t>(jsonSize), nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return bytes;
+
+  const auto required = doc.find("extensionsRequired");
+  if (required != doc.end() && required->is_array())
+    for (const json& ext : *required)
+      if (ext.is_string() && !readableExtension(ext.get<std::string>()))
+        throw MrrError(name + ": " + unreadableExtension(ext.get<std::string>()));
+
+  bool changed = false;
+  const auto buffers = doc.find("buffers");
+  if (buffers != doc.end() && buffers->is_array()) {
+    for (size_t i = 0; i < buffers->size(); ++i) {
+      json& buffer = (*buffers)[i];
+      if (!buffer.is_object()) continue;
+      const auto uri = buffer.find("uri");
+      if (isMeshoptFallback(buffer)) {
+        buffer = {{"byteLength", 1},
+                  {"uri", "data:application/octet-stream;base64,AA=="},
+                  {"extensions", buffer["extensions"]}};
+        changed = true;
+      } else if (uri != buffer.end() && uri->is_string() && !baseDir.empty() &&
+                 uri->get<std::string>().rfind("data:", 0) != 0) {
+        const std::string file = uri->get<std::string>();
+        std::error_code ec;
+        const fs::path expected = fs::absolute(fs::path(baseDir) / decodeUri(file), ec).lexically_normal();
+        if (!ec && !fs::exists(expected, ec))
+          throw MrrError(name + ": buffer " + std::to_string(i) + ": file " + file + " not found (expected at " +
+                         expected.string() + ")");
+      } else if (uri == buffer.end() && !binary) {
+        throw MrrError(name + ": buffer " + std::to_string(i) +
+                       " has no uri (only a .glb's own binary chunk may leave it out)");
+      }
+    }
+  }
+  const auto meshes = doc.find("meshes");
+  if (meshes != doc.end() && meshes->is_array())
+    for (json& mesh : *meshes) {
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      for (json& primitive : mesh["primitives"]) {
+        if (!primitive.is_object() || !primitive.contains("indices")) continue;
+        const auto extensions = primitive.find("extensions");
+        if (extensions != primitive.end() && extensions->is_object() &&
+            extensions->contains("KHR_draco_mesh_compression")) {
+          primitive.erase("indices");
+          changed = true;
+        }
+      }
+    }
+  if (doc.erase("images") > 0) changed = true;
+  if (!changed) return bytes;
+
+  std::string text = doc.dump(-1, ' ', false, json::error_handler_t::replace);
+  if (!binary) return {text.begin(), text.end()};
+  while (text.size() % 4 != 0) text += ' ';  // chunks stay 4-byte aligned
+  const size_t rest = glbLength - (jsonBegin + jsonSize);
+  const uint64_t total = 20ull + text.size() + rest;
+  if (total > UINT32_MAX) return bytes;
+  std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 20);
+  const auto total32 = static_cast<uint32_t>(total), jsonLength = static_cast<uint32_t>(text.size());
+  std::memcpy(out.data() + 8, &total32, 4);
+  std::memcpy(out.data() + 12, &jsonLength, 4);
+  out.insert(out.end(), text.begin(), text.end());
+  const auto restBegin = bytes.begin() + static_cast<std::ptrdiff_t>(jsonBegin + jsonSize);
+  out.insert(out.end(), restBegin, restBegin + static_cast<std::ptrdiff_t>(rest));
+  return out;
+}
+
 // The one path from bytes to a validated scene: tinygltf, then mrr's Loader and checks.
 Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name, const std::string& baseDir,
                 bool binary, const LoadOptions& options) {
@@ -642,15 +1055,23 @@ Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name
   tinygltf::Model model;
   std::string err, warn;
   bool ok = false;
+  std::vector<unsigned char> prepared;
+  try {
+    prepared = prepareJson(bytes, name, baseDir, binary);
+  } catch (const MrrError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw MrrError(name + ": not a valid glTF file: " + oneLine(e.what()));
+  }
   try {
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(skipImage, nullptr);
     if (baseDir.empty())
       gltf.SetFsCallbacks({noFileExists, noExpand, noReadWholeFile, noWriteWholeFile, nullptr});
-    const auto size = static_cast<unsigned int>(std::min<size_t>(bytes.size(), 0xffffffffu));
-    ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, baseDir)
-                : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
-                                           baseDir);
+    const auto size = static_cast<unsigned int>(std::min<size_t>(prepared.size(), 0xffffffffu));
+    ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, prepared.data(), size, baseDir)
+                : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(prepared.data()),
+                                           size, baseDir);
   } catch (const std::exception& e) {
     throw MrrError(name + ": not a valid glTF file: " + oneLine(e.what()));
   }

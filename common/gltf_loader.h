@@ -16,11 +16,15 @@ struct LoadOptions {
 //   nodes (negative determinant: winding is flipped so fronts stay fronts);
 // - every triangle primitive of every mesh (TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN);
 //   points and lines are skipped with a warning on stderr;
-// - base colour factor (textures are ignored: the effects use one albedo per mesh);
+// - POSITION and NORMAL as FLOAT or quantized (KHR_mesh_quantization), sparse accessors, and
+//   compressed geometry (EXT_meshopt_compression, KHR_draco_mesh_compression);
+// - base colour factor (images are never read: the effects use one albedo per mesh);
 // - normals, computed where missing;
 // - perspective cameras and the first KHR_lights_punctual directional light, when present.
-// Any problem (missing file, not glTF, truncated, bad accessor, indices out of range,
-// NaN/Inf, nothing to render) throws MrrError with one line naming the file.
+// Skins and morph targets stay in the bind pose, BLEND and MASK materials are opaque: one
+// warning line each. Any problem (missing file or buffer, not glTF, a required extension mrr
+// cannot read, truncated or corrupt data, bad accessor, indices out of range, NaN/Inf,
+// nothing to render) throws MrrError with one line naming the file.
 Scene loadGltf(const std::string& path, const LoadOptions& options = {});
 
 // The same from bytes in memory (`binary`: a .glb). `name` stands for the file in messages.

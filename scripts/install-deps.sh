@@ -11,6 +11,7 @@ pkgs=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libopencv-core-dev
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev
+  libmeshoptimizer-dev libdraco-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   python3-matplotlib python3-jinja2 fonts-dejavu-core

@@ -282,10 +282,13 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
     // ~13.) Not where the method shades more pixels than full (ideal < 1: a stress scene where
     // every pixel is an edge): its extra pixels are coarse ones, cheaper than full-res ones, and
     // the pixel ratio bounds nothing there (CI measured SSM-196 mrr-norule on `alledges` at
-    // 0.96× against 0.72×).
+    // 0.96× against 0.72×). Nor where the frame fell back to full (SPEC §11): it shades exactly
+    // full's pixels, which the check below proves bit for bit, so its time against full's
+    // measures timing noise alone (CI saw a fallen-back 160×90 SSGI frame on llvmpipe at 1.40×
+    // of full while other tests ran).
     const double methodMs = r.fullEffectMs / std::max(r.measuredSpeedup, 1e-9);
     const double shortestMs = r.fullEffectMs / (1.25 * r.idealSpeedup + 0.05) - kJitterMs;
-    if (r.fullEffectMs >= kMinTimedMs && r.idealSpeedup >= 1.0 && methodMs < shortestMs)
+    if (r.fullEffectMs >= kMinTimedMs && r.idealSpeedup >= 1.0 && !r.fellBack && methodMs < shortestMs)
       fails.push_back(where + ": measured speedup " + fixed(r.measuredSpeedup, 2) + "x above the ideal " +
                       fixed(r.idealSpeedup, 2) + "x");
     if (r.fellBack && r.error.rms != 0.0) fails.push_back(where + ": fell back to full, yet differs from full");

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <vector>
 
+#include "common/driver.h"
 #include "common/parallel.h"
 #include "common/stages.h"
 #include "cpu_ref/bilateral.h"
@@ -23,70 +24,43 @@ double msSince(Clock::time_point t0) {
 
 Renderer::Renderer(const Scene& scene) : scene_(scene), rays_(scene) { bvhBuildMs_ = msSince(buildStart_); }
 
-FrameResult Renderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
-  const ProgressFn& progress = options.progress;
-  FrameResult f;
-  f.constants = constants;
-  const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
-  f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
-  f.light = scene_.light;
-  const auto frameStart = Clock::now();
-  auto stage = [&](const std::string& name, auto&& body) {
-    if (progress) progress(name);
-    const auto t0 = Clock::now();
-    body();
-    f.timings.push_back({name, msSince(t0)});
-  };
-  auto gbuffer = [&](int l) {
-    stage(stageName(Part::GBuffer, l),
-          [&] { f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, c.levels[static_cast<size_t>(l)]); });
-  };
+namespace {
+// The oracle's side of the frame contract (common/driver.h): every stage on host images,
+// written straight into the FrameResult, which therefore always holds every stage.
+class OracleFrame final : public FrameBackend {
+ public:
+  OracleFrame(const Scene& scene, const RayScene& rays, std::array<OccluderPlanes, kLevelCount>& planes,
+              const RenderOptions& options)
+      : scene_(scene), rays_(rays), planes_(planes), options_(options) {}
 
-  // 1. The full-res G-buffer (SPEC §1): the masks are made from it alone.
-  gbuffer(0);
+  const char* pathName() const override { return "cpu"; }
 
-  // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
-  if (c.needsShadowMap()) {
-    stage(stageName(Part::ShadowMap), [&] { f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), c.ssm.shadowMapSize); });
-    stage(stageName(Part::ShadowTest), [&] {
-      f.shadowLit = shadowTestImage(f.levels[0].gbuffer, f.shadowMap, f.view, c.ssm.biasTexels);
-    });
+  void gbuffer(FrameResult& f, int l) override {
+    f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, f.constants.levels[static_cast<size_t>(l)]);
+  }
+  void shadowMap(FrameResult& f) override {
+    f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), f.constants.ssm.shadowMapSize);
+  }
+  void shadowTest(FrameResult& f) override {
+    f.shadowLit = shadowTestImage(f.levels[0].gbuffer, f.shadowMap, f.view, f.constants.ssm.biasTexels);
+  }
+  void edges(FrameResult& f) override {
+    const ImageU8* shadowEdges = f.constants.effect == Effect::Ssm ? &f.shadowLit : nullptr;
+    f.edges = detectEdges(f.levels[0].gbuffer, f.constants.edges, shadowEdges);
+  }
+  Masks methodMasks(FrameResult& f) override { return buildMasks(f.edges.combined, f.constants); }
+  Masks tileMasks(FrameResult& f) override {
+    f.tileRates = tileRates(f.edges.combined);
+    return mrr::tileMasks(f.tileRates, f.constants);
   }
 
-  // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9).
-  std::array<MaskLevel, kLevelCount> masks;
-  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) {
-    const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
-    stage(stageName(Part::Edges), [&] { f.edges = detectEdges(f.levels[0].gbuffer, c.edges, shadowEdges); });
-  }
-  switch (c.mode) {
-    case Mode::Mrr: stage(stageName(Part::Stencil), [&] { masks = buildMasks(f.edges.combined, c); }); break;
-    case Mode::Tiles:
-      stage(stageName(Part::Stencil), [&] {
-        f.tileRates = tileRates(f.edges.combined);
-        masks = tileMasks(f.tileRates, c);
-      });
-      break;
-    case Mode::Uniform1:
-    case Mode::Uniform2: masks = uniformMasks(c); break;
-    case Mode::Full: masks = fullModeMasks(c); break;
-  }
-  // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("cpu"));
-  for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
-
-  // 1, continued. The coarser levels' G-buffers.
-  for (int l = 1; l < kLevelCount; ++l)
-    if (c.levels[static_cast<size_t>(l)].enabled) gbuffer(l);
-
-  // 4. Sub-images: the effect at stencilled pixels only, then the bilateral blur (SPEC §4).
-  for (int l = 0; l < kLevelCount; ++l) {
+  void shadeLevel(FrameResult& f, int l, const StageFn& stage) override {
+    const Constants& c = f.constants;
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
     if (!lc.shaded) {  // uniform-k's level 0: a G-buffer, nothing shaded
       lr.raw = lr.sub = ImageF(lc.width, lc.height, c.channels());
-      continue;
+      return;
     }
     const std::string L = ".L" + std::to_string(l);
     switch (c.effect) {
@@ -96,9 +70,12 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
         // Long stages (over ~2·10⁸ samples, seconds on 2 cores) also report their tenths.
         std::function<void(double)> tenths;
         const double work = static_cast<double>(lc.width) * lc.height * c.ssao.samples;
-        if (progress && work > 2e8)
-          tenths = [&](double done) { progress(stageName(Part::Raw, l) + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%"); };
-        stage(stageName(Part::Raw, l), [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
+        if (options_.progress && work > 2e8)
+          tenths = [&](double done) {
+            options_.progress(stageName(Part::Raw, l) + " " + std::to_string(static_cast<int>(done * 100 + 0.5)) + "%");
+          };
+        stage(stageName(Part::Raw, l),
+              [&] { lr.raw = renderSsao(lr.gbuffer, planes, lr.masks.stencil, f.view, lc, c.ssao, tenths); });
         stage(stageName(Part::Sub, l), [&] { lr.sub = bilateralBlur(lr.raw, lr.masks.stencil, lr.gbuffer, c.bilateral); });
         break;
       }
@@ -115,23 +92,33 @@ FrameResult Renderer::render(const Camera& camera, const Constants& constants, c
       }
     }
   }
-  f.countShadedPixels();
 
-  // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
-  if (isPeer(c.mode)) {
-    std::array<const GBuffer*, kLevelCount> gbuffers{};
-    for (size_t l = 0; l < gbuffers.size(); ++l)
-      if (c.levels[l].enabled) gbuffers[l] = &f.levels[l].gbuffer;
-    stage(stageName(Part::Final), [&] { f.blend = composePeer(f.blendInputs(), gbuffers, f.tileRates, c, options.keepStages); });
-  } else {
-    stage(stageName(Part::Final), [&] { f.blend = blendLevels(f.blendInputs(), c, options.keepStages); });
+  void blend(FrameResult& f) override {
+    const Constants& c = f.constants;
+    if (isPeer(c.mode)) {
+      std::array<const GBuffer*, kLevelCount> gbuffers{};
+      for (size_t l = 0; l < gbuffers.size(); ++l)
+        if (c.levels[l].enabled) gbuffers[l] = &f.levels[l].gbuffer;
+      f.blend = composePeer(f.blendInputs(), gbuffers, f.tileRates, c, options_.keepStages);
+    } else {
+      f.blend = blendLevels(f.blendInputs(), c, options_.keepStages);
+    }
   }
-  // 6. The shaded image for viewing (SPEC §6).
-  stage(stageName(Part::Shaded), [&] {
-    f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, scene_.light, c.effect);
-  });
-  f.timings.push_back({"total", msSince(frameStart)});
-  return f;
+  void shade(FrameResult& f) override {
+    f.shaded = shadeFinal(f.levels[0].gbuffer, f.blend.final, f.shadowLit, f.view, scene_.light, f.constants.effect);
+  }
+
+ private:
+  const Scene& scene_;
+  const RayScene& rays_;
+  std::array<OccluderPlanes, kLevelCount>& planes_;
+  const RenderOptions& options_;
+};
+}  // namespace
+
+FrameResult Renderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
+  OracleFrame backend(scene_, rays_, planes_, options);
+  return renderFrame(backend, scene_.light, camera, constants, options);
 }
 
 }  // namespace mrr

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/cost_model.h"
+#include "common/driver.h"
 #include "common/error.h"
 #include "common/stages.h"
 #include "gpu/bilateral.h"
@@ -54,199 +55,183 @@ std::string GpuRenderer::timingMethod() const {
          "map and shaded image)";
 }
 
-FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
-  using Clock = std::chrono::steady_clock;
-  FrameResult f;
-  f.constants = constants;
-  const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
-  f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
-  f.light = scene_.light;
-  // Every stage's images stay on the GPU; the frame reads back S_ℓ (for |S_ℓ| and the
-  // never-slower rule, before anything is shaded), the final image and level map, and what
-  // the shaded image needs. With keepStages (--stages, probe, compare) every stage is read
-  // back too, into the structures the oracle fills.
-  const bool keep = options.keepStages;
-  const auto frameStart = Clock::now();
-  // Timer queries: one per GL stage, read once the frame is done (timings[index] ← query).
-  std::vector<std::pair<size_t, unsigned>> queries;
-  auto stage = [&](const std::string& name, auto&& body) {
-    if (options.progress) options.progress(name);
-    if (timerQueries_) {
+namespace {
+// The port's side of the frame contract (common/driver.h). Every stage's images stay on the
+// GPU; the frame reads back S_ℓ (for |S_ℓ| and the never-slower rule, before anything is
+// shaded), the final image and level map, and the shaded image. With keepStages (--stages,
+// probe, compare) every stage is read back too, into the structures the oracle fills.
+class PortFrame final : public FrameBackend {
+ public:
+  PortFrame(const GpuScene& scene, const DirectionalLight& light, bool timerQueries, bool warm,
+            const RenderOptions& options)
+      : scene_(scene), light_(light), timerQueries_(timerQueries), warm_(warm), keep_(options.keepStages) {}
+
+  const char* pathName() const override { return "gpu"; }
+
+  void timeStage(FrameResult& f, const std::string& name, const std::function<void()>& body) override {
+    if (timerQueries_) {  // one query per stage, read once the frame is done (timings[index] ← query)
       unsigned query = 0;
       glGenQueries(1, &query);
       glBeginQuery(GL_TIME_ELAPSED, query);
       body();
       glEndQuery(GL_TIME_ELAPSED);
-      queries.emplace_back(f.timings.size(), query);
+      queries_.emplace_back(f.timings.size(), query);
       f.timings.push_back({name, 0.0});
       return;
     }
-    const auto t0 = Clock::now();
-    body();
+    FrameBackend::timeStage(f, name, [&] {
+      body();
+      glFinish();
+    });
+  }
+  void endFrame(FrameResult& f) override {
     glFinish();
-    f.timings.push_back({name, std::chrono::duration<double, std::milli>(Clock::now() - t0).count()});
-  };
+    for (const auto& [index, query] : queries_) {
+      GLuint64 ns = 0;
+      glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+      f.timings[index].ms = static_cast<double>(ns) * 1e-6;
+      glDeleteQueries(1, &query);
+    }
+    checkGl("timer queries");
+  }
+
   // G-buffers, rasterised per level. A coarse level's albedo is read only by SSGI's direct
   // light (and --stages): the resident frame leaves that target out otherwise.
-  std::array<Target, kLevelCount> gbuffers;
-  auto gbuffer = [&](int l) {
+  void gbuffer(FrameResult& f, int l) override {
+    const Constants& c = f.constants;
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    const int targets = keep || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
-    stage(stageName(Part::GBuffer, l), [&] {
-      gbuffers[static_cast<size_t>(l)] = gpuScene_.target(lc.width, lc.height, targets, true);
-      drawGBuffer(gpuScene_, f.view, lc, *gbuffers[static_cast<size_t>(l)]);
-      if (keep) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers[static_cast<size_t>(l)]);
-    });
-  };
-
-  // 1. The full-res G-buffer (SPEC §1): the masks are made from it alone.
-  gbuffer(0);
-
-  // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
-  std::unique_ptr<ShadowMapTarget> shadowMap;
-  Target shadowTest;
-  if (c.needsShadowMap()) {
-    stage(stageName(Part::ShadowMap), [&] {
-      f.shadowMap = shadowMapFrame(scene_.light, gpuScene_.bounds(), c.ssm.shadowMapSize);
-      shadowMap = std::make_unique<ShadowMapTarget>(c.ssm.shadowMapSize);
-      drawShadowMap(gpuScene_, f.shadowMap, *shadowMap);
-      if (keep) f.shadowMap.depth = shadowMap->read();
-    });
-    stage(stageName(Part::ShadowTest), [&] {
-      shadowTest = gpuScene_.target(gbuffers[0]->width(), gbuffers[0]->height(), 1, false, Texel::R8);
-      drawShadowTest(gpuScene_, *gbuffers[0], f.shadowMap, shadowMap->texture(), f.view, c.ssm.biasTexels, *shadowTest);
-      if (keep) f.shadowLit = readShadowTest(*shadowTest);
-    });
+    const int targets = keep_ || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
+    Target& g = gbuffers_[static_cast<size_t>(l)];
+    g = scene_.target(lc.width, lc.height, targets, true);
+    drawGBuffer(scene_, f.view, lc, *g);
+    if (keep_) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*g);
   }
-
-  // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9).
-  Target edges;
-  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) {
-    const unsigned shadowEdges = c.effect == Effect::Ssm ? shadowTest->texture(0) : 0;
-    stage(stageName(Part::Edges), [&] {
-      edges = drawEdges(gpuScene_, *gbuffers[0], c.edges, shadowEdges, !keep);
-      if (keep) f.edges = readEdges(*edges);
-    });
+  void shadowMap(FrameResult& f) override {
+    const int size = f.constants.ssm.shadowMapSize;
+    f.shadowMap = shadowMapFrame(light_, scene_.bounds(), size);
+    shadowMap_ = std::make_unique<ShadowMapTarget>(size);
+    drawShadowMap(scene_, f.shadowMap, *shadowMap_);
+    if (keep_) f.shadowMap.depth = shadowMap_->read();
   }
-  std::array<MaskLevel, kLevelCount> masks;
-  std::unique_ptr<MaskTargets> maskTargets;
-  switch (c.mode) {
-    case Mode::Mrr:
-      stage(stageName(Part::Stencil), [&] {
-        maskTargets = drawMasks(gpuScene_, edges->texture(0), edgeChannel(!keep), c);
-        masks = readMasks(*maskTargets, c, !keep);
-        if (keep) masks[0].mask = f.edges.combined;  // M_0 = E
-      });
-      break;
-    case Mode::Tiles:
-      stage(stageName(Part::Stencil), [&] {
-        f.tileRates = tileRates(gpuScene_, edges->texture(0), edgeChannel(!keep), edges->width(), edges->height());
-        masks = tileMasks(gpuScene_, f.tileRates, c);
-      });
-      break;
-    // uniform-k's stencil is a constant of the frame's size (every level-k pixel inside W×H):
-    // the oracle's own function, as `full` below; there is no image to compute it from.
-    case Mode::Uniform1:
-    case Mode::Uniform2: masks = uniformMasks(c); break;
-    case Mode::Full: masks = fullModeMasks(c); break;
+  void shadowTest(FrameResult& f) override {
+    shadowTest_ = scene_.target(gbuffers_[0]->width(), gbuffers_[0]->height(), 1, false, Texel::R8);
+    drawShadowTest(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm.biasTexels,
+                   *shadowTest_);
+    if (keep_) f.shadowLit = readShadowTest(*shadowTest_);
   }
-  // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
+  void edges(FrameResult& f) override {
+    const unsigned shadowEdges = f.constants.effect == Effect::Ssm ? shadowTest_->texture(0) : 0;
+    edges_ = drawEdges(scene_, *gbuffers_[0], f.constants.edges, shadowEdges, !keep_);
+    if (keep_) f.edges = readEdges(*edges_);
+  }
+  Masks methodMasks(FrameResult& f) override {
+    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), f.constants);
+    Masks masks = readMasks(*maskTargets_, f.constants, !keep_);
+    if (keep_) masks[0].mask = f.edges.combined;  // M_0 = E
+    return masks;
+  }
+  Masks tileMasks(FrameResult& f) override {
+    f.tileRates = tileRates(scene_, edges_->texture(0), edgeChannel(!keep_), edges_->width(), edges_->height());
+    return gpu::tileMasks(scene_, f.tileRates, f.constants);
+  }
+  void useMasks(FrameResult& f, const Masks& masks, const StageFn& stage) override {
+    if (!maskTargets_ || !maskTargets_->drawn || f.fallback.fellBack)  // host stencils: to the GPU
+      stage("stencils", [&] { maskTargets_ = uploadMasks(masks, f.constants); });
+  }
   // The level-0 G-buffer time tells the per-scene part of a rasterised G-buffer, but only on a
   // warm renderer: its first frame also pays shader compilation and fresh targets there.
-  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults("gpu"),
-                   framesRendered_ > 0 ? f.timing("gbuffer.L0") : 0.0);
-  if (!maskTargets || !maskTargets->drawn || f.fallback.fellBack)  // host stencils: to the GPU
-    stage("stencils", [&] { maskTargets = uploadMasks(masks, c); });
-  for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
-  f.countShadedPixels();
+  double neverSlowerGbufferMs(const FrameResult& f) const override {
+    return warm_ ? f.timing(stageName(Part::GBuffer, 0)) : 0.0;
+  }
 
-  // 1, continued. The coarser levels' G-buffers.
-  for (int l = 1; l < kLevelCount; ++l)
-    if (c.levels[static_cast<size_t>(l)].enabled) gbuffer(l);
-
-  // 4. Sub-images: the effect with the stencil test; SSAO then gets the bilateral blur.
-  std::array<Target, kLevelCount> raw, sub;
-  std::array<unsigned, kLevelCount> subTexture{};
-  TextureSet unshaded;  // uniform-k's level 0: a G-buffer, nothing shaded (c_0 = 0)
-  for (int l = 0; l < kLevelCount; ++l) {
+  // The effect with the stencil test; SSAO then gets the bilateral blur.
+  void shadeLevel(FrameResult& f, int l, const StageFn& stage) override {
+    const Constants& c = f.constants;
     const size_t i = static_cast<size_t>(l);
     const LevelConstants& lc = c.levels[i];
-    if (!lc.enabled) continue;
-    if (!lc.shaded) {
+    if (!lc.shaded) {  // uniform-k's level 0: a G-buffer, nothing shaded (c_0 = 0)
       const ImageF zero(lc.width, lc.height, c.channels());
-      subTexture[i] = unshaded.add(uploadTexture(zero));
-      if (keep) f.levels[i].raw = f.levels[i].sub = zero;
-      continue;
+      subTexture_[i] = unshaded_.add(uploadTexture(zero));
+      if (keep_) f.levels[i].raw = f.levels[i].sub = zero;
+      return;
     }
-    const Framebuffer& targets = *gbuffers[i];
-    const unsigned stencil = maskTargets->stencil[i];
+    const Framebuffer& targets = *gbuffers_[i];
+    const unsigned stencil = maskTargets_->stencil[i];
     // drawn masks know where S_ℓ can be set: the stencil fill covers those rectangles alone
     const std::vector<glm::ivec4>* fill =
-        maskTargets->drawn && !maskTargets->supportRects[i].empty() ? &maskTargets->supportRects[i] : nullptr;
-    const std::string L = ".L" + std::to_string(l);
+        maskTargets_->drawn && !maskTargets_->supportRects[i].empty() ? &maskTargets_->supportRects[i] : nullptr;
+    Target& raw = raw_[i];
+    Target& sub = sub_[i];
     switch (c.effect) {
       case Effect::Ssao:
-        stage(stageName(Part::Raw, l), [&] { raw[i] = drawSsao(gpuScene_, targets, stencil, f.view, lc, c.ssao, fill); });
-        stage(stageName(Part::Sub, l), [&] { sub[i] = drawBilateral(gpuScene_, raw[i]->texture(0), stencil, targets, c.bilateral, raw[i].get()); });
+        stage(stageName(Part::Raw, l), [&] { raw = drawSsao(scene_, targets, stencil, f.view, lc, c.ssao, fill); });
+        stage(stageName(Part::Sub, l),
+              [&] { sub = drawBilateral(scene_, raw->texture(0), stencil, targets, c.bilateral, raw.get()); });
         break;
       case Effect::Ssm:  // PCF is its own filter: no blur (the paper blurs SSAO only)
         stage(stageName(Part::Raw, l), [&] {
-          raw[i] = drawSsm(gpuScene_, targets, stencil, f.shadowMap, shadowMap->texture(), f.view, c.ssm, fill);
+          raw = drawSsm(scene_, targets, stencil, f.shadowMap, shadowMap_->texture(), f.view, c.ssm, fill);
         });
         break;
       case Effect::Ssgi: {
-        const Target direct = gpuScene_.target(lc.width, lc.height, 1, false);
-        stage("direct" + L, [&] {
-          drawDirectLight(gpuScene_, targets, f.shadowMap, shadowMap->texture(), f.view, scene_.light, c.ssm.biasTexels,
+        const Target direct = scene_.target(lc.width, lc.height, 1, false);
+        stage("direct.L" + std::to_string(l), [&] {
+          drawDirectLight(scene_, targets, f.shadowMap, shadowMap_->texture(), f.view, light_, c.ssm.biasTexels,
                           *direct);
         });
-        stage(stageName(Part::Raw, l), [&] {
-          raw[i] = drawSsgi(gpuScene_, targets, direct->texture(0), stencil, f.view, lc, c.ssgi, fill);
-        });
+        stage(stageName(Part::Raw, l),
+              [&] { raw = drawSsgi(scene_, targets, direct->texture(0), stencil, f.view, lc, c.ssgi, fill); });
         break;
       }
     }
-    const Framebuffer& result = sub[i] ? *sub[i] : *raw[i];
-    subTexture[i] = result.texture(0);
-    if (keep) {
-      f.levels[i].raw = raw[i]->read(0, c.channels());
+    const Framebuffer& result = sub ? *sub : *raw;
+    subTexture_[i] = result.texture(0);
+    if (keep_) {
+      f.levels[i].raw = raw->read(0, c.channels());
       f.levels[i].sub = result.read(0, c.channels());
     }
   }
 
-  // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
-  GpuImage finalOnGpu;  // for the shaded image
-  if (isPeer(c.mode)) {
-    std::array<const Framebuffer*, kLevelCount> targets{};
-    for (size_t l = 0; l < targets.size(); ++l)
-      if (c.levels[l].enabled) targets[l] = gbuffers[l].get();
-    stage(stageName(Part::Final), [&] {
-      f.blend = composePeer(gpuScene_, subTexture, c.channels(), targets, f.tileRates, c, options.keepStages, &finalOnGpu);
-    });
-  } else {
+  void blend(FrameResult& f) override {
+    const Constants& c = f.constants;
+    if (isPeer(c.mode)) {
+      std::array<const Framebuffer*, kLevelCount> targets{};
+      for (size_t l = 0; l < targets.size(); ++l)
+        if (c.levels[l].enabled) targets[l] = gbuffers_[l].get();
+      f.blend = composePeer(scene_, subTexture_, c.channels(), targets, f.tileRates, c, keep_, &final_);
+      return;
+    }
     std::array<LevelTextures, kLevelCount> inputs;
-    for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture[l], maskTargets->stencil[l], maskTargets->alpha[l]};
-    const ImageU8* edgeBlocks = maskTargets->drawn ? &maskTargets->edgeBlocks : nullptr;
-    stage(stageName(Part::Final), [&] {
-      f.blend = blendLevels(gpuScene_, inputs, c.channels(), c, options.keepStages, edgeBlocks, &finalOnGpu);
-    });
+    for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture_[l], maskTargets_->stencil[l], maskTargets_->alpha[l]};
+    const ImageU8* edgeBlocks = maskTargets_->drawn ? &maskTargets_->edgeBlocks : nullptr;
+    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_);
   }
-  // 6. The shaded image for viewing (shade.frag), from the level-0 G-buffer and the final image
-  // on the GPU: the same for every method, and no part of the effect's cost.
-  stage(stageName(Part::Shaded), [&] {
-    f.shaded = drawShade(gpuScene_, *gbuffers[0], finalOnGpu.texture(), shadowTest ? shadowTest->texture(0) : 0, f.view,
-                         f.light, c);
-  });
+  // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
+  void shade(FrameResult& f) override {
+    f.shaded = drawShade(scene_, *gbuffers_[0], final_.texture(), shadowTest_ ? shadowTest_->texture(0) : 0, f.view,
+                         light_, f.constants);
+  }
+
+ private:
+  const GpuScene& scene_;
+  const DirectionalLight& light_;
+  const bool timerQueries_, warm_, keep_;
+  std::vector<std::pair<size_t, unsigned>> queries_;
+  std::array<Target, kLevelCount> gbuffers_;
+  std::unique_ptr<ShadowMapTarget> shadowMap_;
+  Target shadowTest_, edges_;
+  std::unique_ptr<MaskTargets> maskTargets_;
+  std::array<Target, kLevelCount> raw_, sub_;
+  std::array<unsigned, kLevelCount> subTexture_{};
+  TextureSet unshaded_;
+  GpuImage final_;
+};
+}  // namespace
+
+FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
+  PortFrame backend(gpuScene_, scene_.light, timerQueries_, framesRendered_ > 0, options);
+  FrameResult f = renderFrame(backend, scene_.light, camera, constants, options);
   ++framesRendered_;
-  glFinish();
-  f.timings.push_back({"total", std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count()});
-  for (const auto& [index, query] : queries) {
-    GLuint64 ns = 0;
-    glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
-    f.timings[index].ms = static_cast<double>(ns) * 1e-6;
-    glDeleteQueries(1, &query);
-  }
-  checkGl("timer queries");
   return f;
 }
 

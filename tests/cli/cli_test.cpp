@@ -681,10 +681,10 @@ const std::vector<BadCase> kBadCases = {
     // another interpreter); checked before anything renders, so nothing is written
     {"CompareReportWithoutPython", {"compare", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
                                     "--report", "{out}"},
-     "--report needs matplotlib and Jinja2 (Debian: apt-get install python3-matplotlib python3-jinja2)", false,
+     "--report needs matplotlib and Jinja2 (Debian: apt-get install python3-matplotlib python3-jinja2)",
      {.env = {"MRR_PYTHON=/nonexistent/python3"}}},
     {"BenchReportWithoutPackages", {"bench", "--quick", "--report", "{out}/report"},
-     "--report needs matplotlib and Jinja2", false, {.env = {"MRR_PYTHON=/bin/false"}}},
+     "--report needs matplotlib and Jinja2", {.env = {"MRR_PYTHON=/bin/false"}}},
 };
 
 class CliBadInputTest : public ::testing::TestWithParam<BadCase> {};

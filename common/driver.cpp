@@ -1,0 +1,78 @@
+#include "common/driver.h"
+
+#include <chrono>
+#include <utility>
+
+#include "common/stages.h"
+
+namespace mrr {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+void FrameBackend::timeStage(FrameResult& f, const std::string& name, const std::function<void()>& body) {
+  const auto t0 = Clock::now();
+  body();
+  f.timings.push_back({name, msSince(t0)});
+}
+
+FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Camera& camera,
+                        const Constants& constants, const RenderOptions& options) {
+  FrameResult f;
+  f.constants = constants;
+  const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
+  f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
+  f.light = light;
+  const auto frameStart = Clock::now();
+  const StageFn stage = [&](const std::string& name, const std::function<void()>& body) {
+    if (options.progress) options.progress(name);
+    b.timeStage(f, name, body);
+  };
+
+  // 1. The full-res G-buffer (SPEC §1): the masks are made from it alone.
+  stage(stageName(Part::GBuffer, 0), [&] { b.gbuffer(f, 0); });
+
+  // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
+  if (c.needsShadowMap()) {
+    stage(stageName(Part::ShadowMap), [&] { b.shadowMap(f); });
+    stage(stageName(Part::ShadowTest), [&] { b.shadowTest(f); });
+  }
+
+  // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9). uniform-k's and
+  // full's stencils are constants of the frame's size, made on the host for both paths.
+  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) stage(stageName(Part::Edges), [&] { b.edges(f); });
+  Masks masks;
+  switch (c.mode) {
+    case Mode::Mrr: stage(stageName(Part::Stencil), [&] { masks = b.methodMasks(f); }); break;
+    case Mode::Tiles: stage(stageName(Part::Stencil), [&] { masks = b.tileMasks(f); }); break;
+    case Mode::Uniform1:
+    case Mode::Uniform2: masks = uniformMasks(c); break;
+    case Mode::Full: masks = fullModeMasks(c); break;
+  }
+  // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
+  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults(b.pathName()),
+                   b.neverSlowerGbufferMs(f));
+  b.useMasks(f, masks, stage);
+  for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
+  f.countShadedPixels();
+
+  // 1, continued. The coarser levels' G-buffers.
+  for (int l = 1; l < kLevelCount; ++l)
+    if (c.levels[static_cast<size_t>(l)].enabled) stage(stageName(Part::GBuffer, l), [&] { b.gbuffer(f, l); });
+
+  // 4. Sub-images: the effect at stencilled pixels only, then SSAO's bilateral blur (SPEC §4).
+  for (int l = 0; l < kLevelCount; ++l)
+    if (c.levels[static_cast<size_t>(l)].enabled) b.shadeLevel(f, l, stage);
+
+  // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
+  stage(stageName(Part::Final), [&] { b.blend(f); });
+  // 6. The shaded image for viewing (SPEC §6).
+  stage(stageName(Part::Shaded), [&] { b.shade(f); });
+  b.endFrame(f);
+  f.timings.push_back({"total", msSince(frameStart)});
+  return f;
+}
+
+}  // namespace mrr

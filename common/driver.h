@@ -1,0 +1,55 @@
+#pragma once
+// One frame, one order of stages, for both paths (issue 16; after Filament's driver API and
+// Falcor's render passes). renderFrame walks the pipeline's steps in the order of the stage
+// list (common/stages.h), names and times each, reports progress, applies the never-slower rule
+// and counts the shaded pixels; a FrameBackend does each step's work on its own images (the
+// oracle's host images, the port's textures) and fills the FrameResult as far as the frame
+// keeps stages. cpu_ref/pipeline.cpp and gpu/pipeline.cpp each implement one.
+#include <functional>
+#include <string>
+
+#include "common/camera.h"
+#include "common/frame.h"
+
+namespace mrr {
+
+// Runs `body` as the stage `name` (progress line, timing). Backends call it for their sub-steps.
+using StageFn = std::function<void(const std::string& name, const std::function<void()>& body)>;
+
+class FrameBackend {
+ public:
+  virtual ~FrameBackend() = default;
+
+  // Times one stage's work into f.timings (default: a steady clock around `body`). The port
+  // times GL work with glFinish or timer queries, resolved in endFrame.
+  virtual void timeStage(FrameResult& f, const std::string& name, const std::function<void()>& body);
+  virtual void endFrame(FrameResult& /*f*/) {}
+
+  // 1. One level's G-buffer (level 0 first: the masks are made from it alone).
+  virtual void gbuffer(FrameResult& f, int level) = 0;
+  // The light's shadow map, and the one-tap test at full res (SSM, SSGI).
+  virtual void shadowMap(FrameResult& f) = 0;
+  virtual void shadowTest(FrameResult& f) = 0;
+  // 2. The edge image (modes mrr and tiles).
+  virtual void edges(FrameResult& f) = 0;
+  // 3. The method's masks from E, or the tiles' rates (into f.tileRates) and masks; both return
+  // at least every S_ℓ on the host (the never-slower rule and |S_ℓ| read them).
+  virtual Masks methodMasks(FrameResult& f) = 0;
+  virtual Masks tileMasks(FrameResult& f) = 0;
+  // The stencils the frame shades with, once the rule has decided (made on the host for full,
+  // uniform-k or a fallback): the port uploads them where it has not drawn them itself.
+  virtual void useMasks(FrameResult& /*f*/, const Masks& /*masks*/, const StageFn& /*stage*/) {}
+  // SPEC §11's per-scene G-buffer term: the level-0 G-buffer time, where the model wants it.
+  virtual double neverSlowerGbufferMs(const FrameResult& /*f*/) const { return 0.0; }
+  virtual const char* pathName() const = 0;  // "cpu" or "gpu": CostModel::defaults' path
+  // 4. The effect at level ℓ's stencilled pixels, and SSAO's blur (sub-steps named through `stage`).
+  virtual void shadeLevel(FrameResult& f, int level, const StageFn& stage) = 0;
+  // 5. Upsample and blend (the peers: their composition); 6. the shaded image.
+  virtual void blend(FrameResult& f) = 0;
+  virtual void shade(FrameResult& f) = 0;
+};
+
+FrameResult renderFrame(FrameBackend& backend, const DirectionalLight& light, const Camera& camera,
+                        const Constants& constants, const RenderOptions& options);
+
+}  // namespace mrr

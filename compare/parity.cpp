@@ -87,6 +87,9 @@ DiffFigures diffShadowMaps(const ShadowMap& port, const ShadowMap& oracle, doubl
 
 namespace {
 
+// The end-to-end tolerance rule the stage list gives a part.
+std::string endToEndRule(Part part) { return std::string(partInfo(part).endToEnd); }
+
 // The edge guard band: pixels whose normal or depth measure lies within kGuardBand (relative)
 // of τ_n or τ_z, from the oracle's edge measures on `g`.
 std::vector<char> edgeGuardBand(const GBuffer& g, const EdgeSettings& s) {
@@ -198,7 +201,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
          check("shadowmap.depth", diffShadowMaps(p.shadowMap, o.shadowMap, tolerance("shadowmap.depth").pixelThreshold)),
          {}});
     const ImageU8 same = shadowTestImage(p.levels[0].gbuffer, p.shadowMap, p.view, c.ssm.biasTexels);
-    add({partName(Part::ShadowTest), -1, 1, check("shadowtest", diffImages(p.shadowLit, o.shadowLit)),
+    add({partName(Part::ShadowTest), -1, 1, check(endToEndRule(Part::ShadowTest), diffImages(p.shadowLit, o.shadowLit)),
          check("shadowtest.same_input", diffImages(p.shadowLit, same))});
   }
 
@@ -214,10 +217,10 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
         {".background", &EdgeImages::background}, {".shadow", &EdgeImages::shadow}};
     for (const auto& [kindName, kind] : kinds) {
       if ((p.edges.*kind).data.empty() && (o.edges.*kind).data.empty()) continue;  // shadow: SSM only
-      add({edgesPart + kindName, -1, 1, check("edges", diffImages(p.edges.*kind, o.edges.*kind)),
+      add({edgesPart + kindName, -1, 1, check(endToEndRule(Part::Edges), diffImages(p.edges.*kind, o.edges.*kind)),
            check("edges.same_input", diffImages(p.edges.*kind, same.*kind, &edgeBand))});
     }
-    add({edgesPart, -1, 1, check("edges", diffImages(p.edges.combined, o.edges.combined)),
+    add({edgesPart, -1, 1, check(endToEndRule(Part::Edges), diffImages(p.edges.combined, o.edges.combined)),
          check("edges.same_input", diffImages(p.edges.combined, same.combined, &edgeBand))});
   }
   // The decision comes right after the masks in the pipeline, but it chooses the stencils the
@@ -236,7 +239,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   if (multires) {
     masks = buildMasks(p.edges.combined, c);
   } else if (c.mode == Mode::Tiles) {
-    add({partName(Part::TileRates), -1, kTileSize, check("stencil", diffImages(p.tileRates, o.tileRates)),
+    add({partName(Part::TileRates), -1, kTileSize, check(endToEndRule(Part::Stencil), diffImages(p.tileRates, o.tileRates)),
          check("masks.same_input", diffImages(p.tileRates, tileRates(p.edges.combined)))});
     masks = tileMasks(p.tileRates, c);
   } else if (c.mode == Mode::Uniform1 || c.mode == Mode::Uniform2) {
@@ -256,7 +259,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
          check("alpha.same_input", diffImages(pm.alpha, sm.alpha, tolerance("alpha.same_input").pixelThreshold, {}))});
     // Only the method's S_ℓ = [a_ℓ > 0] has a cutoff to guard; the others are exact.
     const std::vector<char> stencilBand = multires ? stencilGuardBand(sm.alpha) : std::vector<char>{};
-    add({partName(Part::Stencil, l), l, lc.scale, check("stencil", diffImages(pm.stencil, om.stencil)),
+    add({partName(Part::Stencil, l), l, lc.scale, check(endToEndRule(Part::Stencil), diffImages(pm.stencil, om.stencil)),
          check("masks.same_input", diffImages(pm.stencil, sm.stencil, multires ? &stencilBand : nullptr))});
   }
 
@@ -362,14 +365,14 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   }
   // The final image is the finest composite; end to end it carries everything above.
   add({partName(Part::Final), -1, 1,
-       check("final", diffImages(p.final(), o.final(), tolerance("final").pixelThreshold, {})), finalSame});
+       check(endToEndRule(Part::Final), diffImages(p.final(), o.final(), tolerance(endToEndRule(Part::Final)).pixelThreshold, {})), finalSame});
 
   // 6. The shaded image: end to end, and the oracle's shadeFinal on the port's own level-0
   // G-buffer, final image and one-tap test (shade.frag's arithmetic alone).
   if (!p.shaded.empty() && !o.shaded.empty() && !p.levels[0].gbuffer.depth.empty()) {
     const ImageF same = shadeFinal(p.levels[0].gbuffer, p.final(), p.shadowLit, p.view, light, c.effect);
     add({partName(Part::Shaded), -1, 1,
-         check("shaded", diffImages(p.shaded, o.shaded, tolerance("shaded").pixelThreshold, {})),
+         check(endToEndRule(Part::Shaded), diffImages(p.shaded, o.shaded, tolerance(endToEndRule(Part::Shaded)).pixelThreshold, {})),
          check("shaded.same_input",
                diffImages(p.shaded, same, tolerance("shaded.same_input").pixelThreshold, {}))});
   }

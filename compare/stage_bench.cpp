@@ -21,6 +21,7 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "common/paths.h"
+#include "common/stages.h"
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/pipeline.h"
 #include "cpu_ref/ssgi.h"
@@ -101,7 +102,7 @@ void registerStages() {
         [&fr, &lc] { benchmark::DoNotOptimize(renderGBuffer(*fr.rays, fr.f.view, lc)); });
   }
   const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
-  add("edges", full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(detectEdges(l0.gbuffer, c.edges, shadowEdges)); });
+  add(stageName(Part::Edges), full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(detectEdges(l0.gbuffer, c.edges, shadowEdges)); });
   add("masks", full, [&f, &c] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c)); });
   // The effect (and SSAO's bilateral blur) at each level over its own S_ℓ, and at level 0 over
   // every pixel too ("dense"): pixels per second, side by side.

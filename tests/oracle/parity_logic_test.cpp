@@ -38,9 +38,11 @@ TEST_F(ParityLogic, AFrameAgainstItselfPassesEveryStageWithZeroDifference) {
     for (const auto* c : {&s.endToEnd, &s.sameInput})
       if (*c) EXPECT_LE((*c)->figures.maxAbs, exact) << s.stage << " " << (*c)->rule;
   }
-  // Pipeline order: G-buffers first, the final image last.
+  // Pipeline order: G-buffers first, then ... the final image, and the shaded image last.
   EXPECT_EQ(r.rows.front().stage, "gbuffer.L0.hit");
-  EXPECT_EQ(r.rows.back().stage, "final");
+  ASSERT_GE(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[r.rows.size() - 2].stage, "final");
+  EXPECT_EQ(r.rows.back().stage, "shaded");
 }
 
 TEST_F(ParityLogic, AWrongEffectValueFailsAtItsLevelsRawStage) {

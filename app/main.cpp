@@ -52,7 +52,7 @@ struct FrameOptions {
   std::optional<int> samples;
   int threads = 0;
   std::optional<int> camera;
-  std::string eye, target;
+  std::string eye, target, lightDir;
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
   float aoRadius = 0.0f;
@@ -98,6 +98,9 @@ struct FrameOptions {
     app.add_option("--eye", eye, "camera position x,y,z (with --target)");
     app.add_option("--target", target, "camera target x,y,z (with --eye)");
     app.add_option("--fov", fov, "vertical field of view, degrees");
+    app.add_option("--light-dir", lightDir,
+                   "x,y,z: the direction toward the directional light, world space (default: the scene's light, or "
+                   "for a scene without one the built-in default)");
     app.add_flag("--flip-up", flipUp, "rotate the scene 180 degrees about X (files authored Y-down)");
     app.add_flag("--no-flip-up", noFlipUp, "do not flip, even where the scene catalogue would");
     app.add_option("--ao-radius", aoRadius, "SSAO radius in world units (0 = 3% of the scene diagonal)");
@@ -159,6 +162,7 @@ struct FrameOptions {
     if (!eye.empty()) r.eye = parseVec3(eye, "--eye");
     if (!target.empty()) r.target = parseVec3(target, "--target");
     r.fovDegrees = fov;
+    if (!lightDir.empty()) r.lightToward = parseVec3(lightDir, "--light-dir");
     return r;
   }
 

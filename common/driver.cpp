@@ -23,6 +23,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   FrameResult f;
   f.constants = constants;
   const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
+  f.camera = camera;
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
   f.light = light;
   const auto frameStart = Clock::now();

@@ -136,6 +136,7 @@ struct StageTiming {
 // report and the outputs need.
 struct FrameResult {
   Constants constants;
+  Camera camera;  // as given: eye, target, up, vertical field of view
   View view;
   DirectionalLight light;  // the scene's light, as rendered
   ShadowMap shadowMap;     // SSM and SSGI

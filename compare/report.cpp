@@ -42,6 +42,15 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
     for (uint8_t r : f.tileRates.data) ++tiles[r];
     j["tiles"] = {{"size", kTileSize}, {"rate_1x1", tiles[0]}, {"rate_2x2", tiles[1]}, {"rate_4x4", tiles[2]}};
   }
+  auto vec3 = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+  j["camera"] = {{"eye", vec3(f.camera.eye)},
+                 {"target", vec3(f.camera.target)},
+                 {"up", vec3(f.camera.up)},
+                 {"yfov_degrees", glm::degrees(f.camera.yfov)}};
+  j["light"] = {{"direction", vec3(f.light.direction)},  // the way the light travels
+                {"toward_light", vec3(-f.light.direction)},  // what --light-dir takes
+                {"color", vec3(f.light.color)},
+                {"angular_diameter_rad", 2.0f * std::atan(c.ssm.tanHalfAngle)}};
   j["width"] = c.width;
   j["height"] = c.height;
   j["padded_width"] = c.paddedWidth;

@@ -1,5 +1,6 @@
 #include "scenes/catalog.h"
 
+#include <cmath>
 #include <filesystem>
 
 #include "common/error.h"
@@ -46,6 +47,12 @@ ResolvedScene resolveScene(const SceneRequest& request) {
       options.flipUp = request.flipUp.value_or(false);
     }
     out.scene = loadGltf(path, options);
+  }
+  // The light: --light-dir points toward it; the scene's light travels the other way.
+  if (request.lightToward) {
+    const float length = glm::length(*request.lightToward);
+    require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
+    out.scene.light.direction = -*request.lightToward / length;
   }
   // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
   // catalogue's view, else framed from the bounds.

@@ -272,6 +272,33 @@ class CliRenderTest : public ::testing::Test {
   std::string dir, out;
 };
 
+// The report records the frame's camera and light as given (issue 19), and --light-dir
+// (toward the light) turns the scene's light: the shadows of SSM move with it.
+TEST_F(CliRenderTest, ReportRecordsTheCameraAndTheLight) {
+  auto render = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", "--scene", "builtin:shadows", "--effect", "ssm", "--samples", "16",
+                                     "--size", "64x48", "-q", "--eye", "1,3,6", "--target", "0,0.5,0", "--fov", "50",
+                                     "--report", at(name + ".json"), "--out", at(name + ".exr")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runMrr(args, dir);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    return json::parse(readFile(at(name + ".json")));
+  };
+  const json scene = render("scene", {});
+  const json turned = render("turned", {"--light-dir", "0,2,0"});
+  ASSERT_TRUE(scene.contains("camera") && scene.contains("light")) << scene.dump(2);
+  EXPECT_EQ(scene["camera"]["eye"], json::array({1.0, 3.0, 6.0}));
+  EXPECT_EQ(scene["camera"]["target"], json::array({0.0, 0.5, 0.0}));
+  EXPECT_NEAR(scene["camera"]["yfov_degrees"].get<double>(), 50.0, 1e-4);
+  EXPECT_EQ(turned["light"]["toward_light"], json::array({0.0, 1.0, 0.0}));  // normalised
+  EXPECT_EQ(turned["light"]["direction"], json::array({-0.0, -1.0, -0.0}));
+  EXPECT_NE(scene["light"]["direction"], turned["light"]["direction"]);
+  EXPECT_NEAR(turned["light"]["angular_diameter_rad"].get<double>(), 0.05, 1e-6);
+  const ImageF a = readImage(at("scene.exr")), b = readImage(at("turned.exr"));
+  ASSERT_EQ(a.data.size(), b.data.size());
+  EXPECT_NE(a.data, b.data) << "--light-dir did not change the shadows";
+}
+
 TEST_F(CliRenderTest, RenderWritesEveryOutputAndAFullReport) {
   const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--out", at("final.exr"), "--shaded",
                                    at("shaded.png"), "--stages", at("stages.exr"), "--report", at("report.json"),
@@ -619,6 +646,8 @@ const std::vector<BadCase> kBadCases = {
     {"DisableLevelFour", renderArgs("builtin:demo", {"--disable-level", "4"}), "--disable-level 4"},
     {"EyeWithoutTarget", renderArgs("builtin:demo", {"--eye", "0,1,5"}), "--target"},
     {"EyeMalformed", renderArgs("builtin:demo", {"--eye", "1,2", "--target", "0,0,0"}), "--eye 1,2"},
+    {"LightDirZero", renderArgs("builtin:demo", {"--light-dir", "0,0,0"}), "--light-dir: needs a direction of non-zero length"},
+    {"LightDirMalformed", renderArgs("builtin:demo", {"--light-dir", "0,1"}), "--light-dir 0,1"},
     {"FovOutOfRange", renderArgs("builtin:demo", {"--fov", "180"}), "--fov"},
     // outputs
     {"OutIntoMissingDirectory", demoWith({"--size", "16x16", "--out", "{out}/nodir/o.exr"}), "nodir"},

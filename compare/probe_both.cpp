@@ -98,7 +98,7 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
   for (size_t l = 0; l < levels; ++l)
     flatten(rows, levelLabel(l), pick(level(lo, l), maskKeys), pick(level(lp, l), maskKeys), maskKeys);
   // The blend, coarse to fine, as it runs.
-  const std::vector<std::string> blendKeys = {"taps", "c_hat", "alpha", "composite"};
+  const std::vector<std::string> blendKeys = {"taps", "c_hat", "a_hat", "alpha", "composite"};
   for (size_t l = levels; l-- > 0;)
     flatten(rows, levelLabel(l), pick(level(lo, l), blendKeys), pick(level(lp, l), blendKeys), blendKeys);
   flatten(rows, "finest_contributing_level", at(o, "finest_contributing_level"), at(p, "finest_contributing_level"));

@@ -122,6 +122,8 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     }
     lj["taps"] = taps;
     lj["c_hat"] = scalarOrVec(f.blend.upsampled[static_cast<size_t>(l)], x, y);
+    // â = Σ b_q a(q), from the readable reference (cpu_ref/blend.h): what α = min(â·w, 1) is made of
+    lj["a_hat"] = upsampleReference(lr.sub, lr.masks.stencil, lr.masks.alpha, lc, x, y).alphaHat;
     lj["alpha"] = f.blend.alpha[static_cast<size_t>(l)].at(x, y);
     lj["composite"] = scalarOrVec(f.blend.composite[static_cast<size_t>(l)], x, y);
     levels.push_back(lj);
@@ -189,8 +191,8 @@ std::string formatProbe(const nlohmann::json& j) {
     for (const auto& t : l["taps"]) {
       o << "  " << fmt(t["q"]) << " b " << fmt(t["b"]) << (t["S"].get<bool>() ? " c " + fmt(t["c"]) : std::string(" [S=0]"));
     }
-    o << "\n    c_hat " << fmt(l["c_hat"]) << "  alpha " << fmt(l["alpha"]) << "  -> composite c' " << fmt(l["composite"])
-      << "\n";
+    o << "\n    c_hat " << fmt(l["c_hat"]) << "  a_hat " << fmt(l["a_hat"]) << "  alpha "
+      << fmt(l["alpha"]) << "  -> composite c' " << fmt(l["composite"]) << "\n";
   }
   o << "finest contributing level " << j["finest_contributing_level"] << ", final " << fmt(j["final"]) << "\n";
   return o.str();

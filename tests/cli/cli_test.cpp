@@ -562,6 +562,16 @@ TEST_F(CliRenderTest, ProbeJsonParses) {
   ASSERT_TRUE(j["levels"].is_array());
   EXPECT_EQ(j["levels"].size(), 4u);
   for (const json& level : j["levels"]) EXPECT_TRUE(level.contains("taps")) << level.dump();
+  // Every level prints the â its α is made of: α = min(â·w, 1) where a tap is rendered (the
+  // coarsest level is the base, α = 1), so a reader can check the arithmetic.
+  for (size_t l = 0; l + 1 < j["levels"].size(); ++l) {
+    const json& level = j["levels"][l];
+    ASSERT_TRUE(level.contains("a_hat")) << level.dump();
+    const double aHat = level["a_hat"], w = level["w"], alpha = level["alpha"];
+    bool rendered = false;
+    for (const json& tap : level["taps"]) rendered = rendered || tap["S"].get<bool>();
+    EXPECT_FLOAT_EQ(alpha, rendered ? std::min(aHat * w, 1.0) : 0.0) << level.dump();
+  }
 }
 
 // ---- bad input ----------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/stages.h"
 #include "common/tolerance.h"
 
 namespace mrr {
@@ -81,8 +82,10 @@ std::string levelLabel(size_t level) {
 std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
   std::vector<ProbeRow> rows;
   auto at = [](const json& doc, const std::string& key) { return doc.contains(key) ? doc[key] : json(); };
-  flatten(rows, "gbuffer", at(o, "gbuffer"), at(p, "gbuffer"), {"hit", "depth", "position", "normal", "albedo"});
-  flatten(rows, "edges", at(o, "edges"), at(p, "edges"), {"normal", "depth", "background", "shadow", "E"});
+  // the probe's fields are named by the stage list's parts (common/stages.h)
+  const std::string gbuffer = partName(Part::GBuffer), edges = partName(Part::Edges), final = partName(Part::Final);
+  flatten(rows, gbuffer, at(o, gbuffer), at(p, gbuffer), {"hit", "depth", "position", "normal", "albedo"});
+  flatten(rows, edges, at(o, edges), at(p, edges), {"normal", "depth", "background", "shadow", "E"});
   const json lo = at(o, "levels"), lp = at(p, "levels");
   const size_t levels = std::max(lo.size(), lp.size());
   auto level = [&](const json& doc, size_t l) { return l < doc.size() ? doc[l] : json(); };
@@ -98,11 +101,11 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
   for (size_t l = 0; l < levels; ++l)
     flatten(rows, levelLabel(l), pick(level(lo, l), maskKeys), pick(level(lp, l), maskKeys), maskKeys);
   // The blend, coarse to fine, as it runs.
-  const std::vector<std::string> blendKeys = {"taps", "c_hat", "a_hat", "alpha", "composite"};
+  const std::vector<std::string> blendKeys = {"taps", "c_hat", "a_hat", "alpha", partName(Part::Composite)};
   for (size_t l = levels; l-- > 0;)
     flatten(rows, levelLabel(l), pick(level(lo, l), blendKeys), pick(level(lp, l), blendKeys), blendKeys);
   flatten(rows, "finest_contributing_level", at(o, "finest_contributing_level"), at(p, "finest_contributing_level"));
-  flatten(rows, "final", at(o, "final"), at(p, "final"));
+  flatten(rows, final, at(o, final), at(p, final));
   return rows;
 }
 

@@ -1,5 +1,7 @@
 #include "cpu_ref/probe.h"
 
+#include "common/stages.h"
+
 #include <cstdio>
 #include <sstream>
 
@@ -46,13 +48,13 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
   j["mode"] = toString(c.mode);
 
   const GBuffer& g0 = f.levels[0].gbuffer;
-  j["gbuffer"] = {{"hit", g0.hit.at(x, y) != 0}, {"depth", g0.depth.at(x, y)},
+  j[partName(Part::GBuffer)] = {{"hit", g0.hit.at(x, y) != 0}, {"depth", g0.depth.at(x, y)},
                   {"position", vec(g0.position, x, y)}, {"normal", vec(g0.normal, x, y)},
                   {"albedo", vec(g0.albedo, x, y)}};
 
   if (!f.edges.combined.empty()) {  // modes mrr and tiles
     const EdgeDecision e = edgeAt(g0, c.edges, x, y, c.effect == Effect::Ssm ? &f.shadowLit : nullptr);
-    j["edges"] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {"tau_n", c.edges.normalThreshold}}},
+    j[partName(Part::Edges)] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {"tau_n", c.edges.normalThreshold}}},
                   {"depth",
                    {{"edge", e.depth},
                     {"second_diff_x", e.takenX ? nlohmann::json(e.depthSecondX) : nlohmann::json("n/a")},
@@ -61,7 +63,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
                   {"background", {{"edge", e.background}, {"background_neighbour", e.backgroundNeighbour}}},
                   {"E", e.normal || e.depth || e.background || e.shadow}};
     if (e.lit >= 0)
-      j["edges"]["shadow"] = {{"edge", e.shadow}, {"lit", e.lit}, {"neighbour_differs", e.shadowNeighbourDiffers}};
+      j[partName(Part::Edges)]["shadow"] = {{"edge", e.shadow}, {"lit", e.lit}, {"neighbour_differs", e.shadowNeighbourDiffers}};
   }
 
   nlohmann::json levels = nlohmann::json::array();
@@ -125,12 +127,12 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     // â = Σ b_q a(q), from the readable reference (cpu_ref/blend.h): what α = min(â·w, 1) is made of
     lj["a_hat"] = upsampleReference(lr.sub, lr.masks.stencil, lr.masks.alpha, lc, x, y).alphaHat;
     lj["alpha"] = f.blend.alpha[static_cast<size_t>(l)].at(x, y);
-    lj["composite"] = scalarOrVec(f.blend.composite[static_cast<size_t>(l)], x, y);
+    lj[partName(Part::Composite)] = scalarOrVec(f.blend.composite[static_cast<size_t>(l)], x, y);
     levels.push_back(lj);
   }
   j["levels"] = levels;
   j["finest_contributing_level"] = f.blend.levelMap.at(x, y);
-  j["final"] = scalarOrVec(f.blend.final, x, y);
+  j[partName(Part::Final)] = scalarOrVec(f.blend.final, x, y);
   return j;
 }
 
@@ -138,11 +140,11 @@ std::string formatProbe(const nlohmann::json& j) {
   std::ostringstream o;
   o << "pixel " << fmt(j["pixel"]) << " of " << j["size"][0] << "x" << j["size"][1] << ", effect "
     << j["effect"].get<std::string>() << ", mode " << j["mode"].get<std::string>() << "\n";
-  const auto& g = j["gbuffer"];
+  const auto& g = j[partName(Part::GBuffer)];
   o << "G-buffer L0   hit " << g["hit"] << "  z " << fmt(g["depth"]) << "  N " << fmt(g["normal"]) << "  albedo "
     << fmt(g["albedo"]) << "\n";
-  if (j.contains("edges")) {
-    const auto& e = j["edges"];
+  if (j.contains(partName(Part::Edges))) {
+    const auto& e = j[partName(Part::Edges)];
     if (e.contains("shadow"))
       o << "shadow test   lit " << e["shadow"]["lit"] << "  (a 4-neighbour differs: " << e["shadow"]["neighbour_differs"]
         << ") -> shadow edge " << e["shadow"]["edge"] << "\n";
@@ -192,9 +194,9 @@ std::string formatProbe(const nlohmann::json& j) {
       o << "  " << fmt(t["q"]) << " b " << fmt(t["b"]) << (t["S"].get<bool>() ? " c " + fmt(t["c"]) : std::string(" [S=0]"));
     }
     o << "\n    c_hat " << fmt(l["c_hat"]) << "  a_hat " << fmt(l["a_hat"]) << "  alpha "
-      << fmt(l["alpha"]) << "  -> composite c' " << fmt(l["composite"]) << "\n";
+      << fmt(l["alpha"]) << "  -> composite c' " << fmt(l[partName(Part::Composite)]) << "\n";
   }
-  o << "finest contributing level " << j["finest_contributing_level"] << ", final " << fmt(j["final"]) << "\n";
+  o << "finest contributing level " << j["finest_contributing_level"] << ", final " << fmt(j[partName(Part::Final)]) << "\n";
   return o.str();
 }
 

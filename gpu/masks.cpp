@@ -16,8 +16,6 @@ namespace mrr::gpu {
 
 namespace {
 
-constexpr int kMaxTaps = 49;  // σ² ≤ 64 gives r ≤ 24
-
 struct Pass {
   const GpuScene& scene;
   struct Inputs {
@@ -45,8 +43,6 @@ struct Pass {
   }
   // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
   Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
-    if (in.weights)
-      require(static_cast<int>(in.weights->size()) <= kMaxTaps, "gpu: masks: blur kernel larger than 49 taps");
     const unsigned prog = program(step, in);
     Target target = scene.target(width, height, formats, false);
     target->bind();

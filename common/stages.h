@@ -7,9 +7,11 @@
 // comparison (compare/parity.cpp), its HTML page, the golden digests and the planted-fault
 // catalogue (gpu/faults.cpp) all name parts through this list: adding a stage is one row here,
 // one CPU function and one shader.
+#include <algorithm>
 #include <array>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace mrr {
 
@@ -103,6 +105,26 @@ inline std::string stageName(Part part, int level = -1) {
   std::string name(p.stage);
   if (p.perLevel && level >= 0) name += ".L" + std::to_string(level);
   return name;
+}
+
+// The part's EXR channels, from its `channels` column: "effect:X" is X for a one-channel effect
+// and X.R, X.G, X.B for SSGI's RGB (`effectChannels` 3).
+inline std::vector<std::string> partChannels(Part part, int effectChannels = 1) {
+  std::vector<std::string> names;
+  std::string_view rest = partInfo(part).channels;
+  while (!rest.empty()) {
+    const size_t end = std::min(rest.find(' '), rest.size());
+    const std::string_view token = rest.substr(0, end);
+    rest = rest.substr(std::min(end + 1, rest.size()));
+    if (token.substr(0, 7) != "effect:") {
+      names.emplace_back(token);
+    } else if (effectChannels == 1) {
+      names.emplace_back(token.substr(7));
+    } else {
+      for (const char* c : {".R", ".G", ".B"}) names.push_back(std::string(token.substr(7)) + c);
+    }
+  }
+  return names;
 }
 
 // The part a name starts with ("stencil.L2" → Stencil, "gbuffer.L0.depth" → GBuffer,

@@ -103,10 +103,6 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
 std::vector<ExrPart> stageParts(const FrameResult& f) {
   const Constants& c = f.constants;
   std::vector<ExrPart> parts;
-  auto effectChannels = [](const std::string& prefix, int channels) {
-    if (channels == 1) return std::vector<std::string>{prefix};
-    return std::vector<std::string>{prefix + ".R", prefix + ".G", prefix + ".B"};
-  };
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
@@ -120,15 +116,14 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
                        g.albedo.at(x, y, 1),   g.albedo.at(x, y, 2),   static_cast<float>(g.hit.at(x, y))};
         for (int k = 0; k < 11; ++k) gb.at(x, y, k) = v[k];
       }
-    parts.push_back({partName(Part::GBuffer, l), gb, {"depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z", "albedo.R", "albedo.G",
-                                          "albedo.B", "hit"}});
+    parts.push_back({partName(Part::GBuffer, l), gb, partChannels(Part::GBuffer)});
   }
   if (!f.shadowMap.depth.empty()) {
     ImageF depth = f.shadowMap.depth;  // misses as +inf would wreck viewers: write -1
     for (float& v : depth.data)
       if (v == ShadowMap::kNoBlocker) v = -1.0f;
-    parts.push_back({partName(Part::ShadowMap), depth, {"depth"}});
-    parts.push_back({partName(Part::ShadowTest), toFloat(crop(f.shadowLit, c.width, c.height)), {"lit"}});
+    parts.push_back({partName(Part::ShadowMap), depth, partChannels(Part::ShadowMap)});
+    parts.push_back({partName(Part::ShadowTest), toFloat(crop(f.shadowLit, c.width, c.height)), partChannels(Part::ShadowTest)});
   }
   if (!f.edges.combined.empty()) {  // modes mrr and tiles
     const EdgeImages& e = f.edges;
@@ -142,29 +137,29 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
         edges.at(x, y, 3) = e.combined.at(x, y);
         if (shadow) edges.at(x, y, 4) = e.shadow.at(x, y);
       }
-    std::vector<std::string> names = {"normal", "depth", "background", "E"};
-    if (shadow) names.push_back("shadow");
+    std::vector<std::string> names = partChannels(Part::Edges);  // the shadow kind last: SSM only
+    if (!shadow) names.pop_back();
     parts.push_back({partName(Part::Edges), edges, names});
   }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
-    if (!lr.masks.mask.empty()) parts.push_back({partName(Part::Mask, l), toFloat(lr.masks.mask), {"M"}});
-    parts.push_back({partName(Part::Alpha, l), lr.masks.alpha, {"a"}});
-    parts.push_back({partName(Part::Stencil, l), toFloat(lr.masks.stencil), {"S"}});
-    parts.push_back({partName(Part::Raw, l), lr.raw, effectChannels("c_raw", lr.raw.channels)});
-    parts.push_back({partName(Part::Sub, l), lr.sub, effectChannels("c", lr.sub.channels)});
+    if (!lr.masks.mask.empty()) parts.push_back({partName(Part::Mask, l), toFloat(lr.masks.mask), partChannels(Part::Mask)});
+    parts.push_back({partName(Part::Alpha, l), lr.masks.alpha, partChannels(Part::Alpha)});
+    parts.push_back({partName(Part::Stencil, l), toFloat(lr.masks.stencil), partChannels(Part::Stencil)});
+    parts.push_back({partName(Part::Raw, l), lr.raw, partChannels(Part::Raw, lr.raw.channels)});
+    parts.push_back({partName(Part::Sub, l), lr.sub, partChannels(Part::Sub, lr.sub.channels)});
     if (f.blend.upsampled[static_cast<size_t>(l)].empty()) continue;  // rendered without keepStages
     parts.push_back({partName(Part::Upsample, l), f.blend.upsampled[static_cast<size_t>(l)],
-                     effectChannels("c_hat", lr.sub.channels)});
-    parts.push_back({partName(Part::BlendAlpha, l), f.blend.alpha[static_cast<size_t>(l)], {"alpha"}});
+                     partChannels(Part::Upsample, lr.sub.channels)});
+    parts.push_back({partName(Part::BlendAlpha, l), f.blend.alpha[static_cast<size_t>(l)], partChannels(Part::BlendAlpha)});
     parts.push_back({partName(Part::Composite, l), f.blend.composite[static_cast<size_t>(l)],
-                     effectChannels("c_prime", lr.sub.channels)});
+                     partChannels(Part::Composite, lr.sub.channels)});
   }
-  parts.push_back({partName(Part::LevelMap), toFloat(f.blend.levelMap), {"level"}});
-  parts.push_back({partName(Part::Final), f.final(), effectChannels("Y", f.final().channels)});
-  parts.push_back({partName(Part::Shaded), f.shaded, {"R", "G", "B"}});
+  parts.push_back({partName(Part::LevelMap), toFloat(f.blend.levelMap), partChannels(Part::LevelMap)});
+  parts.push_back({partName(Part::Final), f.final(), partChannels(Part::Final, f.final().channels)});
+  parts.push_back({partName(Part::Shaded), f.shaded, partChannels(Part::Shaded)});
   return parts;
 }
 

@@ -53,6 +53,7 @@ struct FrameOptions {
   int threads = 0;
   std::optional<int> camera;
   std::string eye, target, lightDir;
+  std::string blendMaterials = "opaque";
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
   float aoRadius = 0.0f;
@@ -98,6 +99,9 @@ struct FrameOptions {
     app.add_option("--eye", eye, "camera position x,y,z (with --target)");
     app.add_option("--target", target, "camera target x,y,z (with --eye)");
     app.add_option("--fov", fov, "vertical field of view, degrees");
+    app.add_option("--blend-materials", blendMaterials,
+                   "glTF materials with alphaMode BLEND: opaque (drawn as solid) or skip (left out)")
+        ->capture_default_str();
     app.add_option("--light-dir", lightDir,
                    "x,y,z: the direction toward the directional light, world space (default: the scene's light, or "
                    "for a scene without one the built-in default)");
@@ -163,6 +167,9 @@ struct FrameOptions {
     if (!target.empty()) r.target = parseVec3(target, "--target");
     r.fovDegrees = fov;
     if (!lightDir.empty()) r.lightToward = parseVec3(lightDir, "--light-dir");
+    require(blendMaterials == "opaque" || blendMaterials == "skip",
+            "--blend-materials " + blendMaterials + ": expected opaque or skip");
+    r.skipBlendMaterials = blendMaterials == "skip";
     return r;
   }
 

@@ -179,8 +179,8 @@ struct LocalPrimitive {
 
 class Loader {
  public:
-  Loader(const std::string& path, const tinygltf::Model& model, bool quiet)
-      : path_(path), model_(model), quiet_(quiet) {}
+  Loader(const std::string& path, const tinygltf::Model& model, bool quiet, bool skipBlend)
+      : path_(path), model_(model), quiet_(quiet), skipBlend_(skipBlend) {}
 
   Scene build() {
     checkRequiredExtensions();
@@ -211,15 +211,25 @@ class Loader {
       if (!readableExtension(ext)) fail(unreadableExtension(ext));
   }
 
-  // Materials are opaque here (one albedo per mesh): BLEND is drawn opaque, and MASK without
-  // its cutout, which needs the base-colour texture's alpha (see materialColor).
+  // Materials are opaque here (one albedo per mesh): BLEND is drawn opaque (or dropped, with
+  // --blend-materials skip), and MASK without its cutout, which needs the base-colour texture's
+  // alpha (see materialColor).
+  bool isBlend(int material) const {
+    return material >= 0 && static_cast<size_t>(material) < model_.materials.size() &&
+           model_.materials[static_cast<size_t>(material)].alphaMode == "BLEND";
+  }
   void warnAlphaModes() const {
     size_t blend = 0, mask = 0;
     for (const tinygltf::Material& material : model_.materials) {
       if (material.alphaMode == "BLEND") ++blend;
       if (material.alphaMode == "MASK") ++mask;
     }
-    if (blend > 0) warn(std::to_string(blend) + " materials are alphaMode BLEND, rendered opaque");
+    if (blend > 0 && skipBlend_)
+      warn(std::to_string(blend) + " materials are alphaMode BLEND, skipped (--blend-materials skip): " +
+           std::to_string(skippedBlend_) + " primitives left out");
+    else if (blend > 0)
+      warn(std::to_string(blend) + " materials are alphaMode BLEND, rendered opaque (--blend-materials skip leaves "
+           "them out)");
     if (mask > 0) warn(std::to_string(mask) + " materials are alphaMode MASK, rendered opaque without their cutouts");
   }
 
@@ -694,6 +704,10 @@ class Loader {
       }
       if (mode != kModeTriangles && mode != kModeStrip && mode != kModeFan)
         fail(what + " has unknown mode " + std::to_string(mode));
+      if (skipBlend_ && isBlend(primitive.material)) {
+        ++skippedBlend_;
+        continue;
+      }
       const auto position = primitive.attributes.find("POSITION");
       if (position == primitive.attributes.end()) fail(what + " has no POSITION attribute");
 
@@ -862,6 +876,8 @@ class Loader {
   const std::string& path_;
   const tinygltf::Model& model_;
   const bool quiet_;
+  const bool skipBlend_;  // --blend-materials skip
+  size_t skippedBlend_ = 0;  // primitives dropped for it
   Scene scene_;
   std::vector<std::optional<std::vector<LocalPrimitive>>> meshCache_;
   std::vector<char> onStack_;
@@ -1083,7 +1099,7 @@ Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name
 
   Scene scene;
   try {
-    scene = Loader(name, model, options.quiet).build();
+    scene = Loader(name, model, options.quiet, options.skipBlend).build();
   } catch (const MrrError&) {
     throw;
   } catch (const std::exception& e) {

@@ -9,6 +9,7 @@ namespace mrr {
 struct LoadOptions {
   bool flipUp = false;  // rotate 180° about X after loading (files authored Y-down)
   bool quiet = false;   // no warnings on stderr (the fuzzer)
+  bool skipBlend = false;  // --blend-materials skip: drop primitives whose material is alphaMode BLEND
 };
 
 // Loads a glTF 2.0 file (.gltf or .glb) through tinygltf into the world-space scene model:

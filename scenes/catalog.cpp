@@ -36,6 +36,7 @@ ResolvedScene resolveScene(const SceneRequest& request) {
     for (const auto& entry : sharedSceneCatalog())
       if (entry.name == spec) info = &entry;
     LoadOptions options;
+    options.skipBlend = request.skipBlendMaterials;
     std::string path = spec;
     if (info) {
       path = (std::filesystem::path(sharedScenesDir()) / info->file).string();

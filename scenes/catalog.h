@@ -17,6 +17,7 @@ struct SceneRequest {
   std::optional<glm::vec3> eye, target; // explicit camera (both or neither)
   std::optional<float> fovDegrees;      // vertical field of view
   std::optional<glm::vec3> lightToward; // --light-dir: the direction toward the light (any length > 0)
+  bool skipBlendMaterials = false;      // --blend-materials skip: leave alphaMode BLEND primitives out
 };
 
 struct SharedSceneInfo {

@@ -656,6 +656,8 @@ const std::vector<BadCase> kBadCases = {
     {"DisableLevelFour", renderArgs("builtin:demo", {"--disable-level", "4"}), "--disable-level 4"},
     {"EyeWithoutTarget", renderArgs("builtin:demo", {"--eye", "0,1,5"}), "--target"},
     {"EyeMalformed", renderArgs("builtin:demo", {"--eye", "1,2", "--target", "0,0,0"}), "--eye 1,2"},
+    {"BlendMaterialsUnknown", renderArgs("builtin:demo", {"--blend-materials", "glass"}),
+     "--blend-materials glass: expected opaque or skip"},
     {"LightDirZero", renderArgs("builtin:demo", {"--light-dir", "0,0,0"}), "--light-dir: needs a direction of non-zero length"},
     {"LightDirMalformed", renderArgs("builtin:demo", {"--light-dir", "0,1"}), "--light-dir 0,1"},
     {"FovOutOfRange", renderArgs("builtin:demo", {"--fov", "180"}), "--fov"},

@@ -484,5 +484,33 @@ TEST(GltfCompressedTest, SkinsMorphsAndAlphaModesWarnOnceInOneLineEach) {
   EXPECT_NE(err.find("1 materials are alphaMode MASK"), std::string::npos) << err;
 }
 
+// --blend-materials skip leaves BLEND primitives out (a fake light cone, glass); the default
+// draws them opaque. Either way one line says how many there are.
+TEST(GltfCompressedTest, BlendMaterialsAreOpaqueOrSkipped) {
+  GltfBuilder b;
+  const int opaque = b.addMaterial({0.5, 0.5, 0.5, 1.0});
+  const int blend = b.addMaterial({1.0, 1.0, 0.0, 0.29});
+  b.doc["materials"][static_cast<size_t>(blend)]["alphaMode"] = "BLEND";
+  b.addMesh("solid", {b.primitive(kTriangle, kUpNormals, {0, 1, 2}, opaque)});
+  b.addMesh("cone", {b.primitive(kTriangle, kUpNormals, {0, 1, 2}, blend)});
+  b.setRoots({b.addNode({{"mesh", 0}}), b.addNode({{"mesh", 1}, {"translation", {0, 0, -1}}})});
+  const std::string path = b.writeGltf(test::scratchDir(), "blend.gltf");
+  testing::internal::CaptureStderr();
+  const Scene drawn = loadGltf(path);
+  const std::string drawnErr = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(drawn.meshes.size(), 2u);
+  EXPECT_NE(drawnErr.find("1 materials are alphaMode BLEND, rendered opaque"), std::string::npos) << drawnErr;
+  LoadOptions skip;
+  skip.skipBlend = true;
+  testing::internal::CaptureStderr();
+  const Scene skipped = loadGltf(path, skip);
+  const std::string skippedErr = testing::internal::GetCapturedStderr();
+  ASSERT_EQ(skipped.meshes.size(), 1u);
+  expectNear(skipped.meshes[0].baseColor, {0.5f, 0.5f, 0.5f});
+  EXPECT_NE(skippedErr.find("1 materials are alphaMode BLEND, skipped (--blend-materials skip): 1 primitives left out"),
+            std::string::npos)
+      << skippedErr;
+}
+
 }  // namespace
 }  // namespace mrr

@@ -1,5 +1,5 @@
 #pragma once
-// Stage 5 — mask-aware bilateral blur of a sub-image (SPEC §4): taps weighted by a spatial
+// Stage 4 (SSAO) — mask-aware bilateral blur of a sub-image (SPEC §4): taps weighted by a spatial
 // Gaussian × depth similarity × normal similarity × S(q), normalised over valid taps only,
 // so nothing leaks in from a pixel that was not rendered.
 #include "common/image.h"

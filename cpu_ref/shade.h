@@ -1,5 +1,5 @@
 #pragma once
-// Stage 7 — the final shaded image, for viewing (SPEC §6 "Final shaded image"): full-res
+// Stage 6 — the final shaded image, for viewing (SPEC §6 "Final shaded image"): full-res
 // albedo and N·L combined with the effect buffer. Errors are reported on it too.
 #include "common/camera.h"
 #include "common/image.h"

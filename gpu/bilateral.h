@@ -1,5 +1,5 @@
 #pragma once
-// The port's stage 5 (gpu/shaders/bilateral.frag), drawn with the stencil test.
+// The port's stage 4, SSAO's blur (gpu/shaders/bilateral.frag), drawn with the stencil test.
 #include "common/params.h"
 #include "gpu/gbuffer.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// The port's stage 6 (gpu/shaders/blend.frag): one full-res pass per enabled level, coarse to
+// The port's stage 5 (gpu/shaders/blend.frag): one full-res pass per enabled level, coarse to
 // fine, each writing ĉ_ℓ, α_ℓ, c'_ℓ and the level map; read back into the oracle's BlendResult.
 #include <array>
 

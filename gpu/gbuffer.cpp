@@ -293,7 +293,7 @@ void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int he
 void GpuScene::drawFullscreen() const {
   GLint program = 0;
   glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-  glUniform1i(glGetUniformLocation(static_cast<unsigned>(program), "useRects"), 0);
+  glUniform1i(uniform(static_cast<unsigned>(program), "useRects"), 0);
   glBindVertexArray(emptyVao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);

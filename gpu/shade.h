@@ -1,5 +1,5 @@
 #pragma once
-// The port's stage 7 (gpu/shaders/shade.frag), mirroring cpu_ref/shade.cpp: the shaded image
+// The port's stage 6 (gpu/shaders/shade.frag), mirroring cpu_ref/shade.cpp: the shaded image
 // for viewing, drawn from the level-0 G-buffer targets and the final effect buffer on the GPU.
 #include "common/frame.h"
 #include "gpu/gbuffer.h"

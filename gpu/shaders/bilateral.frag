@@ -1,5 +1,5 @@
 #version 330 core
-// Stage 5 — mask-aware bilateral blur of a sub-image (SPEC §4), mirrors cpu_ref/bilateral.cpp:
+// Stage 4 (SSAO) — mask-aware bilateral blur of a sub-image (SPEC §4), mirrors cpu_ref/bilateral.cpp:
 // taps weighted by a spatial Gaussian × depth similarity × normal similarity × S(q),
 // normalised over valid taps. Drawn with the stencil test (S = 1 only).
 uniform sampler2D image;        // the raw sub-image (channel r)

@@ -1,5 +1,5 @@
 #version 330 core
-// Stage 6 — masked-bilinear upsampling and the blend (SPEC §5, the corrected Eq. 1), mirrors
+// Stage 5 — masked-bilinear upsampling and the blend (SPEC §5, the corrected Eq. 1), mirrors
 // cpu_ref/blend.cpp. Two variants of one file:
 //   (default)   one full-res pass per enabled level, coarse to fine; it writes ĉ_ℓ, α_ℓ,
 //               c'_ℓ = α ĉ_ℓ + (1 − α) c'_coarser and the level map (--stages, probe, compare)

@@ -1,5 +1,5 @@
 #version 330 core
-// Stage 7 — the shaded image for viewing (SPEC §6), mirrors cpu_ref/shade.cpp: full-res albedo
+// Stage 6 — the shaded image for viewing (SPEC §6), mirrors cpu_ref/shade.cpp: full-res albedo
 // and N·L combined with the effect buffer. EFFECT is 0 (SSAO), 1 (SSM) or 2 (SSGI), set by
 // the host (gpu/shade.cpp); the sky colour is a shared constant (common/shader_constants.h).
 uniform sampler2D positionHit;  // G-buffer L0: view position, hit in w

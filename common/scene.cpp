@@ -26,6 +26,35 @@ std::string describe(const glm::vec3& v) {
 
 }  // namespace
 
+namespace {
+// i mod n for n > 0, in [0, n), written as cutout.glsl must (GLSL's % is undefined for negatives).
+int positiveModulo(int i, int n) {
+  const int r = (i < 0 ? -i : i) % n;
+  return i < 0 && r != 0 ? n - r : r;
+}
+}  // namespace
+
+int cutoutTexel(float t, int n, Wrap wrap) {
+  // 1. the texel holding t·n, as a whole number kept well inside int's range (NaN: texel 0)
+  const float f = std::floor(t * static_cast<float>(n));
+  const int i = f == f ? static_cast<int>(std::clamp(f, -16777216.0f, 16777216.0f)) : 0;
+  // 2. wrapped into [0, n)
+  switch (wrap) {
+    case Wrap::Clamp: return std::clamp(i, 0, n - 1);
+    case Wrap::Mirror: {
+      const int k = positiveModulo(i, 2 * n);  // period 2n: forward, then backward
+      return k < n ? k : 2 * n - 1 - k;
+    }
+    case Wrap::Repeat:
+    default: return positiveModulo(i, n);
+  }
+}
+
+bool Cutout::opaqueAt(float s, float t) const {
+  const int x = cutoutTexel(s, width, wrapS), y = cutoutTexel(t, height, wrapT);
+  return opaque[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] != 0;
+}
+
 Bounds Scene::bounds() const {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   glm::vec3 lo{kInf}, hi{-kInf};
@@ -102,6 +131,21 @@ void validateScene(const Scene& scene, const std::string& source) {
                                              describe(mesh.normals[v]));
     }
     require(isFinite(mesh.baseColor), what + " has a non-finite base colour");
+    if (mesh.cutout >= 0) {
+      require(static_cast<size_t>(mesh.cutout) < scene.cutouts.size(),
+              what + " uses cutout " + std::to_string(mesh.cutout) + " of " + std::to_string(scene.cutouts.size()));
+      const Cutout& c = scene.cutouts[static_cast<size_t>(mesh.cutout)];
+      require(c.width > 0 && c.height > 0 &&
+                  c.opaque.size() == static_cast<size_t>(c.width) * static_cast<size_t>(c.height),
+              what + ": its cutout has " + std::to_string(c.opaque.size()) + " texels for " +
+                  std::to_string(c.width) + "x" + std::to_string(c.height));
+      require(mesh.texcoords.size() == vertexCount, what + " has " + std::to_string(mesh.texcoords.size()) +
+                                                        " texture coordinates for " + std::to_string(vertexCount) +
+                                                        " positions");
+      for (size_t v = 0; v < vertexCount; ++v)
+        require(std::isfinite(mesh.texcoords[v].x) && std::isfinite(mesh.texcoords[v].y),
+                what + " vertex " + std::to_string(v) + " has a non-finite texture coordinate");
+    }
     for (size_t i = 0; i < mesh.indices.size(); ++i) {
       require(mesh.indices[i] < vertexCount,
               what + " index " + std::to_string(mesh.indices[i]) + " (at " + std::to_string(i) +

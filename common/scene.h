@@ -1,7 +1,8 @@
 #pragma once
 // The scene model: only what the effects need (brief: "model no more than a scene needs").
-// Triangles with per-vertex normals and one base colour per mesh, one directional light,
-// and cameras. Everything is in world space once loaded; node transforms are baked in.
+// Triangles with per-vertex normals and one base colour per mesh, alpha cutouts (which are
+// visibility), one directional light, and cameras. Everything is in world space once loaded;
+// node transforms are baked in.
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -12,12 +13,32 @@
 
 namespace mrr {
 
+// How a texture coordinate outside [0, 1) finds its texel (glTF sampler wrapS / wrapT).
+enum class Wrap { Repeat, Clamp, Mirror };
+
+// An alpha cutout (glTF alphaMode MASK): visibility, not colour. Which texels of the base-colour
+// texture are opaque, alpha = the factor's alpha × the texel's alpha ≥ alphaCutoff, decided once
+// on the host so both paths read the same bits. Sampled nearest (docs/spec.md §1.1).
+struct Cutout {
+  int width = 0, height = 0;
+  std::vector<uint8_t> opaque;  // width × height, 1 = opaque; row 0 is the image's first row (v = 0)
+  Wrap wrapS = Wrap::Repeat, wrapT = Wrap::Repeat;
+
+  bool opaqueAt(float s, float t) const;  // the texel cutoutTexel addresses
+};
+
+// The texel index along one axis of n texels for texture coordinate t, nearest (docs/spec.md
+// §1.1): i = floor(t·n), then wrapped. gpu/shaders/cutout.glsl is the same function.
+int cutoutTexel(float t, int n, Wrap wrap);
+
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;  // world space
   std::vector<glm::vec3> normals;    // world space, unit length, one per position
   std::vector<uint32_t> indices;     // three per triangle, counter-clockwise seen from the front
   glm::vec3 baseColor{0.8f};         // linear RGB albedo in [0,1]
+  int cutout = -1;                   // index into Scene::cutouts, or -1: opaque
+  std::vector<glm::vec2> texcoords;  // one per position when cutout >= 0, else empty
 };
 
 struct DirectionalLight {
@@ -36,6 +57,7 @@ struct Scene {
   std::string name;    // "builtin:plane", or the file's path
   std::string credit;  // attribution line to show wherever a rendering is published
   std::vector<Mesh> meshes;
+  std::vector<Cutout> cutouts;  // shared by the meshes that use them
   DirectionalLight light;
   bool hasLight = false;        // false: `light` is the default
   std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty

@@ -243,6 +243,13 @@ class Loader {
            std::to_string(morphed_) + " primitives with morph targets): rendered in the bind pose");
     warnAlphaModes();
     scene_.name = path_;
+    scene_.facts.extensionsRequired = model_.extensionsRequired;
+    scene_.facts.extensionsUsed = model_.extensionsUsed;
+    for (const tinygltf::Material& material : model_.materials) {
+      scene_.facts.maskMaterials += material.alphaMode == "MASK";
+      scene_.facts.blendMaterials += material.alphaMode == "BLEND";
+      scene_.facts.opaqueMaterials += material.alphaMode != "MASK" && material.alphaMode != "BLEND";
+    }
     return std::move(scene_);
   }
 

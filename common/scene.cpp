@@ -188,6 +188,162 @@ Camera frameBounds(const Bounds& bounds, float yfovRadians) {
   return camera;
 }
 
+namespace {
+
+// Whether the ray o + t·d (t > 0) meets triangle abc (Möller–Trumbore), and where.
+bool rayMeetsTriangle(const glm::vec3& o, const glm::vec3& d, const glm::vec3& a, const glm::vec3& b,
+                      const glm::vec3& c, float& t) {
+  const glm::vec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
+  const float det = glm::dot(e1, p);
+  if (std::fabs(det) < 1e-20f) return false;
+  const float inv = 1.0f / det;
+  const glm::vec3 s = o - a;
+  const float u = glm::dot(s, p) * inv;
+  if (u < 0.0f || u > 1.0f) return false;
+  const glm::vec3 q = glm::cross(s, e1);
+  const float v = glm::dot(d, q) * inv;
+  if (v < 0.0f || u + v > 1.0f) return false;
+  t = glm::dot(e2, q) * inv;
+  return t > 0.0f && std::isfinite(t);
+}
+
+// A triangle by its corners.
+struct Triangle {
+  glm::vec3 a, b, c;
+};
+
+// Every triangle, or only the `largest` of them by area (walls and floors, not the furniture).
+std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX) {
+  std::vector<std::pair<float, Triangle>> all;
+  for (const Mesh& mesh : scene.meshes)
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      const Triangle tri{mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]],
+                         mesh.positions[mesh.indices[t + 2]]};
+      all.push_back({glm::length(glm::cross(tri.b - tri.a, tri.c - tri.a)), tri});
+    }
+  if (all.size() > largest) {
+    std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(largest), all.end(),
+                     [](const auto& x, const auto& y) { return x.first > y.first; });
+    all.resize(largest);
+  }
+  std::vector<Triangle> out;
+  out.reserve(all.size());
+  for (const auto& [area, tri] : all) out.push_back(tri);
+  return out;
+}
+
+// The nearest hit along each of `directions` from `origin` (infinity: none). Brute force over
+// the triangles: a few hundred rays, once per run, where the oracle's BVH is not at hand.
+std::vector<float> castFrom(const std::vector<Triangle>& tris, const glm::vec3& origin,
+                            const std::vector<glm::vec3>& directions) {
+  std::vector<float> nearest(directions.size(), std::numeric_limits<float>::infinity());
+  for (const Triangle& tri : tris)
+    for (size_t i = 0; i < directions.size(); ++i) {
+      float hit = 0.0f;
+      if (rayMeetsTriangle(origin, directions[i], tri.a, tri.b, tri.c, hit)) nearest[i] = std::min(nearest[i], hit);
+    }
+  return nearest;
+}
+
+}  // namespace
+
+namespace {
+
+// The eye on the ray centre + back·t at which every vertex is inside the frame: the camera
+// looks at `centre` along −back, Y up, with the fields of view a 5% margin leaves.
+glm::vec3 fittedEye(const Scene& scene, const glm::vec3& centre, const glm::vec3& back, const Camera& camera,
+                    float aspect) {
+  constexpr float kMargin = 1.05f;
+  const glm::vec3 right = glm::normalize(glm::cross(camera.up, back)), up = glm::cross(back, right);
+  const float tanV = std::tan(0.5f * camera.yfov) / kMargin;
+  const float tanH = tanV * (std::isfinite(aspect) && aspect > 0.0f ? aspect : 16.0f / 9.0f);
+  float distance = 0.0f;
+  for (const Mesh& mesh : scene.meshes)
+    for (const glm::vec3& p : mesh.positions) {
+      const glm::vec3 d = p - centre;
+      const float x = glm::dot(d, right), y = glm::dot(d, up), z = glm::dot(d, back);
+      distance = std::max({distance, z + std::fabs(x) / tanH, z + std::fabs(y) / tanV});
+    }
+  const float sphere = glm::length(camera.eye - camera.target);  // frameBounds' distance
+  return centre + back * (std::isfinite(distance) && distance > 1e-3f * sphere && distance < sphere ? distance : sphere);
+}
+
+// The 26 directions to the neighbours of a cell in a 3×3×3 block, unit length.
+std::vector<glm::vec3> neighbourDirections() {
+  std::vector<glm::vec3> out;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        if (x || y || z) out.push_back(glm::normalize(glm::vec3(x, y, z)));
+  return out;
+}
+
+}  // namespace
+
+Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
+  constexpr int kEnclosedAt = 24;  // of 26 directions
+  Framing out;
+  out.camera = frameBounds(scene.bounds(), yfovRadians);
+  const glm::vec3 centre = out.camera.target;
+  const std::vector<glm::vec3> directions = neighbourDirections();
+  std::vector<glm::vec3> level;  // the 8 directions with y = 0
+  for (const glm::vec3& d : directions)
+    if (d.y == 0.0f) level.push_back(d);
+  // 1. is the centre enclosed?
+  const std::vector<Triangle> all = triangles(scene);
+  const std::vector<float> hits = castFrom(all, centre, directions);
+  for (float h : hits) out.enclosedDirections += std::isfinite(h);
+  if (out.enclosedDirections < kEnclosedAt) {
+    // 2. an object: from the front-above diagonal, fitted to the frame
+    out.camera.eye = fittedEye(scene, centre, glm::normalize(out.camera.eye - centre), out.camera, aspect);
+    return out;
+  }
+  out.interior = true;
+  // 3. an enclosure open on one level side (a Cornell box): look in through the opening
+  const std::vector<float> around = castFrom(all, centre, level);
+  for (size_t i = 0; i < level.size(); ++i)
+    if (!std::isfinite(around[i]) && level[i].x * level[i].z == 0.0f) {
+      const glm::vec3 back = glm::normalize(level[i] + glm::vec3(0.0f, 0.25f, 0.0f));
+      out.camera.eye = fittedEye(scene, centre, back, out.camera, aspect);
+      return out;
+    }
+  // 4. a closed interior: from the candidate eye with the most clearance among the large
+  // surfaces (a 6×6 grid over the bounds at 0.4 of their height), along the level direction
+  // with the farthest surface, from near the surface behind: the most of the room in view
+  const std::vector<Triangle> large = triangles(scene, 4096);
+  const Bounds b = scene.bounds();
+  float clearance = -1.0f;
+  glm::vec3 eye = centre;
+  std::vector<float> view;
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 6; ++k) {
+      const glm::vec3 candidate(b.lo.x + (b.hi.x - b.lo.x) * (static_cast<float>(i) + 0.5f) / 6.0f,
+                                b.lo.y + 0.4f * (b.hi.y - b.lo.y),
+                                b.lo.z + (b.hi.z - b.lo.z) * (static_cast<float>(k) + 0.5f) / 6.0f);
+      const std::vector<float> around = castFrom(large, candidate, directions);
+      if (std::count_if(around.begin(), around.end(), [](float h) { return std::isfinite(h); }) < kEnclosedAt)
+        continue;  // outside, or in the open
+      std::vector<float> room;
+      for (const glm::vec3& d : level) room.push_back(around[static_cast<size_t>(std::find(directions.begin(), directions.end(), d) - directions.begin())]);
+      const float nearest = *std::min_element(room.begin(), room.end());
+      if (std::isfinite(nearest) && nearest > clearance) {
+        clearance = nearest;
+        eye = candidate;
+        view = room;
+      }
+    }
+  if (view.empty()) view = castFrom(large, centre, level);
+  size_t best = 0;
+  for (size_t i = 0; i < level.size(); ++i)
+    if (std::isfinite(view[i]) && (!std::isfinite(view[best]) || view[i] > view[best])) best = i;
+  const glm::vec3 d = level[best];
+  float behind = view[std::find(level.begin(), level.end(), -d) - level.begin()];
+  if (!std::isfinite(behind)) behind = 0.0f;
+  out.camera.eye = eye - d * (0.9f * behind);
+  out.camera.target = out.camera.eye + d;
+  return out;
+}
+
 void flipUp(Scene& scene) {
   for (Mesh& mesh : scene.meshes) {
     for (glm::vec3& p : mesh.positions) p = rotateX180(p);

@@ -53,6 +53,12 @@ struct Bounds {
   float diagonal() const { return glm::length(hi - lo); }
 };
 
+// What the file said beside the geometry, for `mrr info`; nothing renders from it.
+struct SceneFacts {
+  std::vector<std::string> extensionsRequired, extensionsUsed;
+  int opaqueMaterials = 0, maskMaterials = 0, blendMaterials = 0;
+};
+
 struct Scene {
   std::string name;    // "builtin:plane", or the file's path
   std::string credit;  // attribution line to show wherever a rendering is published
@@ -61,6 +67,7 @@ struct Scene {
   DirectionalLight light;
   bool hasLight = false;        // false: `light` is the default
   std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty
+  SceneFacts facts;
 
   Bounds bounds() const;
   size_t triangleCount() const;
@@ -74,8 +81,22 @@ void computeVertexNormals(Mesh& mesh);
 // range, at least one non-degenerate triangle. Throws MrrError naming `source`.
 void validateScene(const Scene& scene, const std::string& source);
 
-// A camera that frames the bounds: looks at the centre from the front-above diagonal.
+// A camera that frames the bounds: looks at the centre from the front-above diagonal, far
+// enough that the bounds' sphere fits the vertical field of view.
 Camera frameBounds(const Bounds& bounds, float yfovRadians);
+
+// The default view of a scene that brings no camera (issue 19):
+// - an interior (the bounds' centre is enclosed: rays from it meet geometry in at least 24 of
+//   26 directions) is seen from that centre, looking along the level direction with the most
+//   room;
+// - anything else from the front-above diagonal, as frameBounds, but at the distance where its
+//   vertices just fit an image of this aspect (W/H) with a 5% margin, so it fills the frame.
+struct Framing {
+  Camera camera;
+  bool interior = false;
+  int enclosedDirections = 0;  // of 26
+};
+Framing frameScene(const Scene& scene, float yfovRadians, float aspect);
 
 // Rotates the scene 180° about the X axis: for files authored with Y down (the arcade).
 // A rotation, not a mirror, so winding and handedness are kept.

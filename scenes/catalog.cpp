@@ -63,19 +63,26 @@ ResolvedScene resolveScene(const SceneRequest& request) {
     require(request.eye && request.target, "--eye and --target must be given together");
     out.camera = Camera{*request.eye, *request.target, {0, 1, 0}, fov};
     require(glm::length(out.camera.target - out.camera.eye) > 0.0f, "--eye and --target coincide");
+    out.cameraSource = "--eye/--target";
     return out;
   }
   std::vector<Camera> cameras = out.scene.cameras;
+  const std::string from = cameras.empty() ? "of the scene catalogue" : "of the file";
   if (cameras.empty()) cameras = catalogCameras;
   if (request.cameraIndex) {
     const int i = *request.cameraIndex;
     require(i >= 0 && i < static_cast<int>(cameras.size()),
             "--camera " + std::to_string(i) + ": the scene has " + std::to_string(cameras.size()) + " camera(s)");
     out.camera = cameras[static_cast<size_t>(i)];
+    out.cameraSource = "camera " + std::to_string(i) + " " + from;
   } else if (!cameras.empty()) {
     out.camera = cameras.front();
+    out.cameraSource = "camera 0 " + from;
   } else {
-    out.camera = frameBounds(out.scene.bounds(), fov);
+    const Framing framing = frameScene(out.scene, fov, request.aspect);
+    out.camera = framing.camera;
+    out.cameraSource = framing.interior ? "default framing: inside, the scene encloses its centre"
+                                        : "default framing: from outside, fitted to the frame";
   }
   if (request.fovDegrees) out.camera.yfov = fov;
   return out;

@@ -308,7 +308,7 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
       return out;
     }
   // 4. a closed interior: from the candidate eye with the most clearance among the large
-  // surfaces (a 6×6 grid over the bounds at 0.4 of their height), along the level direction
+  // surfaces (a 6×6 grid over the bounds at about 0.4 of their height), along the level direction
   // with the farthest surface, from near the surface behind: the most of the room in view
   const std::vector<Triangle> large = triangles(scene, 4096);
   const Bounds b = scene.bounds();
@@ -317,9 +317,11 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
   std::vector<float> view;
   for (int i = 0; i < 6; ++i)
     for (int k = 0; k < 6; ++k) {
-      const glm::vec3 candidate(b.lo.x + (b.hi.x - b.lo.x) * (static_cast<float>(i) + 0.5f) / 6.0f,
-                                b.lo.y + 0.4f * (b.hi.y - b.lo.y),
-                                b.lo.z + (b.hi.z - b.lo.z) * (static_cast<float>(k) + 0.5f) / 6.0f);
+      // (odd fractions: an eye exactly in the plane of a wall or floor of a tidy or quantized
+      // file would see it edge-on, where ray casting and rasterisation disagree)
+      const glm::vec3 candidate(b.lo.x + (b.hi.x - b.lo.x) * (static_cast<float>(i) + 0.4871f) / 6.0f,
+                                b.lo.y + 0.4129f * (b.hi.y - b.lo.y),
+                                b.lo.z + (b.hi.z - b.lo.z) * (static_cast<float>(k) + 0.5133f) / 6.0f);
       const std::vector<float> around = castFrom(large, candidate, directions);
       if (std::count_if(around.begin(), around.end(), [](float h) { return std::isfinite(h); }) < kEnclosedAt)
         continue;  // outside, or in the open

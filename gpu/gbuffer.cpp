@@ -361,7 +361,8 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   glUniform4f(uniform(program, "projection"), 2.0f * view.focal / wp, 2.0f * view.cx / wp - 1.0f,
               -2.0f * view.focal / hp, 2.0f * view.cy / hp - 1.0f);
   glUniform2f(uniform(program, "depthMapping"), -(farZ + nearZ) / (farZ - nearZ),
-              -2.0f * farZ * nearZ / (farZ - nearZ));
+              -2.0f * farZ * nearZ / (farZ - nearZ));  // clipping only: the fragment writes linear depth
+  glUniform1f(uniform(program, "farDepth"), farZ);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);

@@ -5,6 +5,7 @@ in vec3 viewNormal;
 in vec2 surfaceTexcoord;
 #include "cutout.glsl"
 uniform vec3 albedo;
+uniform float farDepth;  // the linear depth that maps to 1 in the depth buffer
 layout(location = 0) out vec4 outPositionHit;  // view-space position, hit = 1
 layout(location = 1) out vec4 outNormalDepth;  // view-space normal, linear depth z = −p.z
 layout(location = 2) out vec4 outAlbedo;
@@ -18,4 +19,8 @@ void main() {
   outPositionHit = vec4(viewPosition, 1.0);
   outNormalDepth = vec4(n, -viewPosition.z);
   outAlbedo = vec4(albedo, 1.0);
+  // 2. the depth test orders surfaces by linear depth (uniform precision from the eye out), not
+  // by the projection's 1/z, whose precision near a close near plane (a camera inside a room)
+  // is too coarse to order a picture and the wall behind it
+  gl_FragDepth = -viewPosition.z / farDepth;
 }

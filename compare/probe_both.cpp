@@ -100,7 +100,10 @@ std::string ruleFor(const std::string& key, const std::string& effect) {
   if (starts("gbuffer.depth") || starts("gbuffer.position")) return "gbuffer.depth";
   if (starts("gbuffer.normal")) return "gbuffer.normal";
   if (starts("gbuffer.albedo")) return "gbuffer.albedo";
-  if (starts("edges.")) return "edges";
+  auto ends = [&](const std::string& suffix) {
+    return key.size() >= suffix.size() && key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (starts("edges.")) return ends(".edge") || key == "edges.E" ? "edges" : "";  // the measures: exact
   if (starts(partName(Part::Final))) return partName(Part::Final);
   if (!starts("L")) return "";
   const std::string field = key.substr(key.find('.') + 1);
@@ -108,7 +111,7 @@ std::string ruleFor(const std::string& key, const std::string& effect) {
   if (is("M") || is("S")) return "stencil";
   if (is("alpha") || is("a_hat") || is("c_hat") || is("composite")) return partName(Part::Final);
   if (is("a")) return "alpha.same_input";
-  if (is("c_raw") || is(effect) || is("c")) return effect;
+  if (field == "c_raw" || field == "c") return effect;  // the effect's own terms (counts, angles): exact
   return "";  // taps: positions and weights, exact
 }
 
@@ -200,7 +203,9 @@ std::string formatProbeSideBySide(const json& o, const json& p, const std::strin
       marked = true;
     }
     char tol[96];
-    if (r.rule.empty())
+    if (r.rule.empty() && r.oracleValue.is_number())
+      std::snprintf(tol, sizeof tol, "exact (rel %.0e)", kProbeRelativeDifference);  // "parted" (common/tolerance.h)
+    else if (r.rule.empty())
       std::snprintf(tol, sizeof tol, "%s", "exact");
     else
       std::snprintf(tol, sizeof tol, "%.3g <= %.3g (%s)", r.delta, r.threshold, r.rule.c_str());

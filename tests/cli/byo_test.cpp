@@ -119,6 +119,29 @@ TEST(ShadersDir, UnchangedExportPassesEveryEffect) {
   EXPECT_EQ(lastLine(r.out).rfind("PASS", 0), 0u) << r.out;
 }
 
+// Exported unchanged, the port computes the same bits as with its built-in shaders.
+TEST(ShadersDir, UnchangedExportRendersTheSameStages) {
+  const std::string dir = test::scratchDir();
+  REQUIRE_GL(dir);
+  const std::string shaders = exportShaders(dir);
+  for (const std::string effect : {"ssao", "ssm", "ssgi"}) {
+    std::vector<std::vector<ExrPart>> frames;
+    for (const bool own : {false, true}) {
+      const std::string file = (fs::path(dir) / (effect + (own ? "-own.exr" : "-builtin.exr"))).string();
+      std::vector<std::string> args = {"render", "--scene", "builtin:boxes", "--path", "gpu", "--effect", effect,
+                                       "--size", "96x54", "--samples", "16", "--shadow-map-size", "512", "-q",
+                                       "--stages", file};
+      if (own) args.insert(args.end(), {"--shaders", shaders});
+      const Ran r = mrr(args, dir);
+      ASSERT_EQ(r.status, 0) << r.err;
+      frames.push_back(readParts(file));
+    }
+    ASSERT_EQ(frames[0].size(), frames[1].size()) << effect;
+    for (size_t i = 0; i < frames[0].size(); ++i)
+      EXPECT_TRUE(frames[0][i].image.data == frames[1][i].image.data) << effect << ": " << frames[0][i].name;
+  }
+}
+
 // An output scaled by a few per cent: the stage that was edited fails, and is named last.
 TEST(ShadersDir, ScaledSsaoOutputFailsAtRaw) {
   const std::string dir = test::scratchDir();
@@ -326,6 +349,43 @@ TEST(ProbeBoth, AgainstAndShadersShowTolerances) {
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("shaders from " + shaders + ": ssao.frag"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("(ssao)"), std::string::npos) << r.out;
+}
+
+// ---- examples/ (docs/validate-your-own.md): each one's verdict and the stage it names ----
+
+std::string example(const std::string& name) { return (fs::path(MRR_SOURCE_DIR) / "examples" / name).string(); }
+
+TEST(Examples, RewrittenSsaoPasses) {
+  const std::string dir = test::scratchDir();
+  REQUIRE_GL(dir);
+  const Ran r = mrr(compareArgs("ssao", {"--shaders", example("ssao-rewritten")}), dir);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.err.find("ssao-rewritten: ssao.frag (built in: the rest)"), std::string::npos) << r.err;
+  EXPECT_EQ(lastLine(r.out), "PASS: every stage within tolerance") << r.out;
+}
+
+TEST(Examples, PaperBlendIndexFailsAtTheComposite) {
+  const std::string dir = test::scratchDir();
+  REQUIRE_GL(dir);
+  const Ran r = mrr(compareArgs("ssao", {"--shaders", example("blend-paper-index")}), dir);
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_EQ(lastLine(r.out).rfind("FAIL: first failing stage composite.L", 0), 0u) << r.out;
+}
+
+TEST(Examples, ForeignRendererScriptIsNamedByCompare) {
+  const std::string dir = test::scratchDir();
+  if (std::system("/usr/bin/python3 -c 'import OpenImageIO, numpy' 2>/dev/null") != 0)
+    GTEST_SKIP() << "no python3-openimageio/python3-numpy for /usr/bin/python3 (scripts/install-deps.sh installs them)";
+  const std::string stages = oracleStages(dir);
+  for (const auto& [bug, stage] : {std::pair<std::string, std::string>{"edges", "edges.depth"}, {"raw", "raw.L0"}}) {
+    const std::string altered = (fs::path(dir) / (bug + ".exr")).string();
+    const std::string cmd = "/usr/bin/python3 " + quote(example("foreign_renderer.py")) + " " + quote(stages) + " " +
+                            quote(altered) + " --bug " + bug + " --samples 8 >/dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const Ran r = mrr(with({"compare", "--against", altered}, kFrame), dir);
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_EQ(lastLine(r.out), "FAIL: first failing stage " + stage) << bug << "\n" << r.out;
+  }
 }
 
 }  // namespace

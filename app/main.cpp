@@ -302,7 +302,9 @@ int runCompare(FrameOptions& fo, const std::string& reportDir, const std::string
                                   ? rs.scene.name
                                   : fo.scene + " (" + std::filesystem::path(rs.scene.name).filename().string() + ")";
     if (!against.empty()) command += " --against " + against;
-    writeCompareReport(reportDir, {label, rs.scene.credit, portName, command}, compared);
+    CompareReportInfo info{label, rs.scene.credit, portName, command};
+    if (!against.empty()) info.subject = against + " (another renderer's stages)";
+    writeCompareReport(reportDir, info, compared);
     if (!fo.quiet) std::cerr << "[mrr] wrote " << (std::filesystem::path(reportDir) / "index.html").string() << "\n";
   }
   return pass ? 0 : 1;

@@ -287,8 +287,9 @@ int runCompare(FrameOptions& fo, const std::string& reportDir, const std::string
               << notChecked << formatParityTable(result);
     pass = pass && result.pass();
     if (!reportDir.empty()) {
-      std::string probe = "mrr probe --path both " + (against.empty() ? "" : "--against " + against + " ") + "--scene " + fo.scene + " --effect " + toString(s.effect) + " --method " +
-                          toString(s.mode) + " --size " + fo.size + " --samples " + std::to_string(k.samples());
+      std::string probe = "mrr probe --path both " + (against.empty() ? "" : "--against " + against + " ") + "--scene " +
+                          fo.scene + " --effect " + toString(s.effect) + " --method " + toString(s.mode) + " --size " +
+                          fo.size + " --samples " + std::to_string(k.samples());
       compared.push_back({toString(s.effect), oracle.get(), ported.get(), std::move(result), probe});
       kept.push_back(std::move(oracle));
       kept.push_back(std::move(ported));
@@ -614,6 +615,7 @@ int run(int argc, char** argv) {
   if (!againstFile.empty()) {
     require(fo.path == "both", "--against " + againstFile + ": probe compares the file's stages with the oracle: add --path both");
     checkForeignStagesFile(againstFile, fo.effect);
+    fo.neverSlowerDefault = false;  // as compare: the stages of every level, as `render --never-slower off` writes them
   }
   const Settings settings = fo.settings();
   require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");

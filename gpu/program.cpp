@@ -93,6 +93,24 @@ ShaderDirectory loadShaderDirectory(const std::string& dir) {
 
 void clearShaderDirectory() { overrides() = {}; }
 
+std::string locateShaderError(const std::string& log, const std::vector<std::string>& sourceFiles) {
+  static const std::regex mesa(R"(^\s*(\d+):(\d+)\(\d+\): error: (.*)$)");
+  static const std::regex nvidia(R"(^\s*(\d+)\((\d+)\) : error \w*:? ?(.*)$)");
+  static const std::regex other(R"(^\s*ERROR: (\d+):(\d+): (.*)$)");
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia) || std::regex_match(line, m, other)) {
+      const size_t source = std::stoul(m[1].str());
+      const std::string file = source < sourceFiles.size() ? shaderPath(sourceFiles[source]) : "source " + m[1].str();
+      std::string message = m[3].str();
+      while (!message.empty() && (message.back() == '\r' || message.back() == ' ')) message.pop_back();
+      return file + ":" + m[2].str() + ": " + message;
+    }
+  }
+  return {};
+}
+
 std::string sharedConstantsGlsl() {
   std::string text;
   for (const ShaderConstant& k : kShaderConstants) {
@@ -179,27 +197,6 @@ Assembled assemble(const std::string& stage, const std::string& name, const std:
   return a;
 }
 
-// The first error of a driver log as "FILE:LINE: message", the file named through the source
-// strings of `a`. Reads Mesa ("0:42(5): error: msg"), NVIDIA ("0(42) : error C1234: msg") and
-// AMD/others ("ERROR: 0:42: msg"); an unknown format gives an empty string.
-std::string locateError(const std::string& log, const Assembled& a) {
-  static const std::regex mesa(R"(^\s*(\d+):(\d+)\(\d+\): error: (.*)$)");
-  static const std::regex nvidia(R"(^\s*(\d+)\((\d+)\) : error \w*:? ?(.*)$)");
-  static const std::regex other(R"(^\s*ERROR: (\d+):(\d+): (.*)$)");
-  std::istringstream lines(log);
-  for (std::string line; std::getline(lines, line);) {
-    std::smatch m;
-    if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia) || std::regex_match(line, m, other)) {
-      const size_t source = std::stoul(m[1].str());
-      const std::string file = source < a.files.size() ? shaderPath(a.files[source]) : "source " + m[1].str();
-      std::string message = m[3].str();
-      while (!message.empty() && (message.back() == '\r' || message.back() == ' ')) message.pop_back();
-      return file + ":" + m[2].str() + ": " + message;
-    }
-  }
-  return {};
-}
-
 GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type,
                const std::string& defines, Lookup lookup = lookupActive) {
   const GLuint shader = glCreateShader(type);
@@ -215,7 +212,7 @@ GLuint compile(const std::string& stage, const std::string& name, const std::str
     std::vector<char> raw(static_cast<size_t>(std::max(length, 1)));
     glGetShaderInfoLog(shader, length, nullptr, raw.data());
     glDeleteShader(shader);
-    const std::string located = locateError(raw.data(), a);
+    const std::string located = locateShaderError(raw.data(), a.files);
     if (!located.empty()) throw MrrError(located + " (stage " + stage + ": " + name + " does not compile)");
     throw MrrError("gpu: stage " + stage + ": " + shaderPath(name) + " does not compile: " + oneLine(raw.data()));
   }

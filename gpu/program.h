@@ -37,6 +37,12 @@ std::string shaderPath(const std::string& name);
 // every shader's #version line.
 std::string sharedConstantsGlsl();
 
+// The first error of a driver's compile log as "FILE:LINE: message", FILE named through the
+// source-string numbers (`sourceFiles[k]` is source string k, as `#line N k` set it; shown as
+// shaderPath). Reads Mesa ("0:42(5): error: msg"), NVIDIA ("0(42) : error C0000: msg") and
+// AMD's ("ERROR: 0:42: msg"); "" when no line of the log is in one of these forms.
+std::string locateShaderError(const std::string& log, const std::vector<std::string>& sourceFiles);
+
 // Compiles and links; a compile error throws MrrError "FILE:LINE: the driver's message (stage
 // S: NAME does not compile)", FILE:LINE in the file the error is in (an include too); a link
 // error names the stage and the driver's log on one line. A program made with a user's file

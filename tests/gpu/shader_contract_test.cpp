@@ -84,5 +84,17 @@ TEST(ShaderContract, DocumentCoversTheStageListAndEveryFile) {
     EXPECT_NE(md.find("### " + std::string(c.file) + "\n"), std::string::npos) << c.file;
 }
 
+// Driver logs in the three forms, mapped to the file of their source string (no GL needed).
+TEST(ShaderErrors, DriverLogsNameTheFileAndLine) {
+  const std::vector<std::string> files = {"ssao.frag", "common.glsl"};
+  EXPECT_EQ(gpu::locateShaderError("0:42(5): error: syntax error, unexpected ';'\n", files),
+            "gpu/shaders/ssao.frag:42: syntax error, unexpected ';'");
+  EXPECT_EQ(gpu::locateShaderError("1(7) : error C0000: syntax error, unexpected identifier\n", files),
+            "gpu/shaders/common.glsl:7: syntax error, unexpected identifier");
+  EXPECT_EQ(gpu::locateShaderError("WARNING: 0:3: unused\nERROR: 1:12: 'x' : undeclared identifier\n", files),
+            "gpu/shaders/common.glsl:12: 'x' : undeclared identifier");
+  EXPECT_EQ(gpu::locateShaderError("0:1(1): warning: nothing\n", files), "");
+}
+
 }  // namespace
 }  // namespace mrr

@@ -284,7 +284,7 @@ int runCompare(FrameOptions& fo, const std::string& reportDir, const std::string
     std::cout << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
               << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs "
               << (port ? "port (" + port->renderer() + ")" : against) << "\n"
-              << notChecked << formatParityTable(result);
+              << notChecked << formatParityTable(result, port ? "the port's" : "the file's");
     pass = pass && result.pass();
     if (!reportDir.empty()) {
       std::string probe = "mrr probe --path both " + (against.empty() ? "" : "--against " + against + " ") + "--scene " +

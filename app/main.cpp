@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "app/byo.h"
 #include "app/info.h"
 #include "app/options.h"
 #include "common/error.h"
@@ -26,6 +27,7 @@
 #include "common/memory.h"
 #include "compare/bench.h"
 #include "compare/html_report.h"
+#include "compare/against.h"
 #include "compare/parity.h"
 #include "compare/probe_both.h"
 #include "compare/report_python.h"
@@ -225,8 +227,11 @@ void makeReportDir(const std::string& dir) {
 
 // `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
 // Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input.
-int runCompare(FrameOptions& fo, const std::string& reportDir) {
+// With `against` (issue 17): the oracle against another renderer's stages (compare/against.h);
+// the port does not run.
+int runCompare(FrameOptions& fo, const std::string& reportDir, const std::string& against) {
   fo.checkPath();
+  if (!against.empty()) checkForeignStagesFile(against, fo.effect);
   fo.neverSlowerDefault = false;
   std::vector<std::string> effects = {fo.effect};
   if (fo.effect == "all") effects = {"ssao", "ssm", "ssgi"};
@@ -251,8 +256,10 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
   if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const Renderer cpu(rs.scene);
-  const gpu::GpuRenderer port(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
-  if (!fo.quiet) std::cerr << "[mrr] GL renderer: " << port.renderer() << "\n";
+  std::unique_ptr<gpu::GpuRenderer> port;
+  if (against.empty()) port = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
+  const std::string portName = port ? port->renderer() : against;
+  if (!fo.quiet && port) std::cerr << "[mrr] GL renderer: " << port->renderer() << "\n";
   bool pass = true;
   // Frames are kept for the HTML report (two frames with every stage per effect).
   std::vector<std::unique_ptr<FrameResult>> kept;
@@ -262,17 +269,30 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
     const Constants k = makeConstants(s, rs.scene.bounds().diagonal());
     auto oracle =
         std::make_unique<FrameResult>(cpu.render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle"), &costs}));
-    auto ported =
-        std::make_unique<FrameResult>(port.render(rs.camera, k, {true, progressPrinter(fo.quiet, "port"), &costs}));
-    ParityResult result = compareFrames(*oracle, *ported, rs.scene.light);
+    std::unique_ptr<FrameResult> ported;
+    ParityResult result;
+    std::string notChecked;
+    if (port) {
+      ported = std::make_unique<FrameResult>(port->render(rs.camera, k, {true, progressPrinter(fo.quiet, "port"), &costs}));
+      result = compareFrames(*oracle, *ported, rs.scene.light);
+    } else {
+      ForeignStages foreign = readForeignStages(against, *oracle);
+      for (const std::string& n : foreign.ignored)
+        std::cerr << "mrr: warning: --against " << against << ": part " << n << " names no stage; not checked\n";
+      result = compareForeign(*oracle, foreign, rs.scene.light);
+      notChecked = formatNotChecked(foreign);
+      ported = std::make_unique<FrameResult>(std::move(foreign.frame));
+    }
+    if (&s != &settings.front()) std::cout << "\n";  // the last line is the verdict
     std::cout << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
-              << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs port ("
-              << port.renderer() << ")\n"
-              << formatParityTable(result) << "\n";
+              << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs "
+              << (port ? "port (" + port->renderer() + ")" : against) << "\n"
+              << notChecked << formatParityTable(result, port ? "the port's" : "the file's");
     pass = pass && result.pass();
     if (!reportDir.empty()) {
-      std::string probe = "mrr probe --path both --scene " + fo.scene + " --effect " + toString(s.effect) + " --method " +
-                          toString(s.mode) + " --size " + fo.size + " --samples " + std::to_string(k.samples());
+      std::string probe = "mrr probe --path both " + (against.empty() ? "" : "--against " + against + " ") + "--scene " +
+                          fo.scene + " --effect " + toString(s.effect) + " --method " + toString(s.mode) + " --size " +
+                          fo.size + " --samples " + std::to_string(k.samples());
       compared.push_back({toString(s.effect), oracle.get(), ported.get(), std::move(result), probe});
       kept.push_back(std::move(oracle));
       kept.push_back(std::move(ported));
@@ -285,7 +305,10 @@ int runCompare(FrameOptions& fo, const std::string& reportDir) {
     const std::string label = fo.scene == rs.scene.name
                                   ? rs.scene.name
                                   : fo.scene + " (" + std::filesystem::path(rs.scene.name).filename().string() + ")";
-    writeCompareReport(reportDir, {label, rs.scene.credit, port.renderer(), command}, compared);
+    if (!against.empty()) command += " --against " + against;
+    CompareReportInfo info{label, rs.scene.credit, portName, command};
+    if (!against.empty()) info.subject = against + " (another renderer's stages)";
+    writeCompareReport(reportDir, info, compared);
     if (!fo.quiet) std::cerr << "[mrr] wrote " << (std::filesystem::path(reportDir) / "index.html").string() << "\n";
   }
   return pass ? 0 : 1;
@@ -407,6 +430,8 @@ int run(int argc, char** argv) {
   auto* compare = app.add_subcommand("compare", "run the oracle and the GL port on one frame and compare every stage");
   compareOpts.add(*compare);
   compare->add_option("--report", compareReportDir, "also write a self-contained HTML report into this folder");
+  std::string againstFile;
+  for (CLI::App* c : {compare, probe}) addAgainstOption(*c, againstFile);
 
   SceneRequest infoRequest;
   std::string infoSize = "1280x720", infoBlend = "opaque";
@@ -472,11 +497,27 @@ int run(int argc, char** argv) {
                   "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 3 repeats, small sweeps, "
                   "8-frame paths at 96x54, stress scenes at 160x90");
 
+  // Issue 17: the user's own shaders on every command that runs the port, and `mrr shaders`.
+  std::string shaderDir;
+  for (CLI::App* c : {render, probe, compare, bench}) addShadersOption(*c, shaderDir);
+  ShadersCommand shadersCommand;
+  addShadersCommand(app, shadersCommand);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --help-all
     throw usageError(app, e, argc > 1 ? argv[1] : "");
+  }
+
+  if (shadersCommand.command->parsed()) return runShadersCommand(shadersCommand);
+  if (!shaderDir.empty()) {
+    const FrameOptions& f = *render ? renderOpts : *probe ? probeOpts : compareOpts;
+    const bool port = *compare || (*bench && std::count(benchPaths.begin(), benchPaths.end(), "gpu") > 0) ||
+                      ((*render || *probe) && f.path != "cpu");
+    require(port, "--shaders " + shaderDir + ": the shaders are the port's; run it with --path gpu" +
+                      (*bench ? std::string(" (bench: --paths gpu)") : *probe ? " or both" : ""));
+    useShaderDirectory(shaderDir);
   }
 
   if (*bench) {
@@ -586,7 +627,7 @@ int run(int argc, char** argv) {
     return runBench(benchOpts, paths, std::cout);
   }
 
-  if (*compare) return runCompare(compareOpts, compareReportDir);
+  if (*compare) return runCompare(compareOpts, compareReportDir, againstFile);
 
   if (*infoCmd) {
     const auto [w, h] = parseSize(infoSize);
@@ -607,6 +648,11 @@ int run(int argc, char** argv) {
 
   FrameOptions& fo = *render ? renderOpts : probeOpts;
   fo.checkPath(probe->parsed());
+  if (!againstFile.empty()) {
+    require(fo.path == "both", "--against " + againstFile + ": probe compares the file's stages with the oracle: add --path both");
+    checkForeignStagesFile(againstFile, fo.effect);
+    fo.neverSlowerDefault = false;  // as compare: the stages of every level, as `render --never-slower off` writes them
+  }
   const Settings settings = fo.settings();
   require(fo.threads >= 0 && fo.threads <= 1024, "--threads: must be in [0, 1024]");
   std::optional<std::pair<int, int>> probePixelXY;
@@ -650,13 +696,17 @@ int run(int argc, char** argv) {
   std::unique_ptr<gpu::GpuRenderer> port;
   if (fo.path == "both") {  // probe only: the oracle and the port side by side
     const Renderer oracleRenderer(rs.scene);
-    const gpu::GpuRenderer portRenderer(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
+    std::unique_ptr<gpu::GpuRenderer> portRenderer;  // none with --against: the file's stages instead
+    if (againstFile.empty())
+      portRenderer = std::make_unique<gpu::GpuRenderer>(rs.scene, fo.glDevice, gpu::parseGpuTiming(fo.gpuTiming));
     const CostModel costs = fo.costModel("cpu");
     const FrameResult o = oracleRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "oracle"), &costs});
-    const FrameResult p = portRenderer.render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port"), &costs});
+    const FrameResult p = portRenderer ? portRenderer->render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port"), &costs})
+                                       : readForeignStages(againstFile, o).frame;
     const nlohmann::json jo = probePixel(o, probePixelXY->first, probePixelXY->second);
     const nlohmann::json jp = probePixel(p, probePixelXY->first, probePixelXY->second);
-    std::cout << (json ? probeBothJson(jo, jp).dump(2) + "\n" : formatProbeSideBySide(jo, jp, portRenderer.renderer()));
+    const std::string portName = portRenderer ? portRenderer->renderer() : againstFile;
+    std::cout << (json ? probeBothJson(jo, jp).dump(2) + "\n" : formatProbeSideBySide(jo, jp, portName));
     return 0;
   }
   if (fo.path == "gpu") {

@@ -27,6 +27,7 @@ struct CompareReportInfo {
   std::string credit;
   std::string renderer;  // GL_RENDERER of the port
   std::string command;   // the `mrr compare …` command that made the report
+  std::string subject = "the GL port";  // what the oracle is compared with (compare --against: the file)
 };
 
 // Writes DIR/index.html atomically (DIR must exist and be writable). Needs requireReportPython().

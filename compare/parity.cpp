@@ -379,7 +379,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   return result;
 }
 
-std::string formatParityTable(const ParityResult& result) {
+std::string formatParityTable(const ParityResult& result, const std::string& owner) {
   std::string out;
   char line[320];
   std::snprintf(line, sizeof line, "%-20s %-8s  %-24s %9s %10s %8s %10s   %-24s %9s %10s %8s %10s   %s\n", "stage",
@@ -415,7 +415,7 @@ std::string formatParityTable(const ParityResult& result) {
   }
   out += "rules (common/tolerance.h): a check passes when over% <= its allowed share and rms <= its bound; '!' marks a "
          "failed check.\n";
-  out += "UPSTREAM: end to end over its rule while the stage on the port's own inputs passes: inherited, not this "
+  out += "UPSTREAM: end to end over its rule while the stage on " + owner + " own inputs passes: inherited, not this "
          "stage's bug.\n";
   const std::string first = result.firstFailing();
   const int inherited = result.inherited();

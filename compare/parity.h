@@ -100,6 +100,8 @@ struct ParityResult {
 ParityResult compareFrames(const FrameResult& oracle, const FrameResult& port, const DirectionalLight& light);
 
 // The table `mrr compare` prints: one row per stage with the figures, the rule and the verdict.
-std::string formatParityTable(const ParityResult& result);
+// `owner`: whose inputs the same-input checks ran on, for the footnote ("the port's"; compare
+// --against: "the file's").
+std::string formatParityTable(const ParityResult& result, const std::string& owner = "the port's");
 
 }  // namespace mrr

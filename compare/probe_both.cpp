@@ -67,7 +67,74 @@ void flatten(std::vector<ProbeRow>& rows, const std::string& label, const json& 
       flatten(rows, label + "[" + std::to_string(i) + "]", i < a.size() ? a[i] : json(), i < b.size() ? b[i] : json());
     return;
   }
-  rows.push_back({label, show(a), show(b), differs(a, b)});
+  ProbeRow row;
+  row.key = label;
+  row.oracle = show(a);
+  row.port = show(b);
+  row.differs = differs(a, b);
+  row.oracleValue = a;
+  row.portValue = b;
+  rows.push_back(std::move(row));
+}
+
+// The largest |a_i − b_i| over the numbers of two values (arrays elementwise); -1 when they
+// are not both numbers or same-sized arrays of numbers.
+double largestDelta(const json& a, const json& b) {
+  if (a.is_number() && b.is_number()) return std::fabs(a.get<double>() - b.get<double>());
+  if (a.is_array() && b.is_array() && a.size() == b.size() && !a.empty()) {
+    double worst = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      const double d = largestDelta(a[i], b[i]);
+      if (d < 0.0) return -1.0;
+      worst = std::max(worst, d);
+    }
+    return worst;
+  }
+  return -1.0;
+}
+
+// The rule a row's value is judged by, from its key ("gbuffer.depth", "L1.c_raw", "L0.alpha").
+std::string ruleFor(const std::string& key, const std::string& effect) {
+  auto starts = [&](const std::string& prefix) { return key.rfind(prefix, 0) == 0; };
+  if (starts("gbuffer.hit")) return "gbuffer.hit";
+  if (starts("gbuffer.depth") || starts("gbuffer.position")) return "gbuffer.depth";
+  if (starts("gbuffer.normal")) return "gbuffer.normal";
+  if (starts("gbuffer.albedo")) return "gbuffer.albedo";
+  auto ends = [&](const std::string& suffix) {
+    return key.size() >= suffix.size() && key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (starts("edges.")) return ends(".edge") || key == "edges.E" ? "edges" : "";  // the measures: exact
+  if (starts(partName(Part::Final))) return partName(Part::Final);
+  if (!starts("L")) return "";
+  const std::string field = key.substr(key.find('.') + 1);
+  auto is = [&](const std::string& prefix) { return field.rfind(prefix, 0) == 0; };
+  if (is("M") || is("S")) return "stencil";
+  if (is("alpha") || is("a_hat") || is("c_hat") || is("composite")) return partName(Part::Final);
+  if (is("a")) return "alpha.same_input";
+  if (field == "c_raw" || field == "c") return effect;  // the effect's own terms (counts, angles): exact
+  return "";  // taps: positions and weights, exact
+}
+
+// Fills the row's tolerance: |Δ| in the rule's unit against its threshold.
+void judge(ProbeRow& row, const std::string& effect, double oracleDepth) {
+  const json& a = row.oracleValue;
+  const json& b = row.portValue;
+  row.rule = ruleFor(row.key, effect);
+  double d = largestDelta(a, b);
+  if (row.rule.empty() || d < 0.0) {  // no rule, or not numbers: equal or not
+    row.rule.clear();
+    row.within = !row.differs;
+    return;
+  }
+  if (row.rule == "gbuffer.depth") d /= std::max(std::fabs(oracleDepth), 1e-30);  // relative, as compare
+  if (row.rule == "gbuffer.normal" && a.is_array() && b.is_array() && a.size() == 3 && b.size() == 3) {
+    double dot = 0.0;
+    for (size_t i = 0; i < 3; ++i) dot += a[i].get<double>() * b[i].get<double>();
+    d = 1.0 - dot;
+  }
+  row.threshold = tolerance(row.rule).pixelThreshold;
+  row.delta = d;
+  row.within = d <= row.threshold;
 }
 
 // "L2": appended rather than "L" + …, which GCC 12 warns about falsely (-Wrestrict).
@@ -106,6 +173,12 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
     flatten(rows, levelLabel(l), pick(level(lo, l), blendKeys), pick(level(lp, l), blendKeys), blendKeys);
   flatten(rows, "finest_contributing_level", at(o, "finest_contributing_level"), at(p, "finest_contributing_level"));
   flatten(rows, final, at(o, final), at(p, final));
+  // The tolerances, from the values kept in each row.
+  const std::string effect = o.value("effect", std::string());
+  const double depth = o.contains(gbuffer) && o[gbuffer].contains("depth") && o[gbuffer]["depth"].is_number()
+                           ? o[gbuffer]["depth"].get<double>()
+                           : 1.0;
+  for (ProbeRow& r : rows) judge(r, effect, depth);
   return rows;
 }
 
@@ -117,7 +190,8 @@ std::string formatProbeSideBySide(const json& o, const json& p, const std::strin
   size_t width = 24;
   for (const ProbeRow& r : rows) width = std::max(width, r.key.size() + 2);
   char line[512];
-  std::snprintf(line, sizeof line, "%-*s %-28s %-28s\n", static_cast<int>(width), "stage.value", "oracle", "port");
+  std::snprintf(line, sizeof line, "%-*s %-28s %-28s %-34s %s\n", static_cast<int>(width), "stage.value", "oracle",
+                "port", "|d| <= tolerance (rule)", "within");
   out += line;
   bool marked = false;
   int differing = 0;
@@ -128,12 +202,21 @@ std::string formatProbeSideBySide(const json& o, const json& p, const std::strin
       mark = marked ? "  <>" : "  <> first difference";
       marked = true;
     }
-    std::snprintf(line, sizeof line, "%-*s %-28s %-28s%s\n", static_cast<int>(width), r.key.c_str(), r.oracle.c_str(),
-                  r.port.c_str(), mark);
+    char tol[96];
+    if (r.rule.empty() && r.oracleValue.is_number())
+      std::snprintf(tol, sizeof tol, "exact (rel %.0e)", kProbeRelativeDifference);  // "parted" (common/tolerance.h)
+    else if (r.rule.empty())
+      std::snprintf(tol, sizeof tol, "%s", "exact");
+    else
+      std::snprintf(tol, sizeof tol, "%.3g <= %.3g (%s)", r.delta, r.threshold, r.rule.c_str());
+    std::snprintf(line, sizeof line, "%-*s %-28s %-28s %-34s %s%s\n", static_cast<int>(width), r.key.c_str(),
+                  r.oracle.c_str(), r.port.c_str(), tol, r.within ? "yes" : "NO", mark);
     out += line;
   }
+  const long over = std::count_if(rows.begin(), rows.end(), [](const ProbeRow& r) { return !r.within; });
   out += differing == 0 ? "the paths agree at every stage for this pixel\n"
-                        : std::to_string(differing) + " value(s) differ; the first marked is where the paths part\n";
+                        : std::to_string(differing) + " value(s) differ; the first marked is where the paths part; " +
+                              std::to_string(over) + " over their tolerance\n";
   return out;
 }
 
@@ -144,7 +227,9 @@ json probeBothJson(const json& o, const json& p) {
   j["rows"] = json::array();
   j["first_difference"] = nullptr;
   for (const ProbeRow& r : probeSideBySide(o, p)) {
-    j["rows"].push_back({{"key", r.key}, {"oracle", r.oracle}, {"port", r.port}, {"differs", r.differs}});
+    j["rows"].push_back({{"key", r.key}, {"oracle", r.oracle}, {"port", r.port}, {"differs", r.differs},
+                         {"rule", r.rule.empty() ? json() : json(r.rule)}, {"delta", r.delta},
+                         {"threshold", r.threshold}, {"within", r.within}});
     if (r.differs && j["first_difference"].is_null()) j["first_difference"] = r.key;
   }
   return j;

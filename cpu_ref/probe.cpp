@@ -64,6 +64,15 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
                   {"E", e.normal || e.depth || e.background || e.shadow}};
     if (e.lit >= 0)
       j[partName(Part::Edges)]["shadow"] = {{"edge", e.shadow}, {"lit", e.lit}, {"neighbour_differs", e.shadowNeighbourDiffers}};
+    // The measures are the oracle's on the frame's G-buffer; the decisions are the frame's own
+    // edge images (the port's, or another renderer's stages: compare --against).
+    nlohmann::json& je = j[partName(Part::Edges)];
+    const auto own = [&](const ImageU8& image) { return !image.empty() && image.at(x, y) != 0; };
+    je["normal"]["edge"] = own(f.edges.normal);
+    je["depth"]["edge"] = own(f.edges.depth);
+    je["background"]["edge"] = own(f.edges.background);
+    if (je.contains("shadow")) je["shadow"]["edge"] = own(f.edges.shadow);
+    je["E"] = own(f.edges.combined);
   }
 
   nlohmann::json levels = nlohmann::json::array();

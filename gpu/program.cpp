@@ -3,22 +3,112 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <vector>
 
 #include "common/error.h"
 #include "common/shader_constants.h"
+#include "common/shader_contract.h"
 #include "gpu/faults.h"
 #include "gpu/shader_sources.h"
 
 namespace mrr::gpu {
 
-const char* shaderSource(const std::string& name) {
+namespace {
+const char* builtinSource(const std::string& name) {
   for (const ShaderFile& f : kShaderFiles)
     if (name == f.name) return f.text;
   throw MrrError("gpu: no shader named " + name);
+}
+
+// The user's shaders (--shaders DIR): file name → text, read once.
+struct Overrides {
+  std::string dir;
+  std::map<std::string, std::string> texts;
+};
+Overrides& overrides() {
+  static Overrides o;
+  return o;
+}
+}  // namespace
+
+std::vector<std::string> shaderFileNames() {
+  std::vector<std::string> names;
+  for (const ShaderFile& f : kShaderFiles) names.emplace_back(f.name);
+  return names;
+}
+
+const char* shaderSource(const std::string& name) {
+  const auto it = overrides().texts.find(name);
+  if (it != overrides().texts.end()) return it->second.c_str();
+  return builtinSource(name);
+}
+
+const char* builtinShaderSource(const std::string& name) { return builtinSource(name); }
+
+bool shaderOverridden(const std::string& name) { return overrides().texts.count(name) != 0; }
+
+std::string shaderPath(const std::string& name) {
+  if (!shaderOverridden(name)) return "gpu/shaders/" + name;
+  return (std::filesystem::path(overrides().dir) / name).string();
+}
+
+ShaderDirectory loadShaderDirectory(const std::string& dir) {
+  std::error_code ec;
+  require(std::filesystem::is_directory(dir, ec), "--shaders " + dir + ": no such folder");
+  ShaderDirectory result;
+  result.dir = dir;
+  const std::vector<std::string> known = shaderFileNames();
+  std::vector<std::filesystem::path> entries;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) entries.push_back(entry.path());
+  require(!ec, "--shaders " + dir + ": cannot list the folder (" + ec.message() + ")");
+  std::sort(entries.begin(), entries.end());
+  Overrides loaded;
+  loaded.dir = dir;
+  for (const std::filesystem::path& path : entries) {
+    const std::string name = path.filename().string();
+    if (name.empty() || name[0] == '.' || name == "README.md") continue;  // `shaders export` writes README.md
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      result.unknown.push_back(name);
+      continue;
+    }
+    std::ifstream in(path, std::ios::binary);
+    require(in.good() && std::filesystem::is_regular_file(path, ec), "--shaders " + path.string() + ": cannot read the file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    loaded.texts[name] = text.str();
+    result.loaded.push_back(name);
+  }
+  overrides() = std::move(loaded);
+  return result;
+}
+
+void clearShaderDirectory() { overrides() = {}; }
+
+std::string locateShaderError(const std::string& log, const std::vector<std::string>& sourceFiles) {
+  static const std::regex mesa(R"(^\s*(\d+):(\d+)\(\d+\): error: (.*)$)");
+  static const std::regex nvidia(R"(^\s*(\d+)\((\d+)\) : error \w*:? ?(.*)$)");
+  static const std::regex other(R"(^\s*ERROR: (\d+):(\d+): (.*)$)");
+  std::istringstream lines(log);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia) || std::regex_match(line, m, other)) {
+      const size_t source = std::stoul(m[1].str());
+      const std::string file = source < sourceFiles.size() ? shaderPath(sourceFiles[source]) : "source " + m[1].str();
+      std::string message = m[3].str();
+      while (!message.empty() && (message.back() == '\r' || message.back() == ' ')) message.pop_back();
+      return file + ":" + m[2].str() + ": " + message;
+    }
+  }
+  return {};
 }
 
 std::string sharedConstantsGlsl() {
@@ -59,36 +149,160 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
   return oneLine(log.data());
 }
 
-GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type,
-               const std::string& defines) {
-  const GLuint shader = glCreateShader(type);
+// A shader's text as the driver sees it: the includes pasted, each preceded by `#line 1 k`
+// (k: its source-string number) and followed by `#line n 0` back in the file, so a driver log's
+// "k:line" names the file and its own line. `files[k]` is source string k.
+struct Assembled {
+  std::string text;
+  std::vector<std::string> files;
+};
+
+using Lookup = std::string (*)(const std::string& name);
+std::string lookupActive(const std::string& name) { return applyPlantedFault(name, shaderSource(name)); }
+std::string lookupBuiltin(const std::string& name) { return builtinSource(name); }
+
+Assembled assemble(const std::string& stage, const std::string& name, const std::string& text,
+                   const std::string& defines, Lookup lookup) {
   // GLSL 3.30 has no #include: paste gpu/shaders/<file> where a line starts with
   // #include "<file>" (common.glsl, shadowmap.glsl). Pasted text is not searched again.
-  std::string source = text;
-  const std::string include = "\n#include \"";
-  for (size_t at = source.find(include); at != std::string::npos; at = source.find(include, at)) {
-    const size_t start = at + 1, close = source.find('"', start + include.size() - 1);
-    require(close != std::string::npos, "gpu: stage " + stage + ": " + name + ": unterminated #include");
-    const std::string file = source.substr(start + include.size() - 1, close - start - include.size() + 1);
-    const std::string pasted = applyPlantedFault(file, shaderSource(file));
-    source.replace(start, close + 1 - start, pasted);
-    at = start + pasted.size();
+  Assembled a;
+  a.files.push_back(name);
+  const std::string include = "#include \"";
+  size_t start = 0;
+  for (int line = 1; start <= text.size(); ++line) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string content = text.substr(start, end - start);
+    if (content.rfind(include, 0) == 0) {
+      const size_t close = content.find('"', include.size());
+      const std::string where = shaderPath(name) + ":" + std::to_string(line) + ": ";
+      require(close != std::string::npos, where + "unterminated #include (stage " + stage + ")");
+      const std::string file = content.substr(include.size(), close - include.size());
+      const std::vector<std::string> known = shaderFileNames();
+      require(std::find(known.begin(), known.end(), file) != known.end(),
+              where + "#include \"" + file + "\": no such shader (stage " + stage + ")");
+      a.text += "#line 1 " + std::to_string(a.files.size()) + "\n" + lookup(file) + "\n#line " +
+                std::to_string(line + 1) + " 0";
+      a.files.push_back(file);
+    } else {
+      a.text += content;
+    }
+    if (end == text.size()) break;
+    a.text += '\n';
+    start = end + 1;
   }
   // Defines (one "#define X" line each) and the shared constants (common/shader_constants.h)
-  // go right after the #version line.
-  const size_t eol = source.find('\n');
-  source.insert(eol == std::string::npos ? source.size() : eol + 1, defines + sharedConstantsGlsl() + "#line 2\n");  // driver logs keep the file's line numbers
-  const char* sourceText = source.c_str();
+  // go right after the #version line; `#line 2 0` keeps the file's own line numbers.
+  const size_t eol = a.text.find('\n');
+  a.text.insert(eol == std::string::npos ? a.text.size() : eol + 1, defines + sharedConstantsGlsl() + "#line 2 0\n");
+  return a;
+}
+
+GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type,
+               const std::string& defines, Lookup lookup = lookupActive) {
+  const GLuint shader = glCreateShader(type);
+  const Assembled a = assemble(stage, name, text, defines, lookup);
+  const char* sourceText = a.text.c_str();
   glShaderSource(shader, 1, &sourceText, nullptr);
   glCompileShader(shader);
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    const std::string log = infoLog(shader, glGetShaderiv, glGetShaderInfoLog);
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::vector<char> raw(static_cast<size_t>(std::max(length, 1)));
+    glGetShaderInfoLog(shader, length, nullptr, raw.data());
     glDeleteShader(shader);
-    throw MrrError("gpu: stage " + stage + ": " + name + " does not compile: " + log);
+    const std::string located = locateShaderError(raw.data(), a.files);
+    if (!located.empty()) throw MrrError(located + " (stage " + stage + ": " + name + " does not compile)");
+    throw MrrError("gpu: stage " + stage + ": " + shaderPath(name) + " does not compile: " + oneLine(raw.data()));
   }
   return shader;
+}
+
+GLuint link(const std::string& stage, GLuint vs, GLuint fs, const std::string& blame) {
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
+    glDeleteProgram(program);
+    throw MrrError((blame.empty() ? "gpu" : blame) + ": stage " + stage + ": link failed: " + log);
+  }
+  return program;
+}
+
+GLuint compileAndLink(const std::string& stage, const std::string& vertexName, const std::string& vertexText,
+                      const std::string& fragmentName, const std::string& fragmentText, const std::string& defines,
+                      Lookup lookup, const std::string& blame) {
+  const GLuint vs = compile(stage, vertexName, vertexText, GL_VERTEX_SHADER, defines, lookup);
+  GLuint fs = 0;
+  try {
+    fs = compile(stage, fragmentName, fragmentText, GL_FRAGMENT_SHADER, defines, lookup);
+  } catch (...) {
+    glDeleteShader(vs);
+    throw;
+  }
+  return link(stage, vs, fs, blame);
+}
+
+// The files a program is made of: its two shaders and what they include.
+std::vector<std::string> programFiles(const std::string& vertexName, const std::string& vertexText,
+                                      const std::string& fragmentName, const std::string& fragmentText) {
+  std::vector<std::string> files = {fragmentName, vertexName};
+  for (const std::string* text : {&fragmentText, &vertexText}) {
+    static const std::regex include(R"re((^|\n)#include "([^"]+)")re");
+    for (std::sregex_iterator it(text->begin(), text->end(), include), end; it != end; ++it) files.push_back((*it)[2]);
+  }
+  return files;
+}
+
+// A program made with a user's file (--shaders DIR) must offer what the host sets and reads:
+// every uniform the built-in program has active, and every output the built-in writes, at the
+// same location (docs/shader-contract.md). Checked against the built-in program of the same
+// stage and defines; an error names the user's file and what is missing.
+void checkAgainstBuiltin(GLuint program, const std::string& stage, const std::string& vertexName,
+                         const std::string& fragmentName, const std::string& defines, const std::string& blame) {
+  const GLuint reference = compileAndLink(stage, vertexName, builtinSource(vertexName), fragmentName,
+                                          builtinSource(fragmentName), defines, lookupBuiltin, "");
+  std::string missing;
+  GLint count = 0;
+  glGetProgramiv(reference, GL_ACTIVE_UNIFORMS, &count);
+  for (GLint i = 0; i < count && missing.empty(); ++i) {
+    char name[256];
+    GLsizei length = 0;
+    GLint size = 0;
+    GLenum type = 0;
+    glGetActiveUniform(reference, static_cast<GLuint>(i), sizeof name, &length, &size, &type, name);
+    if (glGetUniformLocation(program, name) < 0) {
+      std::string plain(name, static_cast<size_t>(length));
+      if (plain.size() > 3 && plain.compare(plain.size() - 3, 3, "[0]") == 0) plain.resize(plain.size() - 3);
+      const ShaderVariable* v = findShaderVariable(plain);
+      missing = "lacks the uniform " + plain + (v ? " (" + std::string(v->type) + ": " + std::string(v->meaning) + ")" : "") +
+                ", which the host sets";
+    }
+  }
+  if (const ShaderContract* c = shaderContract(fragmentName); c && missing.empty())
+    for (const ShaderVariable& out : c->outputs) {
+      const std::string name(out.name);
+      const GLint want = glGetFragDataLocation(reference, name.c_str());
+      if (want < 0) continue;  // another variant's output
+      const GLint got = glGetFragDataLocation(program, name.c_str());
+      if (got != want) {
+        missing = "lacks the output " + name + " at location " + std::to_string(want) + " (" + std::string(out.type) +
+                  ": " + std::string(out.meaning) + ")" + (got >= 0 ? "; it is at location " + std::to_string(got) : "");
+        break;
+      }
+    }
+  glDeleteProgram(reference);
+  if (!missing.empty()) {
+    glDeleteProgram(program);
+    throw MrrError(blame + ": stage " + stage + ": " + missing + " (docs/shader-contract.md)");
+  }
 }
 }  // namespace
 
@@ -102,27 +316,14 @@ unsigned compileProgram(const std::string& stage, const std::string& vertexName,
 unsigned compileProgramFromSource(const std::string& stage, const std::string& vertexName,
                                   const std::string& vertexText, const std::string& fragmentName,
                                   const std::string& fragmentText, const std::string& defines) {
-  const GLuint vs = compile(stage, vertexName, vertexText, GL_VERTEX_SHADER, defines);
-  GLuint fs = 0;
-  try {
-    fs = compile(stage, fragmentName, fragmentText, GL_FRAGMENT_SHADER, defines);
-  } catch (...) {
-    glDeleteShader(vs);
-    throw;
-  }
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    const std::string log = infoLog(program, glGetProgramiv, glGetProgramInfoLog);
-    glDeleteProgram(program);
-    throw MrrError("gpu: stage " + stage + ": link failed: " + log);
-  }
+  // The user's files among the program's (--shaders DIR), to name in errors.
+  std::string blame;
+  for (const std::string& f : programFiles(vertexName, vertexText, fragmentName, fragmentText))
+    if (shaderOverridden(f) && blame.find(shaderPath(f)) == std::string::npos)
+      blame += (blame.empty() ? "" : ", ") + shaderPath(f);
+  const GLuint program =
+      compileAndLink(stage, vertexName, vertexText, fragmentName, fragmentText, defines, lookupActive, blame);
+  if (!blame.empty()) checkAgainstBuiltin(program, stage, vertexName, fragmentName, defines, blame);
   programStages()[program] = stage;
   return program;
 }

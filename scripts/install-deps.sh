@@ -2,7 +2,8 @@
 # Installs mrr's build and run dependencies on Debian 12 (all from Debian's own packages;
 # python3-matplotlib and python3-jinja2 make the `--report` pages and charts, run with
 # /usr/bin/python3; fonts-dejavu-core labels scripts/make-doc-images.sh's pictures, and
-# matplotlib's data package needs it too).
+# matplotlib's data package needs it too); python3-openimageio and python3-numpy run
+# examples/foreign_renderer.py (docs/validate-your-own.md, tested by tests/cli/byo_test.cpp).
 # `install-deps.sh test` adds what only the tests need: Chromium (the compare report's
 # browser test) and clang with its fuzzer runtime (scripts/fuzz.sh).
 # Safe to run repeatedly; skips apt when every package is already installed.
@@ -15,6 +16,7 @@ pkgs=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   python3-matplotlib python3-jinja2 fonts-dejavu-core
+  python3-openimageio python3-numpy
 )
 if [ "${1:-}" = test ]; then
   pkgs+=(chromium clang libclang-rt-14-dev)

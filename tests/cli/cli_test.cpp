@@ -219,6 +219,8 @@ void writeBadInputs(const std::string& in) {
   const std::string glb = TriangleGltf(kTriangle, {0, 1, 2}).glbBytes();
   writeFile(path("truncated.glb"), glb.substr(0, glb.size() / 2));
   writeFile(path("notgltf.gltf"), R"({"hello": "world", "numbers": [1, 2, 3]})");
+  // an EXR that is not a stages file (compare --against): one part named like no stage
+  writeMultiPartExr(path("beauty.exr"), {{"beauty", ImageF(32, 24, 3, 0.5f), {"R", "G", "B"}}}, 32, 24);
   writeFile(path("badindex.gltf"), TriangleGltf(kTriangle, {0, 1, 7}).gltfText());
   std::vector<float> nan = kTriangle;
   nan[4] = std::numeric_limits<float>::quiet_NaN();
@@ -721,6 +723,20 @@ const std::vector<BadCase> kBadCases = {
      {.env = {"MRR_GPU_FAULT=compile-error"}}, true},
     {"GpuUnknownPlantedFault", renderArgs("builtin:demo", {"--path", "gpu"}), "MRR_GPU_FAULT=nosuch",
      {.env = {"MRR_GPU_FAULT=nosuch"}}, true},
+    // issue 17: the user's shaders (--shaders DIR) and another renderer's stages (--against FILE)
+    {"ShadersMissingFolder", renderArgs("builtin:demo", {"--path", "gpu", "--shaders", "{in}/nosuch"}),
+     "--shaders {in}/nosuch: no such folder"},
+    {"ShadersOnTheOracle", renderArgs("builtin:demo", {"--shaders", "{in}"}), "the shaders are the port's"},
+    {"AgainstMissingFile", {"compare", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                            "--against", "{in}/nosuch.exr"}, "--against {in}/nosuch.exr: no such file or folder"},
+    {"AgainstNotAStagesFile", {"compare", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                               "--against", "{in}/beauty.exr"}, "--against {in}/beauty.exr: not a stages file"},
+    {"AgainstNotAnImage", {"compare", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                           "--against", "{in}/notgltf.gltf"}, "notgltf.gltf"},
+    {"AgainstEveryEffect", {"compare", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                            "--effect", "all", "--against", "{in}/beauty.exr"}, "one effect at a time"},
+    {"ProbeAgainstWithoutBoth", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
+                                 "--pixel", "5,5", "--against", "{in}/beauty.exr"}, "add --path both"},
     // probe
     {"ProbePixelOutside", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q", "--pixel",
                            "32,5"}, "--pixel 32,5"},

@@ -1,0 +1,366 @@
+#include "common/shader_contract.h"
+
+#include <cstdio>
+
+// The table leaves `location` and `variant` out where they do not apply.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+#include "common/stages.h"
+#include "common/tolerance.h"
+
+namespace mrr {
+
+namespace {
+// Textures of the level G-buffer (gbuffer.frag's targets), as most stages read them.
+constexpr ShaderVariable kPositionHit = {"positionHit", "sampler2D RGBA32F",
+                                         "the level's G-buffer: view-space position (xyz), hit in w (1 geometry, 0 sky)"};
+constexpr ShaderVariable kNormalDepth = {"normalDepth", "sampler2D RGBA32F",
+                                         "the level's G-buffer: view-space unit normal (xyz), linear depth z = -p.z in w "
+                                         "(0 on sky)"};
+constexpr ShaderVariable kKernel = {"kernel", "sampler2D RGB32F, N x 1",
+                                    "the host's hemisphere kernel in the tangent frame (common/kernels.h), one texel a sample"};
+constexpr ShaderVariable kSamples = {"samples", "int", "N, the samples per pixel (--samples)"};
+constexpr ShaderVariable kLevel = {"level", "int", "l, the level (0 = full res); seeds the per-pixel hash"};
+constexpr ShaderVariable kInvScale = {"invScale", "float", "1 / s_l, s_l = 2^l the level's scale"};
+constexpr ShaderVariable kCamera = {"camera", "vec3",
+                                    "(focal length, cx, cy) of the full-res image, in full-res pixels"};
+constexpr ShaderVariable kStencilMask = {"stencilMask", "sampler2D R8", "S_l, 1 where the level is shaded"};
+}  // namespace
+
+const std::vector<ShaderContract>& shaderContracts() {
+  static const std::vector<ShaderContract> table = {
+      {"bilateral.frag", "fragment", "bilateral", "",
+       {{"image", "sampler2D R32F", "the raw sub-image c_raw of the level (channel r)"},
+        kStencilMask, kPositionHit, kNormalDepth},
+       {{"radius", "int", "r, the blur's half width in level pixels (at most 8)"},
+        {"spatial", "float[289]", "(2r+1)^2 spatial Gaussian weights, row-major (Constants::Bilateral)"},
+        {"sigmaDepth", "float", "the depth similarity's width, relative to the receiver's depth"},
+        {"normalPower", "float", "p of the normal similarity max(N.N', 0)^p"}},
+       {{"result", "vec4 -> R32F", "c_l, the blurred sub-image in r", 0}},
+       "cpu_ref/bilateral.cpp bilateralBlur: taps weighted by spatial Gaussian x depth similarity x normal similarity "
+       "x S(q), normalised over the valid taps; SSAO only. Drawn with the stencil test."},
+      {"bilateral.glsl", "include", "bilateral, peers.uniform", "", {}, {}, {},
+       "cpu_ref/bilateral.cpp normalSimilarity: max(N_p.N_q, 0)^p by repeated squaring when p is whole."},
+      {"blend.frag", "fragment", "blend, blend.final.*",
+       "FINAL_ONLY: one pass for every level (no per-level images); FINE_LEVELS: bit mask of the finer levels 0-2; "
+       "COARSEST_LEVEL: C; COARSEST_SCALE: s_C; COARSEST_COVERED: S_C = 1 everywhere",
+       {{"sub", "sampler2D R32F or RGBA32F", "c_l at level resolution (rgb; SSAO and SSM in r)", -1, "default"},
+        {"stencilMask", "sampler2D R8", "S_l", -1, "default"},
+        {"alphaMask", "sampler2D R32F", "a_l, the blurred mask", -1, "default"},
+        {"coarser", "sampler2D R32F or RGBA32F", "c' of the next coarser enabled level, full res (unused at the coarsest)",
+         -1, "default"},
+        {"coarserLevel", "sampler2D R8", "its level map, l/255 (unused at the coarsest)", -1, "default"},
+        {"subC", "sampler2D", "c_C of the coarsest enabled level C", -1, "FINAL_ONLY"},
+        {"stencilC", "sampler2D R8", "S_C", -1, "FINAL_ONLY"},
+        {"sub0", "sampler2D", "c_0", -1, "FINAL_ONLY"},
+        {"sub1", "sampler2D", "c_1", -1, "FINAL_ONLY"},
+        {"sub2", "sampler2D", "c_2", -1, "FINAL_ONLY"},
+        {"stencil0", "sampler2D R8", "S_0", -1, "FINAL_ONLY"},
+        {"stencil1", "sampler2D R8", "S_1", -1, "FINAL_ONLY"},
+        {"stencil2", "sampler2D R8", "S_2", -1, "FINAL_ONLY"},
+        {"alpha0", "sampler2D R32F", "a_0", -1, "FINAL_ONLY"},
+        {"alpha1", "sampler2D R32F", "a_1", -1, "FINAL_ONLY"},
+        {"alpha2", "sampler2D R32F", "a_2", -1, "FINAL_ONLY"}},
+       {{"coarsest", "bool", "this level is the coarsest enabled one (alpha = 1 where covered)", -1, "default"},
+        {"level", "int", "l", -1, "default"},
+        {"scale", "int", "s_l = 2^l, full-res pixels per level pixel", -1, "default"},
+        {"weight", "float", "w_l, the blend weight of the level (dimensionless)", -1, "default"},
+        {"weights", "float[3]", "w_l of the finer levels 0-2", -1, "FINAL_ONLY"}},
+       {{"cHat", "vec4 -> R32F or RGBA32F", "c^_l, masked-bilinear upsampling at full res", 0, "default"},
+        {"alphaOut", "vec4 -> R32F", "alpha_l = min(a^_l w_l, 1) in r", 1, "default"},
+        {"composite", "vec4 -> R32F or RGBA32F", "c'_l = alpha c^_l + (1 - alpha) c'_coarser", 2, "default"},
+        {"levelMap", "vec4 -> R8", "the finest level so far with alpha > 0, l/255", 3, "default"},
+        {"finalOut", "vec4 -> R32F or RGBA32F", "the final effect buffer", 0, "FINAL_ONLY"},
+        {"levelMap", "vec4 -> R8", "the finest level with alpha > 0, l/255", 1, "FINAL_ONLY"}},
+       "cpu_ref/blend.cpp: upsampleAt (bilinear over the four level texels with S = 1, renormalised) and blendStep "
+       "with the erratum-corrected Eq. 1, c'_l = alpha_l c^_l + (1 - alpha_l) c'_(l+1), coarse to fine."},
+      {"common.glsl", "include", "ssao, ssgi, hash", "", {}, {}, {},
+       "common/hash.h pixelHash (PCG, 32-bit wrap-around) and cpu_ref/hemisphere.h sampleFrame: the kernel rotated "
+       "about N by an angle from the hash of (x, y, level)."},
+      {"cutout.glsl", "include", "gbuffer, shadowmap", "",
+       {{"cutout", "sampler2D R8", "the mesh's alpha cutout: 1 where the texel is opaque (Scene::cutouts)"}},
+       {{"hasCutout", "int", "1: the mesh has a cutout, 0: opaque"},
+        {"cutoutWrap", "ivec2", "wrapS, wrapT: 0 repeat, 1 clamp, 2 mirror"}},
+       {},
+       "common/scene.cpp cutoutTexel and Cutout::opaqueAt (docs/spec.md 1.1): the texel floor(t n), wrapped; the "
+       "oracle refuses hits on transparent texels in an Embree filter function."},
+      {"edges.frag", "fragment", "edges, edges.shadow, edges.E",
+       "SHADOW_EDGES: the shadow kind too (SSM); E_ONLY: E alone in r of an R8 target",
+       {{"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth (0 on sky)"},
+        {"shadowLit", "sampler2D R8", "the one-tap shadow test per pixel, 1 lit", -1, "SHADOW_EDGES"}},
+       {{"normalThreshold", "float", "tau_n on 1 - N.N' (--tau-n, default 0.1)"},
+        {"depthThreshold", "float", "tau_z on |second difference of 1/z| / (1/z) (--tau-z, default 0.02)"}},
+       {{"edges", "vec4 -> RGBA8 (E_ONLY: R8)", "(normal, depth, background, E), 0 or 1 each", 0},
+        {"shadowEdge", "vec4 -> RGBA8", "(shadow edge, 0, 0, 1)", 1, "SHADOW_EDGES"}},
+       "cpu_ref/edges.cpp detectEdges: normal edges (1 - N.N' > tau_n over the 4-neighbourhood), depth edges (second "
+       "difference of 1/z), background edges (hit next to sky), SSM's shadow edges; E is their OR."},
+      {"fullscreen.vert", "vertex", "every image-space pass", "",
+       {{"corner", "vec2", "useRects: a rectangle corner in target pixels", 0}},
+       {{"useRects", "bool", "draw the given pixel rectangles instead of one full-screen triangle"},
+        {"targetSize", "vec2", "the target's size in pixels"}},
+       {}, "none: the passes run one fragment per target pixel at gl_FragCoord = pixel centre (x + 0.5, y + 0.5)."},
+      {"gbuffer.frag", "fragment", "gbuffer", "",
+       {{"viewPosition", "in vec3", "view-space position of the fragment (gbuffer.vert)"},
+        {"viewNormal", "in vec3", "view-space vertex normal, interpolated (gbuffer.vert)"},
+        {"surfaceTexcoord", "in vec2", "texture coordinate for the alpha cutout (gbuffer.vert; includes cutout.glsl)"}},
+       {{"albedo", "vec3", "the mesh's base colour, linear RGB"},
+        {"farDepth", "float", "the linear depth written as 1 to gl_FragDepth: surfaces are ordered by linear depth"}},
+       {{"outPositionHit", "vec4 -> RGBA32F", "view-space position, hit = 1", 0},
+        {"outNormalDepth", "vec4 -> RGBA32F", "unit view normal facing the camera, linear depth z = -p.z", 1},
+        {"outAlbedo", "vec4 -> RGBA32F", "base colour, 1", 2}},
+       "cpu_ref/gbuffer.cpp: one ray per level pixel centre ((x + 0.5) s, (y + 0.5) s) of the padded full-res grid "
+       "(Embree); the port rasterises each level at its own size."},
+      {"gbuffer.vert", "vertex", "gbuffer", "",
+       {{"worldPosition", "vec3", "vertex position, world space", 0},
+        {"worldNormal", "vec3", "vertex normal, world space", 1},
+        {"texcoord", "vec2", "texture coordinate of a mesh with an alpha cutout (else (0, 0))", 2}},
+       {{"worldToView", "mat4", "the camera's world-to-view matrix"},
+        {"projection", "vec4", "(2f/Wp, 2cx/Wp - 1, -2f/Hp, 2cy/Hp - 1): view point to clip x, y at full res"},
+        {"depthMapping", "vec2", "(A, B): z_clip = A z + B, standard perspective depth for near/far"}},
+       {{"viewPosition", "out vec3", "view-space position"}, {"viewNormal", "out vec3", "view-space normal"},
+        {"surfaceTexcoord", "out vec2", "the texture coordinate, for the cutout"}},
+       "cpu_ref/camera: the pinhole View (px = cx + f x/(-z), py = cy - f y/(-z)); GL row 0 is image row 0."},
+      {"hash.frag", "test", "hash (tests only)", "", {}, {kLevel},
+       {{"halves", "vec4 -> RGBA32F", "pixelHash(x, y, level) as two exact 16-bit halves", 0}},
+       "common/hash.h pixelHash, bit for bit."},
+      {"masks.frag", "fragment", "masks.*",
+       "STEP: 1 max-pool, 2 blur, 4 closure; FACTOR: pool block side; RADIUS: blur half width; DIRECTION: ivec2 of "
+       "the blur pass; SOURCE_CHANNEL: the source's channel; WITH_STENCIL: also write S_l (vertical blur)",
+       {{"source", "sampler2D R8 or R32F", "the pass's input: E, M_(l-1), the horizontal blur, or S_l"},
+        {"previous", "sampler2D R8", "step 4: the coarser level's own stencil"}},
+       {{"weights", "float[2 RADIUS + 1]", "the normalised Gaussian weights (common/kernels.h), step 2 only", -1,
+         "STEP == 2"}},
+       {{"result", "vec4 -> R8 or R32F", "M_l (step 1), a_l (step 2), S_next (step 4) in r", 0},
+        {"stencil", "vec4 -> R8", "S_l = [a_l > 0]", 1, "WITH_STENCIL"}},
+       "cpu_ref/masks.cpp buildMasks: M_l max-pooled from E, a_l = G * M_l (separable, clamp to edge), S_l = [a_l > 0], "
+       "then the coverage closure S_(l+1) |= max-pool(S_l)."},
+      {"peers.frag", "fragment", "peers.tiles, peers.uniform, peers.broadcast, peers.levels",
+       "TILE_MASKS: tiles' stage 3; COMPOSE: stage 5 of the peers (with JOINT_BILATERAL: uniform-k's joint bilateral "
+       "upsampling, else tiles' broadcast); LEVEL_STAGES: c^_l, alpha_l, c'_l of the peers for --stages",
+       {{"source", "sampler2D R8", "TILE_MASKS: E, the tiles' edge flags, or their rates", -1, "TILE_MASKS"},
+        {"sub", "sampler2D", "c_k at level k", -1, "JOINT_BILATERAL"},
+        {"coarsePositionHit", "sampler2D RGBA32F", "level k's G-buffer", -1, "JOINT_BILATERAL"},
+        {"coarseNormalDepth", "sampler2D RGBA32F", "level k's G-buffer", -1, "JOINT_BILATERAL"},
+        {"fullPositionHit", "sampler2D RGBA32F", "level 0's G-buffer, the guide", -1, "JOINT_BILATERAL"},
+        {"fullNormalDepth", "sampler2D RGBA32F", "level 0's G-buffer, the guide", -1, "JOINT_BILATERAL"},
+        {"rates", "sampler2D R8", "the tiles' rates on the tile grid", -1, "COMPOSE"},
+        {"sub0", "sampler2D", "c_0", -1, "COMPOSE"},
+        {"sub1", "sampler2D", "c_1", -1, "COMPOSE"},
+        {"sub2", "sampler2D", "c_2", -1, "COMPOSE"},
+        {"composed", "sampler2D", "COMPOSE's final value", -1, "LEVEL_STAGES"},
+        {"levelMap", "sampler2D R8", "COMPOSE's level map", -1, "LEVEL_STAGES"}},
+       {{"step", "int", "TILE_MASKS: 1 tile edge flags, 2 rates, 3 per-level masks", -1, "TILE_MASKS"},
+        {"sourceChannel", "int", "step 1: E's channel in the edge target", -1, "TILE_MASKS"},
+        {"level", "int", "l (TILE_MASKS step 3), k (JOINT_BILATERAL), l (LEVEL_STAGES)"},
+        {"perTile", "int", "step 3: level-l pixels per tile side, 16 / s_l", -1, "TILE_MASKS"},
+        {"extent", "ivec2", "step 3: the level-l pixels whose block starts inside W x H", -1, "TILE_MASKS"},
+        {"scale", "int", "s_k", -1, "JOINT_BILATERAL"},
+        {"sigmaDepth", "float", "as the bilateral blur", -1, "JOINT_BILATERAL"},
+        {"normalPower", "float", "as the bilateral blur", -1, "JOINT_BILATERAL"}},
+       {{"result", "vec4 -> R8", "TILE_MASKS: flags, rates, or M/S per level in r", 0, "TILE_MASKS"},
+        {"finalOut", "vec4 -> R32F or RGBA32F", "the final value (rgb)", 0, "COMPOSE"},
+        {"levelOut", "vec4 -> R8", "the level it came from", 1, "COMPOSE"},
+        {"cHat", "vec4", "c^_l", 0, "LEVEL_STAGES"},
+        {"alphaOut", "vec4", "alpha_l", 1, "LEVEL_STAGES"},
+        {"composite", "vec4", "c'_l", 2, "LEVEL_STAGES"}},
+       "cpu_ref/peers.cpp: tileRates and tileMasks (16x16 tiles at rate 0, 1 or 2), composePeer (uniform-k's joint "
+       "bilateral upsampling, tiles' broadcast)."},
+      {"shade.frag", "fragment", "shade.0, shade.1, shade.2", "EFFECT: 0 SSAO, 1 SSM, 2 SSGI",
+       {{"positionHit", "sampler2D RGBA32F", "the level-0 G-buffer: view position, hit"},
+        {"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth"},
+        {"albedo", "sampler2D RGBA32F", "the level-0 G-buffer: base colour"},
+        {"effect", "sampler2D R32F or RGBA32F", "the final effect buffer, W x H (AO, V or indirect RGB)"},
+        {"shadowLit", "sampler2D R8", "SSGI: the one-tap shadow test, 1 lit"}},
+       {{"toLight", "vec3", "unit, view space: toward the light"},
+        {"lightColor", "vec3", "the light's colour, linear RGB"}},
+       {{"shaded", "vec4 -> RGBA32F", "the shaded linear RGB for viewing", 0}},
+       "cpu_ref/shade.cpp shadeFinal: albedo x (ambient x AO, or N.L x V, or direct + indirect) x light colour; sky "
+       "colour on background."},
+      {"shadowmap.frag", "fragment", "shadowmap, shadowtest", "SHADOW_TEST: the one-tap test at every level-0 pixel",
+       {{"lightDepth", "in float", "distance from the light plane (shadowmap.vert)", -1, "default"},
+        {"surfaceTexcoord", "in vec2", "texture coordinate for the alpha cutout (includes cutout.glsl)", -1, "default"},
+        {"positionHit", "sampler2D RGBA32F", "the level-0 G-buffer: view position, hit", -1, "SHADOW_TEST"},
+        {"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth", -1, "SHADOW_TEST"}},
+       {},
+       {{"depth", "vec4 -> R32F", "the distance from the light plane in r (world units)", 0, "default"},
+        {"lit", "vec4 -> R8", "the one-tap test, 1 lit, 0 shadowed (sky: 1)", 0, "SHADOW_TEST"}},
+       "cpu_ref/shadowmap.cpp renderShadowMap (one ray per texel centre from the light plane) and shadowTestImage."},
+      {"shadowmap.glsl", "include", "shadowmap, shadowtest, ssm, direct", "",
+       {{"shadowMap", "sampler2D R32F, size^2", "distance from the light plane, world units; kNoBlocker on a miss"}},
+       {{"mapSize", "int", "texels per side (--shadow-map-size)"},
+        {"mapTexel", "float", "world units per texel"},
+        {"mapOrigin", "vec3", "world position of texel (0, 0)'s corner on the light plane"},
+        {"mapRight", "vec3", "the light plane's x axis, world, unit"},
+        {"mapUp", "vec3", "the light plane's y axis, world, unit"},
+        {"mapForward", "vec3", "the light's direction, world, unit"},
+        {"biasTexels", "float", "receiver offset and depth bias, in texels (and each tap follows the receiver's plane)"},
+        {"viewEye", "vec3", "the camera's position, world"},
+        {"viewRight", "vec3", "the camera's right axis, world"},
+        {"viewUp", "vec3", "the camera's up axis, world"},
+        {"viewForward", "vec3", "the camera's forward axis, world"}},
+       {}, "cpu_ref/shadowmap.h ShadowMap::lightCoordinates, depthAt, receiverAt, shadowTest."},
+      {"shadowmap.vert", "vertex", "shadowmap", "",
+       {{"worldPosition", "vec3", "vertex position, world space", 0},
+        {"texcoord", "vec2", "texture coordinate of a mesh with an alpha cutout (else (0, 0))", 2}},
+       {{"farDepth", "float", "ShadowMap::farDepth: orders surfaces for the depth test (world units)"}},
+       {{"lightDepth", "out float", "distance from the light plane, world units"},
+        {"surfaceTexcoord", "out vec2", "the texture coordinate, for the cutout"}},
+       "cpu_ref/shadowmap.cpp renderShadowMap: orthographic onto the same texel grid."},
+      {"ssao.frag", "fragment", "ssao", "",
+       {kPositionHit, kNormalDepth, kKernel},
+       {kSamples, kLevel, kInvScale, kCamera,
+        {"radius", "float", "R, the SSAO radius in world (view) units (--ao-radius; default 3% of the scene diagonal)"},
+        {"bias", "float", "the depth bias, world units"},
+        {"tangentPlaneDepth", "bool", "occluder depth from the texel's tangent plane (false: --ao-texel-depth)"}},
+       {{"ao", "vec4 -> R32F", "the ambient occlusion AO in [0, 1] in r (1 = unoccluded)", 0}},
+       "cpu_ref/ssao.cpp renderSsao: N hemisphere samples of radius R about the receiver, each projected to the "
+       "level's G-buffer; occluded when the buffer is in front by more than the bias, weighted by the range check. "
+       "Drawn with the stencil test."},
+      {"ssgi.frag", "fragment", "direct, ssgi", "DIRECT_LIGHT: the light each level pixel sends (includes shadowmap.glsl; the default variant includes common.glsl)",
+       {kPositionHit, kNormalDepth,
+        {"albedo", "sampler2D RGBA32F", "the level's G-buffer: base colour", -1, "DIRECT_LIGHT"},
+        {"direct", "sampler2D RGBA32F", "the level's direct light (the DIRECT_LIGHT variant), RGB", -1, "default"},
+        {"kernel", "sampler2D RGB32F, N x 1", "the host's hemisphere kernel", -1, "default"}},
+       {{"toLight", "vec3", "unit, view space: toward the light", -1, "DIRECT_LIGHT"},
+        {"lightColor", "vec3", "the light's colour, linear RGB", -1, "DIRECT_LIGHT"},
+        {"samples", "int", "N", -1, "default"},
+        {"level", "int", "l", -1, "default"},
+        {"invScale", "float", "1 / s_l", -1, "default"},
+        {"camera", "vec3", "(focal, cx, cy) in full-res pixels", -1, "default"},
+        {"radius", "float", "R, world units (--gi-radius)", -1, "default"},
+        {"patchArea", "float", "A = pi R^2 / N, world units squared", -1, "default"},
+        {"minDistance2", "float", "(R/4)^2: the sender distance is clamped to it, world units squared", -1, "default"}},
+       {{"direct", "vec4 -> RGBA32F", "albedo x max(N.L, 0) x shadow x light colour", 0, "DIRECT_LIGHT"},
+        {"indirect", "vec4 -> RGBA32F", "the indirect light, rgb", 0, "default"}},
+       "cpu_ref/ssgi.cpp directLight and renderSsgi: N hemisphere samples, each projected pixel a sender patch of "
+       "area pi R^2 / N. Drawn with the stencil test."},
+      {"ssm.frag", "fragment", "ssm", "none (includes shadowmap.glsl: the shadow map and its uniforms)",
+       {kPositionHit, kNormalDepth},
+       {{"tanHalfAngle", "float", "tan(theta/2) of the light's angular diameter theta (--light-angle, radians)"},
+        {"blockerGrid", "int", "blocker-search taps per side"},
+        {"grid", "int", "PCF taps per side n (N = n^2 = --samples)"},
+        {"blockerFactors", "float[16]", "tap i of the blocker grid sits at factor_i h (cpu_ref/ssm.h gridTapFactor)"},
+        {"pcfFactors", "float[32]", "tap i of the PCF grid sits at factor_i h"}},
+       {{"visibility", "vec4 -> R32F", "V in [0, 1] in r (1 = lit)", 0}},
+       "cpu_ref/ssm.cpp ssmAt: PCSS (Fernando 2005), a blocker search then an n x n PCF over the filter width. Drawn "
+       "with the stencil test."},
+      {"stencil.frag", "fragment", "stencil", "", {kStencilMask}, {}, {},
+       "none: fills the stencil buffer from S_l (discard where S = 0); the effect passes then run with the stencil test."},
+  };
+  return table;
+}
+
+const ShaderContract* shaderContract(std::string_view file) {
+  for (const ShaderContract& c : shaderContracts())
+    if (c.file == file) return &c;
+  return nullptr;
+}
+
+const ShaderVariable* findShaderVariable(std::string_view name) {
+  for (const ShaderContract& c : shaderContracts()) {
+    for (const ShaderVariable& v : c.uniforms)
+      if (v.name == name) return &v;
+    for (const ShaderVariable& v : c.inputs)
+      if (v.name == name) return &v;
+  }
+  return nullptr;
+}
+
+namespace {
+std::string cell(std::string_view s) {
+  std::string out(s);
+  for (size_t at = out.find('|'); at != std::string::npos; at = out.find('|', at + 2)) out.replace(at, 1, "\\|");
+  return out;
+}
+
+std::string variables(const std::vector<ShaderVariable>& vars, bool withLocation) {
+  std::string out = withLocation ? "| name | location | type / format | meaning | variant |\n|---|---|---|---|---|\n"
+                                 : "| name | type / format | meaning, unit | variant |\n|---|---|---|---|\n";
+  for (const ShaderVariable& v : vars) {
+    out += "| `" + std::string(v.name) + "` | ";
+    if (withLocation) out += (v.location >= 0 ? std::to_string(v.location) : std::string("-")) + " | ";
+    out += cell(v.type) + " | " + cell(v.meaning) + " | " + (v.variant.empty() ? "all" : cell(v.variant)) + " |\n";
+  }
+  return out;
+}
+}  // namespace
+
+std::string shaderContractMarkdown() {
+  std::string md;
+  md += "# The shader contract\n\n";
+  md += "<!-- Generated by `mrr shaders contract` from common/stages.h and common/shader_contract.h; "
+        "the test shader_contract_doc_is_current fails when this file and the code disagree. Do not edit. -->\n\n";
+  md += "What each file of `gpu/shaders/` is given and must give back, so your own GLSL can replace it: "
+        "`mrr shaders export DIR` writes the files, `--shaders DIR` on `render`, `probe`, `compare` and `bench` "
+        "loads each file present in DIR in place of the built-in one (docs/validate-your-own.md).\n\n";
+  md += "## Conventions\n\n";
+  md += "- GLSL 3.30 core. The host pastes, right after the `#version` line, the variant's `#define`s and the shared "
+        "constants of common/shader_constants.h as `const float` lines, then `#line 2 0`: driver logs keep your "
+        "file's line numbers. `#include \"FILE\"` at the start of a line pastes FILE (yours if DIR has it) as source "
+        "string k (`#line 1 k`), so an error in it is reported as FILE:LINE.\n";
+  md += "- Full-screen passes: `fullscreen.vert` draws one triangle over the target (or pixel rectangles, "
+        "`useRects`); a fragment's pixel is `ivec2(gl_FragCoord.xy)`, its centre at (x + 0.5, y + 0.5). Every texture "
+        "is read with `texelFetch` at integer texels (no filtering, no normalised coordinates). Images are stored "
+        "top row first: GL row 0 is image row 0, so nothing is flipped.\n";
+  md += "- Levels: level l has scale s_l = 2^l; its pixel (x, y) covers full-res pixels [x s_l, (x+1) s_l) and "
+        "samples the padded full-res grid at ((x + 0.5) s_l, (y + 0.5) s_l). Per-level passes run at the level's size.\n";
+  md += "- Stencil: the effect passes (ssao, ssm, ssgi, bilateral) are drawn with the stencil test: "
+        "`stencil.frag` marks the pixels with S_l = 1, and only those run. Pixels with S_l = 0 keep the cleared 0 "
+        "(never evaluated); a shader must not rely on them.\n";
+  md += "- Outputs are `layout(location = N) out vec4`; a one-channel target keeps `.r`. A uniform the built-in "
+        "program has active must be active in yours (the host sets it), and each output at the same location; "
+        "else mrr stops with an error naming it.\n";
+  md += "- Tolerances: your stage is judged by the rules of common/tolerance.h (`mrr compare`), on the oracle's "
+        "inputs (end to end) and on your own inputs (same input).\n\n";
+  md += "## Stages\n\n";
+  md += "From the stage list (common/stages.h): each image of a frame, the shader that makes it, its channels in "
+        "the stages EXR and its rules.\n\n";
+  md += "| part | step | per level | shader | EXR channels | end to end | same input | what |\n|---|---|---|---|---|---|---|---|\n";
+  for (const PartInfo& p : kParts)
+    md += "| `" + std::string(p.name) + "` | " + std::to_string(p.step) + " | " + (p.perLevel ? "yes" : "no") +
+          " | " + cell(p.shader) + " | " + cell(p.channels) + " | " + (p.endToEnd.empty() ? "-" : cell(p.endToEnd)) +
+          " | " + (p.sameInput.empty() ? "-" : cell(p.sameInput)) + " | " + cell(p.what) + " |\n";
+  md += "\n`effect:X` is X for SSAO and SSM (one channel) and X.R, X.G, X.B for SSGI.\n\n";
+  md += "## Files\n\n";
+  for (const ShaderContract& c : shaderContracts()) {
+    md += "### " + std::string(c.file) + "\n\n";
+    md += "- role: " + std::string(c.role) + "; host programs: " + std::string(c.programs) + "\n";
+    std::string parts;
+    for (const PartInfo& p : kParts)
+      if (std::string_view(p.shader).find(c.file) != std::string_view::npos)
+        parts += (parts.empty() ? "" : ", ") + ("`" + std::string(p.name) + "`");
+    if (!parts.empty()) md += "- makes: " + parts + "\n";
+    md += "- defines: " + (c.defines.empty() ? std::string("none") : std::string(c.defines)) + "\n";
+    md += "- the oracle: " + std::string(c.oracle) + "\n\n";
+    if (!c.inputs.empty()) md += "Inputs:\n\n" + variables(c.inputs, false) + "\n";
+    if (!c.uniforms.empty()) md += "Uniforms:\n\n" + variables(c.uniforms, false) + "\n";
+    if (!c.outputs.empty()) md += "Outputs:\n\n" + variables(c.outputs, true) + "\n";
+  }
+  return md;
+}
+
+std::string shaderExportReadme() {
+  std::string text =
+      "# mrr's shaders, exported\n\n"
+      "These are the port's GLSL 3.30 files (`mrr shaders export`). Edit any of them and run\n\n"
+      "    mrr compare --shaders THIS_FOLDER --scene builtin:demo --effect ssao --size 320x180\n\n"
+      "Each file present here replaces the built-in one of the same name (includes too); delete the\n"
+      "files you do not change. `compare` judges every stage against the oracle and names the first\n"
+      "stage that fails on its last line. Compile errors are reported as FILE:LINE, exit 2.\n\n"
+      "The contract, in short (docs/shader-contract.md has every input, uniform and output):\n\n"
+      "- the host pastes the variant's #defines and the shared constants after #version, then `#line 2 0`;\n"
+      "- full-screen passes: pixel = ivec2(gl_FragCoord.xy), read textures with texelFetch;\n"
+      "- the effect passes run only where the stencil S_l = 1;\n"
+      "- keep every uniform the built-in uses, and every output at its location.\n\n"
+      "| file | role | programs | outputs |\n|---|---|---|---|\n";
+  for (const ShaderContract& c : shaderContracts()) {
+    std::string outs;
+    for (const ShaderVariable& v : c.outputs)
+      if (v.location >= 0) outs += (outs.empty() ? "" : ", ") + std::string(v.name) + "@" + std::to_string(v.location);
+    text += "| " + std::string(c.file) + " | " + std::string(c.role) + " | " + std::string(c.programs) + " | " +
+            (outs.empty() ? "-" : outs) + " |\n";
+  }
+  return text;
+}
+
+}  // namespace mrr

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "app/byo.h"
+#include "app/frame_file.h"
 #include "app/info.h"
 #include "app/options.h"
 #include "common/error.h"
@@ -55,7 +56,7 @@ struct FrameOptions {
   std::optional<int> samples;
   int threads = 0;
   std::optional<int> camera;
-  std::string eye, target, lightDir;
+  std::string eye, target, up, lightDir, frameFile;
   std::string blendMaterials = "opaque";
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
@@ -101,6 +102,10 @@ struct FrameOptions {
     app.add_option("--camera", camera, "index into the scene's cameras");
     app.add_option("--eye", eye, "camera position x,y,z (with --target)");
     app.add_option("--target", target, "camera target x,y,z (with --eye)");
+    app.add_option("--up", up, "camera up x,y,z (with --eye and --target; default 0,1,0)");
+    app.add_option("--frame", frameFile,
+                   "a frame file (JSON, as render --frame-out writes it): scene, camera, light, size, effect, samples "
+                   "and every parameter; options given here win");
     app.add_option("--fov", fov, "vertical field of view, degrees");
     app.add_option("--blend-materials", blendMaterials,
                    "glTF materials with alphaMode BLEND: opaque (drawn as solid) or skip (left out)")
@@ -160,6 +165,37 @@ struct FrameOptions {
     return CostModel::fromJson(j);
   }
 
+  // The frame as a frame file (app/frame_file.h): the camera and light as resolved, so that
+  // reading it back renders the same bits; the parameters as the settings hold them.
+  nlohmann::json frame(const ResolvedScene& rs, const Settings& s) const {
+    auto triple = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    nlohmann::json j = {{"mrr_frame", 1},
+                        {"scene", scene},
+                        {"effect", toString(s.effect)},
+                        {"method", toString(s.mode)},
+                        {"size", std::to_string(s.width) + "x" + std::to_string(s.height)},
+                        {"samples", s.samples()},
+                        {"eye", triple(rs.camera.eye)},
+                        {"target", triple(rs.camera.target)},
+                        {"up", triple(rs.camera.up)},
+                        {"fov", exactDegrees(rs.camera.yfov)},
+                        {"light_dir", triple(-rs.scene.light.direction)},
+                        {"light_angle", s.ssm.lightAngle},
+                        {"shadow_map_size", s.ssm.shadowMapSize},
+                        {"ao_radius", s.ssao.radius},
+                        {"gi_radius", s.ssgi.radius},
+                        {"ao_texel_depth", !s.ssao.tangentPlaneDepth},
+                        {"tau_n", s.edges.normalThreshold},
+                        {"tau_z", s.edges.depthThreshold},
+                        {"disable_level", nlohmann::json::array()},
+                        {"never_slower", s.neverSlower ? "on" : "off"},
+                        {"blend_materials", blendMaterials}};
+    for (int l = 1; l < kLevelCount; ++l)
+      if (!s.levels[static_cast<size_t>(l)].enabled) j["disable_level"].push_back(l);
+    if (flipUp || noFlipUp) j["flip_up"] = flipUp;
+    return j;
+  }
+
   SceneRequest sceneRequest() const {
     SceneRequest r;
     r.scene = scene;
@@ -168,6 +204,7 @@ struct FrameOptions {
     r.cameraIndex = camera;
     if (!eye.empty()) r.eye = parseVec3(eye, "--eye");
     if (!target.empty()) r.target = parseVec3(target, "--target");
+    if (!up.empty()) r.up = parseVec3(up, "--up");
     r.fovDegrees = fov;
     if (!lightDir.empty()) r.lightToward = parseVec3(lightDir, "--light-dir");
     require(blendMaterials == "opaque" || blendMaterials == "skip",
@@ -223,6 +260,17 @@ int threadCount(int requested) {
 void makeReportDir(const std::string& dir) {
   std::error_code ec;
   if (!std::filesystem::exists(dir, ec)) std::filesystem::create_directories(dir, ec);
+}
+
+// A frame as command-line options, quoted for a POSIX shell where needed.
+std::string frameCommandLine(const nlohmann::json& frame) {
+  std::string line;
+  for (const std::string& w : frameArgs(frame, "frame")) {
+    const bool plain = w.find_first_of(" '\"$`\\*?[]{}()<>|&;!#~") == std::string::npos;
+    std::string quoted = plain ? w : "'" + w + "'";
+    line += (line.empty() ? "" : " ") + quoted;
+  }
+  return line;
 }
 
 // `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
@@ -290,18 +338,21 @@ int runCompare(FrameOptions& fo, const std::string& reportDir, const std::string
               << notChecked << formatParityTable(result, port ? "the port's" : "the file's");
     pass = pass && result.pass();
     if (!reportDir.empty()) {
-      std::string probe = "mrr probe --path both " + (against.empty() ? "" : "--against " + against + " ") + "--scene " +
-                          fo.scene + " --effect " + toString(s.effect) + " --method " + toString(s.mode) + " --size " +
-                          fo.size + " --samples " + std::to_string(k.samples());
+      std::string probe = "mrr probe --path both " + (against.empty() ? "" : "--against " + against + " ") +
+                          frameCommandLine(fo.frame(rs, s));
       compared.push_back({toString(s.effect), oracle.get(), ported.get(), std::move(result), probe});
       kept.push_back(std::move(oracle));
       kept.push_back(std::move(ported));
     }
   }
   if (!reportDir.empty()) {
-    std::string command = "mrr compare --scene " + fo.scene + " --effect " + fo.effect + " --method " + fo.mode +
-                          " --size " + fo.size;
-    if (fo.samples) command += " --samples " + std::to_string(*fo.samples);
+    // The command that reproduces the frame exactly: the camera and light as resolved.
+    nlohmann::json frame = fo.frame(rs, settings.front());
+    if (effects.size() > 1) {  // one command for every effect, each at its own sample count unless given
+      frame["effect"] = "all";
+      if (!fo.samples) frame.erase("samples");
+    }
+    std::string command = "mrr compare " + frameCommandLine(frame);
     const std::string label = fo.scene == rs.scene.name
                                   ? rs.scene.name
                                   : fo.scene + " (" + std::filesystem::path(rs.scene.name).filename().string() + ")";
@@ -407,7 +458,7 @@ int run(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "help for every subcommand");
 
   FrameOptions renderOpts;
-  std::string out, shaded, stages, report;
+  std::string out, shaded, stages, report, frameOut;
   bool reference = false;
   auto* render = app.add_subcommand("render", "render one frame and write the effect buffer, stages and report");
   renderOpts.add(*render);
@@ -415,6 +466,8 @@ int run(int argc, char** argv) {
   render->add_option("--shaded", shaded, "shaded image for viewing: .exr (linear) or .png (sRGB)");
   render->add_option("--stages", stages, "every stage as a multi-part .exr");
   render->add_option("--report", report, "JSON report: levels, shaded pixels, ideal speedup, timings");
+  render->add_option("--frame-out", frameOut,
+                     "the frame as a frame file (JSON): --frame reads it back and renders the same bits");
   render->add_flag("--reference", reference, "also render mode full and add error_vs_full to the report");
 
   FrameOptions probeOpts;
@@ -503,11 +556,16 @@ int run(int argc, char** argv) {
   ShadersCommand shadersCommand;
   addShadersCommand(app, shadersCommand);
 
+  // --frame F.json stands for the options it holds (app/frame_file.h), inserted before the
+  // command line's own, which win.
+  std::vector<std::string> words(argv + 1, argv + argc);
+  words = expandFrameFile(words);
   try {
-    app.parse(argc, argv);
+    std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes them last to first
+    app.parse(reversed);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --help-all
-    throw usageError(app, e, argc > 1 ? argv[1] : "");
+    throw usageError(app, e, words.empty() ? "" : words.front());
   }
 
   if (shadersCommand.command->parsed()) return runShadersCommand(shadersCommand);
@@ -663,13 +721,14 @@ int run(int argc, char** argv) {
             "--pixel " + pixel + ": outside the " + fo.size + " image");
   }
   if (*render) {
-    require(!out.empty() || !shaded.empty() || !stages.empty() || !report.empty(),
+    require(!out.empty() || !shaded.empty() || !stages.empty() || !report.empty() || !frameOut.empty(),
             "render: nothing to write (give --out, --shaded, --stages or --report)");
     if (!out.empty()) checkOutput(out, "--out", {".exr", ".png"});
     if (!shaded.empty()) checkOutput(shaded, "--shaded", {".exr", ".png"});
     if (!stages.empty()) checkOutput(stages, "--stages", {".exr"});
+    if (!frameOut.empty()) checkOutput(frameOut, "--frame-out", {".json"});
     if (!report.empty()) checkOutput(report, "--report", {".json"});
-    requireDistinct({{"--out", out}, {"--shaded", shaded}, {"--stages", stages}, {"--report", report}});
+    requireDistinct({{"--out", out}, {"--shaded", shaded}, {"--stages", stages}, {"--report", report}, {"--frame-out", frameOut}});
   }
 
   // The memory check up front, before the scene is loaded or anything allocated: sizes alone
@@ -745,8 +804,15 @@ int run(int argc, char** argv) {
   info.peakResidentBytes = peakResidentBytes();
   if (!out.empty()) writeFinal(out, frame);
   if (!shaded.empty()) writeShaded(shaded, frame);
-  if (!stages.empty()) writeMultiPartExr(stages, stageParts(frame), constants.width, constants.height);
-  if (!report.empty()) writeTextFile(report, makeReport(frame, info, err).dump(2) + "\n");
+  const nlohmann::json frameFile = fo.frame(rs, settings);
+  if (!stages.empty())
+    writeMultiPartExr(stages, stageParts(frame), constants.width, constants.height, {{"mrr:frame", frameFile.dump()}});
+  if (!report.empty()) {
+    nlohmann::json j = makeReport(frame, info, err);
+    j["frame"] = frameFile;
+    writeTextFile(report, j.dump(2) + "\n");
+  }
+  if (!frameOut.empty()) writeTextFile(frameOut, frameFile.dump(2) + "\n");
   if (!fo.quiet) {
     std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
               << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total") << " ms\n";

@@ -281,8 +281,8 @@ void writeImage(const std::string& path, const ImageF& image,
   });
 }
 
-void writeMultiPartExr(const std::string& path, const std::vector<ExrPart>& parts,
-                       int displayWidth, int displayHeight) {
+void writeMultiPartExr(const std::string& path, const std::vector<ExrPart>& parts, int displayWidth,
+                       int displayHeight, const std::vector<std::pair<std::string, std::string>>& metadata) {
   checkOutputPath(path, "output");
   require(lowerExtension(path) == ".exr",
           "cannot write " + path + ": multi-part images must be .exr");
@@ -305,6 +305,7 @@ void writeMultiPartExr(const std::string& path, const std::vector<ExrPart>& part
     spec.full_width = displayWidth;
     spec.full_height = displayHeight;
     spec.attribute("name", part.name);
+    for (const auto& [key, text] : metadata) spec.attribute(key, text);
     specs.push_back(std::move(spec));
   }
 

@@ -30,8 +30,10 @@ struct ExrPart {
 
 // Writes all parts into one multi-part EXR (`oiiotool -a --info` lists them). Every part
 // shares the display window displayWidth×displayHeight, as OpenEXR requires.
+// `metadata` (name, text) goes into every part's header (e.g. "mrr:frame", the frame file).
 void writeMultiPartExr(const std::string& path, const std::vector<ExrPart>& parts,
-                       int displayWidth, int displayHeight);
+                       int displayWidth, int displayHeight,
+                       const std::vector<std::pair<std::string, std::string>>& metadata = {});
 
 // Reads every part of an EXR (or the single image of any other format).
 std::vector<ExrPart> readParts(const std::string& path);

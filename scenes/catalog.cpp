@@ -53,7 +53,8 @@ ResolvedScene resolveScene(const SceneRequest& request) {
   if (request.lightToward) {
     const float length = glm::length(*request.lightToward);
     require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
-    out.scene.light.direction = -*request.lightToward / length;
+    // A unit direction (as frame files write it) is kept bit for bit.
+    out.scene.light.direction = std::fabs(length - 1.0f) <= 1e-6f ? -*request.lightToward : -*request.lightToward / length;
   }
   // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
   // catalogue's view, else framed from the bounds.
@@ -61,8 +62,10 @@ ResolvedScene resolveScene(const SceneRequest& request) {
   require(fov > 0.0f && fov < glm::radians(179.0f), "--fov: must be in (0, 179) degrees");
   if (request.eye || request.target) {
     require(request.eye && request.target, "--eye and --target must be given together");
-    out.camera = Camera{*request.eye, *request.target, {0, 1, 0}, fov};
+    out.camera = Camera{*request.eye, *request.target, request.up.value_or(glm::vec3(0, 1, 0)), fov};
     require(glm::length(out.camera.target - out.camera.eye) > 0.0f, "--eye and --target coincide");
+    require(glm::length(glm::cross(out.camera.target - out.camera.eye, out.camera.up)) > 0.0f,
+            "--up is zero or along the view direction");
     out.cameraSource = "--eye/--target";
     return out;
   }

@@ -15,6 +15,7 @@ struct SceneRequest {
   std::optional<bool> flipUp;           // unset: the catalogue's choice (false for files)
   std::optional<int> cameraIndex;       // into Scene::cameras
   std::optional<glm::vec3> eye, target; // explicit camera (both or neither)
+  std::optional<glm::vec3> up;          // with eye and target (default +Y)
   std::optional<float> fovDegrees;      // vertical field of view
   std::optional<glm::vec3> lightToward; // --light-dir: the direction toward the light (any length > 0)
   bool skipBlendMaterials = false;      // --blend-materials skip: leave alphaMode BLEND primitives out

@@ -73,6 +73,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   stage(stageName(Part::Shaded), [&] { b.shade(f); });
   b.endFrame(f);
   f.timings.push_back({"total", msSince(frameStart)});
+  f.countHitPixels(b.fullResHit(f));  // a figure for reports, after the clock stopped
   return f;
 }
 

@@ -24,6 +24,9 @@ class FrameBackend {
   // times GL work with glFinish or timer queries, resolved in endFrame.
   virtual void timeStage(FrameResult& f, const std::string& name, const std::function<void()>& body);
   virtual void endFrame(FrameResult& /*f*/) {}
+  // After the clock: the full-res G-buffer's hit flags, for FrameResult::idealSpeedupHit (the
+  // port reads them back when the frame kept no G-buffer).
+  virtual ImageU8 fullResHit(const FrameResult& f) { return f.levels[0].gbuffer.hit; }
 
   // 1. One level's G-buffer (level 0 first: the masks are made from it alone).
   virtual void gbuffer(FrameResult& f, int level) = 0;

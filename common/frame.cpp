@@ -140,6 +140,25 @@ void FrameResult::countShadedPixels() {
   blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
+void FrameResult::countHitPixels(const ImageU8& hit) {
+  if (hit.empty()) return;
+  const int w = constants.width, h = constants.height;
+  int64_t full = 0, shaded = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) full += hit.at(x, y) != 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    if (!constants.levels[static_cast<size_t>(l)].enabled) continue;
+    const ImageU8& s = levels[static_cast<size_t>(l)].masks.stencil;
+    const int scale = 1 << l;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) {
+        const int fx = std::min(x * scale + scale / 2, hit.width - 1), fy = std::min(y * scale + scale / 2, hit.height - 1);
+        shaded += s.at(x, y) && hit.at(fx, fy);
+      }
+  }
+  idealSpeedupHit = static_cast<double>(std::max<int64_t>(full, 1)) / static_cast<double>(std::max<int64_t>(shaded, 1));
+}
+
 std::array<LevelImages, kLevelCount> FrameResult::blendInputs() const {
   std::array<LevelImages, kLevelCount> in;
   for (size_t l = 0; l < in.size(); ++l) in[l] = {&levels[l].sub, &levels[l].masks.stencil, &levels[l].masks.alpha};

@@ -148,6 +148,10 @@ struct FrameResult {
   BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
   int64_t shadedPixelsTotal = 0;
   double idealSpeedup = 1.0;  // W·H / Σ|S_ℓ| (SPEC §4)
+  // The same over pixels that hit geometry, what full mode really pays for (background costs
+  // nothing in either mode): hit pixels of W×H / Σ|S_ℓ ∩ hit|, a level pixel (x, y) counting
+  // as hit when full-res pixel (x·s + s/2, y·s + s/2) is (issue 18). countHitPixels sets it.
+  double idealSpeedupHit = 1.0;
   // The same over whole 4×2 blocks: llvmpipe skips a block only when all eight fail the
   // stencil (PLATFORM.md), so this is the most a stencilled pass can gain there.
   double blockIdealSpeedup = 1.0;
@@ -156,6 +160,8 @@ struct FrameResult {
   ImageF shaded;  // W×H linear RGB for viewing (SPEC §6)
 
   const ImageF& final() const { return blend.final; }
+  // idealSpeedupHit, from the stencils and the full-res G-buffer's hit flags (after the frame).
+  void countHitPixels(const ImageU8& fullResHit);
   // What stage 5 blends: each level's c_ℓ, S_ℓ and a_ℓ (both paths' blend takes these).
   std::array<LevelImages, kLevelCount> blendInputs() const;
   // |S_ℓ| per level, their sum and the ideal speedup W·H / Σ|S_ℓ| (SPEC §4), from the stencils.

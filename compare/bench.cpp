@@ -146,6 +146,7 @@ class Sweep {
       const FrameResult& f = last.at(m);
       r.shadedPixels = f.shadedPixelsTotal;
       r.idealSpeedup = f.idealSpeedup;
+      r.idealSpeedupHit = f.idealSpeedupHit;
       r.measuredSpeedup = fullEffect / std::max(r.effectMs, 1e-9);
       r.fullEffectMs = fullEffect;
       r.fellBack = f.fallback.fellBack;

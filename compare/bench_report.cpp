@@ -317,6 +317,7 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"effect", r.effect}, {"width", r.width}, {"height", r.height}, {"samples", r.samples},
                     {"stage_ms", r.stageMs}, {"effect_ms", r.effectMs}, {"total_ms", r.totalMs},
                     {"shaded_pixels", r.shadedPixels}, {"ideal_speedup", r.idealSpeedup},
+                    {"ideal_speedup_hit", r.idealSpeedupHit},
                     {"measured_speedup", r.measuredSpeedup}, {"fell_back_to_full", r.fellBack},
                     {"rms", r.error.rms}, {"psnr", std::isfinite(r.error.psnr) ? nlohmann::json(r.error.psnr) : nlohmann::json(nullptr)},
                     {"ssim", r.error.ssim}, {"max_abs", r.error.maxAbs}, {"edge_band_rms", r.error.edgeBandRms},
@@ -332,11 +333,11 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
 std::string benchCsv(const BenchResults& res) {
   std::ostringstream o;
   o << "path,scene,group,camera,method,effect,width,height,samples,effect_ms,total_ms,shaded_pixels,ideal_speedup,"
-       "measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms\n";
+       "ideal_speedup_hit,measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms\n";
   for (const BenchRecord& r : res.records)
     o << r.path << "," << r.scene << "," << r.group << "," << r.camera << "," << r.method << "," << r.effect << "," << r.width
       << "," << r.height << "," << r.samples << "," << r.effectMs << "," << r.totalMs << "," << r.shadedPixels << ","
-      << r.idealSpeedup << "," << r.measuredSpeedup << "," << (r.fellBack ? 1 : 0) << "," << r.error.rms << ","
+      << r.idealSpeedup << "," << r.idealSpeedupHit << "," << r.measuredSpeedup << "," << (r.fellBack ? 1 : 0) << "," << r.error.rms << ","
       << (std::isfinite(r.error.psnr) ? std::to_string(r.error.psnr) : "inf") << "," << r.error.ssim << "," << r.error.maxAbs
       << "," << r.error.edgeBandRms << "," << r.shadedRms << "\n";
   return o.str();

@@ -21,6 +21,7 @@ struct BenchRecord {
   double totalMs = 0.0;
   long long shadedPixels = 0;
   double idealSpeedup = 1.0;     // W·H / shaded pixels (SPEC §4, §9)
+  double idealSpeedupHit = 1.0;  // the same over pixels that hit geometry (FrameResult::idealSpeedupHit)
   double measuredSpeedup = 1.0;  // full's effect time / this method's, same run
   double fullEffectMs = 0.0;     // full's effect time in the same run
   bool fellBack = false;         // mrr: the never-slower rule shaded this frame at full res

@@ -83,6 +83,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["levels"] = levels;
   j["shaded_pixels_total"] = f.shadedPixelsTotal;
   j["ideal_speedup"] = f.idealSpeedup;
+  j["ideal_speedup_hit"] = f.idealSpeedupHit;  // over pixels that hit geometry: background is free in full too
   j["ideal_speedup_4x2_blocks"] = f.blockIdealSpeedup;  // llvmpipe shades whole 4×2 blocks
   nlohmann::json timings = nlohmann::json::object();
   for (const StageTiming& t : f.timings) timings[t.stage] = t.ms;

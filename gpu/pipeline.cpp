@@ -95,6 +95,14 @@ class PortFrame final : public FrameBackend {
     checkGl("timer queries");
   }
 
+  ImageU8 fullResHit(const FrameResult& f) override {
+    if (!f.levels[0].gbuffer.hit.empty() || !gbuffers_[0]) return f.levels[0].gbuffer.hit;
+    const ImageF positionHit = gbuffers_[0]->read(0);  // hit in w
+    ImageU8 hit(positionHit.width, positionHit.height, 1, 0);
+    for (size_t i = 0; i < hit.data.size(); ++i) hit.data[i] = positionHit.data[4 * i + 3] > 0.5f ? 1 : 0;
+    return hit;
+  }
+
   // G-buffers, rasterised per level. A coarse level's albedo is read only by SSGI's direct
   // light (and --stages): the resident frame leaves that target out otherwise.
   void gbuffer(FrameResult& f, int l) override {

@@ -157,7 +157,11 @@ def sweep(figure, path, effect, runs, paper, device):
         plot_method(c.ax, m, xs, [r["rms" if rms else "measured_speedup"] for r in mine],
                     label=m if rms else m + " measured")
         if m == "mrr" and not rms:
-            plot_method(c.ax, m, xs, [r["ideal_speedup"] for r in mine], label="mrr ideal", ideal=True)
+            plot_method(c.ax, m, xs, [r["ideal_speedup"] for r in mine], label="mrr ideal (pixels)", ideal=True)
+            if all("ideal_speedup_hit" in r for r in mine):  # over pixels on geometry: what full pays for
+                c.ax.plot(xs, [r["ideal_speedup_hit"] for r in mine], label="mrr ideal (pixels on geometry)",
+                          color=COLOR.get(m, "#000000"), linestyle=":", marker=MARKER.get(m, "o"),
+                          markerfacecolor="white", markersize=5)
     theirs = sorted((p for p in paper if p["figure"] == figure and p["effect"] == effect),
                     key=lambda p: p["samples"] if by_samples else p["height"])
     if theirs:

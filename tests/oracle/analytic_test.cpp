@@ -24,6 +24,31 @@ TEST(Analytic, OpenPlaneHasNoEdgesAoOneAndIdealSpeedup64) {
   EXPECT_EQ(f.levels[3].shadedPixels, 8 * 6);
   EXPECT_DOUBLE_EQ(f.idealSpeedup, 64.0);
   EXPECT_DOUBLE_EQ(f.blockIdealSpeedup, 64.0);  // 8×6 level pixels are six whole 4×2 blocks
+  EXPECT_DOUBLE_EQ(f.idealSpeedupHit, 64.0);    // every pixel is on the plane: the same ideal
+}
+
+TEST(Analytic, TheHitIdealCountsOnlyPixelsOnGeometry) {
+  // The plane at 16:9 leaves background at both sides: full pays only for the plane's pixels,
+  // so the ideal over hit pixels is below the pixel ideal; in full mode it is exactly 1.
+  const auto wide = renderScene("builtin:plane", ssaoSettings(128, 72, 8));
+  const FrameResult& f = wide.frame;
+  const int64_t hits = countSet(f.levels[0].gbuffer.hit);
+  ASSERT_GT(hits, 0);
+  ASSERT_LT(hits, 128 * 72);
+  // Against each level's own rays (its G-buffer's hit flags), which the figure approximates by
+  // the full-res pixel at the level pixel's sample point: they agree but near silhouettes.
+  int64_t shadedHits = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    if (!f.constants.levels[static_cast<size_t>(l)].enabled) continue;
+    for (size_t i = 0; i < lr.masks.stencil.data.size(); ++i) shadedHits += lr.masks.stencil.data[i] && lr.gbuffer.hit.data[i];
+  }
+  const double ownRays = static_cast<double>(hits) / static_cast<double>(shadedHits);
+  EXPECT_NEAR(f.idealSpeedupHit, ownRays, 0.02 * ownRays);
+  EXPECT_GT(f.idealSpeedupHit, 1.0);
+  EXPECT_NE(f.idealSpeedupHit, f.idealSpeedup);  // the background at the sides is not counted
+  const auto full = renderScene("builtin:plane", ssaoSettings(128, 72, 8, Mode::Full));
+  EXPECT_DOUBLE_EQ(full.frame.idealSpeedupHit, 1.0);
 }
 
 TEST(Analytic, OpenPlaneFullModeIsAlsoOne) {

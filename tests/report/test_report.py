@@ -40,7 +40,7 @@ class ChartTest(unittest.TestCase):
                   "speedup": 1.287, "rms": 0}]
         chart = report.sweep("fig7", "cpu", "ssao", runs, paper, "a test machine")
         labels = chart.ax.get_legend_handles_labels()[1]
-        self.assertEqual(labels, ["mrr measured", "mrr ideal", "paper, Fig. 7 (GTX 1080)"])
+        self.assertEqual(labels, ["mrr measured", "mrr ideal (pixels)", "paper, Fig. 7 (GTX 1080)"])
         paper_line = chart.ax.get_lines()[2]
         self.assertEqual(list(paper_line.get_xdata()), [720])
         self.assertEqual(paper_line.get_linestyle(), "--")
@@ -53,6 +53,15 @@ class ChartTest(unittest.TestCase):
             self.assertEqual(header[:8], b"\x89PNG\r\n\x1a\n")
             self.assertEqual((int.from_bytes(header[16:20], "big"), int.from_bytes(header[20:24], "big")),
                              (report.WIDTH, report.HEIGHT))
+
+    def test_the_hit_ideal_is_drawn_beside_the_pixel_ideal(self):
+        runs = [{"path": "cpu", "scene": "builtin:demo", "method": m, "effect": "ssao", "samples": 64, "width": w,
+                 "height": h, "rms": 0.01, "measured_speedup": s, "ideal_speedup": 2 * s, "ideal_speedup_hit": 1.5 * s}
+                for m, s in (("full", 1.0), ("mrr", 1.8)) for w, h in ((320, 180), (640, 360))]
+        chart = report.sweep("fig7", "cpu", "ssao", runs, [], "a test machine")
+        labels = chart.ax.get_legend_handles_labels()[1]
+        self.assertEqual(labels, ["mrr measured", "mrr ideal (pixels)", "mrr ideal (pixels on geometry)"])
+        self.assertEqual(list(chart.ax.get_lines()[2].get_ydata()), [2.7, 2.7])
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "app/frame_options.h"
 #include "app/options.h"
 #include "common/error.h"
 #include "common/image_io.h"
@@ -30,156 +31,13 @@
 #include "compare/report_python.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
+#include "explore/server.h"
 #include "gpu/pipeline.h"
 #include "scenes/builtin.h"
 #include "scenes/catalog.h"
 
 namespace mrr {
 namespace {
-
-// Options shared by render and probe.
-struct FrameOptions {
-  std::string scene = "builtin:demo";
-  std::string effect = "ssao";
-  std::string mode = "mrr";
-  std::string neverSlower;          // on|off; empty: neverSlowerDefault
-  bool neverSlowerDefault = true;   // compare turns it off: it validates every stage of the method
-  std::string costModelFile;
-  std::string path = "cpu";
-  int glDevice = -1;
-  std::string gpuTiming = "auto";
-  std::string size = "1280x720";
-  std::optional<int> samples;
-  int threads = 0;
-  std::optional<int> camera;
-  std::string eye, target, lightDir;
-  std::string blendMaterials = "opaque";
-  std::optional<float> fov;
-  bool flipUp = false, noFlipUp = false;
-  float aoRadius = 0.0f;
-  bool texelDepth = false;
-  std::optional<int> shadowMapSize;
-  std::optional<float> lightAngle;
-  float giRadius = 0.0f;
-  std::optional<float> tauN, tauZ;
-  std::vector<int> disabledLevels;
-  std::optional<double> memoryLimitGiB;
-  bool quiet = false;
-
-  void add(CLI::App& app) {
-    std::string builtins;
-    for (const auto& n : builtinSceneNames()) builtins += " builtin:" + n;
-    app.add_option("--scene", scene,
-                   "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path. Built-ins:" + builtins)
-        ->capture_default_str();
-    app.add_option("--effect", effect, "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)")->capture_default_str();
-    app.add_option("--method,--mode", mode,
-                   "mrr (= multires, the method), full (the reference), or a peer: uniform-1, uniform-2 (one coarse "
-                   "level, joint bilateral upsampling), tiles (16x16 VRS-style rates)")
-        ->capture_default_str();
-    app.add_option("--never-slower", neverSlower,
-                   "mrr: shade the frame at full res when the cost model predicts no gain: on|off (default on; "
-                   "compare: off, it validates every stage)");
-    app.add_option("--cost-model", costModelFile,
-                   "the never-slower rule's costs, a JSON written by `mrr bench --calibrate` (default: built in)");
-    app.add_option("--path", path, "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both")
-        ->capture_default_str();
-    app.add_option("--gl-device", glDevice, "gpu: the EGL device index (default: the first that gives GL 3.3 core)");
-    app.add_option("--gpu-timing", gpuTiming,
-                   "gpu: stage timings by glFinish + wall clock (wall), GL_TIME_ELAPSED queries (query), or auto: "
-                   "wall on llvmpipe, whose queries are wrong, query elsewhere")
-        ->capture_default_str();
-    app.add_option("--size", size, "WIDTHxHEIGHT, each side in [1, 16384]")->capture_default_str();
-    app.add_option("--samples", samples,
-                   "samples per pixel (default ssao 64, ssm 196, ssgi 288; ssao 1..1024, ssm a square n*n up to 1024, "
-                   "ssgi 1..8192)")
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-    app.add_option("--threads", threads, "worker threads (0 = all cores); results are identical for any count");
-    app.add_option("--camera", camera, "index into the scene's cameras");
-    app.add_option("--eye", eye, "camera position x,y,z (with --target)");
-    app.add_option("--target", target, "camera target x,y,z (with --eye)");
-    app.add_option("--fov", fov, "vertical field of view, degrees");
-    app.add_option("--blend-materials", blendMaterials,
-                   "glTF materials with alphaMode BLEND: opaque (drawn as solid) or skip (left out)")
-        ->capture_default_str();
-    app.add_option("--light-dir", lightDir,
-                   "x,y,z: the direction toward the directional light, world space (default: the scene's light, or "
-                   "for a scene without one the built-in default)");
-    app.add_flag("--flip-up", flipUp, "rotate the scene 180 degrees about X (files authored Y-down)");
-    app.add_flag("--no-flip-up", noFlipUp, "do not flip, even where the scene catalogue would");
-    app.add_option("--ao-radius", aoRadius, "SSAO radius in world units (0 = 3% of the scene diagonal)");
-    app.add_option("--shadow-map-size", shadowMapSize, "ssm/ssgi: shadow map texels per side (default 2048)");
-    app.add_option("--light-angle", lightAngle, "ssm: the light's angular diameter in radians (default 0.05)");
-    app.add_option("--gi-radius", giRadius, "ssgi: sample radius in world units (0 = 6% of the scene diagonal)");
-    app.add_flag("--ao-texel-depth", texelDepth,
-                 "SSAO: compare against the texel-centre depth instead of the tangent plane (the classic test)");
-    app.add_option("--tau-n", tauN, "normal-edge threshold on 1 - N.N (default 0.1)");
-    app.add_option("--tau-z", tauZ, "depth-edge threshold on |second difference of 1/z| / (1/z) (default 0.02)");
-    app.add_option("--disable-level", disabledLevels, "disable level 1, 2 or 3 (repeatable)");
-    app.add_option("--memory-limit", memoryLimitGiB,
-                   "GiB the run may plan to use (default: MRR_MEMORY_LIMIT, else 3/4 of physical memory)");
-    app.add_flag("-q,--quiet", quiet, "no progress lines on stderr");
-  }
-
-  Settings settings() const {
-    Settings s = defaultSettings(parseEffect(effect));
-    s.mode = parseMode(mode);
-    require(neverSlower.empty() || neverSlower == "on" || neverSlower == "off",
-            "--never-slower " + neverSlower + ": expected on or off");
-    s.neverSlower = neverSlower.empty() ? neverSlowerDefault : neverSlower == "on";
-    const auto [w, h] = parseSize(size);
-    s.width = w;
-    s.height = h;
-    if (samples) s.setSamples(*samples);
-    s.ssao.radius = aoRadius;
-    s.ssgi.radius = giRadius;
-    if (shadowMapSize) s.ssm.shadowMapSize = *shadowMapSize;
-    if (lightAngle) s.ssm.lightAngle = *lightAngle;
-    s.ssao.tangentPlaneDepth = !texelDepth;
-    if (tauN) s.edges.normalThreshold = *tauN;
-    if (tauZ) s.edges.depthThreshold = *tauZ;
-    for (int l : disabledLevels) {
-      require(l >= 1 && l < kLevelCount, "--disable-level " + std::to_string(l) + ": must be 1, 2 or 3");
-      s.levels[static_cast<size_t>(l)].enabled = false;
-    }
-    validateSettings(s);
-    return s;
-  }
-
-  // The never-slower rule's costs: --cost-model, else the built-in defaults of `forPath`.
-  // Comparisons pass the oracle's for both paths, so both take the same decision.
-  CostModel costModel(const std::string& forPath) const {
-    if (costModelFile.empty()) return CostModel::defaults(forPath);
-    std::ifstream in(costModelFile);
-    require(in.good(), "--cost-model " + costModelFile + ": cannot read the file");
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    require(!j.is_discarded() && j.is_object(), "--cost-model " + costModelFile + ": not a JSON object");
-    return CostModel::fromJson(j);
-  }
-
-  SceneRequest sceneRequest() const {
-    SceneRequest r;
-    r.scene = scene;
-    if (flipUp) r.flipUp = true;
-    if (noFlipUp) r.flipUp = false;
-    r.cameraIndex = camera;
-    if (!eye.empty()) r.eye = parseVec3(eye, "--eye");
-    if (!target.empty()) r.target = parseVec3(target, "--target");
-    r.fovDegrees = fov;
-    if (!lightDir.empty()) r.lightToward = parseVec3(lightDir, "--light-dir");
-    require(blendMaterials == "opaque" || blendMaterials == "skip",
-            "--blend-materials " + blendMaterials + ": expected opaque or skip");
-    r.skipBlendMaterials = blendMaterials == "skip";
-    return r;
-  }
-
-  void checkPath(bool bothAllowed = false) const {
-    gpu::parseGpuTiming(gpuTiming);  // validates the name
-    if (bothAllowed && path == "both") return;
-    require(path == "cpu" || path == "gpu",
-            "--path " + path + ": unknown path (expected cpu or gpu" + (bothAllowed ? ", or both" : "") + ")");
-  }
-};
 
 // Checks that `path` ends in one of `extensions` (any case) and can be written, before any
 // work starts.
@@ -346,12 +204,12 @@ MrrError usageError(const CLI::App& app, const CLI::ParseError& e, const std::st
   }
   if (dynamic_cast<const CLI::RequiredError*>(&e) && !sub) {
     if (first.empty() || first[0] == '-')
-      return MrrError("a command is required: render, probe, compare or bench (mrr --help)");
+      return MrrError("a command is required: render, probe, compare, bench or explore (mrr --help)");
     std::vector<std::string> commands;
     for (const CLI::App* s : given) commands.push_back(s->get_name());
     const std::string best = closest(first, commands);
     return MrrError("unknown command " + first +
-                    (best.empty() ? " (expected render, probe, compare or bench)" : " (did you mean " + best + "?)"));
+                    (best.empty() ? " (expected render, probe, compare, bench or explore)" : " (did you mean " + best + "?)"));
   }
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) && what.find(" required ") != std::string::npos &&
       what.find(" missing") != std::string::npos) {
@@ -403,6 +261,18 @@ int run(int argc, char** argv) {
   auto* compare = app.add_subcommand("compare", "run the oracle and the GL port on one frame and compare every stage");
   compareOpts.add(*compare);
   compare->add_option("--report", compareReportDir, "also write a self-contained HTML report into this folder");
+
+  explore::ServerOptions exploreOpts;
+  exploreOpts.frame.size = "320x180";  // re-renders in well under a second (docs/explore.md)
+  exploreOpts.frame.samples = 16;
+  auto* explore = app.add_subcommand(
+      "explore", "serve a local page on one frame: every stage as a layer, oracle beside port, probes, live knobs");
+  exploreOpts.frame.add(*explore);
+  explore->add_option("--port", exploreOpts.port, "TCP port to serve on (0: any free one; the URL is printed)")
+      ->capture_default_str();
+  explore->add_option("--host", exploreOpts.host,
+                      "address to listen on (default 127.0.0.1: this machine only; 0.0.0.0 opens it to the network)")
+      ->capture_default_str();
 
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
@@ -568,6 +438,7 @@ int run(int argc, char** argv) {
   }
 
   if (*compare) return runCompare(compareOpts, compareReportDir);
+  if (*explore) return explore::serve(exploreOpts);
 
   FrameOptions& fo = *render ? renderOpts : probeOpts;
   fo.checkPath(probe->parsed());

@@ -24,17 +24,22 @@ const std::vector<SharedSceneInfo>& sharedSceneCatalog() {
   return catalog;
 }
 
-ResolvedScene resolveScene(const SceneRequest& request) {
-  ResolvedScene out;
+namespace {
+const SharedSceneInfo* catalogEntry(const std::string& name) {
+  for (const auto& entry : sharedSceneCatalog())
+    if (entry.name == name) return &entry;
+  return nullptr;
+}
+}  // namespace
+
+Scene loadRequestedScene(const SceneRequest& request) {
+  Scene scene;
   const std::string& spec = request.scene;
-  std::vector<Camera> catalogCameras;
   if (spec.rfind("builtin:", 0) == 0) {
-    out.scene = makeBuiltinScene(spec.substr(8));
-    if (request.flipUp.value_or(false)) flipUp(out.scene);
+    scene = makeBuiltinScene(spec.substr(8));
+    if (request.flipUp.value_or(false)) flipUp(scene);
   } else {
-    const SharedSceneInfo* info = nullptr;
-    for (const auto& entry : sharedSceneCatalog())
-      if (entry.name == spec) info = &entry;
+    const SharedSceneInfo* info = catalogEntry(spec);
     LoadOptions options;
     options.skipBlend = request.skipBlendMaterials;
     std::string path = spec;
@@ -43,41 +48,53 @@ ResolvedScene resolveScene(const SceneRequest& request) {
       require(std::filesystem::exists(path),
               "--scene " + spec + ": " + path + " not found (set MRR_SCENES_DIR to the shared scenes folder)");
       options.flipUp = request.flipUp.value_or(info->flipUp);
-      catalogCameras = info->cameras;
     } else {
       options.flipUp = request.flipUp.value_or(false);
     }
-    out.scene = loadGltf(path, options);
+    scene = loadGltf(path, options);
   }
   // The light: --light-dir points toward it; the scene's light travels the other way.
   if (request.lightToward) {
     const float length = glm::length(*request.lightToward);
     require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
-    out.scene.light.direction = -*request.lightToward / length;
+    scene.light.direction = -*request.lightToward / length;
   }
+  return scene;
+}
+
+Camera requestedCamera(const SceneRequest& request, const Scene& scene) {
   // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
   // catalogue's view, else framed from the bounds.
   const float fov = glm::radians(request.fovDegrees.value_or(60.0f));
   require(fov > 0.0f && fov < glm::radians(179.0f), "--fov: must be in (0, 179) degrees");
   if (request.eye || request.target) {
     require(request.eye && request.target, "--eye and --target must be given together");
-    out.camera = Camera{*request.eye, *request.target, {0, 1, 0}, fov};
-    require(glm::length(out.camera.target - out.camera.eye) > 0.0f, "--eye and --target coincide");
-    return out;
+    const Camera camera{*request.eye, *request.target, {0, 1, 0}, fov};
+    require(glm::length(camera.target - camera.eye) > 0.0f, "--eye and --target coincide");
+    return camera;
   }
-  std::vector<Camera> cameras = out.scene.cameras;
-  if (cameras.empty()) cameras = catalogCameras;
+  std::vector<Camera> cameras = scene.cameras;
+  if (cameras.empty() && request.scene.rfind("builtin:", 0) != 0)
+    if (const SharedSceneInfo* info = catalogEntry(request.scene)) cameras = info->cameras;
+  Camera camera;
   if (request.cameraIndex) {
     const int i = *request.cameraIndex;
     require(i >= 0 && i < static_cast<int>(cameras.size()),
             "--camera " + std::to_string(i) + ": the scene has " + std::to_string(cameras.size()) + " camera(s)");
-    out.camera = cameras[static_cast<size_t>(i)];
+    camera = cameras[static_cast<size_t>(i)];
   } else if (!cameras.empty()) {
-    out.camera = cameras.front();
+    camera = cameras.front();
   } else {
-    out.camera = frameBounds(out.scene.bounds(), fov);
+    camera = frameBounds(scene.bounds(), fov);
   }
-  if (request.fovDegrees) out.camera.yfov = fov;
+  if (request.fovDegrees) camera.yfov = fov;
+  return camera;
+}
+
+ResolvedScene resolveScene(const SceneRequest& request) {
+  ResolvedScene out;
+  out.scene = loadRequestedScene(request);
+  out.camera = requestedCamera(request, out.scene);
   return out;
 }
 

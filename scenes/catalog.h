@@ -35,5 +35,9 @@ struct ResolvedScene {
   Camera camera;
 };
 ResolvedScene resolveScene(const SceneRequest& request);
+// The two halves of resolveScene, for a caller that keeps the scene and moves the camera
+// (`mrr explore`): the scene with its light, and the camera the request picks in it.
+Scene loadRequestedScene(const SceneRequest& request);
+Camera requestedCamera(const SceneRequest& request, const Scene& scene);
 
 }  // namespace mrr

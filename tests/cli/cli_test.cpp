@@ -700,7 +700,7 @@ const std::vector<BadCase> kBadCases = {
     {"ProbePixelThreeNumbers", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
                                 "--pixel", "1,2,3"}, "--pixel 1,2,3"},
     // the command line itself: every usage error is one line and status 2
-    {"NoCommand", {}, "a command is required: render, probe, compare or bench"},
+    {"NoCommand", {}, "a command is required: render, probe, compare, bench or explore"},
     {"MisspelledCommand", {"rendr", "--scene", "builtin:demo"}, "unknown command rendr (did you mean render?)"},
     {"UnknownCommand", {"draw", "--scene", "builtin:demo"}, "unknown command draw (expected render, probe"},
     {"UnexpectedArgument", demoWith({"--out", "{out}/o.exr", "extra"}), "render: unexpected argument extra"},

@@ -158,7 +158,9 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
                 tokens[1][1] < '0' + kLevelCount,
             "no layer " + name);
     level = tokens[1][1] - '0';
-    out.scale = f.constants.levels[static_cast<size_t>(level)].scale;
+    // the blend's images are on the W×H grid; the other per-level parts on their level's
+    const bool fullRes = part == Part::Upsample || part == Part::BlendAlpha || part == Part::Composite;
+    out.scale = fullRes ? 1 : f.constants.levels[static_cast<size_t>(level)].scale;
   }
   out.what = std::string(partInfo(part).what);
   const size_t li = static_cast<size_t>(std::max(level, 0));

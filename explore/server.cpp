@@ -26,6 +26,7 @@
 #include "common/error.h"
 #include "common/memory.h"
 #include "common/stages.h"
+#include "common/tolerance.h"
 #include "compare/false_colour.h"
 #include "compare/probe_both.h"
 #include "compare/report.h"
@@ -248,6 +249,7 @@ class Explorer {
             {"port", {{"available", portAvailable_}, {"status", portStatus_}, {"renderer", portRenderer()}}},
             {"defaults", defaults},
             {"parts", parts},
+            {"probe_relative_difference", kProbeRelativeDifference},
             {"teach", teachSteps()}};
   }
 
@@ -623,8 +625,11 @@ int serve(const ServerOptions& options) {
                  meta["hi"] = scale;
                  meta["largest"] = largest;
                  meta["differing_pixels"] = differing;
+                 char full[32];
+                 std::snprintf(full, sizeof full, "%.4g", scale);
                  meta["caption"] = "|port - oracle|, max over channels, on the ramp: black 0, full scale " +
-                                   std::to_string(scale) + (oracle.kind == LayerKind::Binary ? " (a mismatch)" : " (the largest)");
+                                   std::string(full) +
+                                   (oracle.kind == LayerKind::Binary ? " (a mismatch)" : " (the largest here)");
                  return sendJson(res, meta);
                }
                res.set_header("Cache-Control", "no-store");

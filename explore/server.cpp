@@ -201,8 +201,9 @@ class Explorer {
       requireMemory(3 * estimateFrameBytes(makeConstants(r.settings, 1.0f), true),
                     memoryLimit(options_.frame.memoryLimitGiB), "a " + r.options.size + " frame");
     } catch (const MrrError& e) {
-      std::string parameter = parameterNamed(e.what());
-      if (parameter.empty() && std::string(e.what()).find("memory") != std::string::npos) parameter = "size";
+      // the page cannot raise the memory limit: a frame too large is its size's fault
+      const bool memory = std::string(e.what()).find("over the memory limit") != std::string::npos;
+      std::string parameter = memory ? "size" : parameterNamed(e.what());
       if (parameter.empty() && std::string(e.what()).find("level ") == 0) parameter = "sigma2";
       throw ApiError{400, e.what(), parameter};
     }
@@ -659,7 +660,8 @@ int serve(const ServerOptions& options) {
              }));
   server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // a handler's own error
-    sendJson(res, {{"error", "not found: " + req.path}, {"parameter", nullptr}}, res.status);
+    const std::string what = res.status == 404 ? "not found: " : "refused (" + std::to_string(res.status) + "): ";
+    sendJson(res, {{"error", what + req.method + " " + req.path}, {"parameter", nullptr}}, res.status);
   });
   server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     sendJson(res, {{"error", "internal error"}, {"parameter", nullptr}}, 500);

@@ -139,7 +139,7 @@ class ExploreApi(unittest.TestCase):
         cases = [
             ("api/frame?tau_n=abc", "tau_n"), ("api/frame?tau_n=5", "tau_n"), ("api/frame?tau_z=-1", "tau_z"),
             ("api/frame?samples=0", "samples"), ("api/frame?samples=x", "samples"), ("api/frame?size=12", "size"),
-            ("api/frame?size=100000x100000", "size"), ("api/frame?effect=nope", "effect"),
+            ("api/frame?size=100000x100000", "size"), ("api/frame?size=16384x16384", "size"), ("api/frame?effect=nope", "effect"),
             ("api/frame?method=nope", "method"), ("api/frame?disable_level=7", "disable_level"),
             ("api/frame?sigma2=1,2", "sigma2"), ("api/frame?weights=1,1,1,-1", "weights"),
             ("api/frame?eye=1,2", "eye"), ("api/frame?bogus=1", "bogus"), ("api/frame?path=cuda", "path"),

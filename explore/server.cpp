@@ -10,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <filesystem>
 #include <functional>
 #include <future>
 #include <iostream>
@@ -25,6 +26,7 @@
 
 #include "common/error.h"
 #include "common/memory.h"
+#include "common/paths.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
 #include "compare/false_colour.h"
@@ -118,6 +120,7 @@ Settings referenceSettings(const Settings& s) {
 
 // A rendered frame, kept in the cache; read-only once made, from any thread.
 struct Rendered {
+  int64_t bytes = 0;  // estimateFrameBytes of the frame, for the cache's budget
   FrameResult frame;
   json report;
   std::shared_ptr<const Rendered> reference;  // null for a reference itself
@@ -135,9 +138,11 @@ struct SceneState {
 
 class Explorer {
  public:
-  explicit Explorer(const ServerOptions& options) : options_(options) {
+  explicit Explorer(const ServerOptions& options)
+      : options_(options), cacheBudget_(memoryLimit(options.frame.memoryLimitGiB).bytes / 2) {
     for (const std::string& n : builtinSceneNames()) scenes_.push_back("builtin:" + n);
-    for (const SharedSceneInfo& s : sharedSceneCatalog()) scenes_.push_back(s.name);
+    for (const SharedSceneInfo& s : sharedSceneCatalog())  // those this machine has
+      if (std::filesystem::exists(std::filesystem::path(sharedScenesDir()) / s.file)) scenes_.push_back(s.name);
     if (std::find(scenes_.begin(), scenes_.end(), options.frame.scene) == scenes_.end())
       scenes_.push_back(options.frame.scene);  // the scene named on the command line
     worker_ = std::thread([this] { workLoop(); });
@@ -233,6 +238,13 @@ class Explorer {
     return out;
   }
 
+  // Loads the command line's scene and builds its BVH before the first request: a scene that
+  // cannot be read is one line and exit 2, not a page that fails.
+  void preload() {
+    const FrameRequest r = parse(httplib::Request{}, {});
+    runOnWorker([&] { sceneFor(r); });
+  }
+
   json info() const {
     json parts = json::array();
     for (const PartInfo& p : kParts)
@@ -318,10 +330,18 @@ class Explorer {
     return nullptr;
   }
 
+  // Keeps the newest frames: at most kCachedFrames, and within half the memory limit (the two
+  // newest always). Frames still in use live on in their shared_ptr.
   void remember(const std::string& key, RenderedPtr frame) {
     std::lock_guard lock(cacheMutex_);
     cache_.emplace_front(key, std::move(frame));
-    while (cache_.size() > kCachedFrames) cache_.pop_back();  // frames still in use live on in their shared_ptr
+    const int64_t budget = cacheBudget_;
+    auto total = [&] {
+      int64_t sum = 0;
+      for (const auto& entry : cache_) sum += entry.second->bytes;
+      return sum;
+    };
+    while (cache_.size() > kCachedFrames || (cache_.size() > 2 && total() > budget)) cache_.pop_back();
   }
 
   void setProgress(const std::string& job, const std::string& stage) {
@@ -381,7 +401,9 @@ class Explorer {
     RenderedPtr reference = cached(r.referenceKey + path);
     if (!reference) {
       auto ref = std::make_shared<Rendered>();
-      ref->frame = render(makeConstants(referenceSettings(r.settings), diagonal), false, "full-resolution reference");
+      const Constants full = makeConstants(referenceSettings(r.settings), diagonal);
+      ref->bytes = estimateFrameBytes(full, false);
+      ref->frame = render(full, false, "full-resolution reference");
       reference = ref;
       remember(r.referenceKey + path, reference);
     }
@@ -390,6 +412,7 @@ class Explorer {
     out->frame = render(constants, true,
                         toString(r.settings.mode) + " " + toString(r.settings.effect) + " " + r.options.size);
     out->reference = reference;
+    out->bytes = estimateFrameBytes(constants, true);
     RunInfo info{state.scene->name, state.scene->credit, path, tbb::this_task_arena::max_concurrency(), {}, {}};
     if (path == "gpu") {
       info.renderer = state.port->renderer();
@@ -457,6 +480,7 @@ class Explorer {
   static constexpr size_t kCachedFrames = 12;
 
   ServerOptions options_;
+  int64_t cacheBudget_ = 0;
   std::vector<std::string> scenes_;
   bool portAvailable_ = false;  // set once, before any request
   std::string portStatus_;
@@ -571,6 +595,11 @@ int serve(const ServerOptions& options) {
                 " (in use, or the address is not this machine's)");
   }
   Explorer explorer(options);
+  try {
+    explorer.preload();
+  } catch (const ApiError& e) {
+    throw MrrError(e.message);
+  }
 
   for (const char* file : {"index.html", "explore.js", "explore.css"}) {
     const ExploreFile* f = pageFile(std::string("page/") + file);

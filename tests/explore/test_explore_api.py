@@ -214,7 +214,8 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
 
     def test_bad_command_line_options_exit_2(self):
-        for args in (["--port", "70000"], ["--tau-n", "7"], ["--scene", "builtin:nope"], ["--size", "0x0"]):
+        for args in (["--port", "70000"], ["--tau-n", "7"], ["--scene", "builtin:nope"], ["--size", "0x0"],
+                     ["--scene", "/nonexistent/scene.gltf"], ["--cost-model", "/nonexistent.json"]):
             r = subprocess.run([MRR, "explore", *args], capture_output=True, text=True, timeout=60)
             self.assertEqual(r.returncode, 2, (args, r.stderr))
             self.assertTrue(r.stderr.startswith("mrr: error: "), (args, r.stderr))

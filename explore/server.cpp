@@ -148,9 +148,13 @@ class Explorer {
     worker_ = std::thread([this] { workLoop(); });
     // The port's status, found on the thread that will own its context.
     runOnWorker([this] {
-      std::string why;
-      portAvailable_ = gpu::glAvailable(&why);
-      portStatus_ = portAvailable_ ? "available" : why;
+      try {
+        const gpu::GlContext context(options_.frame.glDevice);
+        portAvailable_ = true;
+        portStatus_ = "available";
+      } catch (const std::exception& e) {
+        portStatus_ = e.what();
+      }
     });
   }
   ~Explorer() {

@@ -238,5 +238,30 @@ class ExploreApi(unittest.TestCase):
             self.assertLess(median, 3.0, path)
 
 
+class ExploreWithoutThePort(unittest.TestCase):
+    """No EGL device (here: one that does not exist): the oracle alone, and the port refused."""
+
+    def test_the_oracle_alone(self):
+        server = ExploreServer(MRR, "--gl-device", "99")
+        try:
+            status, info = server.json("api/info")
+            self.assertEqual(status, 200)
+            self.assertFalse(info["port"]["available"])
+            self.assertTrue(info["port"]["status"])
+            status, report = server.json("api/frame?" + FRAME)
+            self.assertEqual(status, 200, report)
+            status, ctype, body = server.get("api/stage/final.png?" + FRAME)
+            self.assertEqual((status, ctype), (200, "image/png"))
+            for path in ("api/frame?path=gpu&" + FRAME, "api/probe?x=1&y=1&path=both&" + FRAME,
+                         "api/stage/final.png?path=both&" + FRAME):
+                status, error = server.json(path)
+                self.assertEqual(status, 503, (path, error))
+                self.assertEqual(error["parameter"], "path")
+                self.assertIn("unavailable", error["error"])
+            self.assertTrue(server.alive())
+        finally:
+            server.stop()
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)

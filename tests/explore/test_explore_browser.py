@@ -176,6 +176,24 @@ def run(d, server):
         time.sleep(0.5)
         d.save_screenshot(SHOT)
         print(f"{TOOL}: screenshot {SHOT}", file=sys.stderr)
+    # 7. Without the port (an EGL device that does not exist) the page works on the oracle and says so.
+    alone = ExploreServer(MRR, "--scene", "builtin:demo", "--gl-device", "99")
+    try:
+        d.get(alone.url)
+        wait.until(lambda _: body().get_attribute("data-state") == "ready" and body().get_attribute("data-busy") == "0")
+        if body().get_attribute("data-port") != "unavailable" or "unavailable" not in by_id("port-name").text:
+            fail(f"the page does not say the port is unavailable: {by_id('port-name').text!r}")
+        ActionChains(d).move_to_element(d.find_element(By.CSS_SELECTOR, "#panel-cpu .view")).click().perform()
+        wait.until(lambda _: by_id("probe-section").get_attribute("data-path") == "cpu"
+                   and body().get_attribute("data-busy") == "0")
+        if len(d.find_elements(By.CSS_SELECTOR, "#probe tbody tr")) < 20:
+            fail("no oracle probe on the page without the port")
+        errors = [e for e in d.get_log("browser") if e.get("level") == "SEVERE"]
+        if errors:
+            fail("console errors without the port: " + "; ".join(e["message"][:200] for e in errors))
+        print(f"{TOOL}: without the port: the oracle alone, the port said unavailable", file=sys.stderr)
+    finally:
+        alone.stop()
     print(f"{TOOL}: OK", file=sys.stderr)
 
 

@@ -236,7 +236,7 @@ class Explorer {
   RenderedPtr frame(const FrameRequest& r, const std::string& path) {
     if (path == "gpu" && !portAvailable_)
       throw ApiError{503, "the port is unavailable here: " + portStatus_, "path"};
-    if (RenderedPtr hit = cached(r.key + path)) return hit;
+    if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;
     RenderedPtr out;
     runOnWorker([&] { out = renderOnWorker(r, path); });
     return out;
@@ -367,7 +367,7 @@ class Explorer {
   }
 
   RenderedPtr renderOnWorker(const FrameRequest& r, const std::string& path) {
-    if (RenderedPtr hit = cached(r.key + path)) return hit;  // rendered while this one queued
+    if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;  // rendered while this one queued
     const auto start = std::chrono::steady_clock::now();
     {
       std::lock_guard lock(progressMutex_);
@@ -402,14 +402,14 @@ class Explorer {
       return path == "cpu" ? state.oracle->render(camera, k, {keepStages, progress, &costs})
                            : state.port->render(camera, k, {keepStages, progress, &costs});
     };
-    RenderedPtr reference = cached(r.referenceKey + path);
+    RenderedPtr reference = cached("reference " + path + r.referenceKey);
     if (!reference) {
       auto ref = std::make_shared<Rendered>();
       const Constants full = makeConstants(referenceSettings(r.settings), diagonal);
       ref->bytes = estimateFrameBytes(full, false);
       ref->frame = render(full, false, "full-resolution reference");
       reference = ref;
-      remember(r.referenceKey + path, reference);
+      remember("reference " + path + r.referenceKey, reference);
     }
     auto out = std::make_shared<Rendered>();
     const Constants constants = makeConstants(r.settings, diagonal);
@@ -434,7 +434,7 @@ class Explorer {
         {"render_wall_ms", out->wallMs},
         {"layers", layerNames(out->frame, true)},
         {"key", r.key}};
-    remember(r.key + path, out);
+    remember("frame " + path + r.key, out);
     return out;
   }
 
@@ -633,10 +633,10 @@ int serve(const ServerOptions& options) {
                const float gain = gainParameter(req);
                auto layerOf = [&](const std::string& p) {
                  const RenderedPtr f = explorer.frame(r, p);
-                 const std::vector<std::string> names = layerNames(f->frame, true);
+                 const std::vector<std::string> names = layerNames(f->frame, f->reference != nullptr);
                  if (std::find(names.begin(), names.end(), name) == names.end())
                    throw ApiError{404, "no layer " + name + " in this frame (GET /api/frame lists them)", {}};
-                 return makeLayer(f->frame, name, &f->reference->frame, gain);
+                 return makeLayer(f->frame, name, f->reference ? &f->reference->frame : nullptr, gain);
                };
                if (path != "both") {
                  const LayerImage layer = layerOf(path);
@@ -677,10 +677,10 @@ int serve(const ServerOptions& options) {
                const int x = intParameter(req, "x", 0, r.settings.width - 1);
                const int y = intParameter(req, "y", 0, r.settings.height - 1);
                const RenderedPtr f = explorer.frame(r, path);
-               const std::vector<std::string> names = layerNames(f->frame, true);
+               const std::vector<std::string> names = layerNames(f->frame, f->reference != nullptr);
                if (std::find(names.begin(), names.end(), name) == names.end())
                  throw ApiError{404, "no layer " + name + " in this frame", "layer"};
-               sendJson(res, layerValueAt(makeLayer(f->frame, name, &f->reference->frame, gainParameter(req)), x, y));
+               sendJson(res, layerValueAt(makeLayer(f->frame, name, f->reference ? &f->reference->frame : nullptr, gainParameter(req)), x, y));
              }));
   server.Get("/api/probe", guarded([&](const httplib::Request& req, httplib::Response& res) {
                const FrameRequest r = explorer.parse(req, {"path", "x", "y"});

@@ -105,6 +105,29 @@ class ExploreApi(unittest.TestCase):
             self.assertIn(meta["kind"], ("binary", "effect", "scalar", "colour", "levels"))
             self.assertLessEqual(meta["lo"], meta["hi"], layer)
 
+    def test_every_effect_and_method_has_its_layers(self):
+        for effect, method, samples in [("ssm", "mrr", 16), ("ssgi", "mrr", 8), ("ssao", "tiles", 8),
+                                        ("ssao", "uniform-2", 8), ("ssao", "full", 8)]:
+            q = f"effect={effect}&method={method}&samples={samples}&size=160x90&never_slower=off"
+            status, report = self.server.json("api/frame?" + q)
+            self.assertEqual(status, 200, (q, report))
+            layers = report["explore"]["layers"]
+            if effect == "ssm":
+                self.assertTrue({"shadowmap", "shadowtest", "edges.shadow"} <= set(layers), layers)
+            if method == "tiles":
+                self.assertIn("tilerates", layers)
+            for layer in layers:
+                status, ctype, body = self.server.get("api/stage/%s.png?%s" % (layer, q))
+                self.assertEqual((status, ctype), (200, "image/png"), (q, layer, body[:200]))
+            status, probe = self.server.json("api/probe?x=80&y=45&path=cpu&" + q)
+            self.assertEqual(status, 200, (q, probe))
+            if self.port:  # the port's frame of every mode, its difference and the probe of both
+                for layer in ("final", layers[len(layers) // 2]):
+                    status, ctype, body = self.server.get("api/stage/%s.png?path=both&%s" % (layer, q))
+                    self.assertEqual((status, ctype), (200, "image/png"), (q, layer, body[:200]))
+                status, both = self.server.json("api/probe?x=80&y=45&path=both&" + q)
+                self.assertEqual(status, 200, (q, both))
+
     def test_value_under_a_pixel(self):
         status, v = self.server.json("api/value?layer=alpha.L1&x=101&y=51&" + FRAME)
         self.assertEqual(status, 200, v)

@@ -206,6 +206,43 @@ class ExploreApi(unittest.TestCase):
             conn.close()
         self.assertTrue(self.server.alive())
 
+    def test_odd_frames_never_crash_the_server(self):
+        """Seeded combinations of odd but legal (and some illegal) values at tiny sizes: every
+        answer is JSON or a PNG, 2xx or 4xx (503 without the port), and the server lives on."""
+        import random
+        rng = random.Random(20)
+        choices = {
+            "size": ["1x1", "7x3", "33x17", "64x36", "2x200"],
+            "effect": ["ssao", "ssm", "ssgi"],
+            "method": ["mrr", "full", "uniform-1", "uniform-2", "tiles", "multires"],
+            "samples": ["1", "4", "9", "3"],
+            "tau_n": ["0", "2", "0.0001", "nan", "1e9"],
+            "tau_z": ["0", "1e-9", "100", "inf"],
+            "sigma2": ["0,0,0,0", "64,64,64,64", "0.5,1,2,4", "1,1,1,65"],
+            "weights": ["0,0,0,0", "1e6,1e6,1e6,1e6", "1,1,1,1"],
+            "disable_level": [["1"], ["1", "2", "3"], ["3"], ["2", "3"]],
+            "never_slower": ["on", "off"],
+            "fov": ["0.5", "170", "179", "0"],
+            "eye": ["0,0,100", "1e30,0,0", "0,1,0"],
+            "shadow_map_size": ["16", "64", "15"],
+            "light_angle": ["0.001", "0.5", "0"],
+        }
+        for i in range(40):
+            params = [("path", rng.choice(["cpu", "gpu"] if self.port else ["cpu"]))]
+            for key in rng.sample(sorted(choices), rng.randint(2, 6)):
+                value = rng.choice(choices[key])
+                params += [(key, v) for v in value] if isinstance(value, list) else [(key, value)]
+                if key == "eye":
+                    params.append(("target", "0,0,0"))
+            q = urllib.parse.urlencode(params)
+            for endpoint in ("api/frame?", "api/probe?x=0&y=0&", "api/stage/final.png?"):
+                status, ctype, body = self.server.get(endpoint + q)
+                self.assertTrue(200 <= status < 300 or 400 <= status < 500 or status == 503, (status, q, body[:300]))
+                self.assertTrue(ctype.startswith("application/json") or ctype == "image/png", (q, ctype))
+                if status >= 400:
+                    self.assertIn("error", json.loads(body))
+            self.assertTrue(self.server.alive(), "the server died on " + q)
+
     # -- concurrency ----------------------------------------------------------------------
     def test_concurrent_requests_queue_and_agree(self):
         frames = ["api/frame?%s&tau_z=%s" % (FRAME, tau) for tau in ("0.03", "0.05")]

@@ -61,6 +61,7 @@ function busy(delta) {
     clearInterval(poller);
     poller = null;
     $('#progress').classList.remove('working');
+    if (!$('#progress').classList.contains('error')) $('#progress-text').textContent = state.message || '';
   }
 }
 
@@ -178,8 +179,9 @@ async function render() {
     if (seq !== state.seq) return;
     if (state.pixel) await probe();
     if (seq !== state.seq) return;
-    say(`rendered in ${Math.round(cpu.explore.render_wall_ms)} ms (oracle)` +
-        (gpu ? `, ${Math.round(gpu.explore.render_wall_ms)} ms (port)` : '') + '; cached frames answer at once');
+    state.message = `rendered in ${Math.round(cpu.explore.render_wall_ms)} ms (oracle)` +
+        (gpu ? `, ${Math.round(gpu.explore.render_wall_ms)} ms (port)` : '') + '; cached frames answer at once';
+    say(state.message);
     document.body.dataset.renders = String(+document.body.dataset.renders + 1);
     document.body.dataset.state = 'ready';
   } catch (e) {
@@ -515,7 +517,7 @@ function drawFootprint() {
 let teachIndex = 0;
 function teachSteps() {
   return state.info.teach
-    .map((s) => ({...s, layer: state.layers.find((l) => l === s.part || l.startsWith(s.part + '.'))}))
+    .map((s) => ({...s, layer: state.layers.find((l) => l === s.part) || state.layers.find((l) => l.startsWith(s.part + '.'))}))
     .filter((s) => s.layer);
 }
 
@@ -543,7 +545,8 @@ function showTeach() {
   teachIndex = Math.max(0, Math.min(steps.length - 1, teachIndex));
   const s = steps[teachIndex];
   $('#teach-panel').hidden = false;
-  $('#teach-title').textContent = `${teachIndex + 1}/${steps.length} · ${s.part} — ${s.section}`;
+  const title = $('#teach-title');
+  title.replaceChildren(`${teachIndex + 1}/${steps.length} · ${s.part} — `, inlineMarkdown(s.section));
   $('#teach-what').textContent = s.what;
   const text = $('#teach-text');
   text.replaceChildren();

@@ -134,6 +134,7 @@ struct SceneState {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> oracle;
   std::unique_ptr<gpu::GpuRenderer> port;  // made on first use
+  std::set<std::string> warm;              // the paths that have rendered here (shaders compiled, scratch paged in)
 };
 
 class Explorer {
@@ -402,6 +403,13 @@ class Explorer {
       return path == "cpu" ? state.oracle->render(camera, k, {keepStages, progress, &costs})
                            : state.port->render(camera, k, {keepStages, progress, &costs});
     };
+    // A renderer's first frames pay for compiling shaders and paging in scratch: one throwaway
+    // frame of each kind first, so the measured speedup compares warm frames.
+    if (!state.warm.count(path)) {
+      render(makeConstants(referenceSettings(r.settings), diagonal), false, "warming up (full resolution)");
+      render(makeConstants(r.settings, diagonal), false, "warming up");
+      state.warm.insert(path);
+    }
     RenderedPtr reference = cached("reference " + path + r.referenceKey);
     if (!reference) {
       auto ref = std::make_shared<Rendered>();

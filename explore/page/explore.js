@@ -245,7 +245,7 @@ function showStats() {
     body.appendChild(tr);
   }
   $('#stats-note').textContent = 'Measured: this frame\'s total against the full-resolution frame\'s, one run each on ' +
-    'this machine, the stages kept for the page; `mrr bench` gives careful figures.';
+    'this machine, warm, the stages kept for the page; `mrr bench` gives careful figures.';
   if (gpu && gpu.renderer) $('#port-name').textContent = gpu.renderer.split('(')[0].trim();
 }
 

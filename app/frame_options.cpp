@@ -149,6 +149,8 @@ SceneRequest FrameOptions::sceneRequest() const {
   require(blendMaterials == "opaque" || blendMaterials == "skip",
           "--blend-materials " + blendMaterials + ": expected opaque or skip");
   r.skipBlendMaterials = blendMaterials == "skip";
+  const auto [w, h] = parseSize(size);
+  r.aspect = static_cast<float>(w) / static_cast<float>(h);
   return r;
 }
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "app/frame_options.h"
+#include "app/info.h"
 #include "app/options.h"
 #include "common/error.h"
 #include "common/image_io.h"
@@ -203,13 +204,14 @@ MrrError usageError(const CLI::App& app, const CLI::ParseError& e, const std::st
     return MrrError(where + "unknown option " + unknown + (best.empty() ? "" : " (did you mean " + best + "?)"));
   }
   if (dynamic_cast<const CLI::RequiredError*>(&e) && !sub) {
-    if (first.empty() || first[0] == '-')
-      return MrrError("a command is required: render, probe, compare, bench or explore (mrr --help)");
     std::vector<std::string> commands;
+    std::string list;  // "render, probe, ... or bench"
     for (const CLI::App* s : given) commands.push_back(s->get_name());
+    for (size_t i = 0; i < commands.size(); ++i)
+      list += (i == 0 ? "" : i + 1 == commands.size() ? " or " : ", ") + commands[i];
+    if (first.empty() || first[0] == '-') return MrrError("a command is required: " + list + " (mrr --help)");
     const std::string best = closest(first, commands);
-    return MrrError("unknown command " + first +
-                    (best.empty() ? " (expected render, probe, compare, bench or explore)" : " (did you mean " + best + "?)"));
+    return MrrError("unknown command " + first + (best.empty() ? " (expected " + list + ")" : " (did you mean " + best + "?)"));
   }
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) && what.find(" required ") != std::string::npos &&
       what.find(" missing") != std::string::npos) {
@@ -273,6 +275,20 @@ int run(int argc, char** argv) {
   explore->add_option("--host", exploreOpts.host,
                       "address to listen on (default 127.0.0.1: this machine only; 0.0.0.0 opens it to the network)")
       ->capture_default_str();
+  SceneRequest infoRequest;
+  std::string infoSize = "1280x720", infoBlend = "opaque";
+  std::optional<float> infoFov;
+  bool infoJson = false, infoFlip = false, infoNoFlip = false;
+  auto* infoCmd = app.add_subcommand(
+      "info", "what a scene holds: bounds, triangles, cameras, light, extensions, materials, and a suggested view");
+  infoCmd->add_option("scene", infoRequest.scene, "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path")
+      ->required();
+  infoCmd->add_option("--size", infoSize, "WxH of the image the suggested view is fitted to")->capture_default_str();
+  infoCmd->add_option("--fov", infoFov, "vertical field of view, degrees");
+  infoCmd->add_flag("--flip-up", infoFlip, "rotate the scene 180 degrees about X (files authored Y-down)");
+  infoCmd->add_flag("--no-flip-up", infoNoFlip, "do not flip, even where the scene catalogue would");
+  infoCmd->add_option("--blend-materials", infoBlend, "opaque or skip, as render takes it")->capture_default_str();
+  infoCmd->add_flag("--json", infoJson, "print JSON instead of text");
 
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
@@ -439,6 +455,23 @@ int run(int argc, char** argv) {
 
   if (*compare) return runCompare(compareOpts, compareReportDir);
   if (*explore) return explore::serve(exploreOpts);
+
+  if (*infoCmd) {
+    const auto [w, h] = parseSize(infoSize);
+    require(w >= 1 && h >= 1 && w <= 16384 && h <= 16384, "--size " + infoSize + ": each side must be in [1, 16384]");
+    infoRequest.aspect = static_cast<float>(w) / static_cast<float>(h);
+    infoRequest.fovDegrees = infoFov;
+    if (infoFlip) infoRequest.flipUp = true;
+    if (infoNoFlip) infoRequest.flipUp = false;
+    require(infoBlend == "opaque" || infoBlend == "skip", "--blend-materials " + infoBlend + ": expected opaque or skip");
+    infoRequest.skipBlendMaterials = infoBlend == "skip";
+    const nlohmann::json facts = sceneInfo(infoRequest);
+    if (infoJson)
+      std::cout << facts.dump(2) << "\n";
+    else
+      printSceneInfo(facts, std::cout);
+    return 0;
+  }
 
   FrameOptions& fo = *render ? renderOpts : probeOpts;
   fo.checkPath(probe->parsed());

@@ -3,6 +3,8 @@
 #include <draco/compression/decode.h>
 #include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
 
 #include <glm/gtc/quaternion.hpp>
@@ -17,6 +19,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <set>
 #include <system_error>
 
 #include "common/error.h"
@@ -50,6 +53,8 @@ constexpr size_t kMeshoptSlack = 256;
 constexpr size_t kMaxZeroFilledElements = size_t{1} << 24;
 // What a zero element reads from (an accessor element here is at most a FLOAT VEC3).
 constexpr unsigned char kZeros[16] = {};
+// An alpha-cutout image larger than this many texels is not read (one byte each on both paths).
+constexpr int64_t kMaxCutoutTexels = int64_t{1} << 26;  // 8192²
 
 // Required extensions mrr honours: it reads them (lights, compression, quantization), or
 // they only change what it ignores anyway (textures and extra material properties).
@@ -162,9 +167,53 @@ bool isFinite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// Textures are ignored (one albedo per mesh), so images are never decoded.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*) {
+// The alpha of an image that an alpha-MASK material's base colour reads (the only images mrr
+// decodes), or why it could not be decoded.
+struct ImageAlpha {
+  int width = 0, height = 0;
+  std::vector<float> alpha;  // width × height, row 0 = the image's first row; 1 where it has none
+  std::string error;         // non-empty: not decoded
+};
+struct ImageRequests {
+  std::set<int> wanted;                // image indices MASK materials need (prepareJson)
+  std::map<int, ImageAlpha> decoded;   // filled by decodeWantedImage
+};
+
+// tinygltf's image callback: decodes the wanted images' alpha with OpenImageIO, from the bytes
+// tinygltf found (a data: URI, a file beside the glTF, or a bufferView); others are skipped.
+bool decodeWantedImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                       const unsigned char* bytes, int size, void* user) {
+  auto* requests = static_cast<ImageRequests*>(user);
+  if (!requests || !requests->wanted.count(index) || size <= 0) return true;
+  ImageAlpha& out = requests->decoded[index];
+  // OpenImageIO picks its reader by the name's extension: PNG and JPEG are what glTF allows.
+  const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0;
+  const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8;
+  if (!png && !jpeg) {
+    out.error = "neither PNG nor JPEG" + (image->mimeType.empty() ? std::string() : " (" + image->mimeType + ")");
+    return true;
+  }
+  OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), static_cast<size_t>(size));
+  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", nullptr, &reader);
+  if (!in) {
+    out.error = oneLine(OIIO::geterror());
+    return true;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 ||
+      static_cast<int64_t>(spec.width) * spec.height > kMaxCutoutTexels) {
+    out.error = std::to_string(spec.width) + "x" + std::to_string(spec.height) + " texels, over the limit of " +
+                std::to_string(kMaxCutoutTexels);
+    return true;
+  }
+  out.width = spec.width;
+  out.height = spec.height;
+  out.alpha.assign(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height), 1.0f);
+  if (spec.alpha_channel >= 0 &&
+      !in->read_image(0, 0, spec.alpha_channel, spec.alpha_channel + 1, OIIO::TypeDesc::FLOAT, out.alpha.data())) {
+    out = ImageAlpha{};
+    out.error = oneLine(in->geterror());
+  }
   return true;
 }
 
@@ -175,12 +224,14 @@ struct LocalPrimitive {
   std::vector<glm::vec3> normals;  // empty: compute after transforming
   std::vector<uint32_t> indices;   // triangle list
   glm::vec3 baseColor{1.0f};
+  int cutout = -1;                   // into Scene::cutouts
+  std::vector<glm::vec2> texcoords;  // with a cutout only
 };
 
 class Loader {
  public:
-  Loader(const std::string& path, const tinygltf::Model& model, bool quiet, bool skipBlend)
-      : path_(path), model_(model), quiet_(quiet), skipBlend_(skipBlend) {}
+  Loader(const std::string& path, const tinygltf::Model& model, const ImageRequests& images, bool quiet, bool skipBlend)
+      : path_(path), model_(model), images_(images), quiet_(quiet), skipBlend_(skipBlend) {}
 
   Scene build() {
     checkRequiredExtensions();
@@ -192,6 +243,13 @@ class Loader {
            std::to_string(morphed_) + " primitives with morph targets): rendered in the bind pose");
     warnAlphaModes();
     scene_.name = path_;
+    scene_.facts.extensionsRequired = model_.extensionsRequired;
+    scene_.facts.extensionsUsed = model_.extensionsUsed;
+    for (const tinygltf::Material& material : model_.materials) {
+      scene_.facts.maskMaterials += material.alphaMode == "MASK";
+      scene_.facts.blendMaterials += material.alphaMode == "BLEND";
+      scene_.facts.opaqueMaterials += material.alphaMode != "MASK" && material.alphaMode != "BLEND";
+    }
     return std::move(scene_);
   }
 
@@ -211,26 +269,24 @@ class Loader {
       if (!readableExtension(ext)) fail(unreadableExtension(ext));
   }
 
-  // Materials are opaque here (one albedo per mesh): BLEND is drawn opaque (or dropped, with
-  // --blend-materials skip), and MASK without its cutout, which needs the base-colour texture's
-  // alpha (see materialColor).
+  // One albedo per mesh: BLEND is drawn opaque (or dropped, with --blend-materials skip); MASK
+  // is visibility, a cutout (materialCutout).
   bool isBlend(int material) const {
     return material >= 0 && static_cast<size_t>(material) < model_.materials.size() &&
            model_.materials[static_cast<size_t>(material)].alphaMode == "BLEND";
   }
   void warnAlphaModes() const {
-    size_t blend = 0, mask = 0;
-    for (const tinygltf::Material& material : model_.materials) {
-      if (material.alphaMode == "BLEND") ++blend;
-      if (material.alphaMode == "MASK") ++mask;
-    }
+    size_t blend = 0;
+    for (const tinygltf::Material& material : model_.materials) blend += material.alphaMode == "BLEND";
     if (blend > 0 && skipBlend_)
       warn(std::to_string(blend) + " materials are alphaMode BLEND, skipped (--blend-materials skip): " +
            std::to_string(skippedBlend_) + " primitives left out");
     else if (blend > 0)
       warn(std::to_string(blend) + " materials are alphaMode BLEND, rendered opaque (--blend-materials skip leaves "
            "them out)");
-    if (mask > 0) warn(std::to_string(mask) + " materials are alphaMode MASK, rendered opaque without their cutouts");
+    if (invisiblePrimitives_ > 0)
+      warn(std::to_string(invisiblePrimitives_) +
+           " primitives are left out: their alphaMode MASK material's alpha is under its cutoff everywhere");
   }
 
   std::vector<int> rootNodes() const {
@@ -541,38 +597,48 @@ class Loader {
   }
 
   // FLOAT, or with KHR_mesh_quantization (signed or unsigned, normalized or not) BYTE and
-  // SHORT VEC3; the node transform then scales them as usual. Non-finite positions are an
-  // error; non-finite normals (exporters write NaN for the normal of a degenerate face) are
-  // allowed here and repaired from the geometry later.
-  std::vector<glm::vec3> readVec3(int accessorIndex, const std::string& what, bool allowNonFinite = false) const {
+  // SHORT VEC3 (VEC2 for texture coordinates); the node transform then scales positions as
+  // usual. Non-finite values are an error, but for normals (exporters write NaN for the normal
+  // of a degenerate face), which are allowed here and repaired from the geometry later.
+  template <int N>
+  std::vector<glm::vec<N, float>> readVec(int accessorIndex, const std::string& what, bool allowNonFinite = false) const {
     const tinygltf::Accessor* accessor =
         (accessorIndex >= 0 && static_cast<size_t>(accessorIndex) < model_.accessors.size())
             ? &model_.accessors[static_cast<size_t>(accessorIndex)]
             : nullptr;
     int ct = TINYGLTF_COMPONENT_TYPE_FLOAT;
     bool normalized = false;
+    const std::string type = N == 2 ? "VEC2" : "VEC3";
     if (accessor) {
       ct = accessor->componentType;
       normalized = accessor->normalized;
       const bool okType = ct == TINYGLTF_COMPONENT_TYPE_FLOAT || ct == TINYGLTF_COMPONENT_TYPE_BYTE ||
                           ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_SHORT ||
                           ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-      if (!okType || accessor->type != TINYGLTF_TYPE_VEC3)
-        fail(what + " (accessor " + std::to_string(accessorIndex) +
-             ") must be FLOAT VEC3, or BYTE or SHORT VEC3 (KHR_mesh_quantization), not " +
-             componentName(accessor->componentType) + " " + typeName(accessor->type));
+      if (!okType || accessor->type != (N == 2 ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_VEC3))
+        fail(what + " (accessor " + std::to_string(accessorIndex) + ") must be FLOAT " + type + ", or BYTE or SHORT " +
+             type + " (KHR_mesh_quantization), not " + componentName(accessor->componentType) + " " +
+             typeName(accessor->type));
     }
     const std::vector<const unsigned char*> at = elements(accessorIndex, what);
     const size_t size = componentSize(ct);
-    std::vector<glm::vec3> out(at.size());
+    std::vector<glm::vec<N, float>> out(at.size());
     for (size_t i = 0; i < at.size(); ++i) {
-      for (int c = 0; c < 3; ++c)
+      bool finite = true;
+      for (int c = 0; c < N; ++c) {
         out[i][c] = static_cast<float>(component(at[i] + static_cast<size_t>(c) * size, ct, normalized));
-      if (!allowNonFinite && !isFinite(glm::dvec3(out[i])))
-        fail(what + " element " + std::to_string(i) + " is not finite (" + std::to_string(out[i].x) + ", " +
-             std::to_string(out[i].y) + ", " + std::to_string(out[i].z) + ")");
+        finite = finite && std::isfinite(out[i][c]);
+      }
+      if (!allowNonFinite && !finite) {
+        std::string values;
+        for (int c = 0; c < N; ++c) values += (c ? ", " : "") + std::to_string(out[i][c]);
+        fail(what + " element " + std::to_string(i) + " is not finite (" + values + ")");
+      }
     }
     return out;
+  }
+  std::vector<glm::vec3> readVec3(int accessorIndex, const std::string& what, bool allowNonFinite = false) const {
+    return readVec<3>(accessorIndex, what, allowNonFinite);
   }
 
   std::vector<uint32_t> readIndices(int accessorIndex, const std::string& what) const {
@@ -600,8 +666,8 @@ class Loader {
   // KHR_draco_mesh_compression: the primitive's triangles and attributes are one Draco mesh in
   // a bufferView; the extension maps glTF attribute names to Draco attribute ids. Draco
   // returns a status for corrupt data; values and ids are checked here before use.
-  void decodeDraco(const tinygltf::Value& ext, bool wantNormals, const std::string& what, LocalPrimitive& out,
-                   std::vector<uint32_t>& indices) const {
+  void decodeDraco(const tinygltf::Value& ext, bool wantNormals, const std::string& texcoordName,
+                   const std::string& what, LocalPrimitive& out, std::vector<uint32_t>& indices) const {
     const std::string where = what + " (KHR_draco_mesh_compression)";
     if (!ext.IsObject() || !ext.Get("attributes").IsObject()) fail(where + " has no 'attributes' object");
     const size_t viewIndex = extensionCount(ext, "bufferView", where);
@@ -618,6 +684,8 @@ class Loader {
     out.positions = dracoVec3(*mesh, attributes, "POSITION", where, false);
     // A NORMAL the primitive lists but the Draco attributes lack is an error like any other.
     if (wantNormals || attributes.Has("NORMAL")) out.normals = dracoVec3(*mesh, attributes, "NORMAL", where, true);
+    if (!texcoordName.empty() && attributes.Has(texcoordName))
+      out.texcoords = dracoVec<2>(*mesh, attributes, texcoordName.c_str(), where, false);
     indices.resize(3 * static_cast<size_t>(mesh->num_faces()));
     for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f) {
       const draco::Mesh::Face& face = mesh->face(f);
@@ -627,22 +695,31 @@ class Loader {
 
   std::vector<glm::vec3> dracoVec3(const draco::Mesh& mesh, const tinygltf::Value& attributes, const char* name,
                                    const std::string& where, bool allowNonFinite) const {
+    return dracoVec<3>(mesh, attributes, name, where, allowNonFinite);
+  }
+  template <int N>
+  std::vector<glm::vec<N, float>> dracoVec(const draco::Mesh& mesh, const tinygltf::Value& attributes, const char* name,
+                                           const std::string& where, bool allowNonFinite) const {
     const size_t id = extensionCount(attributes, name, where + " attributes");
     const draco::PointAttribute* attribute =
         id > UINT32_MAX ? nullptr : mesh.GetAttributeByUniqueId(static_cast<uint32_t>(id));
     if (!attribute)
       fail(where + " " + name + " is Draco attribute " + std::to_string(id) + ", which the data does not hold");
-    if (attribute->num_components() != 3)
-      fail(where + " " + name + " has " + std::to_string(attribute->num_components()) + " components, expected 3");
-    std::vector<glm::vec3> out(mesh.num_points());
+    if (attribute->num_components() != N)
+      fail(where + " " + name + " has " + std::to_string(attribute->num_components()) + " components, expected " +
+           std::to_string(N));
+    std::vector<glm::vec<N, float>> out(mesh.num_points());
     for (draco::PointIndex p(0); p < mesh.num_points(); ++p) {
       const draco::AttributeValueIndex value = attribute->mapped_index(p);
-      float xyz[3];
-      if (value.value() >= attribute->size() || !attribute->ConvertValue<float>(value, 3, xyz))
+      float xyz[N];
+      if (value.value() >= attribute->size() || !attribute->ConvertValue<float>(value, N, xyz))
         fail(where + " " + name + " of point " + std::to_string(p.value()) + " cannot be read");
-      glm::vec3& v = out[p.value()];
-      v = glm::vec3(xyz[0], xyz[1], xyz[2]);
-      if (!allowNonFinite && !isFinite(glm::dvec3(v)))
+      bool finite = true;
+      for (int c = 0; c < N; ++c) {
+        out[p.value()][c] = xyz[c];
+        finite = finite && std::isfinite(xyz[c]);
+      }
+      if (!allowNonFinite && !finite)
         fail(where + " " + name + " of point " + std::to_string(p.value()) + " is not finite");
     }
     return out;
@@ -650,15 +727,98 @@ class Loader {
 
   // ---- meshes ----------------------------------------------------------------------------
 
+  // ---- alpha cutouts (docs/spec.md §1.1) ----------------------------------------------------
+
+  struct MaterialCutout {
+    int cutout = -1;         // into scene_.cutouts: the primitive is cut out by it
+    bool invisible = false;  // every texel (or the factor alone) is under the cutoff: not drawn
+    int texCoord = 0;        // which TEXCOORD_n the cutout reads
+  };
+
+  // What a material's alpha does to visibility. Only alphaMode MASK does anything: alpha = the
+  // base-colour factor's alpha × its texture's alpha, opaque where alpha ≥ alphaCutoff (glTF 2.0
+  // §3.9.4). Decided once per material, on the host, into one bit per texel: both paths then
+  // read the same bits. A MASK whose image cannot be read is drawn opaque, said once.
+  const MaterialCutout& materialCutout(int material) {
+    const auto cached = cutouts_.find(material);
+    if (cached != cutouts_.end()) return cached->second;
+    MaterialCutout& out = cutouts_[material];
+    if (material < 0 || static_cast<size_t>(material) >= model_.materials.size()) return out;
+    const tinygltf::Material& m = model_.materials[static_cast<size_t>(material)];
+    if (m.alphaMode != "MASK") return out;
+    const std::string name = "material " + (m.name.empty() ? std::to_string(material) : "'" + m.name + "'");
+    const std::vector<double>& factor = m.pbrMetallicRoughness.baseColorFactor;
+    const float factorAlpha =
+        factor.size() == 4 && std::isfinite(factor[3]) ? static_cast<float>(std::clamp(factor[3], 0.0, 1.0)) : 1.0f;
+    const float cutoff = std::isfinite(m.alphaCutoff) ? static_cast<float>(m.alphaCutoff) : 0.5f;
+    const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+    if (info.index < 0) {  // the factor alone: all or nothing
+      out.invisible = !(factorAlpha >= cutoff);
+      return out;
+    }
+    if (static_cast<size_t>(info.index) >= model_.textures.size()) {
+      warn(name + " (alpha MASK): base-colour texture " + std::to_string(info.index) +
+           " is out of range: drawn without its cutout");
+      return out;
+    }
+    if (info.extensions.count("KHR_texture_transform"))
+      warn(name + " (alpha MASK): KHR_texture_transform on its base-colour texture is not applied");
+    const tinygltf::Texture& texture = model_.textures[static_cast<size_t>(info.index)];
+    const int source = textureSource(texture);
+    const auto image = images_.decoded.find(source);
+    if (image == images_.decoded.end() || !image->second.error.empty()) {
+      const std::string why = image == images_.decoded.end() ? "could not be read (see above)" : image->second.error;
+      warn(name + " (alpha MASK): base-colour image " + std::to_string(source) + " " + why +
+           ": drawn without its cutout");
+      return out;
+    }
+    const ImageAlpha& alpha = image->second;
+    Cutout cutout;
+    cutout.width = alpha.width;
+    cutout.height = alpha.height;
+    cutout.opaque.resize(alpha.alpha.size());
+    size_t opaque = 0;
+    for (size_t i = 0; i < alpha.alpha.size(); ++i) {
+      cutout.opaque[i] = factorAlpha * alpha.alpha[i] >= cutoff ? 1 : 0;
+      opaque += cutout.opaque[i];
+    }
+    if (texture.sampler >= 0 && static_cast<size_t>(texture.sampler) < model_.samplers.size()) {
+      const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(texture.sampler)];
+      cutout.wrapS = wrapOf(sampler.wrapS);
+      cutout.wrapT = wrapOf(sampler.wrapT);
+    }
+    out.texCoord = info.texCoord;
+    if (opaque == 0) {
+      out.invisible = true;
+    } else if (opaque < cutout.opaque.size()) {
+      out.cutout = static_cast<int>(scene_.cutouts.size());
+      scene_.cutouts.push_back(std::move(cutout));
+    }
+    return out;
+  }
+
+  // A texture's image: its source, or an EXT_texture_webp source when it has none.
+  static int textureSource(const tinygltf::Texture& texture) {
+    if (texture.source >= 0) return texture.source;
+    const auto webp = texture.extensions.find("EXT_texture_webp");
+    if (webp != texture.extensions.end() && webp->second.IsObject() && webp->second.Get("source").IsInt())
+      return webp->second.Get("source").GetNumberAsInt();
+    return -1;
+  }
+
+  static Wrap wrapOf(int glWrap) {
+    if (glWrap == 33071) return Wrap::Clamp;   // CLAMP_TO_EDGE
+    if (glWrap == 33648) return Wrap::Mirror;  // MIRRORED_REPEAT
+    return Wrap::Repeat;                       // REPEAT, and the default
+  }
+
   glm::vec3 materialColor(int material, const std::string& what) const {
     if (material == -1) return glm::vec3(1.0f);
     if (material < 0 || static_cast<size_t>(material) >= model_.materials.size())
       fail(what + " material " + std::to_string(material) + " is out of range (" +
            std::to_string(model_.materials.size()) + " materials)");
-    // The factor only: images are never read (prepareJson drops them before tinygltf would
-    // load them). Alpha MASK cutouts will need the base-colour texture's alpha: the hook is
-    // pbrMetallicRoughness.baseColorTexture.index -> textures[].source -> the image that
-    // prepareJson drops; read that one image there, and keep it with the primitive.
+    // The factor only: colour textures are never read (only alpha-MASK materials' base-colour
+    // images are decoded, for their alpha: materialCutout).
     const std::vector<double>& factor =
         model_.materials[static_cast<size_t>(material)].pbrMetallicRoughness.baseColorFactor;
     glm::vec3 color(1.0f);
@@ -708,6 +868,12 @@ class Loader {
         ++skippedBlend_;
         continue;
       }
+      const MaterialCutout& cut = materialCutout(primitive.material);
+      if (cut.invisible) {  // alpha MASK whose alpha is under the cutoff everywhere
+        ++invisiblePrimitives_;
+        continue;
+      }
+      const std::string texcoordName = "TEXCOORD_" + std::to_string(cut.texCoord);
       const auto position = primitive.attributes.find("POSITION");
       if (position == primitive.attributes.end()) fail(what + " has no POSITION attribute");
 
@@ -721,10 +887,25 @@ class Loader {
       if (compressed) {
         if (mode != kModeTriangles)
           fail(what + " is a Draco-compressed " + modeName(mode) + "; mrr reads Draco TRIANGLES only");
-        decodeDraco(draco->second, normal != primitive.attributes.end(), what, out, indices);
+        decodeDraco(draco->second, normal != primitive.attributes.end(), cut.cutout >= 0 ? texcoordName : "", what,
+                    out, indices);
       } else {
         out.positions = readVec3(position->second, what + " POSITION");
         if (normal != primitive.attributes.end()) out.normals = readVec3(normal->second, what + " NORMAL", true);
+        const auto texcoord = primitive.attributes.find(texcoordName);
+        if (cut.cutout >= 0 && texcoord != primitive.attributes.end())
+          out.texcoords = readVec<2>(texcoord->second, what + " " + texcoordName);
+      }
+      if (cut.cutout >= 0) {
+        if (out.texcoords.size() == out.positions.size()) {
+          out.cutout = cut.cutout;
+        } else {
+          warn(what + ": its material's alpha cutout reads " + texcoordName + ", which the primitive " +
+               (out.texcoords.empty() ? "lacks" : "has for " + std::to_string(out.texcoords.size()) + " of " +
+                                                      std::to_string(out.positions.size()) + " vertices") +
+               ": drawn without the cutout");
+          out.texcoords.clear();
+        }
       }
       if (!out.normals.empty()) {
         if (out.normals.size() != out.positions.size())
@@ -771,6 +952,8 @@ class Loader {
       Mesh mesh;
       mesh.name = primitive.name;
       mesh.baseColor = primitive.baseColor;
+      mesh.cutout = primitive.cutout;
+      mesh.texcoords = primitive.texcoords;
       mesh.positions.reserve(primitive.positions.size());
       for (const glm::vec3& p : primitive.positions)
         mesh.positions.push_back(glm::vec3(world * glm::dvec4(glm::dvec3(p), 1.0)));
@@ -875,9 +1058,12 @@ class Loader {
 
   const std::string& path_;
   const tinygltf::Model& model_;
+  const ImageRequests& images_;  // decoded alpha of the images MASK materials read
   const bool quiet_;
   const bool skipBlend_;  // --blend-materials skip
   size_t skippedBlend_ = 0;  // primitives dropped for it
+  std::map<int, MaterialCutout> cutouts_;  // per material
+  size_t invisiblePrimitives_ = 0;         // alpha MASK under the cutoff everywhere: not drawn
   Scene scene_;
   std::vector<std::optional<std::vector<LocalPrimitive>>> meshCache_;
   std::vector<char> onStack_;
@@ -966,6 +1152,35 @@ bool isMeshoptFallback(const nlohmann::json& buffer) {
   return fallback != meshopt->end() && fallback->is_boolean() && fallback->get<bool>();
 }
 
+// The images alpha-MASK materials read (their base colour's texture's source, or its
+// EXT_texture_webp source), from the JSON before tinygltf parses it.
+std::set<int> maskImages(const nlohmann::json& doc) {
+  std::set<int> out;
+  const auto materials = doc.find("materials"), textures = doc.find("textures");
+  if (materials == doc.end() || !materials->is_array() || textures == doc.end() || !textures->is_array()) return out;
+  for (const nlohmann::json& material : *materials) {
+    if (!material.is_object() || material.value("alphaMode", std::string()) != "MASK") continue;
+    const nlohmann::json* info = nullptr;
+    const auto pbr = material.find("pbrMetallicRoughness");
+    if (pbr != material.end() && pbr->is_object() && pbr->contains("baseColorTexture")) info = &(*pbr)["baseColorTexture"];
+    if (!info || !info->is_object() || !info->contains("index") || !(*info)["index"].is_number_unsigned()) continue;
+    const size_t t = (*info)["index"].get<size_t>();
+    if (t >= textures->size() || !(*textures)[t].is_object()) continue;
+    const nlohmann::json& texture = (*textures)[t];
+    if (texture.contains("source") && texture["source"].is_number_unsigned()) {
+      out.insert(static_cast<int>(std::min<size_t>(texture["source"].get<size_t>(), INT32_MAX)));
+    } else {
+      const nlohmann::json* webp = nullptr;
+      if (texture.contains("extensions") && texture["extensions"].is_object() &&
+          texture["extensions"].contains("EXT_texture_webp"))
+        webp = &texture["extensions"]["EXT_texture_webp"];
+      if (webp && webp->is_object() && webp->contains("source") && (*webp)["source"].is_number_unsigned())
+        out.insert(static_cast<int>(std::min<size_t>((*webp)["source"].get<size_t>(), INT32_MAX)));
+    }
+  }
+  return out;
+}
+
 // What mrr settles in the JSON before tinygltf parses it, since tinygltf 2.7.0 reads every
 // buffer and image first and reports what goes wrong there in its own words:
 // - a required extension mrr cannot honour is refused by name, before any buffer is read;
@@ -974,11 +1189,12 @@ bool isMeshoptFallback(const nlohmann::json& buffer) {
 //   become a one-byte placeholder: their data is only ever the compressed views' output;
 // - KHR_draco_mesh_compression primitives lose `indices` (an accessor without a bufferView,
 //   which tinygltf refuses): the triangles come with the Draco mesh;
-// - images are dropped, so no texture is read or decoded and absent ones warn of nothing.
+// - images are replaced by placeholders but for the base-colour images of alpha-MASK materials,
+//   so no other texture is read or decoded and absent ones warn of nothing.
 // Returns the bytes to parse: the same when nothing changed, else the JSON (or the GLB)
 // rewritten. Bytes whose JSON does not parse go to tinygltf unchanged, for it to report.
 std::vector<unsigned char> prepareJson(const std::vector<unsigned char>& bytes, const std::string& name,
-                                       const std::string& baseDir, bool binary) {
+                                       const std::string& baseDir, bool binary, std::set<int>* wanted) {
   using nlohmann::json;
   size_t jsonBegin = 0, jsonSize = bytes.size(), glbLength = 0;
   if (binary) {
@@ -1045,7 +1261,19 @@ std::vector<unsigned char> prepareJson(const std::vector<unsigned char>& bytes, 
         }
       }
     }
-  if (doc.erase("images") > 0) changed = true;
+  // Images: only the base-colour images of alpha-MASK materials are read (for their alpha);
+  // every other one becomes a one-byte placeholder that is never decoded, so indices hold.
+  if (wanted) *wanted = maskImages(doc);
+  const auto images = doc.find("images");
+  if (images != doc.end() && images->is_array()) {
+    for (size_t i = 0; i < images->size(); ++i) {
+      if (wanted && wanted->count(static_cast<int>(i))) continue;
+      (*images)[i] = {{"uri", "data:image/png;base64,AA=="}};
+      changed = true;
+    }
+  } else if (doc.erase("images") > 0) {
+    changed = true;
+  }
   if (!changed) return bytes;
 
   std::string text = doc.dump(-1, ' ', false, json::error_handler_t::replace);
@@ -1072,8 +1300,9 @@ Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name
   std::string err, warn;
   bool ok = false;
   std::vector<unsigned char> prepared;
+  ImageRequests images;
   try {
-    prepared = prepareJson(bytes, name, baseDir, binary);
+    prepared = prepareJson(bytes, name, baseDir, binary, &images.wanted);
   } catch (const MrrError&) {
     throw;
   } catch (const std::exception& e) {
@@ -1081,7 +1310,7 @@ Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name
   }
   try {
     tinygltf::TinyGLTF gltf;
-    gltf.SetImageLoader(skipImage, nullptr);
+    gltf.SetImageLoader(decodeWantedImage, &images);
     if (baseDir.empty())
       gltf.SetFsCallbacks({noFileExists, noExpand, noReadWholeFile, noWriteWholeFile, nullptr});
     const auto size = static_cast<unsigned int>(std::min<size_t>(prepared.size(), 0xffffffffu));
@@ -1099,7 +1328,7 @@ Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name
 
   Scene scene;
   try {
-    scene = Loader(name, model, options.quiet, options.skipBlend).build();
+    scene = Loader(name, model, images, options.quiet, options.skipBlend).build();
   } catch (const MrrError&) {
     throw;
   } catch (const std::exception& e) {

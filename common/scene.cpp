@@ -26,6 +26,35 @@ std::string describe(const glm::vec3& v) {
 
 }  // namespace
 
+namespace {
+// i mod n for n > 0, in [0, n), written as cutout.glsl must (GLSL's % is undefined for negatives).
+int positiveModulo(int i, int n) {
+  const int r = (i < 0 ? -i : i) % n;
+  return i < 0 && r != 0 ? n - r : r;
+}
+}  // namespace
+
+int cutoutTexel(float t, int n, Wrap wrap) {
+  // 1. the texel holding t·n, as a whole number kept well inside int's range (NaN: texel 0)
+  const float f = std::floor(t * static_cast<float>(n));
+  const int i = f == f ? static_cast<int>(std::clamp(f, -16777216.0f, 16777216.0f)) : 0;
+  // 2. wrapped into [0, n)
+  switch (wrap) {
+    case Wrap::Clamp: return std::clamp(i, 0, n - 1);
+    case Wrap::Mirror: {
+      const int k = positiveModulo(i, 2 * n);  // period 2n: forward, then backward
+      return k < n ? k : 2 * n - 1 - k;
+    }
+    case Wrap::Repeat:
+    default: return positiveModulo(i, n);
+  }
+}
+
+bool Cutout::opaqueAt(float s, float t) const {
+  const int x = cutoutTexel(s, width, wrapS), y = cutoutTexel(t, height, wrapT);
+  return opaque[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] != 0;
+}
+
 Bounds Scene::bounds() const {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   glm::vec3 lo{kInf}, hi{-kInf};
@@ -102,6 +131,21 @@ void validateScene(const Scene& scene, const std::string& source) {
                                              describe(mesh.normals[v]));
     }
     require(isFinite(mesh.baseColor), what + " has a non-finite base colour");
+    if (mesh.cutout >= 0) {
+      require(static_cast<size_t>(mesh.cutout) < scene.cutouts.size(),
+              what + " uses cutout " + std::to_string(mesh.cutout) + " of " + std::to_string(scene.cutouts.size()));
+      const Cutout& c = scene.cutouts[static_cast<size_t>(mesh.cutout)];
+      require(c.width > 0 && c.height > 0 &&
+                  c.opaque.size() == static_cast<size_t>(c.width) * static_cast<size_t>(c.height),
+              what + ": its cutout has " + std::to_string(c.opaque.size()) + " texels for " +
+                  std::to_string(c.width) + "x" + std::to_string(c.height));
+      require(mesh.texcoords.size() == vertexCount, what + " has " + std::to_string(mesh.texcoords.size()) +
+                                                        " texture coordinates for " + std::to_string(vertexCount) +
+                                                        " positions");
+      for (size_t v = 0; v < vertexCount; ++v)
+        require(std::isfinite(mesh.texcoords[v].x) && std::isfinite(mesh.texcoords[v].y),
+                what + " vertex " + std::to_string(v) + " has a non-finite texture coordinate");
+    }
     for (size_t i = 0; i < mesh.indices.size(); ++i) {
       require(mesh.indices[i] < vertexCount,
               what + " index " + std::to_string(mesh.indices[i]) + " (at " + std::to_string(i) +
@@ -142,6 +186,162 @@ Camera frameBounds(const Bounds& bounds, float yfovRadians) {
   camera.eye = centre + direction * distance;
   camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
   return camera;
+}
+
+namespace {
+
+// Whether the ray o + t·d (t > 0) meets triangle abc (Möller–Trumbore), and where.
+bool rayMeetsTriangle(const glm::vec3& o, const glm::vec3& d, const glm::vec3& a, const glm::vec3& b,
+                      const glm::vec3& c, float& t) {
+  const glm::vec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
+  const float det = glm::dot(e1, p);
+  if (std::fabs(det) < 1e-20f) return false;
+  const float inv = 1.0f / det;
+  const glm::vec3 s = o - a;
+  const float u = glm::dot(s, p) * inv;
+  if (u < 0.0f || u > 1.0f) return false;
+  const glm::vec3 q = glm::cross(s, e1);
+  const float v = glm::dot(d, q) * inv;
+  if (v < 0.0f || u + v > 1.0f) return false;
+  t = glm::dot(e2, q) * inv;
+  return t > 0.0f && std::isfinite(t);
+}
+
+// A triangle by its corners.
+struct Triangle {
+  glm::vec3 a, b, c;
+};
+
+// Every triangle, or only the `largest` of them by area (walls and floors, not the furniture).
+std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX) {
+  std::vector<std::pair<float, Triangle>> all;
+  for (const Mesh& mesh : scene.meshes)
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      const Triangle tri{mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]],
+                         mesh.positions[mesh.indices[t + 2]]};
+      all.push_back({glm::length(glm::cross(tri.b - tri.a, tri.c - tri.a)), tri});
+    }
+  if (all.size() > largest) {
+    std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(largest), all.end(),
+                     [](const auto& x, const auto& y) { return x.first > y.first; });
+    all.resize(largest);
+  }
+  std::vector<Triangle> out;
+  out.reserve(all.size());
+  for (const auto& [area, tri] : all) out.push_back(tri);
+  return out;
+}
+
+// The nearest hit along each of `directions` from `origin` (infinity: none). Brute force over
+// the triangles: a few hundred rays, once per run, where the oracle's BVH is not at hand.
+std::vector<float> castFrom(const std::vector<Triangle>& tris, const glm::vec3& origin,
+                            const std::vector<glm::vec3>& directions) {
+  std::vector<float> nearest(directions.size(), std::numeric_limits<float>::infinity());
+  for (const Triangle& tri : tris)
+    for (size_t i = 0; i < directions.size(); ++i) {
+      float hit = 0.0f;
+      if (rayMeetsTriangle(origin, directions[i], tri.a, tri.b, tri.c, hit)) nearest[i] = std::min(nearest[i], hit);
+    }
+  return nearest;
+}
+
+}  // namespace
+
+namespace {
+
+// The eye on the ray centre + back·t at which every vertex is inside the frame: the camera
+// looks at `centre` along −back, Y up, with the fields of view a 5% margin leaves.
+glm::vec3 fittedEye(const Scene& scene, const glm::vec3& centre, const glm::vec3& back, const Camera& camera,
+                    float aspect) {
+  constexpr float kMargin = 1.05f;
+  const glm::vec3 right = glm::normalize(glm::cross(camera.up, back)), up = glm::cross(back, right);
+  const float tanV = std::tan(0.5f * camera.yfov) / kMargin;
+  const float tanH = tanV * (std::isfinite(aspect) && aspect > 0.0f ? aspect : 16.0f / 9.0f);
+  float distance = 0.0f;
+  for (const Mesh& mesh : scene.meshes)
+    for (const glm::vec3& p : mesh.positions) {
+      const glm::vec3 d = p - centre;
+      const float x = glm::dot(d, right), y = glm::dot(d, up), z = glm::dot(d, back);
+      distance = std::max({distance, z + std::fabs(x) / tanH, z + std::fabs(y) / tanV});
+    }
+  const float sphere = glm::length(camera.eye - camera.target);  // frameBounds' distance
+  return centre + back * (std::isfinite(distance) && distance > 1e-3f * sphere && distance < sphere ? distance : sphere);
+}
+
+// The 26 directions to the neighbours of a cell in a 3×3×3 block, unit length.
+std::vector<glm::vec3> neighbourDirections() {
+  std::vector<glm::vec3> out;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        if (x || y || z) out.push_back(glm::normalize(glm::vec3(x, y, z)));
+  return out;
+}
+
+}  // namespace
+
+Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
+  constexpr int kEnclosedAt = 24;  // of 26 directions
+  Framing out;
+  out.camera = frameBounds(scene.bounds(), yfovRadians);
+  const glm::vec3 centre = out.camera.target;
+  const std::vector<glm::vec3> directions = neighbourDirections();
+  std::vector<glm::vec3> level;  // the 8 directions with y = 0
+  for (const glm::vec3& d : directions)
+    if (d.y == 0.0f) level.push_back(d);
+  // 1. is the centre enclosed?
+  const std::vector<Triangle> all = triangles(scene);
+  const std::vector<float> hits = castFrom(all, centre, directions);
+  for (float h : hits) out.enclosedDirections += std::isfinite(h);
+  if (out.enclosedDirections < kEnclosedAt) {
+    // 2. an object: from the front-above diagonal, fitted to the frame
+    out.camera.eye = fittedEye(scene, centre, glm::normalize(out.camera.eye - centre), out.camera, aspect);
+    return out;
+  }
+  out.interior = true;
+  // 3. an enclosure open on one level side (a Cornell box): look in through the opening
+  const std::vector<float> around = castFrom(all, centre, level);
+  for (size_t i = 0; i < level.size(); ++i)
+    if (!std::isfinite(around[i]) && level[i].x * level[i].z == 0.0f) {
+      const glm::vec3 back = glm::normalize(level[i] + glm::vec3(0.0f, 0.25f, 0.0f));
+      out.camera.eye = fittedEye(scene, centre, back, out.camera, aspect);
+      return out;
+    }
+  // 4. a closed interior: from the candidate eye with the most clearance among the large
+  // surfaces (a 6×6 grid over the bounds at 0.4 of their height), along the level direction
+  // with the farthest surface, from near the surface behind: the most of the room in view
+  const std::vector<Triangle> large = triangles(scene, 4096);
+  const Bounds b = scene.bounds();
+  float clearance = -1.0f;
+  glm::vec3 eye = centre;
+  std::vector<float> view;
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 6; ++k) {
+      const glm::vec3 candidate(b.lo.x + (b.hi.x - b.lo.x) * (static_cast<float>(i) + 0.5f) / 6.0f,
+                                b.lo.y + 0.4f * (b.hi.y - b.lo.y),
+                                b.lo.z + (b.hi.z - b.lo.z) * (static_cast<float>(k) + 0.5f) / 6.0f);
+      const std::vector<float> around = castFrom(large, candidate, directions);
+      if (std::count_if(around.begin(), around.end(), [](float h) { return std::isfinite(h); }) < kEnclosedAt)
+        continue;  // outside, or in the open
+      std::vector<float> room;
+      for (const glm::vec3& d : level) room.push_back(around[static_cast<size_t>(std::find(directions.begin(), directions.end(), d) - directions.begin())]);
+      const float nearest = *std::min_element(room.begin(), room.end());
+      if (std::isfinite(nearest) && nearest > clearance) {
+        clearance = nearest;
+        eye = candidate;
+        view = room;
+      }
+    }
+  if (view.empty()) view = castFrom(large, centre, level);
+  size_t best = 0;
+  for (size_t i = 0; i < level.size(); ++i)
+    if (std::isfinite(view[i]) && (!std::isfinite(view[best]) || view[i] > view[best])) best = i;
+  const glm::vec3 d = level[best];
+  float behind = view[std::find(level.begin(), level.end(), -d) - level.begin()];
+  if (!std::isfinite(behind)) behind = 0.0f;
+  out.camera.eye = eye - d * (0.9f * behind);
+  out.camera.target = out.camera.eye + d;
+  return out;
 }
 
 void flipUp(Scene& scene) {

@@ -1,7 +1,8 @@
 #pragma once
 // The scene model: only what the effects need (brief: "model no more than a scene needs").
-// Triangles with per-vertex normals and one base colour per mesh, one directional light,
-// and cameras. Everything is in world space once loaded; node transforms are baked in.
+// Triangles with per-vertex normals and one base colour per mesh, alpha cutouts (which are
+// visibility), one directional light, and cameras. Everything is in world space once loaded;
+// node transforms are baked in.
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -12,12 +13,32 @@
 
 namespace mrr {
 
+// How a texture coordinate outside [0, 1) finds its texel (glTF sampler wrapS / wrapT).
+enum class Wrap { Repeat, Clamp, Mirror };
+
+// An alpha cutout (glTF alphaMode MASK): visibility, not colour. Which texels of the base-colour
+// texture are opaque, alpha = the factor's alpha × the texel's alpha ≥ alphaCutoff, decided once
+// on the host so both paths read the same bits. Sampled nearest (docs/spec.md §1.1).
+struct Cutout {
+  int width = 0, height = 0;
+  std::vector<uint8_t> opaque;  // width × height, 1 = opaque; row 0 is the image's first row (v = 0)
+  Wrap wrapS = Wrap::Repeat, wrapT = Wrap::Repeat;
+
+  bool opaqueAt(float s, float t) const;  // the texel cutoutTexel addresses
+};
+
+// The texel index along one axis of n texels for texture coordinate t, nearest (docs/spec.md
+// §1.1): i = floor(t·n), then wrapped. gpu/shaders/cutout.glsl is the same function.
+int cutoutTexel(float t, int n, Wrap wrap);
+
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;  // world space
   std::vector<glm::vec3> normals;    // world space, unit length, one per position
   std::vector<uint32_t> indices;     // three per triangle, counter-clockwise seen from the front
   glm::vec3 baseColor{0.8f};         // linear RGB albedo in [0,1]
+  int cutout = -1;                   // index into Scene::cutouts, or -1: opaque
+  std::vector<glm::vec2> texcoords;  // one per position when cutout >= 0, else empty
 };
 
 struct DirectionalLight {
@@ -32,13 +53,21 @@ struct Bounds {
   float diagonal() const { return glm::length(hi - lo); }
 };
 
+// What the file said beside the geometry, for `mrr info`; nothing renders from it.
+struct SceneFacts {
+  std::vector<std::string> extensionsRequired, extensionsUsed;
+  int opaqueMaterials = 0, maskMaterials = 0, blendMaterials = 0;
+};
+
 struct Scene {
   std::string name;    // "builtin:plane", or the file's path
   std::string credit;  // attribution line to show wherever a rendering is published
   std::vector<Mesh> meshes;
+  std::vector<Cutout> cutouts;  // shared by the meshes that use them
   DirectionalLight light;
   bool hasLight = false;        // false: `light` is the default
   std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty
+  SceneFacts facts;
 
   Bounds bounds() const;
   size_t triangleCount() const;
@@ -52,8 +81,22 @@ void computeVertexNormals(Mesh& mesh);
 // range, at least one non-degenerate triangle. Throws MrrError naming `source`.
 void validateScene(const Scene& scene, const std::string& source);
 
-// A camera that frames the bounds: looks at the centre from the front-above diagonal.
+// A camera that frames the bounds: looks at the centre from the front-above diagonal, far
+// enough that the bounds' sphere fits the vertical field of view.
 Camera frameBounds(const Bounds& bounds, float yfovRadians);
+
+// The default view of a scene that brings no camera (issue 19):
+// - an interior (the bounds' centre is enclosed: rays from it meet geometry in at least 24 of
+//   26 directions) is seen from that centre, looking along the level direction with the most
+//   room;
+// - anything else from the front-above diagonal, as frameBounds, but at the distance where its
+//   vertices just fit an image of this aspect (W/H) with a 5% margin, so it fills the frame.
+struct Framing {
+  Camera camera;
+  bool interior = false;
+  int enclosedDirections = 0;  // of 26
+};
+Framing frameScene(const Scene& scene, float yfovRadians, float aspect);
 
 // Rotates the scene 180° about the X axis: for files authored with Y down (the arcade).
 // A rotation, not a mirror, so winding and handedness are kept.

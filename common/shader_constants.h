@@ -13,6 +13,10 @@ inline constexpr float kGrazingCosine2 = 0.01f;  // |cos| <= 0.1
 // A shadow-map texel no surface covers: nothing blocks there (ShadowMap::kNoBlocker).
 inline constexpr float kNoBlocker = 3.0e38f;
 
+// The receiver plane's depth slope in the shadow map (docs/spec.md §6.4) is capped where the
+// surface is within about 1° of grazing the light: |n·l| is taken as at least this.
+inline constexpr float kReceiverMinCosine = 0.0175f;  // cos 89°
+
 // The shaded image's sky colour on background pixels (SPEC §6, cpu_ref/shade.cpp).
 inline constexpr float kSkyRed = 0.62f, kSkyGreen = 0.70f, kSkyBlue = 0.80f;
 
@@ -23,6 +27,7 @@ struct ShaderConstant {
 inline constexpr ShaderConstant kShaderConstants[] = {
     {"kGrazingCosine2", kGrazingCosine2},
     {"kNoBlocker", kNoBlocker},
+    {"kReceiverMinCosine", kReceiverMinCosine},
     {"kSkyRed", kSkyRed},
     {"kSkyGreen", kSkyGreen},
     {"kSkyBlue", kSkyBlue},

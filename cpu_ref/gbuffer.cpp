@@ -10,13 +10,43 @@
 
 namespace mrr {
 
+// What a cutout mesh's filter function needs.
+struct CutoutHits {
+  const Scene* scene;
+  const Mesh* mesh;
+};
+
 namespace {
 void embreeError(void*, RTCError code, const char* str) {
   // Embree reports through this callback; we surface it on the next check.
   (void)code;
   (void)str;
 }
+
+// Embree's filter for a mesh with a cutout: a candidate hit on a transparent texel is refused,
+// and the ray goes on to the next surface, as `discard` does in gbuffer.frag.
+void refuseTransparentHits(const RTCFilterFunctionNArguments* args) {
+  const auto* hits = static_cast<const CutoutHits*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    if (!opaqueHit(*hits->scene, *hits->mesh, RTCHitN_primID(args->hit, args->N, i), u, v)) args->valid[i] = 0;
+  }
+}
 }  // namespace
+
+glm::vec2 texcoordAt(const Mesh& mesh, unsigned primitive, float u, float v) {
+  const size_t tri = 3 * static_cast<size_t>(primitive);
+  const float w = 1.0f - u - v;
+  return w * mesh.texcoords[mesh.indices[tri]] + u * mesh.texcoords[mesh.indices[tri + 1]] +
+         v * mesh.texcoords[mesh.indices[tri + 2]];
+}
+
+bool opaqueHit(const Scene& scene, const Mesh& mesh, unsigned primitive, float u, float v) {
+  if (mesh.cutout < 0) return true;
+  const glm::vec2 t = texcoordAt(mesh, primitive, u, v);
+  return scene.cutouts[static_cast<size_t>(mesh.cutout)].opaqueAt(t.x, t.y);
+}
 
 RayScene::RayScene(const Scene& scene) : scene_(scene) {
   device_ = rtcNewDevice(nullptr);
@@ -34,6 +64,12 @@ RayScene::RayScene(const Scene& scene) : scene_(scene) {
     auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                               3 * sizeof(uint32_t), mesh.indices.size() / 3));
     std::memcpy(ib, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    if (mesh.cutout >= 0) {
+      cutoutHits_.push_back(std::make_unique<CutoutHits>(CutoutHits{&scene, &mesh}));
+      rtcSetGeometryUserData(geom, cutoutHits_.back().get());
+      rtcSetGeometryIntersectFilterFunction(geom, refuseTransparentHits);
+      rtcSetGeometryOccludedFilterFunction(geom, refuseTransparentHits);
+    }
     rtcCommitGeometry(geom);
     // geomID == mesh index: the G-buffer looks the mesh up by it.
     rtcAttachGeometryByID(rtcScene_, geom, static_cast<unsigned>(m));

@@ -96,7 +96,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
         case Effect::Ssm: {
           SsmDetail d;
           ssmAt(lr.gbuffer, f.shadowMap, f.view, c.ssm, lx, ly, &d);
-          lj["ssm"] = {{"receiver_depth", d.receiverDepth}, {"search_texels", d.searchTexels},
+          lj["ssm"] = {{"faces_light", d.facesLight}, {"receiver_depth", d.receiverDepth}, {"search_texels", d.searchTexels},
                        {"blockers", d.blockers}, {"search_taps", d.searchTaps}, {"blocker_depth", d.blockerDepth},
                        {"penumbra_width", d.penumbraWorld}, {"filter_texels", d.filterTexels},
                        {"lit_taps", d.litTaps}, {"pcf_taps", d.pcfTaps}};
@@ -174,7 +174,10 @@ std::string formatProbe(const nlohmann::json& j) {
           << s["offscreen"] << " off-screen, " << s["background"] << " on background)\n";
       } else if (l.contains("ssm")) {
         const auto& s = l["ssm"];
-        o << "(receiver depth " << fmt(s["receiver_depth"]) << "; blocker search +-" << fmt(s["search_texels"])
+        if (!s["faces_light"].get<bool>())
+          o << "(faces away from the light: in its own shadow, V = 0, no taps)\n";
+        else
+          o << "(receiver depth " << fmt(s["receiver_depth"]) << "; blocker search +-" << fmt(s["search_texels"])
           << " texels: " << s["blockers"] << "/" << s["search_taps"] << " blockers, mean depth " << fmt(s["blocker_depth"])
           << "; penumbra " << fmt(s["penumbra_width"]) << " -> PCF +-" << fmt(s["filter_texels"]) << " texels, "
           << s["lit_taps"] << "/" << s["pcf_taps"] << " taps lit)\n";

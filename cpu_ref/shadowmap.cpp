@@ -28,11 +28,23 @@ ShadowMap renderShadowMap(const RayScene& rays, const DirectionalLight& light, c
 
 Receiver receiverAt(const ShadowMap& map, const glm::vec3& worldPosition, const glm::vec3& worldNormal,
                     float biasTexels) {
-  // Normal offset and a constant depth bias, both in texels: they keep a lit surface from
-  // shadowing itself through the map's finite resolution.
+  // 1. normal offset and a constant depth bias, both in texels: they cover the depth the
+  //    receiver's plane changes by between a tap and the centre of the texel holding it
   const float bias = biasTexels * map.texel;
   const glm::vec3 l = map.lightCoordinates(worldPosition + worldNormal * bias);
-  return {l.x, l.y, l.z - bias};
+  Receiver r;
+  r.u = l.x;
+  r.v = l.y;
+  r.depth = l.z - bias;
+  // 2. which side of the surface the light is on (forward is the way the light travels)
+  const float nForward = glm::dot(worldNormal, map.forward);
+  r.facesLight = nForward < 0.0f;
+  // 3. the tangent plane's depth slope per texel: n·(du right + dv up) texel + n·forward dd = 0,
+  //    with |n·forward| capped near grazing (kReceiverMinCosine)
+  const float cosine = std::min(nForward, -kReceiverMinCosine);
+  r.slopeU = -glm::dot(worldNormal, map.right) / cosine * map.texel;
+  r.slopeV = -glm::dot(worldNormal, map.up) / cosine * map.texel;
+  return r;
 }
 
 ImageU8 shadowTestImage(const GBuffer& g, const ShadowMap& map, const View& view, float biasTexels) {

@@ -27,15 +27,21 @@ float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Cons
                                 ssm.biasTexels);
   SsmDetail d;
   d.receiverDepth = r.depth;
+  d.facesLight = r.facesLight;
+  if (!r.facesLight) {  // the visible side faces away from the light: in its own shadow
+    if (detail) *detail = d;
+    return 0.0f;
+  }
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
   d.searchTexels = std::clamp(r.depth * ssm.tanHalfAngle / map.texel, 0.5f, kMaxSearchTexels);
   float blockerSum = 0.0f;
   for (int j = 0; j < ssm.blockerGrid; ++j)
     for (int i = 0; i < ssm.blockerGrid; ++i) {
-      const float b = map.depthAt(r.u + gridOffset(i, ssm.blockerGrid, d.searchTexels),
-                                  r.v + gridOffset(j, ssm.blockerGrid, d.searchTexels));
+      const float du = gridOffset(i, ssm.blockerGrid, d.searchTexels);
+      const float dv = gridOffset(j, ssm.blockerGrid, d.searchTexels);
+      const float b = map.depthAt(r.u + du, r.v + dv);
       ++d.searchTaps;
-      if (b < r.depth) {
+      if (b < receiverDepthAt(r, du, dv)) {
         blockerSum += b;
         ++d.blockers;
       }
@@ -51,9 +57,9 @@ float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Cons
   // 3. PCF over an n×n grid: the fraction of taps that see the light
   for (int j = 0; j < ssm.grid; ++j)
     for (int i = 0; i < ssm.grid; ++i) {
-      const float b = map.depthAt(r.u + gridOffset(i, ssm.grid, d.filterTexels),
-                                  r.v + gridOffset(j, ssm.grid, d.filterTexels));
-      d.litTaps += r.depth <= b;
+      const float du = gridOffset(i, ssm.grid, d.filterTexels);
+      const float dv = gridOffset(j, ssm.grid, d.filterTexels);
+      d.litTaps += receiverDepthAt(r, du, dv) <= map.depthAt(r.u + du, r.v + dv);
     }
   d.pcfTaps = ssm.grid * ssm.grid;
   if (detail) *detail = d;

@@ -14,6 +14,7 @@ namespace mrr {
 // What decided one pixel, for `mrr probe`.
 struct SsmDetail {
   float receiverDepth = 0.0f;   // biased distance from the light plane
+  bool facesLight = false;      // false: V = 0, no taps (the surface shadows itself)
   float searchTexels = 0.0f;    // blocker-search half-width
   int blockers = 0;             // blocker-search taps in front of the receiver
   int searchTaps = 0;

@@ -194,28 +194,49 @@ TextureSet::~TextureSet() {
 }
 
 namespace {
-// A vec3 vertex attribute at `location` of the bound vertex array.
-unsigned uploadAttribute(unsigned location, const std::vector<glm::vec3>& values) {
+// A vec2 or vec3 vertex attribute at `location` of the bound vertex array.
+template <class Vec>
+unsigned uploadAttribute(unsigned location, const std::vector<Vec>& values) {
   unsigned buffer = 0;
   glGenBuffers(1, &buffer);
   glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(values.size() * sizeof(glm::vec3)), values.data(),
-               GL_STATIC_DRAW);
-  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(values.size() * sizeof(Vec)), values.data(), GL_STATIC_DRAW);
+  glVertexAttribPointer(location, Vec::length(), GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(location);
   return buffer;
 }
+
+// An alpha cutout's opaque bits as an R8 texture (1.0 opaque), read with texelFetch.
+unsigned uploadCutout(const Cutout& cutout) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  require(cutout.width <= maxSize && cutout.height <= maxSize,
+          "gpu: an alpha cutout of " + std::to_string(cutout.width) + "x" + std::to_string(cutout.height) +
+              " texels is over this GL's texture limit of " + std::to_string(maxSize));
+  ImageU8 bits(cutout.width, cutout.height, 1, 0);
+  bits.data.assign(cutout.opaque.begin(), cutout.opaque.end());
+  return uploadBinary(bits);
+}
+
+int wrapNumber(Wrap wrap) { return wrap == Wrap::Clamp ? 1 : wrap == Wrap::Mirror ? 2 : 0; }
 }  // namespace
 
 GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
+  for (const Cutout& cutout : scene.cutouts) cutouts_.push_back(uploadCutout(cutout));
   for (const Mesh& mesh : scene.meshes) {
     MeshGl m;
     m.color = mesh.baseColor;
+    if (mesh.cutout >= 0) {
+      const Cutout& cutout = scene.cutouts[static_cast<size_t>(mesh.cutout)];
+      m.cutout = cutouts_[static_cast<size_t>(mesh.cutout)];
+      m.cutoutWrap = {wrapNumber(cutout.wrapS), wrapNumber(cutout.wrapT)};
+    }
     m.indexCount = static_cast<int>(mesh.indices.size());
     glGenVertexArrays(1, &m.vao);
     glBindVertexArray(m.vao);
     m.positions = uploadAttribute(0, mesh.positions);
     m.normals = uploadAttribute(1, mesh.normals);
+    if (mesh.cutout >= 0) m.texcoords = uploadAttribute(2, mesh.texcoords);
     glGenBuffers(1, &m.indices);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.indices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
@@ -302,12 +323,14 @@ void GpuScene::drawFullscreen() const {
 GpuScene::~GpuScene() {
   free_.clear();
   for (const auto& [stage, program] : programs_) glDeleteProgram(program);
+  if (!cutouts_.empty()) glDeleteTextures(static_cast<GLsizei>(cutouts_.size()), cutouts_.data());
   glDeleteVertexArrays(1, &emptyVao_);
   glDeleteVertexArrays(1, &rectVao_);
   glDeleteBuffers(1, &rectBuffer_);
   for (MeshGl& m : meshes_) {
     glDeleteBuffers(1, &m.positions);
     glDeleteBuffers(1, &m.normals);
+    if (m.texcoords) glDeleteBuffers(1, &m.texcoords);
     glDeleteBuffers(1, &m.indices);
     glDeleteVertexArrays(1, &m.vao);
   }
@@ -348,6 +371,7 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   const GLint albedo = uniform(program, "albedo");
   for (const GpuScene::MeshGl& m : scene.meshes()) {
     glUniform3f(albedo, m.color.x, m.color.y, m.color.z);
+    bindCutout(program, m, 0);
     glBindVertexArray(m.vao);
     glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
   }
@@ -355,6 +379,14 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   glDisable(GL_DEPTH_TEST);
   (void)level;
   checkGl("gbuffer");
+}
+
+void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit) {
+  glUniform1i(uniform(program, "hasCutout"), mesh.cutout != 0 ? 1 : 0);
+  glUniform2i(uniform(program, "cutoutWrap"), mesh.cutoutWrap.x, mesh.cutoutWrap.y);
+  glUniform1i(uniform(program, "cutout"), unit);
+  glActiveTexture(GL_TEXTURE0 + static_cast<unsigned>(unit));
+  glBindTexture(GL_TEXTURE_2D, mesh.cutout);
 }
 
 GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level) {

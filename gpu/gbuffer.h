@@ -103,9 +103,11 @@ class GpuScene {
   GpuScene& operator=(const GpuScene&) = delete;
 
   struct MeshGl {
-    unsigned vao = 0, positions = 0, normals = 0, indices = 0;
+    unsigned vao = 0, positions = 0, normals = 0, texcoords = 0, indices = 0;
     int indexCount = 0;
     glm::vec3 color{0.0f};
+    unsigned cutout = 0;         // the R8 texture of its alpha cutout, or 0: opaque
+    glm::ivec2 cutoutWrap{0};    // wrapS, wrapT as cutout.glsl numbers them
   };
   const std::vector<MeshGl>& meshes() const { return meshes_; }
   const Bounds& bounds() const { return bounds_; }
@@ -131,6 +133,7 @@ class GpuScene {
 
  private:
   std::vector<MeshGl> meshes_;
+  std::vector<unsigned> cutouts_;  // one R8 texture per Scene::cutouts entry
   Bounds bounds_;
   unsigned emptyVao_ = 0, rectVao_ = 0, rectBuffer_ = 0;
   mutable std::map<std::string, unsigned> programs_;
@@ -140,6 +143,9 @@ class GpuScene {
 // Renders level `level`'s G-buffer into `target` (level-sized, + depth): position and hit,
 // normal and depth, and albedo when the target has a third colour target.
 void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target);
+
+// Sets cutout.glsl's uniforms for one mesh of a geometry pass (its texture on unit `unit`).
+void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit);
 
 // Reads drawn G-buffer targets back into the oracle's structure.
 GBuffer readGBuffer(const Framebuffer& target);

@@ -81,6 +81,7 @@ void drawShadowMap(const GpuScene& scene, const ShadowMap& frame, const ShadowMa
   glEnable(GL_DEPTH_CLAMP);  // the depth buffer only orders surfaces: never clip one away
   glDisable(GL_CULL_FACE);   // rays hit both sides of a triangle
   for (const GpuScene::MeshGl& m : scene.meshes()) {
+    bindCutout(program, m, 0);
     glBindVertexArray(m.vao);
     glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
   }

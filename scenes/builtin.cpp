@@ -172,6 +172,29 @@ Scene redwall() {
   return s;
 }
 
+// A lattice fence cut out of one quad by an alpha cutout (glTF alphaMode MASK, docs/spec.md
+// §1.1), before a wall and over a ground, under a light from the front: the holes show the wall
+// and let the light through, so the lattice's shadow falls on both. The cutout is 16×16 texels,
+// a bar one texel wide every fourth texel in each direction, repeated 3 × 2 times across the
+// quad (wrap: repeat), so the fence has 12 × 8 square holes.
+Scene fence() {
+  MeshBuilder ground("ground", glm::vec3(0.8f)), wall("wall", glm::vec3(0.75f, 0.7f, 0.6f)),
+      lattice("lattice", glm::vec3(0.45f, 0.3f, 0.2f));
+  ground.quad({-8, 0, -6}, {-8, 0, 8}, {8, 0, 8}, {8, 0, -6});
+  wall.quad({-8, 0, -2.5f}, {8, 0, -2.5f}, {8, 4, -2.5f}, {-8, 4, -2.5f});
+  lattice.quad({-3, 0, 0}, {3, 0, 0}, {3, 2, 0}, {-3, 2, 0});
+  lattice.mesh.texcoords = {{0, 2}, {3, 2}, {3, 0}, {0, 0}};  // t = 0 at the top: the image's first row
+  lattice.mesh.cutout = 0;
+  Scene s = finish("fence", {ground, wall, lattice}, lookAt({2.5f, 2.2f, 5.5f}, {0, 0.9f, -0.5f}, 55.0f));
+  Cutout cutout;
+  cutout.width = cutout.height = 16;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) cutout.opaque.push_back(x % 4 == 0 || y % 4 == 0 ? 1 : 0);
+  s.cutouts.push_back(std::move(cutout));
+  s.light.direction = glm::normalize(glm::vec3(-0.3f, -0.45f, -0.85f));
+  return s;
+}
+
 // Stress scenes (issue 7, SPEC §10): each models one way the method can fail, and nothing more.
 
 // A floor whose shading normals are perturbed facet by facet, as a normal map would: flat
@@ -250,6 +273,7 @@ const Entry kEntries[] = {
     {"boxes", "two boxes in a room: silhouettes and contact occlusion", boxes},
     {"shadows", "two slabs at different heights over a ground: umbra, penumbra width (ssm)", shadows},
     {"redwall", "a red wall on a white floor: colour bleeding (ssgi)", redwall},
+    {"fence", "a lattice fence cut out by an alpha mask before a wall: holes and their shadows", fence},
     {"bumpy", "stress: a floor with perturbed normals, so normal edges explode", bumpy},
     {"wires", "stress: rails and posts thinner than a coarse pixel", wires},
     {"alledges", "stress: tiny faceted pyramids, every pixel an edge (never-slower)", alledges},

@@ -62,7 +62,7 @@ Scene loadRequestedScene(const SceneRequest& request) {
   return scene;
 }
 
-Camera requestedCamera(const SceneRequest& request, const Scene& scene) {
+Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source) {
   // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
   // catalogue's view, else framed from the bounds.
   const float fov = glm::radians(request.fovDegrees.value_or(60.0f));
@@ -71,30 +71,39 @@ Camera requestedCamera(const SceneRequest& request, const Scene& scene) {
     require(request.eye && request.target, "--eye and --target must be given together");
     const Camera camera{*request.eye, *request.target, {0, 1, 0}, fov};
     require(glm::length(camera.target - camera.eye) > 0.0f, "--eye and --target coincide");
+    if (source) *source = "--eye/--target";
     return camera;
   }
   std::vector<Camera> cameras = scene.cameras;
+  const std::string from = cameras.empty() ? "of the scene catalogue" : "of the file";
   if (cameras.empty() && request.scene.rfind("builtin:", 0) != 0)
     if (const SharedSceneInfo* info = catalogEntry(request.scene)) cameras = info->cameras;
   Camera camera;
+  std::string where;
   if (request.cameraIndex) {
     const int i = *request.cameraIndex;
     require(i >= 0 && i < static_cast<int>(cameras.size()),
             "--camera " + std::to_string(i) + ": the scene has " + std::to_string(cameras.size()) + " camera(s)");
     camera = cameras[static_cast<size_t>(i)];
+    where = "camera " + std::to_string(i) + " " + from;
   } else if (!cameras.empty()) {
     camera = cameras.front();
+    where = "camera 0 " + from;
   } else {
-    camera = frameBounds(scene.bounds(), fov);
+    const Framing framing = frameScene(scene, fov, request.aspect);
+    camera = framing.camera;
+    where = framing.interior ? "default framing: inside, the scene encloses its centre"
+                             : "default framing: from outside, fitted to the frame";
   }
   if (request.fovDegrees) camera.yfov = fov;
+  if (source) *source = where;
   return camera;
 }
 
 ResolvedScene resolveScene(const SceneRequest& request) {
   ResolvedScene out;
   out.scene = loadRequestedScene(request);
-  out.camera = requestedCamera(request, out.scene);
+  out.camera = requestedCamera(request, out.scene, &out.cameraSource);
   return out;
 }
 

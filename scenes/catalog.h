@@ -18,6 +18,7 @@ struct SceneRequest {
   std::optional<float> fovDegrees;      // vertical field of view
   std::optional<glm::vec3> lightToward; // --light-dir: the direction toward the light (any length > 0)
   bool skipBlendMaterials = false;      // --blend-materials skip: leave alphaMode BLEND primitives out
+  float aspect = 16.0f / 9.0f;          // W/H of the image, for the default framing (frameScene)
 };
 
 struct SharedSceneInfo {
@@ -33,11 +34,13 @@ const std::vector<SharedSceneInfo>& sharedSceneCatalog();
 struct ResolvedScene {
   Scene scene;
   Camera camera;
+  std::string cameraSource;  // where the camera came from, in words: "--eye/--target", "camera 0 of the file", ...
 };
 ResolvedScene resolveScene(const SceneRequest& request);
 // The two halves of resolveScene, for a caller that keeps the scene and moves the camera
 // (`mrr explore`): the scene with its light, and the camera the request picks in it.
 Scene loadRequestedScene(const SceneRequest& request);
-Camera requestedCamera(const SceneRequest& request, const Scene& scene);
+// `source`, when given, says where the camera came from (ResolvedScene::cameraSource).
+Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source = nullptr);
 
 }  // namespace mrr

@@ -22,7 +22,12 @@ void main() {
   lit = vec4(shadowTest(r), 0.0, 0.0, 1.0);
 }
 #else
+#include "cutout.glsl"
 in float lightDepth;
+in vec2 surfaceTexcoord;
 layout(location = 0) out vec4 depth;  // R32F target: only .r is kept
-void main() { depth = vec4(lightDepth, 0.0, 0.0, 1.0); }
+void main() {
+  if (transparentAt(surfaceTexcoord)) discard;  // alpha cutout: the ray from the light goes on
+  depth = vec4(lightDepth, 0.0, 0.0, 1.0);
+}
 #endif

@@ -28,17 +28,30 @@ float depthAt(float u, float v) {
   return texelFetch(shadowMap, ivec2(int(u), int(v)), 0).r;
 }
 
-// A receiver in light space: its world position pushed along its normal by the bias, and its
-// biased depth (docs/spec.md §6.4). Shared by the one-tap test and PCSS so both agree.
+// A receiver in light space (docs/spec.md §6.4): its world position pushed along its normal by
+// the bias, its biased depth, and the depth slope of its tangent plane, so that a tap at another
+// texel is compared with the plane's depth there. Shared by the one-tap test and PCSS.
 struct Receiver {
-  float u, v;   // texel coordinates
-  float depth;  // distance from the light plane, minus the depth bias
+  float u, v;            // texel coordinates
+  float depth;           // distance from the light plane, minus the depth bias
+  float slopeU, slopeV;  // the tangent plane's depth change per texel in u and v
+  bool facesLight;       // n·l > 0: the visible side faces the light
 };
 Receiver receiverAt(vec3 worldPosition, vec3 worldNormal) {
+  // 1. normal offset and a constant depth bias, both in texels
   float bias = biasTexels * mapTexel;
   vec3 l = lightCoordinates(worldPosition + worldNormal * bias);
-  return Receiver(l.x, l.y, l.z - bias);
+  // 2. which side of the surface the light is on (mapForward: the way the light travels)
+  float nForward = dot(worldNormal, mapForward);
+  // 3. the tangent plane's depth slope per texel, |n·forward| capped near grazing
+  float cosine = min(nForward, -kReceiverMinCosine);  // common/shader_constants.h
+  return Receiver(l.x, l.y, l.z - bias, -dot(worldNormal, mapRight) / cosine * mapTexel,
+                  -dot(worldNormal, mapUp) / cosine * mapTexel, nForward < 0.0);
 }
 
-// One shadow-map test: 1 = lit, 0 = in shadow.
-float shadowTest(Receiver r) { return r.depth <= depthAt(r.u, r.v) ? 1.0 : 0.0; }
+// The receiver's depth at a tap (du, dv) texels away, on its tangent plane.
+float receiverDepthAt(Receiver r, float du, float dv) { return r.depth + du * r.slopeU + dv * r.slopeV; }
+
+// One shadow-map test: 1 = lit, 0 = in shadow. A surface whose visible side faces away from the
+// light is in its own shadow, whatever the map holds.
+float shadowTest(Receiver r) { return r.facesLight && r.depth <= depthAt(r.u, r.v) ? 1.0 : 0.0; }

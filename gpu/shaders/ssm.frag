@@ -34,15 +34,19 @@ void main() {
   }
   vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
   Receiver r = receiverAt(viewToWorld(ph.xyz), viewDirectionToWorld(n));
+  if (!r.facesLight) {  // the visible side faces away from the light: in its own shadow
+    visibility = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
   float searchTexels = clamp(r.depth * tanHalfAngle / mapTexel, 0.5, kMaxSearchTexels);
   float blockerSum = 0.0;
   int blockers = 0;
   for (int j = 0; j < blockerGrid; ++j)
     for (int i = 0; i < blockerGrid; ++i) {
-      float b = depthAt(r.u + gridOffset(blockerFactors[i], searchTexels),
-                        r.v + gridOffset(blockerFactors[j], searchTexels));
-      if (b < r.depth) {
+      float du = gridOffset(blockerFactors[i], searchTexels), dv = gridOffset(blockerFactors[j], searchTexels);
+      float b = depthAt(r.u + du, r.v + dv);
+      if (b < receiverDepthAt(r, du, dv)) {
         blockerSum += b;
         ++blockers;
       }
@@ -59,8 +63,8 @@ void main() {
   int litTaps = 0;
   for (int j = 0; j < grid; ++j)
     for (int i = 0; i < grid; ++i) {
-      float b = depthAt(r.u + gridOffset(pcfFactors[i], filterTexels), r.v + gridOffset(pcfFactors[j], filterTexels));
-      if (r.depth <= b) ++litTaps;
+      float du = gridOffset(pcfFactors[i], filterTexels), dv = gridOffset(pcfFactors[j], filterTexels);
+      if (receiverDepthAt(r, du, dv) <= depthAt(r.u + du, r.v + dv)) ++litTaps;
     }
   visibility = vec4(float(litTaps) / float(grid * grid), 0.0, 0.0, 1.0);
 }

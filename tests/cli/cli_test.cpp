@@ -272,6 +272,37 @@ class CliRenderTest : public ::testing::Test {
   std::string dir, out;
 };
 
+// mrr info: what a scene holds and the view a render would take, as text and JSON (issue 19).
+TEST_F(CliRenderTest, InfoTellsWhatASceneHolds) {
+  const RunResult text = runMrr({"info", "builtin:fence"}, dir);
+  ASSERT_EQ(text.status, 0) << describe(text);
+  for (const char* line : {"geometry    6 triangles in 3 meshes", "cutout 16x16, 43.75% opaque",
+                           "view        --eye 2.5,2.20000005,5.5 --target 0,0.899999976,-0.5 --fov 55",
+                           "suggested   --eye "})
+    EXPECT_NE(text.out.find(line), std::string::npos) << line << "\n" << text.out;
+  const RunResult j = runMrr({"info", "builtin:fence", "--json", "--size", "320x180"}, dir);
+  ASSERT_EQ(j.status, 0) << describe(j);
+  const json info = json::parse(j.out);
+  EXPECT_EQ(info["triangles"], 6);
+  EXPECT_EQ(info["cameras"].size(), 1u);
+  EXPECT_EQ(info["light"]["from_scene"], true);
+  EXPECT_EQ(info["cutouts"][0]["width"], 16);
+  EXPECT_EQ(info["suggested"]["interior"], false);
+  // The suggested view is a real one: rendering with its --eye/--target works and sees the fence.
+  auto triple = [](const json& v) {
+    return std::to_string(v[0].get<double>()) + "," + std::to_string(v[1].get<double>()) + "," +
+           std::to_string(v[2].get<double>());
+  };
+  const RunResult r = runMrr({"render", "--scene", "builtin:fence", "--size", "64x36", "--samples", "4", "-q", "--eye",
+                              triple(info["suggested"]["eye"]), "--target", triple(info["suggested"]["target"]),
+                              "--report", at("suggested.json")},
+                             dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_GT(json::parse(readFile(at("suggested.json")))["levels"][0]["shaded_pixels"].get<int>() +
+                json::parse(readFile(at("suggested.json")))["levels"][3]["shaded_pixels"].get<int>(),
+            0);
+}
+
 // The report records the frame's camera and light as given (issue 19), and --light-dir
 // (toward the light) turns the scene's light: the shadows of SSM move with it.
 TEST_F(CliRenderTest, ReportRecordsTheCameraAndTheLight) {
@@ -700,7 +731,11 @@ const std::vector<BadCase> kBadCases = {
     {"ProbePixelThreeNumbers", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
                                 "--pixel", "1,2,3"}, "--pixel 1,2,3"},
     // the command line itself: every usage error is one line and status 2
-    {"NoCommand", {}, "a command is required: render, probe, compare, bench or explore"},
+    {"NoCommand", {}, "a command is required: render, probe, compare"},
+    // mrr info
+    {"InfoWithoutScene", {"info"}, "info: scene is required"},
+    {"InfoMissingFile", {"info", "{in}/absent.gltf"}, "absent.gltf: no such file"},
+    {"InfoZeroSize", {"info", "builtin:demo", "--size", "0x90"}, "--size 0x90"},
     {"MisspelledCommand", {"rendr", "--scene", "builtin:demo"}, "unknown command rendr (did you mean render?)"},
     {"UnknownCommand", {"draw", "--scene", "builtin:demo"}, "unknown command draw (expected render, probe"},
     {"UnexpectedArgument", demoWith({"--out", "{out}/o.exr", "extra"}), "render: unexpected argument extra"},

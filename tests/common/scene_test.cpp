@@ -259,3 +259,74 @@ TEST(SceneTest, FlipUpKeepsTheDefaultLight) {
 
 }  // namespace
 }  // namespace mrr
+
+namespace mrr {
+namespace {
+
+// A box of six quads facing in (a room), or five (open on +z: a Cornell box), from lo to hi.
+Scene roomScene(const glm::vec3& lo, const glm::vec3& hi, bool openFront) {
+  Scene scene;
+  auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+    scene.meshes.push_back(makeTriangle("q", a, b, c));
+    scene.meshes.push_back(makeTriangle("q", a, c, d));
+  };
+  const glm::vec3 l = lo, h = hi;
+  quad({l.x, l.y, l.z}, {h.x, l.y, l.z}, {h.x, l.y, h.z}, {l.x, l.y, h.z});  // floor
+  quad({l.x, h.y, l.z}, {l.x, h.y, h.z}, {h.x, h.y, h.z}, {h.x, h.y, l.z});  // ceiling
+  quad({l.x, l.y, l.z}, {l.x, h.y, l.z}, {h.x, h.y, l.z}, {h.x, l.y, l.z});  // back
+  quad({l.x, l.y, l.z}, {l.x, l.y, h.z}, {l.x, h.y, h.z}, {l.x, h.y, l.z});  // left
+  quad({h.x, l.y, l.z}, {h.x, h.y, l.z}, {h.x, h.y, h.z}, {h.x, l.y, h.z});  // right
+  if (!openFront) quad({l.x, l.y, h.z}, {h.x, l.y, h.z}, {h.x, h.y, h.z}, {l.x, h.y, h.z});
+  return scene;
+}
+
+TEST(SceneTest, DefaultFramingFillsTheFrameWithAnObject) {
+  // A long thin object: the bounds' sphere would leave most of a 16:9 frame empty.
+  Scene scene;
+  scene.meshes.push_back(makeTriangle("a", {-4, 0, 0}, {4, 0, 0}, {4, 0.5f, 0.2f}));
+  scene.meshes.push_back(makeTriangle("b", {-4, 0, 0}, {4, 0.5f, 0.2f}, {-4, 0.5f, 0.2f}));
+  const Framing framing = frameScene(scene, 0.9f, 16.0f / 9.0f);
+  EXPECT_FALSE(framing.interior);
+  const View view = makeView(framing.camera, 160, 90, 160, 90);
+  float widest = 0.0f, tallest = 0.0f;
+  for (const Mesh& mesh : scene.meshes)
+    for (const glm::vec3& p : mesh.positions) {
+      const glm::vec2 pixel = view.project(view.toView(p));
+      ASSERT_GE(pixel.x, 0.0f);
+      ASSERT_LE(pixel.x, 160.0f);
+      ASSERT_GE(pixel.y, 0.0f);
+      ASSERT_LE(pixel.y, 90.0f);
+      widest = std::max(widest, std::fabs(pixel.x - 80.0f) / 80.0f);
+      tallest = std::max(tallest, std::fabs(pixel.y - 45.0f) / 45.0f);
+    }
+  EXPECT_GT(std::max(widest, tallest), 0.9f);  // it reaches within 10% of the frame's border
+  // The sphere-fitted framing is farther: the same object covers much less of the frame.
+  const Camera sphere = frameBounds(scene.bounds(), 0.9f);
+  EXPECT_GT(glm::length(sphere.eye - sphere.target), 1.3f * glm::length(framing.camera.eye - framing.camera.target));
+}
+
+TEST(SceneTest, DefaultFramingOfAClosedRoomIsFromInside) {
+  const Scene scene = roomScene({0, 0, 0}, {10, 3, 6}, false);
+  const Framing framing = frameScene(scene, glm::radians(60.0f), 16.0f / 9.0f);
+  EXPECT_TRUE(framing.interior);
+  EXPECT_EQ(framing.enclosedDirections, 26);
+  const Bounds b = scene.bounds();
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_GT(framing.camera.eye[a], b.lo[a]);
+    EXPECT_LT(framing.camera.eye[a], b.hi[a]);
+  }
+  const glm::vec3 d = glm::normalize(framing.camera.target - framing.camera.eye);
+  EXPECT_FLOAT_EQ(d.y, 0.0f);
+  EXPECT_GT(std::fabs(d.x), 0.7f);  // along the room's long side
+}
+
+TEST(SceneTest, DefaultFramingOfAnOpenBoxLooksInThroughTheOpening) {
+  const Scene scene = roomScene({-1, 0, -1}, {1, 2, 1}, true);
+  const Framing framing = frameScene(scene, glm::radians(60.0f), 16.0f / 9.0f);
+  EXPECT_TRUE(framing.interior);
+  EXPECT_GT(framing.camera.eye.z, 1.0f);  // outside, before the open +z side
+  EXPECT_LT(std::fabs(framing.camera.eye.x), 1e-4f);
+}
+
+}  // namespace
+}  // namespace mrr

@@ -174,7 +174,7 @@ TEST(GpuHash, GlslMatchesTheHostBitForBit) {
 // The arcade's faceted arches put normal differences near τ_n, where a wrong comparison in the
 // edge shader shows; the built-ins have creases far above it and planes far below.
 INSTANTIATE_TEST_SUITE_P(Scenes, GpuParity,
-                         ::testing::Values("demo", "plane", "slanted", "corner", "steps", "boxes", "arcade"));
+                         ::testing::Values("demo", "plane", "slanted", "corner", "steps", "boxes", "fence", "arcade"));
 
 TEST(GpuContext, ReportsTheRendererOrSaysWhyNot) {
   MRR_REQUIRE_GL_OR_SKIP();
@@ -430,6 +430,7 @@ TEST_P(GpuShadowParity, SsgiStagesMatchTheOracle) {
 // The built-ins made for the effects, the demo, and two shared scenes at 320×180.
 INSTANTIATE_TEST_SUITE_P(Scenes, GpuShadowParity,
                          ::testing::Values(ShadowCase{"shadows", 161, 97}, ShadowCase{"redwall", 161, 97},
+                                           ShadowCase{"fence", 161, 97},
                                            ShadowCase{"demo", 160, 90}, ShadowCase{"cornell", 320, 180},
                                            ShadowCase{"arcade", 320, 180}),
                          [](const ::testing::TestParamInfo<ShadowCase>& info) { return info.param.scene; });

@@ -26,7 +26,8 @@ const Key kKeys[] = {
     {"target", Kind::Triple},        {"up", Kind::Triple},            {"fov", Kind::Number},
     {"light_dir", Kind::Triple},     {"light_angle", Kind::Number},   {"shadow_map_size", Kind::Int},
     {"ao_radius", Kind::Number},     {"gi_radius", Kind::Number},     {"ao_texel_depth", Kind::Flag},
-    {"tau_n", Kind::Number},         {"tau_z", Kind::Number},         {"disable_level", Kind::Levels},
+    {"tau_n", Kind::Number},         {"tau_z", Kind::Number},         {"sigma2", Kind::Text},
+    {"weights", Kind::Text},         {"disable_level", Kind::Levels},
     {"never_slower", Kind::Text},    {"blend_materials", Kind::Text}, {"flip_up", Kind::Flag},
 };
 

@@ -5,7 +5,7 @@
 //    "size": "1280x720", "samples": 64, "eye": [x, y, z], "target": [x, y, z], "up": [x, y, z],
 //    "fov": 60, "light_dir": [x, y, z], "light_angle": 0.05, "shadow_map_size": 2048,
 //    "ao_radius": 0, "gi_radius": 0, "ao_texel_depth": false, "tau_n": 0.1, "tau_z": 0.02,
-//    "disable_level": [], "never_slower": "on", "blend_materials": "opaque", "flip_up": false}
+//    "sigma2": "0,0.924,1.848,0", "weights": "1000,1000,1000,1", "disable_level": [], "never_slower": "on", "blend_materials": "opaque", "flip_up": false}
 // `render --frame-out F.json` writes one (the camera and light as resolved, numbers that round-trip
 // exactly); `--frame F.json` on render, probe and compare reads it; options given on the command
 // line win over the file's. Every report JSON and stages EXR carries the same object.

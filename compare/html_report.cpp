@@ -16,6 +16,7 @@
 #include "common/parallel.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
+#include "compare/false_colour.h"
 #include "compare/report_python.h"
 
 namespace mrr {
@@ -111,41 +112,6 @@ ImageF absDiff(const ImageF& a, const ImageF& b, const std::function<bool(size_t
     out.data[p] = worst;
   }
   return out;
-}
-
-// Inferno-like ramp from black: perceptually ordered, readable in grey.
-constexpr std::array<std::array<int, 3>, 9> kRamp = {{{0, 0, 4},
-                                                      {31, 12, 72},
-                                                      {85, 15, 109},
-                                                      {136, 34, 106},
-                                                      {186, 54, 85},
-                                                      {227, 89, 51},
-                                                      {249, 140, 10},
-                                                      {249, 201, 50},
-                                                      {252, 255, 164}}};
-
-ImageU8 heatMap(const ImageF& delta, double scale) {
-  ImageU8 out(delta.width, delta.height, 3, 0);
-  for (size_t p = 0; p < delta.pixelCount(); ++p) {
-    const double d = delta.data[p];
-    if (!(d > 0.0) && !std::isnan(d)) continue;  // exactly 0: black
-    const double t = std::isfinite(d) && scale > 0.0 ? std::clamp(d / scale, 0.0, 1.0) : 1.0;
-    const double s = t * static_cast<double>(kRamp.size() - 1);
-    const size_t i = std::min(static_cast<size_t>(s), kRamp.size() - 2);
-    const double f = s - static_cast<double>(i);
-    for (size_t c = 0; c < 3; ++c) {
-      const double v = (1.0 - f) * kRamp[i][c] + f * kRamp[i + 1][c];
-      out.data[p * 3 + c] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-    }
-  }
-  return out;
-}
-
-std::string rampGradient() {
-  std::string css = "linear-gradient(to right";
-  for (const auto& c : kRamp)
-    css += ",rgb(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) + ")";
-  return css + ")";
 }
 
 // ---------------------------------------------------------------------------------------------

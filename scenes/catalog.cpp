@@ -24,17 +24,22 @@ const std::vector<SharedSceneInfo>& sharedSceneCatalog() {
   return catalog;
 }
 
-ResolvedScene resolveScene(const SceneRequest& request) {
-  ResolvedScene out;
+namespace {
+const SharedSceneInfo* catalogEntry(const std::string& name) {
+  for (const auto& entry : sharedSceneCatalog())
+    if (entry.name == name) return &entry;
+  return nullptr;
+}
+}  // namespace
+
+Scene loadRequestedScene(const SceneRequest& request) {
+  Scene scene;
   const std::string& spec = request.scene;
-  std::vector<Camera> catalogCameras;
   if (spec.rfind("builtin:", 0) == 0) {
-    out.scene = makeBuiltinScene(spec.substr(8));
-    if (request.flipUp.value_or(false)) flipUp(out.scene);
+    scene = makeBuiltinScene(spec.substr(8));
+    if (request.flipUp.value_or(false)) flipUp(scene);
   } else {
-    const SharedSceneInfo* info = nullptr;
-    for (const auto& entry : sharedSceneCatalog())
-      if (entry.name == spec) info = &entry;
+    const SharedSceneInfo* info = catalogEntry(spec);
     LoadOptions options;
     options.skipBlend = request.skipBlendMaterials;
     std::string path = spec;
@@ -43,51 +48,65 @@ ResolvedScene resolveScene(const SceneRequest& request) {
       require(std::filesystem::exists(path),
               "--scene " + spec + ": " + path + " not found (set MRR_SCENES_DIR to the shared scenes folder)");
       options.flipUp = request.flipUp.value_or(info->flipUp);
-      catalogCameras = info->cameras;
     } else {
       options.flipUp = request.flipUp.value_or(false);
     }
-    out.scene = loadGltf(path, options);
+    scene = loadGltf(path, options);
   }
   // The light: --light-dir points toward it; the scene's light travels the other way.
   if (request.lightToward) {
     const float length = glm::length(*request.lightToward);
     require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
     // A unit direction (as frame files write it) is kept bit for bit.
-    out.scene.light.direction = std::fabs(length - 1.0f) <= 1e-6f ? -*request.lightToward : -*request.lightToward / length;
+    scene.light.direction = std::fabs(length - 1.0f) <= 1e-6f ? -*request.lightToward : -*request.lightToward / length;
   }
+  return scene;
+}
+
+Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source) {
   // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
   // catalogue's view, else framed from the bounds.
   const float fov = glm::radians(request.fovDegrees.value_or(60.0f));
   require(fov > 0.0f && fov < glm::radians(179.0f), "--fov: must be in (0, 179) degrees");
   if (request.eye || request.target) {
     require(request.eye && request.target, "--eye and --target must be given together");
-    out.camera = Camera{*request.eye, *request.target, request.up.value_or(glm::vec3(0, 1, 0)), fov};
-    require(glm::length(out.camera.target - out.camera.eye) > 0.0f, "--eye and --target coincide");
-    require(glm::length(glm::cross(out.camera.target - out.camera.eye, out.camera.up)) > 0.0f,
+    const Camera camera{*request.eye, *request.target, request.up.value_or(glm::vec3(0, 1, 0)), fov};
+    require(glm::length(camera.target - camera.eye) > 0.0f, "--eye and --target coincide");
+    require(glm::length(glm::cross(camera.target - camera.eye, camera.up)) > 0.0f,
             "--up is zero or along the view direction");
-    out.cameraSource = "--eye/--target";
-    return out;
+    if (source) *source = "--eye/--target";
+    return camera;
   }
-  std::vector<Camera> cameras = out.scene.cameras;
+  std::vector<Camera> cameras = scene.cameras;
   const std::string from = cameras.empty() ? "of the scene catalogue" : "of the file";
-  if (cameras.empty()) cameras = catalogCameras;
+  if (cameras.empty() && request.scene.rfind("builtin:", 0) != 0)
+    if (const SharedSceneInfo* info = catalogEntry(request.scene)) cameras = info->cameras;
+  Camera camera;
+  std::string where;
   if (request.cameraIndex) {
     const int i = *request.cameraIndex;
     require(i >= 0 && i < static_cast<int>(cameras.size()),
             "--camera " + std::to_string(i) + ": the scene has " + std::to_string(cameras.size()) + " camera(s)");
-    out.camera = cameras[static_cast<size_t>(i)];
-    out.cameraSource = "camera " + std::to_string(i) + " " + from;
+    camera = cameras[static_cast<size_t>(i)];
+    where = "camera " + std::to_string(i) + " " + from;
   } else if (!cameras.empty()) {
-    out.camera = cameras.front();
-    out.cameraSource = "camera 0 " + from;
+    camera = cameras.front();
+    where = "camera 0 " + from;
   } else {
-    const Framing framing = frameScene(out.scene, fov, request.aspect);
-    out.camera = framing.camera;
-    out.cameraSource = framing.interior ? "default framing: inside, the scene encloses its centre"
-                                        : "default framing: from outside, fitted to the frame";
+    const Framing framing = frameScene(scene, fov, request.aspect);
+    camera = framing.camera;
+    where = framing.interior ? "default framing: inside, the scene encloses its centre"
+                             : "default framing: from outside, fitted to the frame";
   }
-  if (request.fovDegrees) out.camera.yfov = fov;
+  if (request.fovDegrees) camera.yfov = fov;
+  if (source) *source = where;
+  return camera;
+}
+
+ResolvedScene resolveScene(const SceneRequest& request) {
+  ResolvedScene out;
+  out.scene = loadRequestedScene(request);
+  out.camera = requestedCamera(request, out.scene, &out.cameraSource);
   return out;
 }
 

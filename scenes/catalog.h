@@ -38,5 +38,10 @@ struct ResolvedScene {
   std::string cameraSource;  // where the camera came from, in words: "--eye/--target", "camera 0 of the file", ...
 };
 ResolvedScene resolveScene(const SceneRequest& request);
+// The two halves of resolveScene, for a caller that keeps the scene and moves the camera
+// (`mrr explore`): the scene with its light, and the camera the request picks in it.
+Scene loadRequestedScene(const SceneRequest& request);
+// `source`, when given, says where the camera came from (ResolvedScene::cameraSource).
+Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source = nullptr);
 
 }  // namespace mrr

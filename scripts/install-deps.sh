@@ -5,21 +5,22 @@
 # matplotlib's data package needs it too); python3-openimageio and python3-numpy run
 # examples/foreign_renderer.py (docs/validate-your-own.md, tested by tests/cli/byo_test.cpp).
 # `install-deps.sh test` adds what only the tests need: Chromium (the compare report's
-# browser test) and clang with its fuzzer runtime (scripts/fuzz.sh).
+# browser test), Selenium with chromedriver (`mrr explore`'s browser test) and clang with its
+# fuzzer runtime (scripts/fuzz.sh).
 # Safe to run repeatedly; skips apt when every package is already installed.
 set -euo pipefail
 pkgs=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libopencv-core-dev
   libglm-dev libtinygltf-dev libstb-dev nlohmann-json3-dev libcli11-dev
-  libmeshoptimizer-dev libdraco-dev
+  libmeshoptimizer-dev libdraco-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   python3-matplotlib python3-jinja2 fonts-dejavu-core
   python3-openimageio python3-numpy
 )
 if [ "${1:-}" = test ]; then
-  pkgs+=(chromium clang libclang-rt-14-dev)
+  pkgs+=(chromium clang libclang-rt-14-dev python3-selenium chromium-driver)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

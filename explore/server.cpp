@@ -1,0 +1,716 @@
+#include "explore/server.h"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <future>
+#include <iostream>
+#include <list>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <sys/socket.h>
+
+#include "common/error.h"
+#include "common/memory.h"
+#include "common/paths.h"
+#include "common/stages.h"
+#include "common/tolerance.h"
+#include "compare/false_colour.h"
+#include "compare/probe_both.h"
+#include "compare/report.h"
+#include "cpu_ref/pipeline.h"
+#include "cpu_ref/probe.h"
+#include "explore/explore_files.h"
+#include "explore/layers.h"
+#include "gpu/context.h"
+#include "gpu/pipeline.h"
+#include "scenes/builtin.h"
+#include "scenes/catalog.h"
+
+namespace mrr::explore {
+
+namespace {
+
+using nlohmann::json;
+
+// A request the API refuses: its status, the reason and the parameter at fault.
+struct ApiError {
+  int status = 400;
+  std::string message;
+  std::string parameter;  // empty: none in particular
+};
+
+// The frame parameters the page may send: the command line's frame options, '-' as '_'.
+// Options that name files (--cost-model) or the machine (--threads, --gl-device,
+// --memory-limit) stay on the command line. Flags take 1/true or 0/false.
+const std::set<std::string> kValueParameters = {
+    "scene",      "effect",      "method",      "mode",           "never_slower", "size",
+    "samples",    "camera",      "eye",         "target",         "up",           "fov",          "light_dir",
+    "ao_radius",  "gi_radius",   "light_angle", "shadow_map_size", "tau_n",        "tau_z",
+    "sigma2",     "weights",     "disable_level", "blend_materials"};
+const std::set<std::string> kFlagParameters = {"flip_up", "no_flip_up", "ao_texel_depth"};
+
+// "--tau-n 3: must be in [0, 2]" → "tau_n": the first option an error message names.
+std::string parameterNamed(const std::string& message) {
+  const size_t at = message.find("--");
+  if (at == std::string::npos) return {};
+  size_t end = at + 2;
+  while (end < message.size() && (std::isalnum(static_cast<unsigned char>(message[end])) || message[end] == '-')) ++end;
+  std::string name = message.substr(at + 2, end - at - 2);
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
+}
+
+json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+// What one request asks to render, resolved and checked.
+struct FrameRequest {
+  FrameOptions options;
+  Settings settings;
+  SceneRequest scene;
+  std::string sceneKey;      // what loading the scene depends on
+  std::string key;           // the frame (path aside)
+  std::string referenceKey;  // its full-resolution reference
+};
+
+std::string frameKey(const Settings& s, const SceneRequest& r) {
+  json levels = json::array();
+  for (const LevelSettings& l : s.levels) levels.push_back({l.enabled, l.sigma2, l.weight});
+  auto opt = [](const auto& o) { return o ? json(*o) : json(nullptr); };
+  auto optVec = [](const std::optional<glm::vec3>& v) { return v ? vec3Json(*v) : json(nullptr); };
+  const json k = {{"scene", r.scene},        {"flip", opt(r.flipUp)},        {"camera", opt(r.cameraIndex)},
+                  {"eye", optVec(r.eye)},    {"target", optVec(r.target)},    {"fov", opt(r.fovDegrees)},
+                  {"light", optVec(r.lightToward)}, {"skip_blend", r.skipBlendMaterials},
+                  {"effect", toString(s.effect)}, {"mode", toString(s.mode)}, {"never_slower", s.neverSlower},
+                  {"size", {s.width, s.height}}, {"samples", s.samples()}, {"ao_radius", s.ssao.radius},
+                  {"ao_tangent", s.ssao.tangentPlaneDepth}, {"gi_radius", s.ssgi.radius},
+                  {"shadow_map", s.ssm.shadowMapSize}, {"light_angle", s.ssm.lightAngle},
+                  {"tau", {s.edges.normalThreshold, s.edges.depthThreshold}}, {"levels", levels}};
+  return k.dump();
+}
+
+// The full-resolution frame a frame is measured against: mode full, and nothing that only
+// chooses which pixels the method shades.
+Settings referenceSettings(const Settings& s) {
+  Settings r = defaultSettings(s.effect);
+  r.width = s.width;
+  r.height = s.height;
+  r.ssao = s.ssao;
+  r.ssm = s.ssm;
+  r.ssgi = s.ssgi;
+  r.bilateral = s.bilateral;
+  r.mode = Mode::Full;
+  r.neverSlower = false;
+  return r;
+}
+
+// A rendered frame, kept in the cache; read-only once made, from any thread.
+struct Rendered {
+  int64_t bytes = 0;  // estimateFrameBytes of the frame, for the cache's budget
+  FrameResult frame;
+  json report;
+  std::shared_ptr<const Rendered> reference;  // null for a reference itself
+  double wallMs = 0.0;
+};
+using RenderedPtr = std::shared_ptr<const Rendered>;
+
+// The scene being shown, its renderers and their GL context: touched by the render thread only.
+struct SceneState {
+  std::string key;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Renderer> oracle;
+  std::unique_ptr<gpu::GpuRenderer> port;  // made on first use
+  std::set<std::string> warm;              // the paths that have rendered here (shaders compiled, scratch paged in)
+};
+
+class Explorer {
+ public:
+  explicit Explorer(const ServerOptions& options)
+      : options_(options), cacheBudget_(memoryLimit(options.frame.memoryLimitGiB).bytes / 2) {
+    for (const std::string& n : builtinSceneNames()) scenes_.push_back("builtin:" + n);
+    for (const SharedSceneInfo& s : sharedSceneCatalog())  // those this machine has
+      if (std::filesystem::exists(std::filesystem::path(sharedScenesDir()) / s.file)) scenes_.push_back(s.name);
+    if (std::find(scenes_.begin(), scenes_.end(), options.frame.scene) == scenes_.end())
+      scenes_.push_back(options.frame.scene);  // the scene named on the command line
+    worker_ = std::thread([this] { workLoop(); });
+    // The port's status, found on the thread that will own its context.
+    runOnWorker([this] {
+      try {
+        const gpu::GlContext context(options_.frame.glDevice);
+        portAvailable_ = true;
+        portStatus_ = "available";
+      } catch (const std::exception& e) {
+        portStatus_ = e.what();
+      }
+    });
+  }
+  ~Explorer() {
+    {
+      std::lock_guard lock(queueMutex_);
+      stopping_ = true;
+    }
+    queueReady_.notify_all();
+    worker_.join();
+  }
+
+  // The request's frame parameters, checked; `endpoint`: the parameters the endpoint itself takes.
+  FrameRequest parse(const httplib::Request& req, const std::set<std::string>& endpoint) const {
+    std::vector<std::string> args;
+    for (const auto& [key, value] : req.params) {
+      if (endpoint.count(key)) continue;
+      if (kFlagParameters.count(key)) {
+        if (value == "0" || value == "false") continue;
+        if (!(value.empty() || value == "1" || value == "true"))
+          throw ApiError{400, key + "=" + value + ": a flag takes 1, true, 0 or false", key};
+        std::string option = "--" + key;
+        std::replace(option.begin(), option.end(), '_', '-');
+        args.push_back(option);
+        continue;
+      }
+      if (!kValueParameters.count(key)) throw ApiError{400, "unknown parameter " + key, key};
+      std::string option = "--" + key;
+      std::replace(option.begin(), option.end(), '_', '-');
+      if (key == "method") option = "--method";
+      args.push_back(option + "=" + value);
+    }
+    FrameRequest r;
+    r.options = options_.frame;
+    if (!args.empty()) {
+      CLI::App app;
+      r.options.add(app);
+      std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+      try {
+        app.parse(args);
+      } catch (const CLI::ParseError& e) {
+        throw ApiError{400, e.what(), parameterNamed(e.what())};
+      }
+    }
+    if (std::find(scenes_.begin(), scenes_.end(), r.options.scene) == scenes_.end())
+      throw ApiError{400,
+                     "scene " + r.options.scene +
+                         ": not offered (a built-in, a shared scene, or the scene given on the command line)",
+                     "scene"};
+    try {
+      r.settings = r.options.settings();
+      r.scene = r.options.sceneRequest();
+      // Three frames of this size may be kept per path: the frame, its reference, a neighbour.
+      requireMemory(3 * estimateFrameBytes(makeConstants(r.settings, 1.0f), true),
+                    memoryLimit(options_.frame.memoryLimitGiB), "a " + r.options.size + " frame");
+    } catch (const MrrError& e) {
+      // the page cannot raise the memory limit: a frame too large is its size's fault
+      const bool memory = std::string(e.what()).find("over the memory limit") != std::string::npos;
+      std::string parameter = memory ? "size" : parameterNamed(e.what());
+      if (parameter.empty() && std::string(e.what()).find("level ") == 0) parameter = "sigma2";
+      throw ApiError{400, e.what(), parameter};
+    }
+    SceneRequest sceneOnly = r.scene;
+    sceneOnly.eye = sceneOnly.target = std::nullopt;
+    sceneOnly.cameraIndex = std::nullopt;
+    sceneOnly.fovDegrees = std::nullopt;
+    r.sceneKey = frameKey(defaultSettings(Effect::Ssao), sceneOnly);
+    r.key = frameKey(r.settings, r.scene);
+    r.referenceKey = frameKey(referenceSettings(r.settings), r.scene);
+    return r;
+  }
+
+  static std::string pathParameter(const httplib::Request& req, bool bothAllowed) {
+    const std::string path = req.has_param("path") ? req.get_param_value("path") : "cpu";
+    if (path == "cpu" || path == "gpu" || (bothAllowed && path == "both")) return path;
+    throw ApiError{400, "path " + path + ": expected cpu or gpu" + std::string(bothAllowed ? ", or both" : ""), "path"};
+  }
+
+  // The frame on `path`, from the cache or rendered (one at a time, on the render thread).
+  RenderedPtr frame(const FrameRequest& r, const std::string& path) {
+    if (path == "gpu" && !portAvailable_)
+      throw ApiError{503, "the port is unavailable here: " + portStatus_, "path"};
+    if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;
+    RenderedPtr out;
+    runOnWorker([&] { out = renderOnWorker(r, path); });
+    return out;
+  }
+
+  // Loads the command line's scene and builds its BVH before the first request: a scene that
+  // cannot be read is one line and exit 2, not a page that fails.
+  void preload() {
+    const FrameRequest r = parse(httplib::Request{}, {});
+    runOnWorker([&] { sceneFor(r); });
+  }
+
+  json info() const {
+    json parts = json::array();
+    for (const PartInfo& p : kParts)
+      parts.push_back({{"name", p.name}, {"per_level", p.perLevel}, {"step", p.step}, {"what", p.what}});
+    json defaults = {{"scene", options_.frame.scene},
+                     {"effect", options_.frame.effect},
+                     {"method", options_.frame.mode},
+                     {"size", options_.frame.size}};
+    if (options_.frame.samples) defaults["samples"] = *options_.frame.samples;
+    const Settings s = options_.frame.settings();
+    defaults["tau_n"] = s.edges.normalThreshold;
+    defaults["tau_z"] = s.edges.depthThreshold;
+    defaults["never_slower"] = s.neverSlower ? "on" : "off";
+    return {{"scenes", scenes_},
+            {"port", {{"available", portAvailable_}, {"status", portStatus_}, {"renderer", portRenderer()}}},
+            {"defaults", defaults},
+            {"parts", parts},
+            {"probe_relative_difference", kProbeRelativeDifference},
+            {"teach", teachSteps()}};
+  }
+
+  json progress() const {
+    std::lock_guard lock(progressMutex_);
+    return {{"busy", busy_},
+            {"job", job_},
+            {"stage", stage_},
+            {"queued", queued_},
+            {"renders", renders_},
+            {"elapsed_ms", busy_ ? std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_).count()
+                                 : 0.0}};
+  }
+
+  std::string portRenderer() const {
+    std::lock_guard lock(progressMutex_);
+    return portRenderer_;
+  }
+
+ private:
+  void workLoop() {
+    for (;;) {
+      std::function<void()> job;
+      {
+        std::unique_lock lock(queueMutex_);
+        queueReady_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        job = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      job();
+    }
+  }
+
+  // Runs `body` on the render thread and waits for it; its exception comes back here.
+  void runOnWorker(const std::function<void()>& body) {
+    auto task = std::make_shared<std::packaged_task<void()>>(body);
+    std::future<void> done = task->get_future();
+    {
+      std::lock_guard lock(queueMutex_);
+      queue_.push_back([task] { (*task)(); });
+    }
+    {
+      std::lock_guard lock(progressMutex_);
+      ++queued_;
+    }
+    queueReady_.notify_one();
+    struct Dequeued {
+      Explorer* self;
+      ~Dequeued() {
+        std::lock_guard lock(self->progressMutex_);
+        --self->queued_;
+      }
+    } dequeued{this};
+    done.get();
+  }
+
+  RenderedPtr cached(const std::string& key) {
+    std::lock_guard lock(cacheMutex_);
+    for (auto it = cache_.begin(); it != cache_.end(); ++it)
+      if (it->first == key) {
+        cache_.splice(cache_.begin(), cache_, it);  // most recently used first
+        return it->second;
+      }
+    return nullptr;
+  }
+
+  // Keeps the newest frames: at most kCachedFrames, and within half the memory limit (the two
+  // newest always). Frames still in use live on in their shared_ptr.
+  void remember(const std::string& key, RenderedPtr frame) {
+    std::lock_guard lock(cacheMutex_);
+    cache_.emplace_front(key, std::move(frame));
+    const int64_t budget = cacheBudget_;
+    auto total = [&] {
+      int64_t sum = 0;
+      for (const auto& entry : cache_) sum += entry.second->bytes;
+      return sum;
+    };
+    while (cache_.size() > kCachedFrames || (cache_.size() > 2 && total() > budget)) cache_.pop_back();
+  }
+
+  void setProgress(const std::string& job, const std::string& stage) {
+    std::lock_guard lock(progressMutex_);
+    if (!job.empty()) job_ = job;
+    stage_ = stage;
+  }
+
+  SceneState& sceneFor(const FrameRequest& r) {
+    if (state_.key == r.sceneKey && state_.scene) return state_;
+    setProgress("loading " + r.scene.scene, "scene");
+    state_ = SceneState{};  // the old renderers and their GL context go first
+    SceneRequest load = r.scene;
+    state_.scene = std::make_unique<Scene>(loadRequestedScene(load));
+    setProgress("", "building the BVH");
+    state_.oracle = std::make_unique<Renderer>(*state_.scene);
+    state_.key = r.sceneKey;
+    return state_;
+  }
+
+  RenderedPtr renderOnWorker(const FrameRequest& r, const std::string& path) {
+    if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;  // rendered while this one queued
+    const auto start = std::chrono::steady_clock::now();
+    {
+      std::lock_guard lock(progressMutex_);
+      busy_ = true;
+      started_ = start;
+    }
+    struct NotBusy {
+      Explorer* self;
+      ~NotBusy() {
+        std::lock_guard lock(self->progressMutex_);
+        self->busy_ = false;
+        self->stage_.clear();
+        ++self->renders_;
+      }
+    } notBusy{this};
+    SceneState& state = sceneFor(r);
+    if (path == "gpu" && !state.port) {
+      setProgress("", "making the GL context");
+      state.port = std::make_unique<gpu::GpuRenderer>(*state.scene, options_.frame.glDevice,
+                                                      gpu::parseGpuTiming(options_.frame.gpuTiming));
+      std::lock_guard lock(progressMutex_);
+      portRenderer_ = state.port->renderer();
+    }
+    const Camera camera = requestedCamera(r.scene, *state.scene);
+    const float diagonal = state.scene->bounds().diagonal();
+    // Both paths take the oracle's never-slower costs, as compare does: the same decision.
+    const CostModel costs = options_.frame.costModel("cpu");
+    const std::string who = path == "cpu" ? "oracle" : "port";
+    auto render = [&](const Constants& k, bool keepStages, const std::string& what) {
+      const ProgressFn progress = [this](const std::string& stage) { setProgress("", stage); };
+      setProgress(who + ": " + what, "");
+      return path == "cpu" ? state.oracle->render(camera, k, {keepStages, progress, &costs})
+                           : state.port->render(camera, k, {keepStages, progress, &costs});
+    };
+    // A renderer's first frames pay for compiling shaders and paging in scratch: one throwaway
+    // frame of each kind first, so the measured speedup compares warm frames.
+    if (!state.warm.count(path)) {
+      render(makeConstants(referenceSettings(r.settings), diagonal), false, "warming up (full resolution)");
+      render(makeConstants(r.settings, diagonal), false, "warming up");
+      state.warm.insert(path);
+    }
+    RenderedPtr reference = cached("reference " + path + r.referenceKey);
+    if (!reference) {
+      auto ref = std::make_shared<Rendered>();
+      const Constants full = makeConstants(referenceSettings(r.settings), diagonal);
+      ref->bytes = estimateFrameBytes(full, false);
+      ref->frame = render(full, false, "full-resolution reference");
+      reference = ref;
+      remember("reference " + path + r.referenceKey, reference);
+    }
+    auto out = std::make_shared<Rendered>();
+    const Constants constants = makeConstants(r.settings, diagonal);
+    out->frame = render(constants, true,
+                        toString(r.settings.mode) + " " + toString(r.settings.effect) + " " + r.options.size);
+    out->reference = reference;
+    out->bytes = estimateFrameBytes(constants, true);
+    RunInfo info{state.scene->name, state.scene->credit, path, tbb::this_task_arena::max_concurrency(), {}, {}};
+    if (path == "gpu") {
+      info.renderer = state.port->renderer();
+      info.timingMethod = state.port->timingMethod();
+    }
+    info.memoryEstimateBytes = estimateFrameBytes(constants, true);
+    info.peakResidentBytes = peakResidentBytes();
+    out->report = makeReport(out->frame, info, errorVsFull(out->frame, reference->frame));
+    const double frameMs = out->frame.timing("total"), fullMs = reference->frame.timing("total");
+    out->wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    out->report["explore"] = {
+        {"full_ms", fullMs},
+        {"frame_ms", frameMs},
+        {"measured_speedup", frameMs > 0.0 ? fullMs / frameMs : 0.0},
+        {"render_wall_ms", out->wallMs},
+        {"layers", layerNames(out->frame, true)},
+        {"key", r.key}};
+    remember("frame " + path + r.key, out);
+    return out;
+  }
+
+  // docs/method.md's paragraphs marked `<!-- teach: part ... -->`, per stage in pipeline order.
+  static json teachSteps() {
+    std::string method;
+    for (const ExploreFile& f : kExploreFiles)
+      if (std::string(f.path) == "docs/method.md") method = f.text;
+    std::map<std::string, std::string> text;
+    std::map<std::string, std::string> heading;
+    std::istringstream lines(method);
+    std::string line, section;
+    std::vector<std::string> marked;
+    bool inParagraph = false;
+    for (std::string l; std::getline(lines, l);) {
+      if (l.rfind("## ", 0) == 0) section = l.substr(3);
+      if (l.rfind("<!-- teach:", 0) == 0) {
+        std::istringstream words(l.substr(11));
+        marked.clear();
+        for (std::string w; words >> w && w != "-->";) marked.push_back(w);
+        inParagraph = false;
+        continue;
+      }
+      const bool blank = l.find_first_not_of(" \t") == std::string::npos;
+      if (blank) {
+        if (inParagraph) marked.clear();
+        inParagraph = false;
+        continue;
+      }
+      if (marked.empty() || l.rfind("![", 0) == 0 || l.rfind("|", 0) == 0) continue;
+      inParagraph = true;
+      for (const std::string& part : marked) {
+        std::string& t = text[part];
+        t += (t.empty() || t.back() == '\n' ? "" : " ") + l;
+        if (!heading.count(part)) heading[part] = section;
+      }
+    }
+    json steps = json::array();
+    auto add = [&](const std::string& part, const std::string& what) {
+      steps.push_back({{"part", part}, {"what", what}, {"section", heading[part]}, {"text", text[part]}});
+    };
+    for (const PartInfo& p : kParts) add(std::string(p.name), std::string(p.what));
+    add("difference", "the difference from the full-resolution frame");
+    return steps;
+  }
+
+  static constexpr size_t kCachedFrames = 12;
+
+  ServerOptions options_;
+  int64_t cacheBudget_ = 0;
+  std::vector<std::string> scenes_;
+  bool portAvailable_ = false;  // set once, before any request
+  std::string portStatus_;
+
+  std::thread worker_;
+  std::mutex queueMutex_;
+  std::condition_variable queueReady_;
+  std::deque<std::function<void()>> queue_;
+  bool stopping_ = false;
+  SceneState state_;  // render thread only
+
+  std::mutex cacheMutex_;
+  std::list<std::pair<std::string, RenderedPtr>> cache_;
+
+  mutable std::mutex progressMutex_;
+  bool busy_ = false;
+  std::string job_, stage_, portRenderer_;
+  int queued_ = 0;
+  long long renders_ = 0;
+  std::chrono::steady_clock::time_point started_;
+};
+
+void sendJson(httplib::Response& res, const json& j, int status = 200) {
+  res.status = status;
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(j.dump(), "application/json");
+}
+
+void sendError(httplib::Response& res, const ApiError& e) {
+  sendJson(res, {{"error", e.message}, {"parameter", e.parameter.empty() ? json(nullptr) : json(e.parameter)}},
+           e.status);
+}
+
+int intParameter(const httplib::Request& req, const std::string& name, int lo, int hi) {
+  if (!req.has_param(name)) throw ApiError{400, name + ": required", name};
+  const std::string text = req.get_param_value(name);
+  int v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+    throw ApiError{400, name + " " + text + ": expected a whole number in [" + std::to_string(lo) + ", " +
+                            std::to_string(hi) + "]",
+                   name};
+  return v;
+}
+
+float gainParameter(const httplib::Request& req) {
+  if (!req.has_param("gain")) return 10.0f;
+  const std::string text = req.get_param_value("gain");
+  try {
+    size_t used = 0;
+    const float g = std::stof(text, &used);
+    if (used == text.size() && std::isfinite(g) && g >= 1.0f && g <= 1000.0f) return g;
+  } catch (const std::exception&) {
+  }
+  throw ApiError{400, "gain " + text + ": expected a number in [1, 1000]", "gain"};
+}
+
+// Wraps a handler: ApiError and MrrError become JSON errors, nothing escapes.
+httplib::Server::Handler guarded(std::function<void(const httplib::Request&, httplib::Response&)> body) {
+  return [body = std::move(body)](const httplib::Request& req, httplib::Response& res) {
+    try {
+      body(req, res);
+    } catch (const ApiError& e) {
+      sendError(res, e);
+    } catch (const MrrError& e) {
+      sendError(res, {400, e.what(), parameterNamed(e.what())});
+    } catch (const std::bad_alloc&) {
+      sendError(res, {503, "out of memory", {}});
+    } catch (const std::exception& e) {
+      sendError(res, {500, e.what(), {}});
+    }
+  };
+}
+
+const ExploreFile* pageFile(const std::string& name) {
+  for (const ExploreFile& f : kExploreFiles)
+    if (std::string(f.path) == name) return &f;
+  return nullptr;
+}
+
+}  // namespace
+
+int serve(const ServerOptions& options) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<size_t>(options.frame.threads > 0 ? options.frame.threads
+                                                                            : tbb::info::default_concurrency()));
+  require(options.port >= 0 && options.port <= 65535, "--port " + std::to_string(options.port) + ": must be in [0, 65535]");
+  require(options.frame.threads >= 0 && options.frame.threads <= 1024, "--threads: must be in [0, 1024]");
+  options.frame.checkPath();
+  options.frame.settings();        // a bad option is one line and exit 2, before anything serves
+  options.frame.sceneRequest();
+  options.frame.costModel("cpu");
+  {
+    const SceneRequest r = options.frame.sceneRequest();
+    if (r.scene.rfind("builtin:", 0) == 0) makeBuiltinScene(r.scene.substr(8));  // an unknown name fails here
+  }
+
+  httplib::Server server;
+  // SO_REUSEADDR only: httplib's default SO_REUSEPORT would let a second server share a port
+  // that is in use, where the user must hear that it is.
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  int port = options.port;
+  if (port == 0) {
+    port = server.bind_to_any_port(options.host);
+    require(port > 0, "--host " + options.host + ": cannot listen there");
+  } else {
+    require(server.bind_to_port(options.host, port),
+            "--port " + std::to_string(port) + ": cannot listen on " + options.host + ":" + std::to_string(port) +
+                " (in use, or the address is not this machine's)");
+  }
+  Explorer explorer(options);
+  try {
+    explorer.preload();
+  } catch (const ApiError& e) {
+    throw MrrError(e.message);
+  }
+
+  for (const char* file : {"index.html", "explore.js", "explore.css"}) {
+    const ExploreFile* f = pageFile(std::string("page/") + file);
+    require(f != nullptr, std::string("the page's ") + file + " is not built in");
+    const std::string type = std::string(file).find(".js") != std::string::npos    ? "text/javascript"
+                             : std::string(file).find(".css") != std::string::npos ? "text/css"
+                                                                                   : "text/html; charset=utf-8";
+    const std::string route = std::string(file) == "index.html" ? "/" : std::string("/") + file;
+    server.Get(route, [f, type](const httplib::Request&, httplib::Response& res) {
+      res.set_header("Cache-Control", "no-store");
+      res.set_content(f->text, type);
+    });
+  }
+  server.Get("/api/info", guarded([&](const httplib::Request&, httplib::Response& res) { sendJson(res, explorer.info()); }));
+  server.Get("/api/progress",
+             guarded([&](const httplib::Request&, httplib::Response& res) { sendJson(res, explorer.progress()); }));
+  server.Get("/api/frame", guarded([&](const httplib::Request& req, httplib::Response& res) {
+               const FrameRequest r = explorer.parse(req, {"path"});
+               const std::string path = Explorer::pathParameter(req, false);
+               sendJson(res, explorer.frame(r, path)->report);
+             }));
+  server.Get(R"(/api/stage/([A-Za-z0-9_.]+)\.(png|json))",
+             guarded([&](const httplib::Request& req, httplib::Response& res) {
+               const std::string name = req.matches[1], format = req.matches[2];
+               const FrameRequest r = explorer.parse(req, {"path", "gain"});
+               const std::string path = Explorer::pathParameter(req, true);
+               const float gain = gainParameter(req);
+               auto layerOf = [&](const std::string& p) {
+                 const RenderedPtr f = explorer.frame(r, p);
+                 const std::vector<std::string> names = layerNames(f->frame, f->reference != nullptr);
+                 if (std::find(names.begin(), names.end(), name) == names.end())
+                   throw ApiError{404, "no layer " + name + " in this frame (GET /api/frame lists them)", {}};
+                 return makeLayer(f->frame, name, f->reference ? &f->reference->frame : nullptr, gain);
+               };
+               if (path != "both") {
+                 const LayerImage layer = layerOf(path);
+                 if (format == "json") return sendJson(res, layerMeta(layer));
+                 res.set_header("Cache-Control", "no-store");
+                 return res.set_content(encodePng(colourise(layer)), "image/png");
+               }
+               // both: |port − oracle| as a heat map, full scale the largest difference
+               const LayerImage oracle = layerOf("cpu"), ported = layerOf("gpu");
+               float largest = 0.0f;
+               const ImageF delta = layerDifference(oracle, ported, &largest);
+               if (delta.empty()) throw ApiError{409, "the paths' " + name + " differ in size", {}};
+               const float scale = oracle.kind == LayerKind::Binary || largest <= 0.0f ? 1.0f : largest;
+               if (format == "json") {
+                 long long differing = 0;
+                 for (const float d : delta.data) differing += d > 0.0f;
+                 json meta = layerMeta(oracle);
+                 meta["kind"] = "difference";
+                 meta["lo"] = 0.0;
+                 meta["hi"] = scale;
+                 meta["largest"] = largest;
+                 meta["differing_pixels"] = differing;
+                 char full[32];
+                 std::snprintf(full, sizeof full, "%.4g", scale);
+                 meta["caption"] = "|port - oracle|, max over channels, on the ramp: black 0, full scale " +
+                                   std::string(full) +
+                                   (oracle.kind == LayerKind::Binary ? " (a mismatch)" : " (the largest here)");
+                 return sendJson(res, meta);
+               }
+               res.set_header("Cache-Control", "no-store");
+               res.set_content(encodePng(heatMap(delta, scale)), "image/png");
+             }));
+  server.Get("/api/value", guarded([&](const httplib::Request& req, httplib::Response& res) {
+               const FrameRequest r = explorer.parse(req, {"path", "layer", "x", "y", "gain"});
+               const std::string path = Explorer::pathParameter(req, false);
+               if (!req.has_param("layer")) throw ApiError{400, "layer: required", "layer"};
+               const std::string name = req.get_param_value("layer");
+               const int x = intParameter(req, "x", 0, r.settings.width - 1);
+               const int y = intParameter(req, "y", 0, r.settings.height - 1);
+               const RenderedPtr f = explorer.frame(r, path);
+               const std::vector<std::string> names = layerNames(f->frame, f->reference != nullptr);
+               if (std::find(names.begin(), names.end(), name) == names.end())
+                 throw ApiError{404, "no layer " + name + " in this frame", "layer"};
+               sendJson(res, layerValueAt(makeLayer(f->frame, name, f->reference ? &f->reference->frame : nullptr, gainParameter(req)), x, y));
+             }));
+  server.Get("/api/probe", guarded([&](const httplib::Request& req, httplib::Response& res) {
+               const FrameRequest r = explorer.parse(req, {"path", "x", "y"});
+               const std::string path = Explorer::pathParameter(req, true);
+               const int x = intParameter(req, "x", 0, r.settings.width - 1);
+               const int y = intParameter(req, "y", 0, r.settings.height - 1);
+               if (path != "both") return sendJson(res, probePixel(explorer.frame(r, path)->frame, x, y));
+               const RenderedPtr o = explorer.frame(r, "cpu"), p = explorer.frame(r, "gpu");
+               sendJson(res, probeBothJson(probePixel(o->frame, x, y), probePixel(p->frame, x, y)));
+             }));
+  server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (!res.body.empty()) return;  // a handler's own error
+    const std::string what = res.status == 404 ? "not found: " : "refused (" + std::to_string(res.status) + "): ";
+    sendJson(res, {{"error", what + req.method + " " + req.path}, {"parameter", nullptr}}, res.status);
+  });
+  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+    sendJson(res, {{"error", "internal error"}, {"parameter", nullptr}}, 500);
+  });
+
+  std::cerr << "mrr explore: serving http://" << options.host << ":" << port << "/ (Ctrl-C stops)" << std::endl;
+  require(server.listen_after_bind(), "--port " + std::to_string(port) + ": the server stopped");
+  return 0;
+}
+
+}  // namespace mrr::explore

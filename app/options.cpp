@@ -8,7 +8,6 @@
 
 namespace mrr {
 
-namespace {
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> out;
   size_t start = 0;
@@ -19,6 +18,8 @@ std::vector<std::string> split(const std::string& s, char sep) {
     }
   return out;
 }
+
+namespace {
 
 bool toInt(const std::string& s, int& v) {
   if (s.empty()) return false;

@@ -322,11 +322,12 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
       const glm::vec3 candidate(b.lo.x + (b.hi.x - b.lo.x) * (static_cast<float>(i) + 0.4871f) / 6.0f,
                                 b.lo.y + 0.4129f * (b.hi.y - b.lo.y),
                                 b.lo.z + (b.hi.z - b.lo.z) * (static_cast<float>(k) + 0.5133f) / 6.0f);
-      const std::vector<float> around = castFrom(large, candidate, directions);
-      if (std::count_if(around.begin(), around.end(), [](float h) { return std::isfinite(h); }) < kEnclosedAt)
+      const std::vector<float> reach = castFrom(large, candidate, directions);
+      if (std::count_if(reach.begin(), reach.end(), [](float h) { return std::isfinite(h); }) < kEnclosedAt)
         continue;  // outside, or in the open
       std::vector<float> room;
-      for (const glm::vec3& d : level) room.push_back(around[static_cast<size_t>(std::find(directions.begin(), directions.end(), d) - directions.begin())]);
+      for (const glm::vec3& d : level)
+        room.push_back(reach[static_cast<size_t>(std::find(directions.begin(), directions.end(), d) - directions.begin())]);
       const float nearest = *std::min_element(room.begin(), room.end());
       if (std::isfinite(nearest) && nearest > clearance) {
         clearance = nearest;

@@ -26,7 +26,9 @@ inline constexpr ToleranceRule kTolerances[] = {
      "triangle-edge pixels: ray casting and rasterisation pick different triangles"},
     {"gbuffer.depth", 1e-3, 0.01, kNoRms,
      "relative |Δz|/z: perspective-correct interpolation vs barycentrics of the hit"},
-    {"gbuffer.normal", 1e-4, 0.01, kNoRms, "1 − N·N': interpolation order of the vertex normals"},
+    {"gbuffer.normal", 1e-4, 0.01, kNoRms,
+     "1 − N·N': interpolation order of the vertex normals; at creases (the oracle's normal turns > 8° to a "
+     "neighbour) the rasteriser's sub-pixel snapping may pick the other facet, allowed and counted apart"},
     {"gbuffer.albedo", 1e-6, 0.03, kNoRms,
      "one base colour per mesh, but coplanar overlapping meshes (the arcade's decals) z-fight: the nearest ray hit "
      "and the depth test pick different ones (arcade 320x180: 2.4% at L1), besides triangle-edge pixels"},

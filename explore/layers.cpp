@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "app/options.h"
 #include "common/error.h"
 #include "common/stages.h"
 #include "compare/false_colour.h"
@@ -14,17 +15,6 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr int kShadowMapShown = 512;  // larger shadow maps are shown point-sampled down to this
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  for (size_t i = 0; i <= s.size(); ++i)
-    if (i == s.size() || s[i] == sep) {
-      out.push_back(s.substr(start, i - start));
-      start = i + 1;
-    }
-  return out;
-}
 
 ImageF fromBytes(const ImageU8& src) {
   ImageF out(src.width, src.height, 1, 0.0f);

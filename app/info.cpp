@@ -64,8 +64,9 @@ nlohmann::json sceneInfo(const SceneRequest& request) {
   }
   j["view"] = cameraJson(rs.camera);
   j["view"]["source"] = rs.cameraSource;
-  // The framing a render would choose without the scene's cameras: the suggestion to start from.
-  const Framing framing = frameScene(s, rs.camera.yfov, request.aspect);
+  // The framing a render would choose without the scene's cameras: the suggestion to start from
+  // (the view itself where it is that framing).
+  const Framing framing = rs.framing ? *rs.framing : frameScene(s, rs.camera.yfov, request.aspect);
   j["suggested"] = cameraJson(framing.camera);
   j["suggested"]["interior"] = framing.interior;
   j["suggested"]["enclosed_directions"] = framing.enclosedDirections;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/parallel.h"
 
 namespace mrr {
 
@@ -237,11 +238,12 @@ std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX) {
 std::vector<float> castFrom(const std::vector<Triangle>& tris, const glm::vec3& origin,
                             const std::vector<glm::vec3>& directions) {
   std::vector<float> nearest(directions.size(), std::numeric_limits<float>::infinity());
-  for (const Triangle& tri : tris)
-    for (size_t i = 0; i < directions.size(); ++i) {
+  parallelFor(size_t{0}, directions.size(), [&](size_t i) {  // one ray each: the same answer for any thread count
+    for (const Triangle& tri : tris) {
       float hit = 0.0f;
       if (rayMeetsTriangle(origin, directions[i], tri.a, tri.b, tri.c, hit)) nearest[i] = std::min(nearest[i], hit);
     }
+  });
   return nearest;
 }
 

@@ -81,6 +81,11 @@ inline constexpr ToleranceRule kTolerances[] = {
 // cutoff may fall on different sides of it (compare/parity.cpp reports the band's size).
 inline constexpr float kGuardBand = 1e-4f;
 
+// The G-buffer normal's crease band: 1 − N·N' between neighbouring pixels of the oracle above
+// which a triangle edge runs between them, where the rasteriser's sub-pixel snapping may pick
+// the other facet (compare/parity.cpp; the gbuffer.normal rule's why).
+inline constexpr float kCreaseTurn = 0.01f;  // about 8°
+
 // `mrr probe --path both` marks a value as parted when |Δ| > this × max(1, |a|, |b|): above
 // float rounding of one stage, below any difference a bug makes.
 inline constexpr double kProbeRelativeDifference = 1e-5;

@@ -112,9 +112,6 @@ std::vector<char> stencilGuardBand(const ImageF& alpha) {
   return band;
 }
 
-// 1 − N·N' between neighbouring pixels above which a triangle edge (a crease) runs between them.
-constexpr float kCreaseTurn = 0.01f;  // about 8°
-
 StageCheck check(const std::string& rule, DiffFigures figures) {
   const bool pass = figures.within(tolerance(rule));
   if (pass) figures.deltaMap = {};  // only a failing check's map is shown

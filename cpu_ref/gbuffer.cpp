@@ -96,6 +96,8 @@ GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstan
         direction = view.worldRay((static_cast<float>(x) + 0.5f) * s, (static_cast<float>(y) + 0.5f) * s);
       },
       [&](int x, int y, const RayHit& hit) {
+        // 0. alpha cutouts (docs/spec.md §1.1): refuseTransparentHits already passed the ray
+        //    through transparent texels; 2. (gbuffer.frag's depth order) is the nearest hit here
         if (hit.geomID == RTC_INVALID_GEOMETRY_ID) {  // background: all zero
           g.hit.at(x, y) = 0;
           g.depth.at(x, y) = 0.0f;
@@ -106,7 +108,8 @@ GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstan
         const size_t tri = 3 * static_cast<size_t>(hit.primID);
         const uint32_t i0 = mesh.indices[tri], i1 = mesh.indices[tri + 1], i2 = mesh.indices[tri + 2];
         const float w = 1.0f - hit.u - hit.v;
-        // Position and normal by barycentric interpolation, as a rasteriser would.
+        // 1. position and shading normal by barycentric interpolation, as a rasteriser would;
+        //    the normal normalised and flipped to face the camera
         const glm::vec3 pw = w * mesh.positions[i0] + hit.u * mesh.positions[i1] + hit.v * mesh.positions[i2];
         const glm::vec3 nw = w * mesh.normals[i0] + hit.u * mesh.normals[i1] + hit.v * mesh.normals[i2];
         const glm::vec3 p = view.toView(pw);

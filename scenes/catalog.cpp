@@ -63,7 +63,8 @@ Scene loadRequestedScene(const SceneRequest& request) {
   return scene;
 }
 
-Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source) {
+Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source,
+                       std::optional<Framing>* framed) {
   // Camera: explicit eye/target, else the file's or built-in's camera by index, else the
   // catalogue's view, else framed from the bounds.
   const float fov = glm::radians(request.fovDegrees.value_or(60.0f));
@@ -94,6 +95,7 @@ Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::str
     where = "camera 0 " + from;
   } else {
     const Framing framing = frameScene(scene, fov, request.aspect);
+    if (framed) *framed = framing;
     camera = framing.camera;
     where = framing.interior ? "default framing: inside, the scene encloses its centre"
                              : "default framing: from outside, fitted to the frame";
@@ -106,7 +108,7 @@ Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::str
 ResolvedScene resolveScene(const SceneRequest& request) {
   ResolvedScene out;
   out.scene = loadRequestedScene(request);
-  out.camera = requestedCamera(request, out.scene, &out.cameraSource);
+  out.camera = requestedCamera(request, out.scene, &out.cameraSource, &out.framing);
   return out;
 }
 

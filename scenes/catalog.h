@@ -36,12 +36,15 @@ struct ResolvedScene {
   Scene scene;
   Camera camera;
   std::string cameraSource;  // where the camera came from, in words: "--eye/--target", "camera 0 of the file", ...
+  std::optional<Framing> framing;  // set when the camera is the default framing (frameScene)
 };
 ResolvedScene resolveScene(const SceneRequest& request);
 // The two halves of resolveScene, for a caller that keeps the scene and moves the camera
 // (`mrr explore`): the scene with its light, and the camera the request picks in it.
 Scene loadRequestedScene(const SceneRequest& request);
 // `source`, when given, says where the camera came from (ResolvedScene::cameraSource).
-Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source = nullptr);
+// `framing`, when given, receives frameScene's result where the camera is the default framing.
+Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::string* source = nullptr,
+                       std::optional<Framing>* framing = nullptr);
 
 }  // namespace mrr

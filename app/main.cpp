@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/byo.h"
@@ -27,6 +28,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/memory.h"
+#include "common/pixel_memory.h"
 #include "compare/bench.h"
 #include "compare/html_report.h"
 #include "compare/against.h"
@@ -34,6 +36,7 @@
 #include "compare/probe_both.h"
 #include "compare/report_python.h"
 #include "compare/report.h"
+#include "compare/rule.h"
 #include "cpu_ref/probe.h"
 #include "explore/server.h"
 #include "gpu/pipeline.h"
@@ -334,7 +337,7 @@ int run(int argc, char** argv) {
 
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
-  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut;
+  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut, ruleSweepOut;
   bool quick = false, noSweeps = false, noStress = false;
   int glDevice = -1;
   std::string benchGpuTiming = "auto";
@@ -377,6 +380,10 @@ int run(int argc, char** argv) {
   bench->add_option("--calibrate", calibrateOut,
                     "measure the never-slower rule's costs on each --paths path and write them as JSON (FILE, "
                     "or FILE with {path} replaced)");
+  bench->add_option("--rule-sweep", ruleSweepOut,
+                    "check the never-slower rule on frames nobody tuned it to (shared, built-in and stress scenes; "
+                    "catalogue, default, sky and close-up views; 320x180 to 1920x1080) and write them as JSON "
+                    "(scripts/rule-chart.py draws it)");
   bench->add_flag("--quick", quick,
                   "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 3 repeats, small sweeps, "
                   "8-frame paths at 96x54, stress scenes at 160x90");
@@ -513,6 +520,17 @@ int run(int argc, char** argv) {
       }
       return 0;
     }
+    if (!ruleSweepOut.empty()) {
+      checkOutput(ruleSweepOut, "--rule-sweep", {".json"});
+      RuleSweepOptions ro;
+      ro.jsonOut = ruleSweepOut;
+      ro.repeats = benchOpts.repeats;
+      ro.threads = threads;
+      if (bench->count("--scenes")) ro.scenes = benchOpts.scenes;
+      const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      ro.machine = benchOpts.machine.empty() ? cpuModelName() + ", " + std::to_string(hw) + " hardware threads" : benchOpts.machine;
+      return runRuleSweep(ro, paths, std::cout);
+    }
     return runBench(benchOpts, paths, std::cout);
   }
 
@@ -578,6 +596,8 @@ int run(int argc, char** argv) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
                          static_cast<size_t>(threadCount(fo.threads)));
   const ProgressFn progress = progressPrinter(fo.quiet, toString(settings.mode));
+  // The frame's pages are faulted in on a spare core while the scene loads (common/pixel_memory.h).
+  PixelReservation pages(static_cast<size_t>(memoryEstimate) / 4 * 5);  // the estimate is a little short
   if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   if (!fo.quiet) std::cerr << "[mrr] " << rs.scene.triangleCount() << " triangles; building BVH\n";
@@ -611,6 +631,7 @@ int run(int argc, char** argv) {
   };
   // The per-level blend images are debugging output: kept only when something shows them.
   const CostModel costs = fo.costModel(fo.path);
+  pages.wait();
   const FrameResult frame = renderWith(constants, {keepStages, progress, &costs});
 
   if (*probe) {
@@ -649,7 +670,8 @@ int run(int argc, char** argv) {
     std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
               << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total") << " ms\n";
     if (frame.fallback.fellBack)
-      std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMrrMs << " ms mrr against "
+      std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMrrMs << " ms mrr"
+                << (frame.fallback.early ? " at the least, before the edges," : "") << " against "
                 << frame.fallback.predictedFullMs << " ms full; shaded at full resolution\n";
     if (err)
       std::cerr << "[mrr] vs full: RMS " << err->effect.rms << ", SSIM " << err->effect.ssim << " (shaded: RMS "

@@ -9,28 +9,48 @@ namespace mrr {
 namespace {
 double levelPixels(const LevelConstants& lc) { return static_cast<double>(lc.width) * lc.height; }
 double shadeNs(const EffectCost& e, int samples) { return e.nsPerShadedPixel + e.nsPerSample * samples; }
+const EffectCost& effectCost(const CostModel& m, const Constants& c) { return m.effect[static_cast<size_t>(c.effect)]; }
+// H / W·H: the share of the frame on geometry, taken for every level's.
+double hitShare(const Constants& c, const FrameCounts& n) {
+  return static_cast<double>(n.hitPixels) / std::max(1.0, static_cast<double>(c.width) * c.height);
+}
+
+// SPEC §11: Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β, in ns: what the method
+// pays beyond shading whatever its stencils.
+double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  double ns = static_cast<double>(c.width) * c.height * m.nsPerBlendPixel;
+  for (const LevelConstants& lc : c.levels)
+    if (lc.enabled && lc.index > 0)
+      ns += levelPixels(lc) * (m.nsPerCoarseGbufferPixel + hitShare(c, n) * m.nsPerCoarseGbufferHit) +
+            static_cast<double>(n.triangles) * m.nsPerTrianglePerLevel;
+  return ns;
+}
 }  // namespace
 
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
-  // `mrr bench --calibrate FILE --paths cpu gpu --repeats 5` on the CI machine (2-core AMD EPYC
-  // VM; the port on llvmpipe, LLVM 15), builtin:demo at 640×360. cpu: the mean of three runs,
-  // which agreed within ~10% (2026-11-22). gpu: the median of three runs of the GPU-resident
-  // port, which agreed within 5% (2026-11-23, after the one-pass blend's constants made full's
-  // blend cheaper). Order: ssao, ssm, ssgi; {a, b, d, s} as EffectCost.
+  // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
+  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, s}.
   if (path == "gpu") {
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{161.7, 3.30, 0.0, 1.52}, EffectCost{272.3, 1.39, 0.0, 1.55},
-                EffectCost{29.2, 4.10, 21.2, 1.61}};
+    m.effect = {EffectCost{161.7, 3.30, 0.0, 10.0, 1.52}, EffectCost{272.3, 1.39, 0.0, 10.0, 1.55},
+                EffectCost{29.2, 4.10, 21.2, 10.0, 1.61}};
     m.nsPerCoarseGbufferPixel = 46.4;
+    m.nsPerTrianglePerLevel = 20.0;
     m.nsPerBlendPixel = 27.9;
-    m.rasterGbuffer = true;
+    m.nsPerEdgePixel = 10.0;
+    m.nsPerMaskPixel = 10.0;
   } else {
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{130.0, 3.40, 1.1, 1.30}, EffectCost{60.0, 0.75, 0.0, 1.45},
-                EffectCost{24.0, 4.35, 13.5, 1.60}};
-    m.nsPerCoarseGbufferPixel = 21.8;
-    m.nsPerBlendPixel = 20.1;
+    m.effect = {EffectCost{205.8, 6.34, 1.0, 8.1, 1.08},
+                EffectCost{77.6, 0.38, 0.0, 19.1, 2.50},
+                EffectCost{17.1, 11.34, 15.0, 22.6, 1.42}};
+    m.nsPerCoarseGbufferPixel = 13.9;
+    m.nsPerCoarseGbufferHit = 15.9;
+    m.nsPerTrianglePerLevel = 4.76;
+    m.nsPerBlendPixel = 6.8;
+    m.nsPerEdgePixel = 4.3;
+    m.nsPerMaskPixel = 3.8;
   }
   return m;
 }
@@ -45,11 +65,15 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.nsPerShadedPixel = ej.at("ns_per_shaded_pixel").get<double>();
       ec.nsPerSample = ej.at("ns_per_sample").get<double>();
       ec.nsPerLevelPixel = ej.at("ns_per_level_pixel").get<double>();
+      ec.nsPerBackgroundPixel = ej.at("ns_per_background_pixel").get<double>();
       ec.sparseFactor = ej.at("sparse_factor").get<double>();
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
+    m.nsPerCoarseGbufferHit = j.at("ns_per_coarse_gbuffer_hit").get<double>();
+    m.nsPerTrianglePerLevel = j.at("ns_per_triangle_per_level").get<double>();
     m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
-    m.rasterGbuffer = j.value("raster_gbuffer", false);
+    m.nsPerEdgePixel = j.at("ns_per_edge_pixel").get<double>();
+    m.nsPerMaskPixel = j.at("ns_per_mask_pixel").get<double>();
   } catch (const nlohmann::json::exception& e) {
     throw MrrError(std::string("--cost-model: ") + e.what());
   }
@@ -63,48 +87,75 @@ nlohmann::json CostModel::toJson() const {
     effects[toString(e)] = {{"ns_per_shaded_pixel", ec.nsPerShadedPixel},
                             {"ns_per_sample", ec.nsPerSample},
                             {"ns_per_level_pixel", ec.nsPerLevelPixel},
+                            {"ns_per_background_pixel", ec.nsPerBackgroundPixel},
                             {"sparse_factor", ec.sparseFactor}};
   }
   return {{"source", source},
           {"effects", effects},
           {"ns_per_coarse_gbuffer_pixel", nsPerCoarseGbufferPixel},
+          {"ns_per_coarse_gbuffer_hit", nsPerCoarseGbufferHit},
+          {"ns_per_triangle_per_level", nsPerTrianglePerLevel},
           {"ns_per_blend_pixel", nsPerBlendPixel},
-          {"raster_gbuffer", rasterGbuffer}};
+          {"ns_per_edge_pixel", nsPerEdgePixel},
+          {"ns_per_mask_pixel", nsPerMaskPixel}};
 }
 
-// SPEC §11: Σ_ℓ shaded (|S_ℓ|·(a + b·N)·s + P_ℓ·d) + Σ_{ℓ≥1} (P_ℓ·g + F) + W·H·β, in ms, where
-// F = max(T0 − P_0·g, 0) for a rasterised G-buffer measured at T0 ms, else 0.
-double predictMrrMs(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded,
-                         double gbuffer0Ms) {
-  const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
-  const double perSceneNs =
-      m.rasterGbuffer ? std::max(gbuffer0Ms * 1e6 - levelPixels(c.levels[0]) * m.nsPerCoarseGbufferPixel, 0.0) : 0.0;
-  double ns = static_cast<double>(c.width) * c.height * m.nsPerBlendPixel;
+// SPEC §11: H (a + b N) + (W·H − H) c + P_0 d, in ms.
+double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  const EffectCost& e = effectCost(m, c);
+  const double hit = static_cast<double>(n.hitPixels);
+  const double background = std::max(0.0, static_cast<double>(c.width) * c.height - hit);
+  return (hit * shadeNs(e, c.samples()) + background * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
+         1e-6;
+}
+
+// SPEC §11: Σ_ℓ shaded (|S_ℓ ∩ hit| (a + b N) s + |S_ℓ \ hit| c + P_ℓ d) + the coarse
+// G-buffers and the blend, in ms.
+double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  const EffectCost& e = effectCost(m, c);
+  double ns = coarseGbuffersAndBlendNs(m, c, n);
   for (const LevelConstants& lc : c.levels) {
-    if (!lc.enabled) continue;
-    if (lc.index > 0) ns += levelPixels(lc) * m.nsPerCoarseGbufferPixel + perSceneNs;
-    if (lc.shaded) ns += static_cast<double>(shaded[static_cast<size_t>(lc.index)]) * shadeNs(e, c.samples()) * e.sparseFactor +
-                         levelPixels(lc) * e.nsPerLevelPixel;
+    if (!lc.enabled || !lc.shaded) continue;
+    const auto l = static_cast<size_t>(lc.index);
+    const double onGeometry = static_cast<double>(n.shadedHit[l]);
+    const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - onGeometry);
+    ns += onGeometry * shadeNs(e, c.samples()) * e.sparseFactor + off * e.nsPerBackgroundPixel +
+          levelPixels(lc) * e.nsPerLevelPixel;
   }
   return ns * 1e-6;
 }
 
-// SPEC §11: W·H·(a + b·N) + P_0·d, in ms.
-double predictFullMs(const CostModel& m, const Constants& c) {
-  const EffectCost& e = m.effect[static_cast<size_t>(c.effect)];
-  return (static_cast<double>(c.width) * c.height * shadeNs(e, c.samples()) + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
-         1e-6;
+// SPEC §11: P_0 (ε + μ) + the coarse G-buffers and the blend + P_k ((H / W·H)(a + b N) s +
+// (1 − H / W·H) c + d) for the coarsest enabled level k, in ms.
+double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  const EffectCost& e = effectCost(m, c);
+  const LevelConstants& coarsest = c.levels[static_cast<size_t>(c.coarsestEnabled)];
+  const double share = hitShare(c, n);
+  double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c, n);
+  ns += levelPixels(coarsest) * (share * shadeNs(e, c.samples()) * e.sparseFactor + (1.0 - share) * e.nsPerBackgroundPixel +
+                                 e.nsPerLevelPixel);
+  return ns * 1e-6;
 }
 
-FallbackDecision decideFallback(const CostModel& m, const Constants& c, const std::array<long long, kLevelCount>& shaded,
-                                double gbuffer0Ms) {
+namespace {
+FallbackDecision decide(const CostModel& m, double fullMs, double mrrMs, bool early) {
   FallbackDecision d;
   d.evaluated = true;
-  d.predictedFullMs = predictFullMs(m, c);
-  d.predictedMrrMs = predictMrrMs(m, c, shaded, gbuffer0Ms);
-  d.fellBack = d.predictedFullMs - d.predictedMrrMs <= 0.0;
+  d.early = early;
+  d.predictedFullMs = fullMs;
+  d.predictedMrrMs = mrrMs;
+  d.fellBack = fullMs - mrrMs <= 0.0;
   d.costModel = m.source;
   return d;
+}
+}  // namespace
+
+FallbackDecision decideEarly(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  return decide(m, predictFullMs(m, c, n), predictMrrFloorMs(m, c, n), true);
+}
+
+FallbackDecision decideFallback(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  return decide(m, predictFullMs(m, c, n), predictMrrMs(m, c, n), false);
 }
 
 }  // namespace mrr

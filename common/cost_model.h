@@ -1,11 +1,22 @@
 #pragma once
-// The never-slower rule (SPEC §11, docs/spec.md §11). Once the stencils are known, and before
-// anything is shaded, the method predicts the rest of its frame and the rest of a `full`
-// frame from per-pixel costs, and shades the frame at full resolution when it predicts no
-// gain. The costs are measured, not guessed: `mrr bench --calibrate` measures them on the
-// machine at hand, for each path, and writes the JSON `--cost-model` reads; the defaults
-// below are that command's output on this project's CI machine (docs/figures.md).
+// The never-slower rule (SPEC §11, docs/spec.md §11). The method predicts the rest of its
+// frame and the rest of a `full` frame from what it knows of the frame, and shades the frame at
+// full resolution when it predicts no gain. It decides twice:
+//  - early, after the level-0 G-buffer (and the shadow map), from the frame's size, its pixels
+//    on geometry and the scene's triangles: when even the least the method could pay (edges,
+//    masks, coarse G-buffers, blend, every pixel at the coarsest level) is no less than full's
+//    rest, the frame falls back before the edges are found;
+//  - then, once the stencils are known and before anything is shaded, from |S_ℓ| and how many
+//    of those pixels lie on geometry.
+// Background pixels cost each mode what they cost (the effects leave them at once), the
+// coarse G-buffers cost rays on geometry and off it (the oracle) or triangles per level (the
+// port), and the effect costs per pixel and per sample. The costs are measured, not guessed:
+// `mrr bench --calibrate` fits them on the machine at hand, for each path, and writes the JSON
+// `--cost-model` reads; the defaults below are that command's output on this project's CI
+// machine (docs/figures.md). Every input is a count, never a clock: the oracle's decision, and
+// so its image, is the same on every run and any thread count.
 #include <array>
+#include <cstdint>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -15,10 +26,11 @@
 namespace mrr {
 
 struct EffectCost {
-  double nsPerShadedPixel = 0.0;  // a: per stencilled pixel, whatever the sample count
-  double nsPerSample = 0.0;       // b: per stencilled pixel and sample
-  double nsPerLevelPixel = 0.0;   // d: per pixel of every shaded level, stencilled or not
-                                  //    (SSAO's occluder planes, SSGI's direct light)
+  double nsPerShadedPixel = 0.0;      // a: per shaded pixel on geometry, whatever the sample count
+  double nsPerSample = 0.0;           // b: per shaded pixel on geometry and sample
+  double nsPerLevelPixel = 0.0;       // d: per pixel of every shaded level (SSAO's occluder
+                                      //    planes, SSGI's direct light)
+  double nsPerBackgroundPixel = 0.0;  // c: per shaded pixel off geometry (the effect's early out)
   // s: a stencilled pixel of the method costs s × a pixel of a dense full frame. The pixels
   // the method shades finely sit at edges, where samples find occluders and branches
   // mispredict, and a sparse stencil is walked less efficiently: measured in mrr frames.
@@ -28,13 +40,14 @@ struct EffectCost {
 struct CostModel {
   std::string source;                  // where the figures came from (shown in the report)
   std::array<EffectCost, 3> effect{};  // by Effect
-  double nsPerCoarseGbufferPixel = 0.0;  // one level-ℓ G-buffer pixel, ℓ ≥ 1
-  double nsPerBlendPixel = 0.0;          // the blend, per full-res pixel
-  // A rasterised G-buffer (the port) also costs a part per scene, not per pixel (its triangles),
-  // at every level: taken from the frame's own level-0 G-buffer time, T0 − P_0·g, added per
-  // coarse level (the port passes T0 on warm frames only). Ray casting (the oracle) has none, and its decision stays a function of the
-  // stencils alone (deterministic).
-  bool rasterGbuffer = false;
+  double nsPerCoarseGbufferPixel = 0.0;  // g: one level-ℓ G-buffer pixel, ℓ ≥ 1
+  double nsPerCoarseGbufferHit = 0.0;    // h: more per level-ℓ pixel on geometry (a ray that hits)
+  // t: a rasterised G-buffer (the port) also costs its triangles at every level, whatever the
+  // level's size: t per triangle per coarse level. Ray casting (the oracle) leaves it 0.
+  double nsPerTrianglePerLevel = 0.0;
+  double nsPerBlendPixel = 0.0;  // β: the blend, per full-res pixel
+  double nsPerEdgePixel = 0.0;   // ε: edges, per padded full-res pixel (the early decision's)
+  double nsPerMaskPixel = 0.0;   // μ: the masks, per padded full-res pixel (the same)
 
   // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu").
   static CostModel defaults(const std::string& path);
@@ -42,24 +55,38 @@ struct CostModel {
   nlohmann::json toJson() const;
 };
 
-// What the rule decided for one frame (the report's `never_slower`).
-struct FallbackDecision {
-  bool evaluated = false;       // mode mrr with the rule on
-  bool fellBack = false;        // the frame was shaded at full resolution
-  double predictedFullMs = 0.0;      // the rest of a `full` frame: every pixel shaded
-  double predictedMrrMs = 0.0;  // the rest of this frame: coarse G-buffers, Σ|S_ℓ|, blend
-  std::string costModel;        // CostModel::source
+// What the rule knows of a frame: counts only.
+struct FrameCounts {
+  int64_t hitPixels = 0;  // H: level-0 pixels (W×H) on geometry
+  int64_t triangles = 0;  // the scene's
+  // |S_ℓ| and |S_ℓ ∩ hit| per level (a level-ℓ pixel on geometry when its full-res pixel
+  // (x·s + s/2, y·s + s/2) is: levelPixelHits). Zero before the stencils are known.
+  std::array<int64_t, kLevelCount> shaded{}, shadedHit{};
 };
 
-// The remaining cost of shading `shadedPixels[ℓ]` pixels per level, plus the coarse
-// G-buffers and the blend (SPEC §11); and of shading all W·H pixels at level 0.
-// `gbuffer0Ms`: the frame's measured level-0 G-buffer time (read with rasterGbuffer; 0: none).
-double predictMrrMs(const CostModel& model, const Constants& constants,
-                         const std::array<long long, kLevelCount>& shadedPixels, double gbuffer0Ms = 0.0);
-double predictFullMs(const CostModel& model, const Constants& constants);
+// What the rule decided for one frame (the report's `never_slower`).
+struct FallbackDecision {
+  bool evaluated = false;        // mode mrr with the rule on
+  bool fellBack = false;         // the frame was shaded at full resolution
+  bool early = false;            // decided before the edges (fellBack then: no edges, no masks)
+  double predictedFullMs = 0.0;  // the rest of a `full` frame
+  double predictedMrrMs = 0.0;   // the rest of this frame (early: the least it could be)
+  std::string costModel;         // CostModel::source
+};
 
-// The rule: falls back when the predicted gain, full − multires, is ≤ 0.
-FallbackDecision decideFallback(const CostModel& model, const Constants& constants,
-                                const std::array<long long, kLevelCount>& shadedPixels, double gbuffer0Ms = 0.0);
+// SPEC §11, in ms. Full's rest: H (a + b N) + (W·H − H) c + P_0 d.
+double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+// The method's rest once its stencils are known: Σ_ℓ shaded (|S_ℓ ∩ hit| (a + b N) s +
+// |S_ℓ \ hit| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β.
+double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+// The least the method can still pay before its edges: P_0 (ε + μ) + the coarse G-buffers and
+// the blend as above + every pixel of the coarsest enabled level shaded, on geometry in
+// proportion to H.
+double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+
+// The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted
+// gain, full − multires, is ≤ 0.
+FallbackDecision decideEarly(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+FallbackDecision decideFallback(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
 }  // namespace mrr

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "common/cost_model.h"
 #include "common/stages.h"
 
 namespace mrr {
@@ -41,11 +42,27 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
     stage(stageName(Part::ShadowTest), [&] { b.shadowTest(f); });
   }
 
+  // SPEC §11, early: when even the least the method could still pay is no gain, the frame
+  // falls back before its edges and masks.
+  const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
+  f.counts.triangles = b.sceneTriangles();
+  bool fellBackEarly = false;
+  if (c.mode == Mode::Mrr && c.neverSlower) {
+    f.counts.hitPixels = countHits(b.fullResHit(f), c);
+    const FallbackDecision early = decideEarly(model, c, f.counts);
+    if (early.fellBack) {
+      f.fallback = early;
+      f.constants.fallBackToFull();
+      fellBackEarly = true;
+    }
+  }
+
   // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9). uniform-k's and
   // full's stencils are constants of the frame's size, made on the host for both paths.
-  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) stage(stageName(Part::Edges), [&] { b.edges(f); });
+  const bool findsEdges = (c.mode == Mode::Mrr && !fellBackEarly) || c.mode == Mode::Tiles;
+  if (findsEdges) stage(stageName(Part::Edges), [&] { b.edges(f); });
   Masks masks;
-  switch (c.mode) {
+  switch (fellBackEarly ? Mode::Full : c.mode) {
     case Mode::Mrr: stage(stageName(Part::Stencil), [&] { masks = b.methodMasks(f); }); break;
     case Mode::Tiles: stage(stageName(Part::Stencil), [&] { masks = b.tileMasks(f); }); break;
     case Mode::Uniform1:
@@ -53,8 +70,10 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
     case Mode::Full: masks = fullModeMasks(c); break;
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  applyNeverSlower(f, masks, options.costModel ? *options.costModel : CostModel::defaults(b.pathName()),
-                   b.neverSlowerGbufferMs(f));
+  if (c.mode == Mode::Mrr && !fellBackEarly) {
+    countForRule(f.counts, masks, c, b.fullResHit(f));
+    applyNeverSlower(f, masks, model);
+  }
   b.useMasks(f, masks, stage);
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
   f.countShadedPixels();

@@ -24,9 +24,10 @@ class FrameBackend {
   // times GL work with glFinish or timer queries, resolved in endFrame.
   virtual void timeStage(FrameResult& f, const std::string& name, const std::function<void()>& body);
   virtual void endFrame(FrameResult& /*f*/) {}
-  // After the clock: the full-res G-buffer's hit flags, for FrameResult::idealSpeedupHit (the
-  // port reads them back when the frame kept no G-buffer).
-  virtual ImageU8 fullResHit(const FrameResult& f) { return f.levels[0].gbuffer.hit; }
+  // The full-res G-buffer's hit flags: for the never-slower rule's counts (SPEC §11) and
+  // FrameResult::idealSpeedupHit (the port reads them back once when the frame keeps no G-buffer).
+  virtual const ImageU8& fullResHit(const FrameResult& f) { return f.levels[0].gbuffer.hit; }
+  virtual int64_t sceneTriangles() const = 0;  // SPEC §11's T
 
   // 1. One level's G-buffer (level 0 first: the masks are made from it alone).
   virtual void gbuffer(FrameResult& f, int level) = 0;
@@ -42,8 +43,6 @@ class FrameBackend {
   // The stencils the frame shades with, once the rule has decided (made on the host for full,
   // uniform-k or a fallback): the port uploads them where it has not drawn them itself.
   virtual void useMasks(FrameResult& /*f*/, const Masks& /*masks*/, const StageFn& /*stage*/) {}
-  // SPEC §11's per-scene G-buffer term: the level-0 G-buffer time, where the model wants it.
-  virtual double neverSlowerGbufferMs(const FrameResult& /*f*/) const { return 0.0; }
   virtual const char* pathName() const = 0;  // "cpu" or "gpu": CostModel::defaults' path
   // 4. The effect at level ℓ's stencilled pixels, and SSAO's blur (sub-steps named through `stage`).
   virtual void shadeLevel(FrameResult& f, int level, const StageFn& stage) = 0;

@@ -77,15 +77,6 @@ Masks uniformMasks(const Constants& c) {
   return levels;
 }
 
-std::array<long long, kLevelCount> shadedPixelCounts(const Masks& masks, const Constants& c) {
-  std::array<long long, kLevelCount> counts{};
-  for (int l = 0; l < kLevelCount; ++l) {
-    if (!c.levels[static_cast<size_t>(l)].shaded) continue;
-    for (uint8_t v : masks[static_cast<size_t>(l)].stencil.data) counts[static_cast<size_t>(l)] += v;
-  }
-  return counts;
-}
-
 BlendResult BlendResult::allocate(const Constants& c, int channels, bool keepStages) {
   BlendResult r;
   const int w = c.width, h = c.height;
@@ -140,23 +131,47 @@ void FrameResult::countShadedPixels() {
   blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
+int64_t countHits(const ImageU8& hit, const Constants& c) {
+  int64_t n = 0;
+  for (int y = 0; y < std::min(c.height, hit.height); ++y)
+    for (int x = 0; x < std::min(c.width, hit.width); ++x) n += hit.at(x, y) != 0;
+  return n;
+}
+
+namespace {
+void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>& stencils, const Constants& c,
+                   const ImageU8& hit) {
+  n.hitPixels = countHits(hit, c);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const auto i = static_cast<size_t>(l);
+    n.shaded[i] = n.shadedHit[i] = 0;
+    if (!c.levels[i].enabled || !c.levels[i].shaded) continue;
+    const ImageU8& s = *stencils[i];
+    int64_t shaded = 0, onGeometry = 0;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x)
+        if (s.at(x, y)) {
+          ++shaded;
+          onGeometry += levelPixelHit(hit, x, y, 1 << l);
+        }
+    n.shaded[i] = shaded;
+    n.shadedHit[i] = onGeometry;
+  }
+}
+}  // namespace
+
+void countForRule(FrameCounts& n, const Masks& masks, const Constants& c, const ImageU8& hit) {
+  countStencils(n, {&masks[0].stencil, &masks[1].stencil, &masks[2].stencil, &masks[3].stencil}, c, hit);
+}
+
 void FrameResult::countHitPixels(const ImageU8& hit) {
   if (hit.empty()) return;
-  const int w = constants.width, h = constants.height;
-  int64_t full = 0, shaded = 0;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) full += hit.at(x, y) != 0;
-  for (int l = 0; l < kLevelCount; ++l) {
-    if (!constants.levels[static_cast<size_t>(l)].enabled) continue;
-    const ImageU8& s = levels[static_cast<size_t>(l)].masks.stencil;
-    const int scale = 1 << l;
-    for (int y = 0; y < s.height; ++y)
-      for (int x = 0; x < s.width; ++x) {
-        const int fx = std::min(x * scale + scale / 2, hit.width - 1), fy = std::min(y * scale + scale / 2, hit.height - 1);
-        shaded += s.at(x, y) && hit.at(fx, fy);
-      }
-  }
-  idealSpeedupHit = static_cast<double>(std::max<int64_t>(full, 1)) / static_cast<double>(std::max<int64_t>(shaded, 1));
+  FrameCounts n;
+  countStencils(n, {&levels[0].masks.stencil, &levels[1].masks.stencil, &levels[2].masks.stencil, &levels[3].masks.stencil},
+                constants, hit);
+  int64_t shaded = 0;
+  for (int64_t v : n.shadedHit) shaded += v;
+  idealSpeedupHit = static_cast<double>(std::max<int64_t>(n.hitPixels, 1)) / static_cast<double>(std::max<int64_t>(shaded, 1));
 }
 
 std::array<LevelImages, kLevelCount> FrameResult::blendInputs() const {
@@ -172,9 +187,10 @@ double FrameResult::timing(const std::string& stage) const {
   return ms;
 }
 
-void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model, double gbuffer0Ms) {
-  if (!f.constants.neverSlower) return;
-  f.fallback = decideFallback(model, f.constants, shadedPixelCounts(masks, f.constants), gbuffer0Ms);
+void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model) {
+  f.fallback = decideFallback(model, f.constants, f.counts);
+  f.fallback.evaluated = f.constants.neverSlower;
+  if (!f.constants.neverSlower) f.fallback.fellBack = false;  // predicted only
   if (!f.fallback.fellBack) return;
   f.constants.fallBackToFull();
   masks = fullModeMasks(f.constants);

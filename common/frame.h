@@ -95,9 +95,6 @@ using Masks = std::array<MaskLevel, kLevelCount>;
 Masks fullModeMasks(const Constants& constants);
 Masks uniformMasks(const Constants& constants);
 
-// |S_ℓ| per level (0 for levels that are not shaded).
-std::array<long long, kLevelCount> shadedPixelCounts(const Masks& masks, const Constants& constants);
-
 // Stage 5's inputs for one level, and its outputs.
 struct LevelImages {
   const ImageF* sub = nullptr;       // c_ℓ (after the bilateral blur)
@@ -143,7 +140,8 @@ struct FrameResult {
   ImageU8 shadowLit;       // the one-tap shadow test on the full-res grid (SSM, SSGI)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
-  FallbackDecision fallback;  // SPEC §11, mode mrr
+  FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
+  FrameCounts counts;         // what the rule counted (mode mrr)
   std::array<LevelResult, kLevelCount> levels;
   BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
   int64_t shadedPixelsTotal = 0;
@@ -181,12 +179,22 @@ struct RenderOptions {
   const CostModel* costModel = nullptr;
 };
 
-// SPEC §11 on a frame whose stencils are `masks` and nothing else of the method is paid yet:
-// when f.constants.neverSlower, decides with `model` into f.fallback and, on a fallback,
-// switches f.constants and `masks` to a full-res frame. Both pipelines call it at that point.
-// `gbuffer0Ms`: the frame's level-0 G-buffer time, for a model with a rasterised G-buffer (the
-// port, on a warm renderer); 0 leaves the per-scene term out.
-void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model, double gbuffer0Ms = 0.0);
+// SPEC §11 on a frame whose stencils are `masks` (counted into f.counts) and nothing else of
+// the method is paid yet: records both predictions in f.fallback and, when
+// f.constants.neverSlower, decides and on a fallback switches f.constants and `masks` to a
+// full-res frame. renderFrame calls it at that point for both pipelines.
+void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model);
+
+// SPEC §11's counts for the frame's stencils: |S_ℓ| and |S_ℓ ∩ hit| per shaded level, from the
+// full-res hit flags (a level-ℓ pixel (x, y) is on geometry when full-res pixel (x·s + s/2,
+// y·s + s/2) is, clamped to the image: levelPixelHit), into f.counts.
+void countForRule(FrameCounts& counts, const Masks& masks, const Constants& constants, const ImageU8& fullResHit);
+// H: the full-res pixels (of W×H) on geometry.
+int64_t countHits(const ImageU8& fullResHit, const Constants& constants);
+inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
+  return fullResHit.at(std::min(x * scale + scale / 2, fullResHit.width - 1),
+                       std::min(y * scale + scale / 2, fullResHit.height - 1)) != 0;
+}
 
 // The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred
 // sub-images and per-effect scratch; the full-res edges, blend, level map and shaded image;

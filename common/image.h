@@ -2,9 +2,7 @@
 // A plain row-major image with interleaved channels. Every stage of both paths reads and
 // writes these, so the oracle, the port's readback and the comparison share one layout.
 #include "common/parallel.h"
-
-#include <sys/mman.h>
-#include <tbb/scalable_allocator.h>
+#include "common/pixel_memory.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -18,14 +16,8 @@ namespace mrr {
 
 // An allocator that leaves elements uninitialised on resize, so that a new image can be
 // filled in parallel: first touch of a large image is page faults, and a serial memset puts
-// them all on one core (it was a fifth of a 1080p frame).
-//
-// Large images are also backed by transparent huge pages where the kernel offers them
-// (madvise mode): 2 MiB pages mean 512× fewer faults on first touch, which in a VM cost
-// more than the stages themselves. They come from TBB's scalable allocator, whose cache of
-// large blocks hands a freed image's pages to the next image of a frame: glibc unmaps a
-// block that large on free, and the next frame faulted its pages in again (the shaded
-// image's stage took 14 ms instead of 1.6 at 720p, docs/figures.md).
+// them all on one core (it was a fifth of a 1080p frame). Images of 64 KiB and more take their
+// pixels from the huge-page pool of common/pixel_memory.h, which keeps them for the next image.
 template <class T>
 struct DefaultInitAllocator : std::allocator<T> {
   template <class U>
@@ -33,28 +25,14 @@ struct DefaultInitAllocator : std::allocator<T> {
     using other = DefaultInitAllocator<U>;
   };
   using std::allocator<T>::allocator;
-  static constexpr size_t kHugePage = size_t{2} << 20;
 
   T* allocate(size_t n) {
-    const size_t bytes = n * sizeof(T);
-    if (bytes < 2 * kHugePage) return std::allocator<T>::allocate(n);
-    const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-#ifdef MRR_SANITIZED
-    void* p = std::aligned_alloc(kHugePage, rounded);  // the sanitizers see malloc's blocks only
-#else
-    void* p = scalable_aligned_malloc(rounded, kHugePage);
-#endif
-    if (!p) throw std::bad_alloc();
-    madvise(p, rounded, MADV_HUGEPAGE);  // a hint: ignored where THP is off
-    return static_cast<T*>(p);
+    if (n * sizeof(T) < kPooledPixelBytes) return std::allocator<T>::allocate(n);
+    return static_cast<T*>(allocatePixels(n * sizeof(T)));
   }
   void deallocate(T* p, size_t n) {
-    if (n * sizeof(T) < 2 * kHugePage) return std::allocator<T>::deallocate(p, n);
-#ifdef MRR_SANITIZED
-    std::free(p);
-#else
-    scalable_aligned_free(p);
-#endif
+    if (n * sizeof(T) < kPooledPixelBytes) return std::allocator<T>::deallocate(p, n);
+    freePixels(p, n * sizeof(T));
   }
   template <class U>
   void construct(U* p) noexcept {

@@ -23,14 +23,42 @@
 
 namespace mrr {
 
-namespace {
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
+
+Settings settingsFor(const std::string& method, Effect effect, int w, int h, int samples) {
+  Settings s = defaultSettings(effect);
+  s.width = w;
+  s.height = h;
+  s.setSamples(samples);
+  s.neverSlower = method != "mrr-norule";
+  s.mode = parseMode(method == "mrr-norule" ? "mrr" : method);
+  return s;
+}
+
+OpenScene openScene(const std::string& name, const BenchPath& path) {
+  OpenScene o;
+  o.name = name;
+  SceneRequest req;
+  req.scene = name;
+  ResolvedScene rs = resolveScene(req);
+  o.scene = std::make_unique<Scene>(std::move(rs.scene));
+  o.camera = rs.camera;
+  o.render = path.open(*o.scene);
+  return o;
+}
+
+std::map<std::string, double> stageMs(const FrameResult& f) {
+  std::map<std::string, double> perStage;
+  for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
+  return perStage;
+}
+
+namespace {
 
 // The method's own cost: everything but the full-res G-buffer, which a deferred renderer
 // has anyway and every method shares.
@@ -52,39 +80,7 @@ std::string fixed(double v, int digits) {
 
 std::string sizeName(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
-// A method as the bench names it: the five of SPEC §9, and "mrr-norule", the method with the
-// never-slower rule off (SPEC §11), shown beside it on the stress scenes.
-Settings settingsFor(const std::string& method, Effect effect, int w, int h, int samples) {
-  Settings s = defaultSettings(effect);
-  s.width = w;
-  s.height = h;
-  s.setSamples(samples);
-  s.neverSlower = method != "mrr-norule";
-  s.mode = parseMode(method == "mrr-norule" ? "mrr" : method);
-  return s;
-}
-
 int middleSamples(Effect e) { return e == Effect::Ssm ? 196 : e == Effect::Ssgi ? 288 : 64; }
-
-// One scene opened on one path: the scene, its default camera and its renderer.
-struct OpenScene {
-  std::string name;
-  std::unique_ptr<Scene> scene;
-  Camera camera;
-  RenderFn render;
-};
-
-OpenScene openScene(const std::string& name, const BenchPath& path) {
-  OpenScene o;
-  o.name = name;
-  SceneRequest req;
-  req.scene = name;
-  ResolvedScene rs = resolveScene(req);
-  o.scene = std::make_unique<Scene>(std::move(rs.scene));
-  o.camera = rs.camera;
-  o.render = path.open(*o.scene);
-  return o;
-}
 
 struct Progress {
   size_t done = 0, total = 0;
@@ -120,9 +116,7 @@ class Sweep {
           if (m == "full") firstFull = std::move(f);
           continue;
         }
-        std::map<std::string, double> perStage;
-        for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
-        for (const auto& [k, v] : perStage) stageRuns[m][k].push_back(v);
+        for (const auto& [k, v] : stageMs(f)) stageRuns[m][k].push_back(v);
         if (i == o_.repeats) last[m] = std::move(f);
       }
     const FrameResult& full = last.at("full");
@@ -195,75 +189,6 @@ std::string cpuModelName() {
   while (std::getline(cpu, line))
     if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
   return "unknown CPU";
-}
-
-CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
-  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
-  const OpenScene sc = openScene("builtin:demo", path);
-  const int w = 640, h = 360;
-  const float diagonal = sc.scene->bounds().diagonal();
-  auto medians = [&](const Settings& s) {
-    std::map<std::string, std::vector<double>> runs;
-    for (int i = 0; i <= repeats; ++i) {
-      const FrameResult f = sc.render(sc.camera, makeConstants(s, diagonal), {false, {}, nullptr});
-      if (i == 0) continue;
-      std::map<std::string, double> perStage;
-      for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
-      for (const auto& [k, v] : perStage) runs[k].push_back(v);
-    }
-    std::map<std::string, double> m;
-    for (const auto& [k, v] : runs) m[k] = median(v);
-    return m;
-  };
-  CostModel model;
-  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo 640x360";
-  model.rasterGbuffer = path.name == "gpu";  // the port rasterises its G-buffers (CostModel::rasterGbuffer)
-  const double pixels = static_cast<double>(w) * h;
-  std::vector<double> coarseNs, blendNs;
-  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
-    const int n1 = e == Effect::Ssm ? 16 : 8, n2 = e == Effect::Ssm ? 256 : e == Effect::Ssgi ? 128 : 128;
-    std::cerr << "[calibrate] " << path.name << " " << toString(e) << " full at " << n1 << " and " << n2 << " samples\n";
-    Settings s = settingsFor("full", e, w, h, n1);
-    const auto m1 = medians(s);
-    s.setSamples(n2);
-    const auto m2 = medians(s);
-    auto shade = [&](const std::map<std::string, double>& m) {
-      double ms = 0;
-      for (const auto& [k, v] : m)
-        if (k.rfind("effect.", 0) == 0 || k.rfind("bilateral.", 0) == 0) ms += v;
-      return ms;
-    };
-    auto perLevel = [&](const std::map<std::string, double>& m) {
-      double ms = 0;
-      for (const auto& [k, v] : m)
-        if (k.rfind("planes.", 0) == 0 || k.rfind("direct.", 0) == 0) ms += v;
-      return ms;
-    };
-    EffectCost& ec = model.effect[static_cast<size_t>(e)];
-    const double t1 = shade(m1) * 1e6 / pixels, t2 = shade(m2) * 1e6 / pixels;  // ns per pixel
-    ec.nsPerSample = std::max(0.0, (t2 - t1) / (n2 - n1));
-    ec.nsPerShadedPixel = std::max(0.0, t1 - ec.nsPerSample * n1);
-    ec.nsPerLevelPixel = 0.5 * (perLevel(m1) + perLevel(m2)) * 1e6 / pixels;
-    std::cerr << "[calibrate] " << path.name << " " << toString(e) << " mrr (rule off) at " << n2 << " samples\n";
-    Settings sm = settingsFor("mrr-norule", e, w, h, n2);
-    const Constants cm = makeConstants(sm, diagonal);
-    const auto mm = medians(sm);
-    // s: the method's shading time per stencilled pixel against full's per pixel, same samples.
-    const FrameResult counted = sc.render(sc.camera, cm, {false, {}, nullptr});
-    const double perShaded = shade(mm) * 1e6 / static_cast<double>(std::max<int64_t>(counted.shadedPixelsTotal, 1));
-    ec.sparseFactor = std::max(1.0, perShaded / std::max(t2, 1e-9));
-    double coarsePixels = 0, coarseMs = 0;
-    for (const LevelConstants& lc : cm.levels)
-      if (lc.enabled && lc.index > 0) {
-        coarsePixels += static_cast<double>(lc.width) * lc.height;
-        coarseMs += mm.count("gbuffer.L" + std::to_string(lc.index)) ? mm.at("gbuffer.L" + std::to_string(lc.index)) : 0.0;
-      }
-    if (coarsePixels > 0) coarseNs.push_back(coarseMs * 1e6 / coarsePixels);
-    blendNs.push_back(mm.at("blend") * 1e6 / pixels);
-  }
-  model.nsPerCoarseGbufferPixel = median(coarseNs);
-  model.nsPerBlendPixel = median(blendNs);
-  return model;
 }
 
 int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths, std::ostream& out) {

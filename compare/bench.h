@@ -9,6 +9,8 @@
 // Results go to JSON, CSV and Markdown; `--report DIR` writes an HTML page with the charts
 // (compare/bench_report). Progress goes to stderr.
 #include <functional>
+#include <map>
+#include <memory>
 #include <iosfwd>
 #include <string>
 #include <utility>
@@ -63,10 +65,20 @@ struct BenchOptions {
 // code (1 when --check found a failed sanity check).
 int runBench(const BenchOptions& options, const std::vector<BenchPath>& paths, std::ostream& out);
 
-// Measures the never-slower rule's per-pixel costs (SPEC §11) on `path`: builtin:demo at
-// 640×360, every effect in mode full at two sample counts (the per-pixel and per-sample
-// costs) and in mode mrr (coarse G-buffers and blend), medians of `repeats`.
-CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads);
+// Shared with compare/rule.cpp.
+double median(std::vector<double> v);
+// A method as the bench names it: the five of SPEC §9, and "mrr-norule", the method with the
+// never-slower rule off (SPEC §11), shown beside it on the stress scenes.
+Settings settingsFor(const std::string& method, Effect effect, int w, int h, int samples);
+// One scene opened on one path: the scene, its default camera and its renderer.
+struct OpenScene {
+  std::string name;
+  std::unique_ptr<Scene> scene;
+  Camera camera;
+  RenderFn render;
+};
+OpenScene openScene(const std::string& name, const BenchPath& path);
+std::map<std::string, double> stageMs(const FrameResult& f);  // a frame's timings by stage (summed)
 
 // The CPU's model name, from /proc/cpuinfo.
 std::string cpuModelName();

@@ -227,7 +227,9 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
 
   // 3. Which pixels of which level are shaded: the edges (modes mrr and tiles), the
   // never-slower decision (SPEC §11), then the stencils the frame was shaded with.
-  if (c.mode == Mode::Mrr || c.mode == Mode::Tiles) {
+  // A frame that fell back early (SPEC §11) found no edges: compared only where both did.
+  const bool bothFoundEdges = !p.edges.combined.empty() && !o.edges.combined.empty();
+  if ((c.mode == Mode::Mrr || c.mode == Mode::Tiles) && bothFoundEdges) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
     const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
     // Each kind on its own, then their OR, E.

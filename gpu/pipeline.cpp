@@ -62,9 +62,9 @@ namespace {
 // probe, compare) every stage is read back too, into the structures the oracle fills.
 class PortFrame final : public FrameBackend {
  public:
-  PortFrame(const GpuScene& scene, const DirectionalLight& light, bool timerQueries, bool warm,
+  PortFrame(const GpuScene& scene, const DirectionalLight& light, bool timerQueries, int64_t triangles,
             const RenderOptions& options)
-      : scene_(scene), light_(light), timerQueries_(timerQueries), warm_(warm), keep_(options.keepStages) {}
+      : scene_(scene), light_(light), timerQueries_(timerQueries), keep_(options.keepStages), triangles_(triangles) {}
 
   const char* pathName() const override { return "gpu"; }
 
@@ -95,13 +95,16 @@ class PortFrame final : public FrameBackend {
     checkGl("timer queries");
   }
 
-  ImageU8 fullResHit(const FrameResult& f) override {
+  const ImageU8& fullResHit(const FrameResult& f) override {
     if (!f.levels[0].gbuffer.hit.empty() || !gbuffers_[0]) return f.levels[0].gbuffer.hit;
-    const ImageF positionHit = gbuffers_[0]->read(0);  // hit in w
-    ImageU8 hit(positionHit.width, positionHit.height, 1, 0);
-    for (size_t i = 0; i < hit.data.size(); ++i) hit.data[i] = positionHit.data[4 * i + 3] > 0.5f ? 1 : 0;
-    return hit;
+    if (hit_.empty()) {  // read once a frame: the rule's counts, then idealSpeedupHit
+      const ImageF positionHit = gbuffers_[0]->read(0);  // hit in w
+      hit_ = ImageU8::uninitialised(positionHit.width, positionHit.height);
+      for (size_t i = 0; i < hit_.data.size(); ++i) hit_.data[i] = positionHit.data[4 * i + 3] > 0.5f ? 1 : 0;
+    }
+    return hit_;
   }
+  int64_t sceneTriangles() const override { return triangles_; }
 
   // G-buffers, rasterised per level. A coarse level's albedo is read only by SSGI's direct
   // light (and --stages): the resident frame leaves that target out otherwise.
@@ -146,12 +149,6 @@ class PortFrame final : public FrameBackend {
     if (!maskTargets_ || !maskTargets_->drawn || f.fallback.fellBack)  // host stencils: to the GPU
       stage("stencils", [&] { maskTargets_ = uploadMasks(masks, f.constants); });
   }
-  // The level-0 G-buffer time tells the per-scene part of a rasterised G-buffer, but only on a
-  // warm renderer: its first frame also pays shader compilation and fresh targets there.
-  double neverSlowerGbufferMs(const FrameResult& f) const override {
-    return warm_ ? f.timing(stageName(Part::GBuffer, 0)) : 0.0;
-  }
-
   // The effect with the stencil test; SSAO then gets the bilateral blur.
   void shadeLevel(FrameResult& f, int l, const StageFn& stage) override {
     const Constants& c = f.constants;
@@ -223,7 +220,9 @@ class PortFrame final : public FrameBackend {
  private:
   const GpuScene& scene_;
   const DirectionalLight& light_;
-  const bool timerQueries_, warm_, keep_;
+  const bool timerQueries_, keep_;
+  const int64_t triangles_;
+  ImageU8 hit_;  // the full-res hit flags, read back once (fullResHit)
   std::vector<std::pair<size_t, unsigned>> queries_;
   std::array<Target, kLevelCount> gbuffers_;
   std::unique_ptr<ShadowMapTarget> shadowMap_;
@@ -237,10 +236,8 @@ class PortFrame final : public FrameBackend {
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
-  PortFrame backend(gpuScene_, scene_.light, timerQueries_, framesRendered_ > 0, options);
-  FrameResult f = renderFrame(backend, scene_.light, camera, constants, options);
-  ++framesRendered_;
-  return f;
+  PortFrame backend(gpuScene_, scene_.light, timerQueries_, static_cast<int64_t>(scene_.triangleCount()), options);
+  return renderFrame(backend, scene_.light, camera, constants, options);
 }
 
 }  // namespace mrr::gpu

@@ -43,7 +43,6 @@ class GpuRenderer {
   GlContext context_;
   GpuScene gpuScene_;
   bool timerQueries_ = false;
-  mutable int framesRendered_ = 0;  // the never-slower rule reads the G-buffer time of warm frames only
 };
 
 }  // namespace mrr::gpu

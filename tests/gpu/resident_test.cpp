@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/cost_model.h"
+#include "cpu_ref/pipeline.h"
 #include "gpu/pipeline.h"
 #include "scenes/catalog.h"
 #include "tests/gpu/gl_test.h"
@@ -127,27 +128,35 @@ TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
   EXPECT_EQ(resident.shadedPixelsTotal, static_cast<int64_t>(s.width) * s.height);
 }
 
-// The port's never-slower rule adds a rasterised G-buffer's per-scene part, measured from the
-// frame's level-0 G-buffer time, on warm frames only: a renderer's first frame pays shader
-// compilation there. With a model where any such part flips the decision (shading costs 1 ns a
-// pixel, nothing else), the first frame keeps the method and the second falls back.
-TEST(GpuNeverSlowerWarm, TheGbufferTermIsReadOnWarmFramesOnly) {
+// The port's rule reads the same counts as the oracle's (SPEC §11): the scene's triangles, and
+// its pixels on geometry read back from its own G-buffer (equal to the oracle's but for
+// silhouette pixels, where the rasteriser and the rays may disagree). A model where triangles
+// at every level cost more than shading falls back early on both paths alike.
+TEST(GpuNeverSlower, CountsTheSameFrameAsTheOracle) {
   MRR_REQUIRE_GL_OR_SKIP();
   const ResolvedScene rs = builtinScene("demo");
   const gpu::GpuRenderer port(rs.scene);
-  const Settings s = smallFrame(Effect::Ssao, 160, 90, true);
-  CostModel model;
-  model.effect[static_cast<size_t>(Effect::Ssao)] = {1.0, 0.0, 0.0, 1.0};
-  model.rasterGbuffer = true;
+  const Renderer oracle(rs.scene);
+  Settings s = smallFrame(Effect::Ssao, 160, 90, false);
   const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
-  const FrameResult first = port.render(rs.camera, c, {false, {}, &model});
-  const FrameResult second = port.render(rs.camera, c, {false, {}, &model});
-  ASSERT_TRUE(first.fallback.evaluated);
-  EXPECT_FALSE(first.fallback.fellBack) << "predicted " << first.fallback.predictedMrrMs << " against "
-                                        << first.fallback.predictedFullMs;
-  EXPECT_TRUE(second.fallback.fellBack) << "predicted " << second.fallback.predictedMrrMs << " against "
-                                        << second.fallback.predictedFullMs;
-  EXPECT_GT(second.fallback.predictedMrrMs, first.fallback.predictedMrrMs);
+  const CostModel model = CostModel::defaults("cpu");
+  const FrameResult p = port.render(rs.camera, c, {false, {}, &model});
+  const FrameResult o = oracle.render(rs.camera, c, {false, {}, &model});
+  EXPECT_EQ(p.counts.triangles, static_cast<int64_t>(rs.scene.triangleCount()));
+  EXPECT_EQ(p.counts.triangles, o.counts.triangles);
+  EXPECT_GT(o.counts.hitPixels, 160 * 90 / 4);
+  EXPECT_NEAR(static_cast<double>(p.counts.hitPixels), static_cast<double>(o.counts.hitPixels), 0.01 * 160 * 90);
+  EXPECT_NEAR(p.fallback.predictedFullMs, o.fallback.predictedFullMs, 0.02 * o.fallback.predictedFullMs);
+
+  CostModel triangles = model;
+  triangles.nsPerTrianglePerLevel = 1e6;
+  s.neverSlower = true;
+  const Constants on = makeConstants(s, rs.scene.bounds().diagonal());
+  const FrameResult pf = port.render(rs.camera, on, {false, {}, &triangles});
+  const FrameResult of = oracle.render(rs.camera, on, {false, {}, &triangles});
+  EXPECT_TRUE(pf.fallback.fellBack && pf.fallback.early);
+  EXPECT_TRUE(of.fallback.fellBack && of.fallback.early);
+  EXPECT_EQ(pf.shadedPixelsTotal, static_cast<int64_t>(160) * 90);
 }
 
 }  // namespace

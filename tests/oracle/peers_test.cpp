@@ -175,18 +175,32 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
   const FrameResult full = renderer.render(rs.camera, makeConstants(method(s, Mode::Full), rs.scene.bounds().diagonal()));
 
+  // The coarse G-buffers dearer than shading every pixel: the least the method could pay is
+  // already no gain, so it falls back before its edges.
   CostModel costly = CostModel::defaults("cpu");
-  costly.nsPerBlendPixel = 1e6;  // a blend dearer than shading every pixel
-  const FrameResult fell = renderer.render(rs.camera, c, {true, {}, &costly});
-  EXPECT_TRUE(fell.fallback.evaluated);
-  EXPECT_TRUE(fell.fallback.fellBack);
-  EXPECT_GT(fell.fallback.predictedMrrMs, fell.fallback.predictedFullMs);
-  EXPECT_EQ(fell.final().data, full.final().data) << "a fallen-back frame is the full frame";
-  EXPECT_DOUBLE_EQ(fell.idealSpeedup, 1.0);
-  EXPECT_FALSE(fell.edges.combined.empty()) << "its edges are kept for debugging";
+  costly.nsPerCoarseGbufferPixel = 1e6;
+  const FrameResult early = renderer.render(rs.camera, c, {true, {}, &costly});
+  EXPECT_TRUE(early.fallback.evaluated);
+  EXPECT_TRUE(early.fallback.fellBack);
+  EXPECT_TRUE(early.fallback.early);
+  EXPECT_GT(early.fallback.predictedMrrMs, early.fallback.predictedFullMs);
+  EXPECT_EQ(early.final().data, full.final().data) << "a fallen-back frame is the full frame";
+  EXPECT_DOUBLE_EQ(early.idealSpeedup, 1.0);
+  EXPECT_TRUE(early.edges.combined.empty()) << "no edges were found";
+  EXPECT_EQ(early.timing("edges"), 0.0);
+
+  // Each shaded level's per-pixel part dear: the floor (level 3 alone) stays under full's
+  // (level 0), the method's four levels do not: it decides on the stencils, late.
+  CostModel perLevel = CostModel::defaults("cpu");
+  for (EffectCost& e : perLevel.effect) e.nsPerLevelPixel = 1e6;
+  const FrameResult late = renderer.render(rs.camera, c, {true, {}, &perLevel});
+  EXPECT_TRUE(late.fallback.fellBack);
+  EXPECT_FALSE(late.fallback.early);
+  EXPECT_EQ(late.final().data, full.final().data);
+  EXPECT_FALSE(late.edges.combined.empty()) << "its edges are kept for debugging";
 
   CostModel free = CostModel::defaults("cpu");
-  free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = 0.0;
+  free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = free.nsPerEdgePixel = free.nsPerMaskPixel = 0.0;
   for (EffectCost& e : free.effect) e.sparseFactor = 1.0;  // shading alone, at dense cost
   const FrameResult kept = renderer.render(rs.camera, c, {true, {}, &free});
   EXPECT_FALSE(kept.fallback.fellBack);
@@ -196,43 +210,82 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   s.neverSlower = false;
   const FrameResult off = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()), {true, {}, &costly});
   EXPECT_FALSE(off.fallback.evaluated);
+  EXPECT_GT(off.fallback.predictedMrrMs, off.fallback.predictedFullMs) << "predicted, not applied";
   EXPECT_GT(off.idealSpeedup, 1.2);
 }
 
-TEST(NeverSlower, PredictionCountsShadedPixelsCoarseGbuffersAndBlend) {
+// SPEC §11's formulas on hand-made counts (level sizes of a 64×32 frame: 2048, 512, 128, 32).
+TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   CostModel m;
-  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 1.5};
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 1.5};  // a, b, d, c, s
   m.nsPerCoarseGbufferPixel = 3.0;
+  m.nsPerCoarseGbufferHit = 4.0;
+  m.nsPerTrianglePerLevel = 0.0;
   m.nsPerBlendPixel = 5.0;
+  m.nsPerEdgePixel = 7.0;
+  m.nsPerMaskPixel = 11.0;
   const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
-  // full: 2048 px × (10 + 16) + 2048 × 2
-  EXPECT_NEAR(predictFullMs(m, c), (2048.0 * 26 + 2048.0 * 2) * 1e-6, 1e-12);
-  const std::array<long long, kLevelCount> shaded = {100, 50, 20, 32};
-  // shaded × 26 × 1.5 (sparse) + level pixels × 2 + coarse G-buffers × 3 + blend 2048 × 5
+  FrameCounts n;
+  n.hitPixels = 1024;  // half the frame on geometry
+  n.triangles = 1000;
+  // full: 1024 × (10 + 16) on geometry + 1024 × 0.5 off it + 2048 × 2
+  EXPECT_NEAR(predictFullMs(m, c, n), (1024.0 * 26 + 1024.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
+  n.shaded = {100, 50, 20, 32};
+  n.shadedHit = {60, 25, 10, 16};
+  // on geometry × 26 × 1.5 + off × 0.5 + level pixels × 2 + coarse pixels × (3 + ½ × 4) + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
-  EXPECT_NEAR(predictMrrMs(m, c, shaded), (202.0 * 26 * 1.5 + levelPixels * 2 + coarse * 3 + 2048.0 * 5) * 1e-6,
-              1e-12);
-  // A measured level-0 G-buffer time changes nothing for ray casting...
-  EXPECT_NEAR(predictMrrMs(m, c, shaded, 1.0), predictMrrMs(m, c, shaded), 1e-12);
-  // ...and adds its per-scene part, T0 − P_0·g, to each coarse level of a rasterised one
-  // (c's levels 0–3 are 64×32 padded: P_0 = 2048).
-  m.rasterGbuffer = true;
-  const double perScene = 1.0 - 2048.0 * 3 * 1e-6;
-  EXPECT_NEAR(predictMrrMs(m, c, shaded, 1.0), predictMrrMs(m, c, shaded) + 3 * perScene, 1e-9);
-  EXPECT_NEAR(predictMrrMs(m, c, shaded, 0.001), predictMrrMs(m, c, shaded), 1e-12) << "T0 < P_0·g: 0";
+  const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 2 + coarse * (3 + 0.5 * 4) + 2048.0 * 5;
+  EXPECT_NEAR(predictMrrMs(m, c, n), expected * 1e-6, 1e-12);
+  // Triangles cost a rasterised G-buffer at each of the three coarse levels.
+  m.nsPerTrianglePerLevel = 2.0;
+  EXPECT_NEAR(predictMrrMs(m, c, n), (expected + 3 * 1000.0 * 2) * 1e-6, 1e-12);
+  // The floor: edges and masks over P_0, the coarse G-buffers and blend, and level 3 shaded whole.
+  const double floorNs = 2048.0 * (7 + 11) + coarse * (3 + 0.5 * 4) + 3 * 1000.0 * 2 + 2048.0 * 5 +
+                         32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5 + 2);
+  EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorNs * 1e-6, 1e-12);
+  // The floor never exceeds what the method pays from the edges on: ε + μ, then the late prediction.
+  EXPECT_LE(predictMrrFloorMs(m, c, n), predictMrrMs(m, c, n) + 2048.0 * (7 + 11) * 1e-6);
+  // A frame all background: full costs c per pixel and P_0 d, nothing on geometry.
+  n.hitPixels = 0;
+  EXPECT_NEAR(predictFullMs(m, c, n), (2048.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
+}
+
+// The counts the rule reads: H over W×H and a level pixel on geometry where its full-res
+// pixel (x·s + s/2, y·s + s/2) is.
+TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
+  const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
+  ImageU8 hit(64, 32, 1, 0);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 20; ++x) hit.at(x, y) = 1;  // the left 20 columns
+  Masks masks;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    masks[static_cast<size_t>(l)].stencil = ImageU8(lc.width, lc.height, 1, 1);  // every pixel
+  }
+  FrameCounts n;
+  countForRule(n, masks, c, hit);
+  EXPECT_EQ(n.hitPixels, 20 * 32);
+  EXPECT_EQ(n.shaded[0], 64 * 32);
+  EXPECT_EQ(n.shadedHit[0], 20 * 32);
+  // Level 1: columns x with 2x + 1 < 20, x ≤ 9: 10 of 32 per row, 16 rows.
+  EXPECT_EQ(n.shadedHit[1], 10 * 16);
+  // Level 3: 8x + 4 < 20, x ≤ 1: 2 of 8 per row, 4 rows.
+  EXPECT_EQ(n.shadedHit[3], 2 * 4);
 }
 
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());
   EXPECT_EQ(back.toJson(), m.toJson());
-  EXPECT_TRUE(back.rasterGbuffer);
-  nlohmann::json older = m.toJson();  // a file from before raster_gbuffer: ray-cast costs
-  older.erase("raster_gbuffer");
-  EXPECT_FALSE(CostModel::fromJson(older).rasterGbuffer);
-  nlohmann::json broken = m.toJson();
-  broken.erase("ns_per_blend_pixel");
-  EXPECT_THROW(CostModel::fromJson(broken), MrrError);
+  EXPECT_GT(back.nsPerTrianglePerLevel, 0.0) << "the port rasterises: triangles cost every level";
+  for (const char* key : {"ns_per_blend_pixel", "ns_per_coarse_gbuffer_hit", "ns_per_triangle_per_level", "ns_per_edge_pixel"}) {
+    nlohmann::json broken = m.toJson();
+    broken.erase(key);
+    EXPECT_THROW(CostModel::fromJson(broken), MrrError) << key;
+  }
+  nlohmann::json older = m.toJson();  // a file from before issue 18: no background cost
+  older["effects"]["ssao"].erase("ns_per_background_pixel");
+  EXPECT_THROW(CostModel::fromJson(older), MrrError);
 }
 
 }  // namespace

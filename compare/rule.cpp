@@ -1,0 +1,362 @@
+#include "compare/rule.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <ostream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "common/image_io.h"
+#include "common/stages.h"
+
+namespace mrr {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double stage(const std::map<std::string, double>& ms, const std::string& name) {
+  const auto it = ms.find(name);
+  return it != ms.end() ? it->second : 0.0;
+}
+double sumWithPrefix(const std::map<std::string, double>& ms, std::initializer_list<const char*> prefixes) {
+  double sum = 0.0;
+  for (const auto& [k, v] : ms)
+    for (const char* p : prefixes)
+      if (k.rfind(p, 0) == 0) sum += v;
+  return sum;
+}
+// The effect's shading stages (per shaded pixel: a, b, c, s) and its per-level-pixel ones (d).
+double shadingMs(const std::map<std::string, double>& ms) { return sumWithPrefix(ms, {"effect.", "bilateral."}); }
+double levelPixelMs(const std::map<std::string, double>& ms) { return sumWithPrefix(ms, {"planes.", "direct."}); }
+// What SPEC §11 predicts: the frame after its decision point (the full-res G-buffer, the shadow
+// map and test, the edges and masks, and the shaded image for viewing are paid before or by both).
+double restMs(const std::map<std::string, double>& ms) {
+  double paid = 0.0;
+  for (const char* s : {"gbuffer.L0", "shadowmap", "shadowtest", "edges", "masks", "shade"}) paid += stage(ms, s);
+  return stage(ms, "total") - paid;
+}
+// The frame less the full-res G-buffer every mode pays (the bench's effect time).
+double frameMs(const std::map<std::string, double>& ms) { return stage(ms, "total") - stage(ms, "gbuffer.L0"); }
+
+struct Measured {
+  std::map<std::string, double> ms;  // medians per stage
+  FrameResult last;
+};
+
+// Renders `constants` once to warm up, then `repeats` times; medians per stage.
+Measured measure(const RenderFn& render, const Camera& camera, const Constants& constants, int repeats) {
+  std::map<std::string, std::vector<double>> runs;
+  Measured m;
+  for (int i = 0; i <= repeats; ++i) {
+    FrameResult f = render(camera, constants, {false, {}, nullptr});
+    if (i == 0) continue;
+    for (const auto& [k, v] : stageMs(f)) runs[k].push_back(v);
+    if (i == repeats) m.last = std::move(f);
+  }
+  for (const auto& [k, v] : runs) m.ms[k] = median(v);
+  return m;
+}
+
+// Least squares with non-negative coefficients for up to three unknowns: the normal equations
+// solved on the columns still free, a negative coefficient fixed at 0 and the rest refitted.
+struct LeastSquares {
+  std::vector<std::array<double, 3>> rows;
+  std::vector<double> y;
+  void add(const std::array<double, 3>& row, double value) {
+    rows.push_back(row);
+    y.push_back(value);
+  }
+  std::array<double, 3> solve(int unknowns) const {
+    std::array<bool, 3> free{};
+    for (int i = 0; i < unknowns; ++i) free[static_cast<size_t>(i)] = true;
+    std::array<double, 3> x{};
+    for (int round = 0; round < 3; ++round) {
+      std::vector<int> cols;
+      for (int i = 0; i < 3; ++i)
+        if (free[static_cast<size_t>(i)]) cols.push_back(i);
+      const size_t n = cols.size();
+      x = {};
+      if (n == 0) return x;
+      std::vector<std::vector<double>> a(n, std::vector<double>(n + 1, 0.0));
+      for (size_t r = 0; r < rows.size(); ++r)
+        for (size_t i = 0; i < n; ++i) {
+          for (size_t j = 0; j < n; ++j) a[i][j] += rows[r][static_cast<size_t>(cols[i])] * rows[r][static_cast<size_t>(cols[j])];
+          a[i][n] += rows[r][static_cast<size_t>(cols[i])] * y[r];
+        }
+      for (size_t i = 0; i < n; ++i) {  // Gauss-Jordan with partial pivoting
+        size_t pivot = i;
+        for (size_t k = i + 1; k < n; ++k)
+          if (std::abs(a[k][i]) > std::abs(a[pivot][i])) pivot = k;
+        std::swap(a[i], a[pivot]);
+        if (std::abs(a[i][i]) < 1e-300) continue;
+        for (size_t k = 0; k < n; ++k) {
+          if (k == i) continue;
+          const double f = a[k][i] / a[i][i];
+          for (size_t j = i; j <= n; ++j) a[k][j] -= f * a[i][j];
+        }
+      }
+      bool negative = false;
+      for (size_t i = 0; i < n; ++i) {
+        const double v = std::abs(a[i][i]) < 1e-300 ? 0.0 : a[i][n] / a[i][i];
+        x[static_cast<size_t>(cols[i])] = v;
+        if (v < 0.0) {
+          free[static_cast<size_t>(cols[i])] = false;
+          negative = true;
+        }
+      }
+      if (!negative) return x;
+    }
+    for (double& v : x) v = std::max(v, 0.0);
+    return x;
+  }
+};
+
+double sumOf(const std::array<int64_t, kLevelCount>& v) {
+  double s = 0.0;
+  for (int64_t x : v) s += static_cast<double>(x);
+  return s;
+}
+
+}  // namespace
+
+std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect) {
+  std::vector<RuleView> views;
+  views.push_back({"catalogue", catalogue});
+  views.push_back({"default", frameScene(scene, catalogue.yfov, aspect).camera});
+  const glm::vec3 up = glm::normalize(catalogue.up);
+  const glm::vec3 forward = glm::normalize(catalogue.target - catalogue.eye);
+  glm::vec3 level = forward - glm::dot(forward, up) * up;
+  level = glm::length(level) > 1e-4f ? glm::normalize(level) : glm::vec3(std::abs(up.x) < 0.9f ? 1 : 0, 0, std::abs(up.x) < 0.9f ? 0 : 1);
+  const float elevation = static_cast<float>(50.0 * kPi / 180.0);
+  Camera sky = catalogue;
+  sky.target = catalogue.eye + (level * std::cos(elevation) + up * std::sin(elevation)) * glm::length(catalogue.target - catalogue.eye);
+  views.push_back({"sky", sky});
+  Camera close = catalogue;
+  close.eye = catalogue.target + (catalogue.eye - catalogue.target) * 0.25f;
+  views.push_back({"close-up", close});
+  return views;
+}
+
+CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
+  const int w = 640, h = 360;
+  const double pixels = static_cast<double>(w) * h;
+  CostModel model;
+  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 640x360";
+  std::array<LeastSquares, 3> fullFit;       // per effect: H, H·N, W·H − H → a, b, c
+  std::array<std::vector<double>, 3> perLevel;  // per effect: d
+  struct MrrRun {
+    Effect effect;
+    int samples;
+    FrameCounts counts;
+    double shadingMs;
+  };
+  std::vector<MrrRun> mrrRuns;
+  LeastSquares gbufferFit;  // P_ℓ, P_ℓ·share, T → g, h, t
+  std::vector<double> blend, edges, masks;
+  for (const std::string& sceneName : {"builtin:demo", "builtin:bumpy"}) {
+    const OpenScene sc = openScene(sceneName, path);
+    const float diagonal = sc.scene->bounds().diagonal();
+    for (const RuleView& view : ruleViews(*sc.scene, sc.camera, static_cast<float>(w) / h)) {
+      if (view.name == "default") continue;  // three views are enough to separate H from W·H − H
+      for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+        const auto ei = static_cast<size_t>(e);
+        const int n1 = e == Effect::Ssm ? 16 : 8, n2 = e == Effect::Ssm ? 256 : 128;
+        std::cerr << "[calibrate] " << path.name << " " << sceneName << " " << view.name << " " << toString(e) << "\n";
+        Measured mrr = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n2), diagonal), repeats);
+        const FrameCounts& n = mrr.last.counts;
+        const double hit = static_cast<double>(n.hitPixels);
+        for (int samples : {n1, n2}) {
+          const Measured full = measure(sc.render, view.camera, makeConstants(settingsFor("full", e, w, h, samples), diagonal), repeats);
+          fullFit[ei].add({hit, hit * samples, pixels - hit}, shadingMs(full.ms) * 1e6);
+          perLevel[ei].push_back(levelPixelMs(full.ms) * 1e6 / pixels);
+        }
+        mrrRuns.push_back({e, n2, n, shadingMs(mrr.ms)});
+        const Constants& c = mrr.last.constants;
+        for (const LevelConstants& lc : c.levels)
+          if (lc.enabled && lc.index > 0) {
+            const double p = static_cast<double>(lc.width) * lc.height;
+            gbufferFit.add({p, p * hit / pixels, static_cast<double>(n.triangles)},
+                           stage(mrr.ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6);
+          }
+        const double padded = static_cast<double>(c.levels[0].width) * c.levels[0].height;
+        blend.push_back(stage(mrr.ms, "blend") * 1e6 / pixels);
+        edges.push_back(stage(mrr.ms, "edges") * 1e6 / padded);
+        masks.push_back(stage(mrr.ms, "masks") * 1e6 / padded);
+      }
+    }
+  }
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+    const auto ei = static_cast<size_t>(e);
+    EffectCost& ec = model.effect[ei];
+    const std::array<double, 3> abc = fullFit[ei].solve(3);
+    ec.nsPerShadedPixel = abc[0];
+    ec.nsPerSample = abc[1];
+    ec.nsPerBackgroundPixel = abc[2];
+    ec.nsPerLevelPixel = median(perLevel[ei]);
+    // s: the method's shading on geometry against full's per pixel, least squares through 0.
+    double xy = 0.0, xx = 0.0;
+    for (const MrrRun& r : mrrRuns) {
+      if (r.effect != e) continue;
+      const double onGeometry = sumOf(r.counts.shadedHit);
+      const double off = sumOf(r.counts.shaded) - onGeometry;
+      const double x = onGeometry * (ec.nsPerShadedPixel + ec.nsPerSample * r.samples);
+      xy += x * (r.shadingMs * 1e6 - off * ec.nsPerBackgroundPixel);
+      xx += x * x;
+    }
+    ec.sparseFactor = xx > 0.0 ? std::max(1.0, xy / xx) : 1.0;
+  }
+  const std::array<double, 3> ght = gbufferFit.solve(3);
+  model.nsPerCoarseGbufferPixel = ght[0];
+  model.nsPerCoarseGbufferHit = ght[1];
+  model.nsPerTrianglePerLevel = ght[2];
+  model.nsPerBlendPixel = median(blend);
+  model.nsPerEdgePixel = median(edges);
+  model.nsPerMaskPixel = median(masks);
+  return model;
+}
+
+namespace {
+
+struct SweepConfig {
+  Effect effect;
+  int samples, width, height;
+};
+
+// Sizes, effects and sample counts, cycled over the scenes' views: low and high counts, 320×180
+// to 1920×1080 (the dearest effects at the smaller sizes, to keep the sweep in minutes).
+const std::vector<SweepConfig>& sweepConfigs() {
+  static const std::vector<SweepConfig> configs = {
+      {Effect::Ssao, 16, 320, 180},  {Effect::Ssm, 196, 1280, 720}, {Effect::Ssgi, 24, 640, 360},
+      {Effect::Ssao, 64, 1920, 1080}, {Effect::Ssm, 49, 640, 360},   {Effect::Ssgi, 288, 320, 180},
+      {Effect::Ssao, 256, 640, 360}, {Effect::Ssm, 16, 1280, 720},  {Effect::Ssao, 64, 1280, 720},
+      {Effect::Ssgi, 80, 640, 360},  {Effect::Ssao, 8, 1920, 1080}, {Effect::Ssm, 324, 320, 180}};
+  return configs;
+}
+
+}  // namespace
+
+int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths, std::ostream& out) {
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = o.threads > 0 ? o.threads : hw;
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  nlohmann::json frames = nlohmann::json::array();
+  const size_t total = paths.size() * o.scenes.size() * 4 * static_cast<size_t>(o.configsPerView);
+  size_t done = 0, cycle = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (const BenchPath& path : paths) {
+    const CostModel model = CostModel::defaults(path.name);
+    for (const std::string& sceneName : o.scenes) {
+      std::cerr << "[rule-sweep] " << path.name << ": loading " << sceneName << "\n";
+      const OpenScene sc = openScene(sceneName, path);
+      const float diagonal = sc.scene->bounds().diagonal();
+      for (const RuleView& view : ruleViews(*sc.scene, sc.camera, 16.0f / 9.0f))
+        for (int k = 0; k < o.configsPerView; ++k) {
+          const SweepConfig& cfg = sweepConfigs()[cycle++ % sweepConfigs().size()];
+          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          std::cerr << "[rule-sweep] " << ++done << "/" << total << "  " << path.name << " " << sceneName << " " << view.name
+                    << " " << cfg.width << "x" << cfg.height << " " << toString(cfg.effect) << "-" << cfg.samples << "  ("
+                    << static_cast<int>(seconds) << " s)\n";
+          auto constantsFor = [&](const std::string& method) {
+            return makeConstants(settingsFor(method, cfg.effect, cfg.width, cfg.height, cfg.samples), diagonal);
+          };
+          // full and mrr without the rule, alternating (one warm-up each, then medians).
+          std::map<std::string, std::vector<double>> fullRuns, mrrRuns;
+          Measured full, mrr;
+          for (int i = 0; i <= o.repeats; ++i) {
+            FrameResult ff = sc.render(view.camera, constantsFor("full"), {false, {}, nullptr});
+            FrameResult fm = sc.render(view.camera, constantsFor("mrr-norule"), {false, {}, nullptr});
+            if (i == 0) continue;
+            for (const auto& [key, v] : stageMs(ff)) fullRuns[key].push_back(v);
+            for (const auto& [key, v] : stageMs(fm)) mrrRuns[key].push_back(v);
+            if (i == o.repeats) {
+              full.last = std::move(ff);
+              mrr.last = std::move(fm);
+            }
+          }
+          for (const auto& [key, v] : fullRuns) full.ms[key] = median(v);
+          for (const auto& [key, v] : mrrRuns) mrr.ms[key] = median(v);
+          // The rule's decision on this frame, as renderFrame takes it: early from H, then from
+          // the stencils (the same counts; the oracle's decision is a function of them alone).
+          const FrameCounts& n = mrr.last.counts;
+          const Constants cm = constantsFor("mrr");
+          const FallbackDecision early = decideEarly(model, cm, n);
+          const FallbackDecision late = decideFallback(model, cm, n);
+          const std::string decision = early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+          double ruleMs = frameMs(mrr.ms);
+          if (decision != "mrr") {
+            const Measured rule = measure(sc.render, view.camera, cm, o.repeats);
+            ruleMs = frameMs(rule.ms);
+          }
+          const double fullMs = frameMs(full.ms), mrrMs = frameMs(mrr.ms);
+          const bool keptMrr = decision == "mrr";
+          const bool right = keptMrr ? mrrMs <= 1.05 * fullMs : fullMs <= 1.05 * mrrMs;
+          frames.push_back({{"path", path.name},
+                            {"scene", sceneName},
+                            {"view", view.name},
+                            {"effect", toString(cfg.effect)},
+                            {"samples", cfg.samples},
+                            {"width", cfg.width},
+                            {"height", cfg.height},
+                            {"hit_share", static_cast<double>(n.hitPixels) / (static_cast<double>(cfg.width) * cfg.height)},
+                            {"ideal_speedup", mrr.last.idealSpeedup},
+                            {"ideal_speedup_hit", mrr.last.idealSpeedupHit},
+                            {"decision", decision},
+                            {"predicted_full_rest_ms", late.predictedFullMs},
+                            {"predicted_mrr_rest_ms", late.predictedMrrMs},
+                            {"predicted_mrr_floor_ms", early.predictedMrrMs},
+                            {"measured_full_rest_ms", restMs(full.ms)},
+                            {"measured_mrr_rest_ms", restMs(mrr.ms)},
+                            {"full_ms", fullMs},
+                            {"mrr_ms", mrrMs},
+                            {"rule_ms", ruleMs},
+                            {"right", right}});
+        }
+    }
+  }
+  // The summary: how often the rule chose the faster mode (within 5%), and the worst of each way.
+  int right = 0, kept = 0, fell = 0;
+  double worstKept = 0.0, worstFell = 0.0, worstRule = 0.0;
+  for (const nlohmann::json& f : frames) {
+    right += f["right"].get<bool>();
+    const double fullMs = f["full_ms"], mrrMs = f["mrr_ms"], ruleMs = f["rule_ms"];
+    worstRule = std::max(worstRule, ruleMs / fullMs);
+    if (f["decision"] == "mrr") {
+      ++kept;
+      worstKept = std::max(worstKept, mrrMs / fullMs);
+    } else {
+      ++fell;
+      worstFell = std::max(worstFell, fullMs / mrrMs);
+    }
+  }
+  const nlohmann::json summary = {{"frames", frames.size()},
+                                  {"right", right},
+                                  {"kept_mrr", kept},
+                                  {"fell_back", fell},
+                                  {"worst_kept_mrr_over_full", worstKept},
+                                  {"worst_fell_back_full_over_mrr", worstFell},
+                                  {"worst_rule_over_full", worstRule}};
+  const nlohmann::json result = {{"machine", o.machine}, {"repeats", o.repeats}, {"threads", threads},
+                                 {"summary", summary}, {"frames", frames}};
+  if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, result.dump(1) + "\n");
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "| frames | right (faster within 5%%) | kept mrr | fell back | worst mrr/full where kept | worst full/mrr "
+                "where fallen back | worst with-rule/full |\n|---|---|---|---|---|---|---|\n| %zu | %d (%.1f%%) | %d | %d | "
+                "%.3f | %.3f | %.3f |\n",
+                frames.size(), right, 100.0 * right / std::max<size_t>(frames.size(), 1), kept, fell, worstKept, worstFell,
+                worstRule);
+  out << line;
+  return 0;
+}
+
+}  // namespace mrr

@@ -1,0 +1,49 @@
+#pragma once
+// The never-slower rule (SPEC §11, issue 18), fitted and checked:
+//  - `mrr bench --calibrate FILE` fits the cost model's figures on the machine at hand, per
+//    path, from frames that differ in what the model separates (share on geometry, sample
+//    count, triangles): least squares over medians of repeats;
+//  - `mrr bench --rule-sweep FILE` renders frames nobody tuned the model to (the shared scenes,
+//    the built-ins and the stress scenes; the catalogue camera, the default framing, the sky
+//    and a close-up; 320×180 to 1920×1080; low and high sample counts) in full and in mrr with
+//    the rule off, and where the rule falls back also with it on, and counts how often the rule
+//    chose the faster mode, and what it cost where it did not. scripts/rule-chart.py draws it.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "common/camera.h"
+#include "common/cost_model.h"
+#include "compare/bench.h"
+
+namespace mrr {
+
+struct RuleView {
+  std::string name;  // catalogue, default, sky, close-up
+  Camera camera;
+};
+// The catalogue's camera; the default framing (frameScene); the sky: from the catalogue's eye,
+// 50° above the horizon; a close-up: a quarter of the way from the target to the eye.
+std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect);
+
+// Fits the model's costs on `path` (SPEC §11's calibration): builtin:demo and builtin:bumpy
+// (9k and 51k triangles) at 640×360 from the catalogue camera, the sky and a close-up; every
+// effect in mode full at two sample counts (a, b and c by least squares over H, H·N and
+// W·H − H), and in mode mrr with the rule off (s, d, g, h, t, β, ε, μ).
+CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads);
+
+struct RuleSweepOptions {
+  std::vector<std::string> scenes = {"arcade",         "apartment",     "cornell",        "builtin:demo",
+                                     "builtin:boxes",  "builtin:shadows", "builtin:fence", "builtin:bumpy",
+                                     "builtin:wires",  "builtin:alledges", "builtin:plane"};
+  int configsPerView = 2;  // frames per scene and view, cycling through sizes, effects and samples
+  int repeats = 3;         // medians of this many, after one warm-up
+  int threads = 0;
+  std::string jsonOut;
+  std::string machine;
+};
+
+// Runs the sweep on every path, writes the JSON, prints the summary (Markdown); returns 0.
+int runRuleSweep(const RuleSweepOptions& options, const std::vector<BenchPath>& paths, std::ostream& out);
+
+}  // namespace mrr

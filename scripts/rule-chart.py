@@ -1,0 +1,108 @@
+#!/usr/bin/python3
+"""Draws `mrr bench --rule-sweep` (issue 18, SPEC §11): the never-slower rule on frames nobody
+tuned it to.
+
+  scripts/rule-chart.py SWEEP.json OUT_DIR
+
+writes OUT_DIR/rule-predicted.svg (the predicted rest of each frame against the measured one,
+full and mrr, log-log, with the ideal y = x), OUT_DIR/rule-decisions.svg (each frame's
+measured mrr/full against the predicted one, by the rule's decision, with the ±5% band) and
+OUT_DIR/rule-sweep.md (the summary and every frame, a row each)."""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")  # headless
+matplotlib.rcParams["svg.hashsalt"] = "mrr"  # the same figures give the same file
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: rule-chart.py SWEEP.json OUT_DIR")
+    sweep = json.load(open(sys.argv[1]))
+    out = sys.argv[2]
+    os.makedirs(out, exist_ok=True)
+    frames = sweep["frames"]
+    paths = sorted({f["path"] for f in frames})
+
+    fig, axes = plt.subplots(1, len(paths), figsize=(6 * len(paths), 5), squeeze=False)
+    for ax, path in zip(axes[0], paths):
+        fs = [f for f in frames if f["path"] == path]
+        for key, label, marker in (("full", "full", "o"), ("mrr", "mrr (rule off)", "^")):
+            xs = [max(f[f"measured_{key}_rest_ms"], 1e-3) for f in fs]
+            ys = [max(f[f"predicted_{key}_rest_ms"], 1e-3) for f in fs]
+            ax.scatter(xs, ys, s=18, marker=marker, alpha=0.75, label=label)
+        lo = min(min(f["measured_full_rest_ms"], f["measured_mrr_rest_ms"]) for f in fs)
+        hi = max(max(f["measured_full_rest_ms"], f["measured_mrr_rest_ms"]) for f in fs)
+        lo, hi = max(lo * 0.5, 1e-2), hi * 2
+        ax.plot([lo, hi], [lo, hi], "k--", lw=0.8, label="ideal: predicted = measured")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("measured rest of the frame (ms)")
+        ax.set_ylabel("predicted (ms)")
+        ax.set_title(f"{path}: SPEC §11's prediction, {len(fs)} frames")
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "rule-predicted.svg"))
+
+    fig, axes = plt.subplots(1, len(paths), figsize=(6 * len(paths), 5), squeeze=False)
+    colours = {"mrr": "tab:blue", "full": "tab:orange", "full-early": "tab:red"}
+    for ax, path in zip(axes[0], paths):
+        fs = [f for f in frames if f["path"] == path]
+        for decision, colour in colours.items():
+            sel = [f for f in fs if f["decision"] == decision]
+            if not sel:
+                continue
+            xs = [f["predicted_mrr_rest_ms"] / max(f["predicted_full_rest_ms"], 1e-9) for f in sel]
+            ys = [f["mrr_ms"] / max(f["full_ms"], 1e-9) for f in sel]
+            ax.scatter(xs, ys, s=18, c=colour, alpha=0.8, label=f"rule: {decision} ({len(sel)})")
+            for f, x, y in zip(sel, xs, ys):
+                if not f["right"]:
+                    ax.annotate(f"{f['scene']} {f['view']}", (x, y), fontsize=6)
+        ax.axhline(1.0, color="k", lw=0.8)
+        ax.axhspan(1 / 1.05, 1.05, color="grey", alpha=0.2, label="±5%: either is right")
+        ax.axvline(1.0, color="k", lw=0.8, ls=":")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("predicted mrr / full (rest of the frame)")
+        ax.set_ylabel("measured mrr (rule off) / full (frame less G-buffer L0)")
+        right = sum(f["right"] for f in fs)
+        ax.set_title(f"{path}: decision right on {right}/{len(fs)} frames")
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "rule-decisions.svg"))
+
+    s = sweep["summary"]
+    lines = [
+        f"# The never-slower rule on {s['frames']} frames nobody tuned it to",
+        "",
+        f"Machine: {sweep['machine']}; {sweep['threads']} threads; medians of {sweep['repeats']} runs after a warm-up, "
+        "full and mrr alternating in one process (`mrr bench --rule-sweep`). Times are the frame less the full-res "
+        "G-buffer, which every mode pays.",
+        "",
+        "| frames | decision right (faster within 5%) | kept mrr | fell back | worst mrr/full where kept | "
+        "worst full/mrr where fallen back | worst with-rule/full |",
+        "|---|---|---|---|---|---|---|",
+        f"| {s['frames']} | {s['right']} ({100.0 * s['right'] / max(s['frames'], 1):.1f}%) | {s['kept_mrr']} | "
+        f"{s['fell_back']} | {s['worst_kept_mrr_over_full']:.3f} | {s['worst_fell_back_full_over_mrr']:.3f} | "
+        f"{s['worst_rule_over_full']:.3f} |",
+        "",
+        "| path | scene | view | size | effect | on geometry | ideal (px / hit) | decision | predicted mrr/full | "
+        "full ms | mrr ms | with rule ms | right |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for f in frames:
+        ratio = f["predicted_mrr_rest_ms"] / max(f["predicted_full_rest_ms"], 1e-9)
+        lines.append(
+            f"| {f['path']} | {f['scene']} | {f['view']} | {f['width']}x{f['height']} | {f['effect']}-{f['samples']} | "
+            f"{100 * f['hit_share']:.0f}% | {f['ideal_speedup']:.2f} / {f['ideal_speedup_hit']:.2f} | {f['decision']} | "
+            f"{ratio:.2f} | {f['full_ms']:.1f} | {f['mrr_ms']:.1f} | {f['rule_ms']:.1f} | "
+            f"{'yes' if f['right'] else '**no**'} |")
+    open(os.path.join(out, "rule-sweep.md"), "w").write("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -380,6 +380,10 @@ int run(int argc, char** argv) {
   bench->add_option("--calibrate", calibrateOut,
                     "measure the never-slower rule's costs on each --paths path and write them as JSON (FILE, "
                     "or FILE with {path} replaced)");
+  bench->add_option("--cold", benchOpts.coldRuns,
+                    "also render each main-sweep frame as a user does, in this many fresh `mrr render` processes per "
+                    "method (full and mrr, alternating), and report their speedup beside the warm one")
+      ->check(CLI::Range(0, 100));
   bench->add_option("--rule-sweep", ruleSweepOut,
                     "check the never-slower rule on frames nobody tuned it to (shared, built-in and stress scenes; "
                     "catalogue, default, sky and close-up views; 320x180 to 1920x1080) and write them as JSON "

@@ -30,27 +30,28 @@ double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c, const Fr
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
-  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, s}.
+  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s}.
   if (path == "gpu") {
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{161.7, 3.30, 0.0, 10.0, 1.52}, EffectCost{272.3, 1.39, 0.0, 10.0, 1.55},
-                EffectCost{29.2, 4.10, 21.2, 10.0, 1.61}};
+    m.effect = {EffectCost{161.7, 3.30, 0.0, 10.0, 0.0, 1.52}, EffectCost{272.3, 1.39, 0.0, 10.0, 0.0, 1.55},
+                EffectCost{29.2, 4.10, 21.2, 10.0, 0.0, 1.61}};
     m.nsPerCoarseGbufferPixel = 46.4;
     m.nsPerTrianglePerLevel = 20.0;
     m.nsPerBlendPixel = 27.9;
     m.nsPerEdgePixel = 10.0;
     m.nsPerMaskPixel = 10.0;
   } else {
+    // cpu: the mean of two runs (--repeats 5), which agreed within 10% (2026-11-24).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{205.8, 6.34, 1.0, 8.1, 1.08},
-                EffectCost{77.6, 0.38, 0.0, 19.1, 2.50},
-                EffectCost{17.1, 11.34, 15.0, 22.6, 1.42}};
-    m.nsPerCoarseGbufferPixel = 13.9;
-    m.nsPerCoarseGbufferHit = 15.9;
-    m.nsPerTrianglePerLevel = 4.76;
-    m.nsPerBlendPixel = 6.8;
-    m.nsPerEdgePixel = 4.3;
-    m.nsPerMaskPixel = 3.8;
+    m.effect = {EffectCost{189.0, 5.44, 0.9, 3.5, 0.0, 1.17},
+                EffectCost{62.0, 0.00, 0.0, 2.8, 47.4, 1.03},
+                EffectCost{31.2, 8.40, 14.2, 4.0, 0.0, 1.81}};
+    m.nsPerCoarseGbufferPixel = 12.3;
+    m.nsPerCoarseGbufferHit = 15.8;
+    m.nsPerTrianglePerLevel = 4.83;
+    m.nsPerBlendPixel = 6.1;
+    m.nsPerEdgePixel = 3.6;
+    m.nsPerMaskPixel = 3.5;
   }
   return m;
 }
@@ -66,6 +67,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.nsPerSample = ej.at("ns_per_sample").get<double>();
       ec.nsPerLevelPixel = ej.at("ns_per_level_pixel").get<double>();
       ec.nsPerBackgroundPixel = ej.at("ns_per_background_pixel").get<double>();
+      ec.nsPerShadowedSample = ej.at("ns_per_shadowed_sample").get<double>();
       ec.sparseFactor = ej.at("sparse_factor").get<double>();
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
@@ -88,6 +90,7 @@ nlohmann::json CostModel::toJson() const {
                             {"ns_per_sample", ec.nsPerSample},
                             {"ns_per_level_pixel", ec.nsPerLevelPixel},
                             {"ns_per_background_pixel", ec.nsPerBackgroundPixel},
+                            {"ns_per_shadowed_sample", ec.nsPerShadowedSample},
                             {"sparse_factor", ec.sparseFactor}};
   }
   return {{"source", source},
@@ -100,12 +103,13 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_mask_pixel", nsPerMaskPixel}};
 }
 
-// SPEC §11: H (a + b N) + (W·H − H) c + P_0 d, in ms.
+// SPEC §11: H (a + b N) + H_s e N + (W·H − H) c + P_0 d, in ms.
 double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   const double hit = static_cast<double>(n.hitPixels);
   const double background = std::max(0.0, static_cast<double>(c.width) * c.height - hit);
-  return (hit * shadeNs(e, c.samples()) + background * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
+  return (hit * shadeNs(e, c.samples()) + static_cast<double>(n.shadowedPixels) * e.nsPerShadowedSample * c.samples() +
+          background * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
          1e-6;
 }
 
@@ -119,21 +123,24 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
     const auto l = static_cast<size_t>(lc.index);
     const double onGeometry = static_cast<double>(n.shadedHit[l]);
     const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - onGeometry);
-    ns += onGeometry * shadeNs(e, c.samples()) * e.sparseFactor + off * e.nsPerBackgroundPixel +
+    const double shadowed = static_cast<double>(n.shadedShadowed[l]) * e.nsPerShadowedSample * c.samples();
+    ns += (onGeometry * shadeNs(e, c.samples()) + shadowed) * e.sparseFactor + off * e.nsPerBackgroundPixel +
           levelPixels(lc) * e.nsPerLevelPixel;
   }
   return ns * 1e-6;
 }
 
-// SPEC §11: P_0 (ε + μ) + the coarse G-buffers and the blend + P_k ((H / W·H)(a + b N) s +
-// (1 − H / W·H) c + d) for the coarsest enabled level k, in ms.
+// SPEC §11: P_0 (ε + μ) + the coarse G-buffers and the blend + P_k (((H (a + b N) + H_s e N) /
+// W·H) s + (1 − H / W·H) c + d) for the coarsest enabled level k, in ms.
 double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   const LevelConstants& coarsest = c.levels[static_cast<size_t>(c.coarsestEnabled)];
   const double share = hitShare(c, n);
   double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c, n);
-  ns += levelPixels(coarsest) * (share * shadeNs(e, c.samples()) * e.sparseFactor + (1.0 - share) * e.nsPerBackgroundPixel +
-                                 e.nsPerLevelPixel);
+  const double shadowShare = static_cast<double>(n.shadowedPixels) / std::max(1.0, static_cast<double>(c.width) * c.height);
+  ns += levelPixels(coarsest) *
+        ((share * shadeNs(e, c.samples()) + shadowShare * e.nsPerShadowedSample * c.samples()) * e.sparseFactor +
+         (1.0 - share) * e.nsPerBackgroundPixel + e.nsPerLevelPixel);
   return ns * 1e-6;
 }
 

@@ -46,9 +46,11 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
   f.counts.triangles = b.sceneTriangles();
+  const ImageU8 noLit;
+  const auto lit = [&]() -> const ImageU8& { return c.effect == Effect::Ssm ? b.fullResLit(f) : noLit; };
   bool fellBackEarly = false;
   if (c.mode == Mode::Mrr && c.neverSlower) {
-    f.counts.hitPixels = countHits(b.fullResHit(f), c);
+    countHits(f.counts, b.fullResHit(f), lit(), c);
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {
       f.fallback = early;
@@ -71,7 +73,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
   if (c.mode == Mode::Mrr && !fellBackEarly) {
-    countForRule(f.counts, masks, c, b.fullResHit(f));
+    countForRule(f.counts, masks, c, b.fullResHit(f), lit());
     applyNeverSlower(f, masks, model);
   }
   b.useMasks(f, masks, stage);

@@ -131,44 +131,50 @@ void FrameResult::countShadedPixels() {
   blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
-int64_t countHits(const ImageU8& hit, const Constants& c) {
-  int64_t n = 0;
+void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& lit, const Constants& c) {
+  n.hitPixels = n.shadowedPixels = 0;
   for (int y = 0; y < std::min(c.height, hit.height); ++y)
-    for (int x = 0; x < std::min(c.width, hit.width); ++x) n += hit.at(x, y) != 0;
-  return n;
+    for (int x = 0; x < std::min(c.width, hit.width); ++x)
+      if (hit.at(x, y)) {
+        ++n.hitPixels;
+        n.shadowedPixels += !lit.empty() && !lit.at(x, y);
+      }
 }
 
 namespace {
 void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>& stencils, const Constants& c,
-                   const ImageU8& hit) {
-  n.hitPixels = countHits(hit, c);
+                   const ImageU8& hit, const ImageU8& lit) {
+  countHits(n, hit, lit, c);
   for (int l = 0; l < kLevelCount; ++l) {
     const auto i = static_cast<size_t>(l);
-    n.shaded[i] = n.shadedHit[i] = 0;
+    n.shaded[i] = n.shadedHit[i] = n.shadedShadowed[i] = 0;
     if (!c.levels[i].enabled || !c.levels[i].shaded) continue;
     const ImageU8& s = *stencils[i];
-    int64_t shaded = 0, onGeometry = 0;
+    int64_t shaded = 0, onGeometry = 0, shadowed = 0;
     for (int y = 0; y < s.height; ++y)
       for (int x = 0; x < s.width; ++x)
         if (s.at(x, y)) {
           ++shaded;
-          onGeometry += levelPixelHit(hit, x, y, 1 << l);
+          if (!levelPixelHit(hit, x, y, 1 << l)) continue;
+          ++onGeometry;
+          shadowed += !lit.empty() && !levelPixelHit(lit, x, y, 1 << l);
         }
     n.shaded[i] = shaded;
     n.shadedHit[i] = onGeometry;
+    n.shadedShadowed[i] = shadowed;
   }
 }
 }  // namespace
 
-void countForRule(FrameCounts& n, const Masks& masks, const Constants& c, const ImageU8& hit) {
-  countStencils(n, {&masks[0].stencil, &masks[1].stencil, &masks[2].stencil, &masks[3].stencil}, c, hit);
+void countForRule(FrameCounts& n, const Masks& masks, const Constants& c, const ImageU8& hit, const ImageU8& lit) {
+  countStencils(n, {&masks[0].stencil, &masks[1].stencil, &masks[2].stencil, &masks[3].stencil}, c, hit, lit);
 }
 
 void FrameResult::countHitPixels(const ImageU8& hit) {
   if (hit.empty()) return;
   FrameCounts n;
   countStencils(n, {&levels[0].masks.stencil, &levels[1].masks.stencil, &levels[2].masks.stencil, &levels[3].masks.stencil},
-                constants, hit);
+                constants, hit, ImageU8());
   int64_t shaded = 0;
   for (int64_t v : n.shadedHit) shaded += v;
   idealSpeedupHit = static_cast<double>(std::max<int64_t>(n.hitPixels, 1)) / static_cast<double>(std::max<int64_t>(shaded, 1));

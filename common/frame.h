@@ -188,9 +188,12 @@ void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model);
 // SPEC §11's counts for the frame's stencils: |S_ℓ| and |S_ℓ ∩ hit| per shaded level, from the
 // full-res hit flags (a level-ℓ pixel (x, y) is on geometry when full-res pixel (x·s + s/2,
 // y·s + s/2) is, clamped to the image: levelPixelHit), into f.counts.
-void countForRule(FrameCounts& counts, const Masks& masks, const Constants& constants, const ImageU8& fullResHit);
-// H: the full-res pixels (of W×H) on geometry.
-int64_t countHits(const ImageU8& fullResHit, const Constants& constants);
+// With `fullResLit` (SSM's one-tap shadow test; empty for the other effects) also H_s and
+// |S_ℓ ∩ hit ∩ shadowed|, a level pixel shadowed where its full-res pixel is.
+void countForRule(FrameCounts& counts, const Masks& masks, const Constants& constants, const ImageU8& fullResHit,
+                  const ImageU8& fullResLit);
+// H (and with `fullResLit`, H_s): the full-res pixels on geometry (and of those, in shadow).
+void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& fullResLit, const Constants& constants);
 inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
   return fullResHit.at(std::min(x * scale + scale / 2, fullResHit.width - 1),
                        std::min(y * scale + scale / 2, fullResHit.height - 1)) != 0;

@@ -14,8 +14,11 @@
 #include <sstream>
 #include <thread>
 
+#include <unistd.h>
+
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/process.h"
 #include "compare/bench_report.h"
 #include "compare/report.h"
 #include "scenes/cameras.h"
@@ -119,6 +122,9 @@ class Sweep {
         for (const auto& [k, v] : stageMs(f)) stageRuns[m][k].push_back(v);
         if (i == o_.repeats) last[m] = std::move(f);
       }
+    const std::map<std::string, double> cold = group == "main" && o_.coldRuns > 0
+                                                   ? coldEffectMs(path, sc, camera, effect, w, h, samples)
+                                                   : std::map<std::string, double>{};
     const FrameResult& full = last.at("full");
     std::map<std::string, double> fullMedian;
     for (const auto& [k, v] : stageRuns["full"]) fullMedian[k] = median(v);
@@ -143,6 +149,10 @@ class Sweep {
       r.idealSpeedupHit = f.idealSpeedupHit;
       r.measuredSpeedup = fullEffect / std::max(r.effectMs, 1e-9);
       r.fullEffectMs = fullEffect;
+      if (cold.count(m) && cold.count("full")) {
+        r.coldEffectMs = cold.at(m);
+        r.coldSpeedup = cold.at("full") / std::max(cold.at(m), 1e-9);
+      }
       r.fellBack = f.fallback.fellBack;
       // full against its own warm-up frame: 0 exactly when repeats give the same bits
       const FrameErrors e = errorVsFull(f, m == "full" ? firstFull : full);
@@ -154,6 +164,39 @@ class Sweep {
   }
 
  private:
+  // Fresh `mrr render` processes of full and mrr, alternating, o_.coldRuns each: the median
+  // effect time (the report's total less its full-res G-buffer) by method.
+  std::map<std::string, double> coldEffectMs(const BenchPath& path, const OpenScene& sc, const Camera& camera,
+                                             Effect effect, int w, int h, int samples) const {
+    const std::string self = selfExecutable();
+    if (self.empty()) throw MrrError("bench --cold: cannot find this executable (/proc/self/exe)");
+    const std::string dir = (std::filesystem::temp_directory_path() / ("mrr-cold-" + std::to_string(getpid()))).string();
+    std::filesystem::create_directories(dir);
+    auto vec = [](const glm::vec3& v) { return fixed(v.x, 6) + "," + fixed(v.y, 6) + "," + fixed(v.z, 6); };
+    std::map<std::string, std::vector<double>> runs;
+    for (int i = 0; i < o_.coldRuns; ++i)
+      for (const std::string m : {"full", "mrr"}) {
+        const std::string report = dir + "/report.json";
+        std::vector<std::string> args = {self, "render", "--scene", sc.name, "--path", path.name, "--size", sizeName(w, h),
+                                         "--effect", toString(effect), "--samples", std::to_string(samples), "--mode", m,
+                                         "--eye", vec(camera.eye), "--target", vec(camera.target), "--up", vec(camera.up),
+                                         "--fov", fixed(camera.yfov * 180.0 / 3.14159265358979323846, 6),
+                                         "--report", report, "-q"};
+        if (path.name == "cpu" && o_.threads > 0) args.insert(args.end(), {"--threads", std::to_string(o_.threads)});
+        std::string why;
+        const int rc = runProcess(args, dir + "/log.txt", why);
+        if (rc != 0) throw MrrError("bench --cold: mrr render exited " + std::to_string(rc) + (why.empty() ? "" : ": " + why));
+        std::ifstream in(report);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        const nlohmann::json& t = j.at("timings_ms");
+        runs[m].push_back(t.at("total").get<double>() - t.value("gbuffer.L0", 0.0));
+      }
+    std::filesystem::remove_all(dir);
+    std::map<std::string, double> out;
+    for (const auto& [m, v] : runs) out[m] = median(v);
+    return out;
+  }
+
   const BenchOptions& o_;
   std::vector<BenchRecord>& records_;
 };

@@ -55,6 +55,9 @@ struct BenchOptions {
   // The stress scenes, each with every method and mrr without the never-slower rule.
   std::vector<std::string> stressScenes = {"builtin:bumpy", "builtin:wires", "builtin:alledges", "builtin:plane"};
   std::pair<int, int> stressSize = {1280, 720};
+  // Single frames as a user renders them: per main-sweep setting, this many fresh `mrr render`
+  // processes each of full and mrr, alternating (0: none), their medians beside the warm ones.
+  int coldRuns = 0;
   // Outputs.
   std::string jsonOut, csvOut, markdownOut, reportDir;
   bool check = false;  // exit 1 when a sanity check fails (full's error 0, ideal ≥ measured, …)

@@ -139,6 +139,19 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
           }
     out.push_back(t);
   }
+  // 1b. Single frames: fresh `mrr render` processes beside the warm bench (--cold).
+  {
+    Table t{"Single frames: a cold `mrr render` per frame against the warm bench (medians)",
+            {"path", "scene", "camera", "size", "effect", "method", "warm speedup", "cold speedup", "cold / warm",
+             "warm effect ms", "cold effect ms"},
+            {}};
+    for (const BenchRecord& r : select(rs, [](const BenchRecord& x) { return x.group == "main" && x.coldSpeedup > 0.0 && x.method != "full"; }))
+      t.rows.push_back({r.path, r.scene, std::to_string(r.camera), sizeName(r.width, r.height),
+                        r.effect + "-" + std::to_string(r.samples), r.method, fixed(r.measuredSpeedup, 2) + "x",
+                        fixed(r.coldSpeedup, 2) + "x", fixed(r.coldSpeedup / std::max(r.measuredSpeedup, 1e-9), 2),
+                        fixed(r.effectMs, 1), fixed(r.coldEffectMs, 1)});
+    if (!t.rows.empty()) out.push_back(t);
+  }
   // 2. Per scene (all cameras): where each method wins.
   {
     Table t{"Per scene (median over cameras)", {"path", "scene", "effect", "method", "measured", "ideal", "RMS", "SSIM"}, {}};
@@ -319,6 +332,7 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"shaded_pixels", r.shadedPixels}, {"ideal_speedup", r.idealSpeedup},
                     {"ideal_speedup_hit", r.idealSpeedupHit},
                     {"measured_speedup", r.measuredSpeedup}, {"fell_back_to_full", r.fellBack},
+                    {"cold_effect_ms", r.coldEffectMs}, {"cold_speedup", r.coldSpeedup},
                     {"rms", r.error.rms}, {"psnr", std::isfinite(r.error.psnr) ? nlohmann::json(r.error.psnr) : nlohmann::json(nullptr)},
                     {"ssim", r.error.ssim}, {"max_abs", r.error.maxAbs}, {"edge_band_rms", r.error.edgeBandRms},
                     {"shaded_rms", r.shadedRms}});
@@ -333,13 +347,14 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
 std::string benchCsv(const BenchResults& res) {
   std::ostringstream o;
   o << "path,scene,group,camera,method,effect,width,height,samples,effect_ms,total_ms,shaded_pixels,ideal_speedup,"
-       "ideal_speedup_hit,measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms\n";
+       "ideal_speedup_hit,measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms,cold_effect_ms,"
+       "cold_speedup\n";
   for (const BenchRecord& r : res.records)
     o << r.path << "," << r.scene << "," << r.group << "," << r.camera << "," << r.method << "," << r.effect << "," << r.width
       << "," << r.height << "," << r.samples << "," << r.effectMs << "," << r.totalMs << "," << r.shadedPixels << ","
       << r.idealSpeedup << "," << r.idealSpeedupHit << "," << r.measuredSpeedup << "," << (r.fellBack ? 1 : 0) << "," << r.error.rms << ","
       << (std::isfinite(r.error.psnr) ? std::to_string(r.error.psnr) : "inf") << "," << r.error.ssim << "," << r.error.maxAbs
-      << "," << r.error.edgeBandRms << "," << r.shadedRms << "\n";
+      << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "\n";
   return o.str();
 }
 

@@ -66,31 +66,31 @@ Measured measure(const RenderFn& render, const Camera& camera, const Constants& 
   return m;
 }
 
-// Least squares with non-negative coefficients for up to three unknowns: the normal equations
+// Least squares with non-negative coefficients (a handful of unknowns): the normal equations
 // solved on the columns still free, a negative coefficient fixed at 0 and the rest refitted.
 struct LeastSquares {
-  std::vector<std::array<double, 3>> rows;
+  std::vector<std::vector<double>> rows;
   std::vector<double> y;
-  void add(const std::array<double, 3>& row, double value) {
-    rows.push_back(row);
+  void add(std::vector<double> row, double value) {
+    rows.push_back(std::move(row));
     y.push_back(value);
   }
-  std::array<double, 3> solve(int unknowns) const {
-    std::array<bool, 3> free{};
-    for (int i = 0; i < unknowns; ++i) free[static_cast<size_t>(i)] = true;
-    std::array<double, 3> x{};
-    for (int round = 0; round < 3; ++round) {
-      std::vector<int> cols;
-      for (int i = 0; i < 3; ++i)
-        if (free[static_cast<size_t>(i)]) cols.push_back(i);
+  std::vector<double> solve() const {
+    const size_t unknowns = rows.empty() ? 0 : rows.front().size();
+    std::vector<bool> free(unknowns, true);
+    std::vector<double> x(unknowns, 0.0);
+    for (size_t round = 0; round <= unknowns; ++round) {
+      std::vector<size_t> cols;
+      for (size_t i = 0; i < unknowns; ++i)
+        if (free[i]) cols.push_back(i);
       const size_t n = cols.size();
-      x = {};
+      std::fill(x.begin(), x.end(), 0.0);
       if (n == 0) return x;
       std::vector<std::vector<double>> a(n, std::vector<double>(n + 1, 0.0));
       for (size_t r = 0; r < rows.size(); ++r)
         for (size_t i = 0; i < n; ++i) {
-          for (size_t j = 0; j < n; ++j) a[i][j] += rows[r][static_cast<size_t>(cols[i])] * rows[r][static_cast<size_t>(cols[j])];
-          a[i][n] += rows[r][static_cast<size_t>(cols[i])] * y[r];
+          for (size_t j = 0; j < n; ++j) a[i][j] += rows[r][cols[i]] * rows[r][cols[j]];
+          a[i][n] += rows[r][cols[i]] * y[r];
         }
       for (size_t i = 0; i < n; ++i) {  // Gauss-Jordan with partial pivoting
         size_t pivot = i;
@@ -107,9 +107,9 @@ struct LeastSquares {
       bool negative = false;
       for (size_t i = 0; i < n; ++i) {
         const double v = std::abs(a[i][i]) < 1e-300 ? 0.0 : a[i][n] / a[i][i];
-        x[static_cast<size_t>(cols[i])] = v;
+        x[cols[i]] = v;
         if (v < 0.0) {
-          free[static_cast<size_t>(cols[i])] = false;
+          free[cols[i]] = false;
           negative = true;
         }
       }
@@ -152,7 +152,14 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   const double pixels = static_cast<double>(w) * h;
   CostModel model;
   model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 640x360";
-  std::array<LeastSquares, 3> fullFit;       // per effect: H, H·N, W·H − H → a, b, c
+  // Per effect, full frames: H, H·N (, H_s·N) and W·H − H against the shading time. c comes
+  // from the frames nearly all background (the sky), where nothing else is paid; a, b (, e) by
+  // least squares on the rest with c fixed (fitted together, c traded off against a).
+  struct FullRun {
+    std::vector<double> onGeometry;  // H, H·N (, H_s·N)
+    double background, ns;
+  };
+  std::array<std::vector<FullRun>, 3> fullRuns;
   std::array<std::vector<double>, 3> perLevel;  // per effect: d
   struct MrrRun {
     Effect effect;
@@ -177,7 +184,9 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         const double hit = static_cast<double>(n.hitPixels);
         for (int samples : {n1, n2}) {
           const Measured full = measure(sc.render, view.camera, makeConstants(settingsFor("full", e, w, h, samples), diagonal), repeats);
-          fullFit[ei].add({hit, hit * samples, pixels - hit}, shadingMs(full.ms) * 1e6);
+          std::vector<double> row = {hit, hit * samples};
+          if (e == Effect::Ssm) row.push_back(static_cast<double>(n.shadowedPixels) * samples);
+          fullRuns[ei].push_back({row, pixels - hit, shadingMs(full.ms) * 1e6});
           perLevel[ei].push_back(levelPixelMs(full.ms) * 1e6 / pixels);
         }
         mrrRuns.push_back({e, n2, n, shadingMs(mrr.ms)});
@@ -198,10 +207,20 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
     const auto ei = static_cast<size_t>(e);
     EffectCost& ec = model.effect[ei];
-    const std::array<double, 3> abc = fullFit[ei].solve(3);
-    ec.nsPerShadedPixel = abc[0];
-    ec.nsPerSample = abc[1];
-    ec.nsPerBackgroundPixel = abc[2];
+    double skyNs = 0.0, skyPixels = 0.0;
+    for (const FullRun& r : fullRuns[ei])
+      if (r.onGeometry[0] < 0.05 * pixels) {
+        skyNs += r.ns;
+        skyPixels += r.background;
+      }
+    ec.nsPerBackgroundPixel = skyPixels > 0.0 ? skyNs / skyPixels : 0.0;
+    LeastSquares fit;
+    for (const FullRun& r : fullRuns[ei])
+      if (r.onGeometry[0] >= 0.05 * pixels) fit.add(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel);
+    const std::vector<double> ab = fit.solve();
+    ec.nsPerShadedPixel = ab.size() > 0 ? ab[0] : 0.0;
+    ec.nsPerSample = ab.size() > 1 ? ab[1] : 0.0;
+    ec.nsPerShadowedSample = ab.size() > 2 ? ab[2] : 0.0;
     ec.nsPerLevelPixel = median(perLevel[ei]);
     // s: the method's shading on geometry against full's per pixel, least squares through 0.
     double xy = 0.0, xx = 0.0;
@@ -209,13 +228,14 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
       if (r.effect != e) continue;
       const double onGeometry = sumOf(r.counts.shadedHit);
       const double off = sumOf(r.counts.shaded) - onGeometry;
-      const double x = onGeometry * (ec.nsPerShadedPixel + ec.nsPerSample * r.samples);
+      const double x = onGeometry * (ec.nsPerShadedPixel + ec.nsPerSample * r.samples) +
+                       sumOf(r.counts.shadedShadowed) * ec.nsPerShadowedSample * r.samples;
       xy += x * (r.shadingMs * 1e6 - off * ec.nsPerBackgroundPixel);
       xx += x * x;
     }
     ec.sparseFactor = xx > 0.0 ? std::max(1.0, xy / xx) : 1.0;
   }
-  const std::array<double, 3> ght = gbufferFit.solve(3);
+  const std::vector<double> ght = gbufferFit.solve();
   model.nsPerCoarseGbufferPixel = ght[0];
   model.nsPerCoarseGbufferHit = ght[1];
   model.nsPerTrianglePerLevel = ght[2];

@@ -217,7 +217,7 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
 // SPEC §11's formulas on hand-made counts (level sizes of a 64×32 frame: 2048, 512, 128, 32).
 TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   CostModel m;
-  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 1.5};  // a, b, d, c, s
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
   m.nsPerCoarseGbufferPixel = 3.0;
   m.nsPerCoarseGbufferHit = 4.0;
   m.nsPerTrianglePerLevel = 0.0;
@@ -263,7 +263,8 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
     masks[static_cast<size_t>(l)].stencil = ImageU8(lc.width, lc.height, 1, 1);  // every pixel
   }
   FrameCounts n;
-  countForRule(n, masks, c, hit);
+  countForRule(n, masks, c, hit, ImageU8());
+  EXPECT_EQ(n.shadowedPixels, 0) << "no shadow test: no shadowed pixels";
   EXPECT_EQ(n.hitPixels, 20 * 32);
   EXPECT_EQ(n.shaded[0], 64 * 32);
   EXPECT_EQ(n.shadedHit[0], 20 * 32);
@@ -271,6 +272,16 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[1], 10 * 16);
   // Level 3: 8x + 4 < 20, x ≤ 1: 2 of 8 per row, 4 rows.
   EXPECT_EQ(n.shadedHit[3], 2 * 4);
+  // SSM's one-tap test: the top 16 rows in shadow. Shadowed counts only pixels on geometry.
+  ImageU8 lit(64, 32, 1, 1);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 64; ++x) lit.at(x, y) = 0;
+  countForRule(n, masks, c, hit, lit);
+  EXPECT_EQ(n.shadowedPixels, 20 * 16);
+  EXPECT_EQ(n.shadedShadowed[0], 20 * 16);
+  EXPECT_EQ(n.shadedShadowed[1], 10 * 8);  // rows 2y + 1 < 16
+  EXPECT_EQ(n.shadedShadowed[3], 2 * 2);   // rows 8y + 4 < 16
+  EXPECT_EQ(n.shadedHit[1], 10 * 16) << "unchanged";
 }
 
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {

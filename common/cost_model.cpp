@@ -32,14 +32,17 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
   // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s}.
   if (path == "gpu") {
+    // gpu: the mean of two runs (--repeats 3) of the GPU-resident port on llvmpipe (2026-11-24).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{161.7, 3.30, 0.0, 10.0, 0.0, 1.52}, EffectCost{272.3, 1.39, 0.0, 10.0, 0.0, 1.55},
-                EffectCost{29.2, 4.10, 21.2, 10.0, 0.0, 1.61}};
-    m.nsPerCoarseGbufferPixel = 46.4;
-    m.nsPerTrianglePerLevel = 20.0;
-    m.nsPerBlendPixel = 27.9;
-    m.nsPerEdgePixel = 10.0;
-    m.nsPerMaskPixel = 10.0;
+    m.effect = {EffectCost{257.1, 6.02, 0.0, 37.2, 0.0, 1.09},
+                EffectCost{188.7, 0.51, 0.0, 42.6, 0.0, 2.27},
+                EffectCost{51.2, 8.78, 19.2, 24.6, 0.0, 1.00}};
+    m.nsPerCoarseGbufferPixel = 0.0;
+    m.nsPerCoarseGbufferHit = 76.8;
+    m.nsPerTrianglePerLevel = 93.13;
+    m.nsPerBlendPixel = 25.3;
+    m.nsPerEdgePixel = 22.7;
+    m.nsPerMaskPixel = 20.6;
   } else {
     // cpu: the mean of two runs (--repeats 5), which agreed within 10% (2026-11-24).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";

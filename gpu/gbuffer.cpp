@@ -152,6 +152,19 @@ ImageF Framebuffer::read(int i, int channels) const {
   return out;
 }
 
+ImageF Framebuffer::readChannel(int i, int channel) const {
+  require(layoutOf(formats_[static_cast<size_t>(i)]).type == GL_FLOAT && channel >= 0 && channel < 3,
+          "gpu: readChannel needs a float target and channel 0, 1 or 2");
+  const GLenum formats[3] = {GL_RED, GL_GREEN, GL_BLUE};
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  ImageF out = ImageF::uninitialised(width_, height_, 1);
+  glReadPixels(0, 0, width_, height_, formats[channel], GL_FLOAT, out.data.data());
+  checkGl("readback");
+  return out;
+}
+
 ImageU8 Framebuffer::readBytes(int i) const {
   require(formats_[static_cast<size_t>(i)] == Texel::R8, "gpu: readBytes needs an R8 target");
   ImageU8 out(width_, height_);

@@ -98,9 +98,11 @@ class PortFrame final : public FrameBackend {
   const ImageU8& fullResHit(const FrameResult& f) override {
     if (!f.levels[0].gbuffer.hit.empty() || !gbuffers_[0]) return f.levels[0].gbuffer.hit;
     if (hit_.empty()) {  // read once a frame: the rule's counts, then idealSpeedupHit
-      const ImageF positionHit = gbuffers_[0]->read(0);  // hit in w
-      hit_ = ImageU8::uninitialised(positionHit.width, positionHit.height);
-      for (size_t i = 0; i < hit_.data.size(); ++i) hit_.data[i] = positionHit.data[4 * i + 3] > 0.5f ? 1 : 0;
+      // The view-space z alone (a quarter of the texels' bytes): < 0 on geometry, in front of the
+      // camera, and 0 where the target was cleared (background), as hit in w.
+      const ImageF z = gbuffers_[0]->readChannel(0, 2);
+      hit_ = ImageU8::uninitialised(z.width, z.height);
+      for (size_t i = 0; i < hit_.data.size(); ++i) hit_.data[i] = z.data[i] < 0.0f ? 1 : 0;
     }
     return hit_;
   }

@@ -47,7 +47,9 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
   f.counts.triangles = b.sceneTriangles();
   const ImageU8 noLit;
-  const auto lit = [&]() -> const ImageU8& { return c.effect == Effect::Ssm ? b.fullResLit(f) : noLit; };
+  // SSM's one-tap test, where the model prices shadowed pixels (e > 0; the port reads it back)
+  const bool readsLit = c.effect == Effect::Ssm && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerShadowedSample > 0.0;
+  const auto lit = [&]() -> const ImageU8& { return readsLit ? b.fullResLit(f) : noLit; };
   bool fellBackEarly = false;
   if (c.mode == Mode::Mrr && c.neverSlower) {
     countHits(f.counts, b.fullResHit(f), lit(), c);

@@ -16,6 +16,7 @@ namespace {
 constexpr size_t kHugePage = size_t{2} << 20;
 std::atomic<size_t> gRawBytes{0};
 
+#ifndef MRR_SANITIZED  // the sanitizers' builds take images from malloc
 // The reserved region (PixelReservation): raw requests are cut from its front while it lasts.
 std::atomic<uintptr_t> gReservedNext{0};
 uintptr_t gReservedEnd = 0;
@@ -33,7 +34,6 @@ void* mapHugeAligned(size_t bytes) {
   return reinterpret_cast<void*>(aligned);
 }
 
-#ifndef MRR_SANITIZED
 // The pool's raw memory: whole 2 MiB pages, 2 MiB-aligned, advised as huge pages (a hint,
 // ignored where THP is off). Mapped with room to align, the ends trimmed.
 void* rawAlloc(intptr_t /*pool*/, size_t& bytes) {

@@ -175,9 +175,10 @@ void FrameResult::countHitPixels(const ImageU8& hit) {
   FrameCounts n;
   countStencils(n, {&levels[0].masks.stencil, &levels[1].masks.stencil, &levels[2].masks.stencil, &levels[3].masks.stencil},
                 constants, hit, ImageU8());
-  int64_t shaded = 0;
-  for (int64_t v : n.shadedHit) shaded += v;
-  idealSpeedupHit = static_cast<double>(std::max<int64_t>(n.hitPixels, 1)) / static_cast<double>(std::max<int64_t>(shaded, 1));
+  int64_t shadedOnGeometry = 0;
+  for (int64_t v : n.shadedHit) shadedOnGeometry += v;
+  idealSpeedupHit =
+      static_cast<double>(std::max<int64_t>(n.hitPixels, 1)) / static_cast<double>(std::max<int64_t>(shadedOnGeometry, 1));
 }
 
 std::array<LevelImages, kLevelCount> FrameResult::blendInputs() const {

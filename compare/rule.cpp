@@ -170,7 +170,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   std::vector<MrrRun> mrrRuns;
   LeastSquares gbufferFit;  // P_ℓ, P_ℓ·share, T → g, h, t
   std::vector<double> blend, edges, masks;
-  for (const std::string& sceneName : {"builtin:demo", "builtin:bumpy"}) {
+  for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
     const float diagonal = sc.scene->bounds().diagonal();
     for (const RuleView& view : ruleViews(*sc.scene, sc.camera, static_cast<float>(w) / h)) {
@@ -373,7 +373,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                 "| frames | right (faster within 5%%) | kept mrr | fell back | worst mrr/full where kept | worst full/mrr "
                 "where fallen back | worst with-rule/full |\n|---|---|---|---|---|---|---|\n| %zu | %d (%.1f%%) | %d | %d | "
                 "%.3f | %.3f | %.3f |\n",
-                frames.size(), right, 100.0 * right / std::max<size_t>(frames.size(), 1), kept, fell, worstKept, worstFell,
+                frames.size(), right, 100.0 * right / static_cast<double>(std::max<size_t>(frames.size(), 1)), kept, fell, worstKept, worstFell,
                 worstRule);
   out << line;
   return 0;

@@ -601,7 +601,7 @@ int run(int argc, char** argv) {
                          static_cast<size_t>(threadCount(fo.threads)));
   const ProgressFn progress = progressPrinter(fo.quiet, toString(settings.mode));
   // The frame's pages are faulted in on a spare core while the scene loads (common/pixel_memory.h).
-  PixelReservation pages(static_cast<size_t>(memoryEstimate) / 4 * 5);  // the estimate is a little short
+  PixelReservation pages(static_cast<size_t>(memoryEstimate));
   if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   if (!fo.quiet) std::cerr << "[mrr] " << rs.scene.triangleCount() << " triangles; building BVH\n";

@@ -51,8 +51,8 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   const bool readsLit = c.effect == Effect::Ssm && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerShadowedSample > 0.0;
   const auto lit = [&]() -> const ImageU8& { return readsLit ? b.fullResLit(f) : noLit; };
   bool fellBackEarly = false;
+  if (c.mode == Mode::Mrr) countHits(f.counts, b.fullResHit(f), lit(), c);  // H, H_s: once
   if (c.mode == Mode::Mrr && c.neverSlower) {
-    countHits(f.counts, b.fullResHit(f), lit(), c);
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {
       f.fallback = early;

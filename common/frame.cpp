@@ -142,9 +142,9 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& lit, const Con
 }
 
 namespace {
+// |S_ℓ|, |S_ℓ ∩ hit| and |S_ℓ ∩ hit ∩ shadowed| per shaded level (H and H_s are countHits').
 void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>& stencils, const Constants& c,
                    const ImageU8& hit, const ImageU8& lit) {
-  countHits(n, hit, lit, c);
   for (int l = 0; l < kLevelCount; ++l) {
     const auto i = static_cast<size_t>(l);
     n.shaded[i] = n.shadedHit[i] = n.shadedShadowed[i] = 0;
@@ -173,6 +173,7 @@ void countForRule(FrameCounts& n, const Masks& masks, const Constants& c, const 
 void FrameResult::countHitPixels(const ImageU8& hit) {
   if (hit.empty()) return;
   FrameCounts n;
+  countHits(n, hit, ImageU8(), constants);
   countStencils(n, {&levels[0].masks.stencil, &levels[1].masks.stencil, &levels[2].masks.stencil, &levels[3].masks.stencil},
                 constants, hit, ImageU8());
   int64_t shadedOnGeometry = 0;

@@ -188,8 +188,9 @@ void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model);
 // SPEC §11's counts for the frame's stencils: |S_ℓ| and |S_ℓ ∩ hit| per shaded level, from the
 // full-res hit flags (a level-ℓ pixel (x, y) is on geometry when full-res pixel (x·s + s/2,
 // y·s + s/2) is, clamped to the image: levelPixelHit), into f.counts.
-// With `fullResLit` (SSM's one-tap shadow test; empty for the other effects) also H_s and
-// |S_ℓ ∩ hit ∩ shadowed|, a level pixel shadowed where its full-res pixel is.
+// With `fullResLit` (SSM's one-tap shadow test; empty for the other effects) also
+// |S_ℓ ∩ hit ∩ shadowed|, a level pixel shadowed where its full-res pixel is. H and H_s are
+// countHits' (the frame counts them once, before its early decision).
 void countForRule(FrameCounts& counts, const Masks& masks, const Constants& constants, const ImageU8& fullResHit,
                   const ImageU8& fullResLit);
 // H (and with `fullResLit`, H_s): the full-res pixels on geometry (and of those, in shadow).

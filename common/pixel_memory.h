@@ -23,9 +23,9 @@ void* allocatePixels(size_t bytes);            // throws std::bad_alloc
 void freePixels(void* p, size_t bytes) noexcept;
 
 // A frame's pages, faulted in ahead on a spare core (issue 18: "touch pages once"). Maps
-// `bytes` for the pool, huge-page advised, and populates them on a thread of its own
-// (MADV_POPULATE_WRITE: mapped and zeroed, contents untouched, so the pool may already hand
-// them out) while the caller loads its scene; the pool's raw requests are served from it
+// `bytes` (the frame's estimate; the pool's headroom is added here) for the pool, huge-page
+// advised, and populates them on a thread of its own (MADV_POPULATE_WRITE: mapped and zeroed,
+// contents untouched, so the pool may already hand them out) while the caller loads its scene; the pool's raw requests are served from it
 // first. wait() joins the thread; the destructor too. Without MADV_POPULATE_WRITE (Linux <
 // 5.14) the region is simply the pool's first memory.
 class PixelReservation {

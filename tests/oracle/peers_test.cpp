@@ -263,6 +263,7 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
     masks[static_cast<size_t>(l)].stencil = ImageU8(lc.width, lc.height, 1, 1);  // every pixel
   }
   FrameCounts n;
+  countHits(n, hit, ImageU8(), c);
   countForRule(n, masks, c, hit, ImageU8());
   EXPECT_EQ(n.shadowedPixels, 0) << "no shadow test: no shadowed pixels";
   EXPECT_EQ(n.hitPixels, 20 * 32);
@@ -276,6 +277,7 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   ImageU8 lit(64, 32, 1, 1);
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 64; ++x) lit.at(x, y) = 0;
+  countHits(n, hit, lit, c);
   countForRule(n, masks, c, hit, lit);
   EXPECT_EQ(n.shadowedPixels, 20 * 16);
   EXPECT_EQ(n.shadedShadowed[0], 20 * 16);

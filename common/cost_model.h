@@ -31,13 +31,21 @@ struct EffectCost {
   double nsPerLevelPixel = 0.0;       // d: per pixel of every shaded level (SSAO's occluder
                                       //    planes, SSGI's direct light)
   double nsPerBackgroundPixel = 0.0;  // c: per shaded pixel off geometry (the effect's early out)
-  // e: more per sample where the one-tap shadow test finds the pixel in shadow (SSM: PCSS
-  // filters only where its blocker search finds blockers; a lit pixel pays the search alone).
-  double nsPerShadowedSample = 0.0;
+  // e: more per sample where the pixel pays PCF (SSM: PCSS filters only where its blocker
+  // search finds blockers; any other pixel pays the search alone, or less).
+  double nsPerPcfSample = 0.0;
   // s: a stencilled pixel of the method costs s × a pixel of a dense full frame. The pixels
   // the method shades finely sit at edges, where samples find occluders and branches
   // mispredict, and a sparse stencil is walked less efficiently: measured in mrr frames.
   double sparseFactor = 1.0;
+  // k: the method's frame beyond what it pays per pixel and per triangle, in ms whatever its
+  // size: the set-up of its extra passes (a draw call, a framebuffer switch and a drain of the
+  // rasteriser per pass on the port; a parallel loop's start on the oracle). It decides small
+  // frames on the port.
+  double fixedMs = 0.0;
+  // k₀: the same for a full frame's shading (its passes' set-up; on llvmpipe SSM's pass alone
+  // costs ~10 ms whatever its size).
+  double fullFixedMs = 0.0;
 };
 
 struct CostModel {
@@ -62,11 +70,12 @@ struct CostModel {
 struct FrameCounts {
   int64_t hitPixels = 0;  // H: level-0 pixels (W×H) on geometry
   int64_t triangles = 0;  // the scene's
-  int64_t shadowedPixels = 0;  // H_s: of those, in shadow by the one-tap test (SSM only; else 0)
+  // H_p: of those, paying PCF (SSM with e > 0; else 0), estimated from one pixel in 8×8
+  int64_t pcfPixels = 0;
   // |S_ℓ| and |S_ℓ ∩ hit| per level (a level-ℓ pixel on geometry when its full-res pixel
   // (x·s + s/2, y·s + s/2) is: levelPixelHits). Zero before the stencils are known.
   std::array<int64_t, kLevelCount> shaded{}, shadedHit{};
-  std::array<int64_t, kLevelCount> shadedShadowed{};  // |S_ℓ ∩ hit ∩ shadowed| (SSM)
+  std::array<int64_t, kLevelCount> shadedPcf{};  // |S_ℓ ∩ hit ∩ pcf| (SSM)
 };
 
 // What the rule decided for one frame (the report's `never_slower`).
@@ -79,14 +88,15 @@ struct FallbackDecision {
   std::string costModel;         // CostModel::source
 };
 
-// SPEC §11, in ms. Full's rest: H (a + b N) + H_s e N + (W·H − H) c + P_0 d.
+// SPEC §11, in ms. Full's rest: H (a + b N) + H_p e N + (W·H − H) c + P_0 d + k₀.
 double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ hit| (a + b N) +
-// |S_ℓ ∩ shadowed| e N) s + |S_ℓ \ hit| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β.
+// |S_ℓ ∩ hit ∩ pcf| e N) s + |S_ℓ \ hit| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β
+// + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The least the method can still pay before its edges: P_0 (ε + μ) + the coarse G-buffers and
 // the blend as above + every pixel of the coarsest enabled level shaded, on geometry in
-// proportion to H.
+// proportion to H, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
 // The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted

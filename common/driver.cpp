@@ -46,12 +46,12 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
   f.counts.triangles = b.sceneTriangles();
-  const ImageU8 noLit;
-  // SSM's one-tap test, where the model prices shadowed pixels (e > 0; the port reads it back)
-  const bool readsLit = c.effect == Effect::Ssm && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerShadowedSample > 0.0;
-  const auto lit = [&]() -> const ImageU8& { return readsLit ? b.fullResLit(f) : noLit; };
+  // SSM: where PCF is paid, asked of one pixel in 8×8, when the model prices it (e > 0)
+  if (c.mode == Mode::Mrr && c.effect == Effect::Ssm &&
+      model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
+    b.samplePcf(f);
   bool fellBackEarly = false;
-  if (c.mode == Mode::Mrr) countHits(f.counts, b.fullResHit(f), lit(), c);  // H, H_s: once
+  if (c.mode == Mode::Mrr) countHits(f.counts, b.fullResHit(f), f.pcfSample, c);  // H, H_p: once
   if (c.mode == Mode::Mrr && c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {
@@ -75,7 +75,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
   if (c.mode == Mode::Mrr && !fellBackEarly) {
-    countForRule(f.counts, masks, c, b.fullResHit(f), lit());
+    countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample);
     applyNeverSlower(f, masks, model);
   }
   b.useMasks(f, masks, stage);

@@ -131,43 +131,44 @@ void FrameResult::countShadedPixels() {
   blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
-void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& lit, const Constants& c) {
-  n.hitPixels = n.shadowedPixels = 0;
+void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c) {
+  n.hitPixels = n.pcfPixels = 0;
   for (int y = 0; y < std::min(c.height, hit.height); ++y)
     for (int x = 0; x < std::min(c.width, hit.width); ++x)
       if (hit.at(x, y)) {
         ++n.hitPixels;
-        n.shadowedPixels += !lit.empty() && !lit.at(x, y);
+        n.pcfPixels += pcfSampleAt(pcf, x, y);
       }
 }
 
 namespace {
-// |S_ℓ|, |S_ℓ ∩ hit| and |S_ℓ ∩ hit ∩ shadowed| per shaded level (H and H_s are countHits').
+// |S_ℓ|, |S_ℓ ∩ hit| and |S_ℓ ∩ hit ∩ pcf| per shaded level (H and H_p are countHits').
 void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>& stencils, const Constants& c,
-                   const ImageU8& hit, const ImageU8& lit) {
+                   const ImageU8& hit, const ImageU8& pcf) {
   for (int l = 0; l < kLevelCount; ++l) {
     const auto i = static_cast<size_t>(l);
-    n.shaded[i] = n.shadedHit[i] = n.shadedShadowed[i] = 0;
+    n.shaded[i] = n.shadedHit[i] = n.shadedPcf[i] = 0;
     if (!c.levels[i].enabled || !c.levels[i].shaded) continue;
     const ImageU8& s = *stencils[i];
-    int64_t shaded = 0, onGeometry = 0, shadowed = 0;
+    const int scale = 1 << l;
+    int64_t shaded = 0, onGeometry = 0, paysPcf = 0;
     for (int y = 0; y < s.height; ++y)
       for (int x = 0; x < s.width; ++x)
         if (s.at(x, y)) {
           ++shaded;
-          if (!levelPixelHit(hit, x, y, 1 << l)) continue;
+          if (!levelPixelHit(hit, x, y, scale)) continue;
           ++onGeometry;
-          shadowed += !lit.empty() && !levelPixelHit(lit, x, y, 1 << l);
+          paysPcf += pcfSampleAt(pcf, x * scale + scale / 2, y * scale + scale / 2);
         }
     n.shaded[i] = shaded;
     n.shadedHit[i] = onGeometry;
-    n.shadedShadowed[i] = shadowed;
+    n.shadedPcf[i] = paysPcf;
   }
 }
 }  // namespace
 
-void countForRule(FrameCounts& n, const Masks& masks, const Constants& c, const ImageU8& hit, const ImageU8& lit) {
-  countStencils(n, {&masks[0].stencil, &masks[1].stencil, &masks[2].stencil, &masks[3].stencil}, c, hit, lit);
+void countForRule(FrameCounts& n, const Masks& masks, const Constants& c, const ImageU8& hit, const ImageU8& pcf) {
+  countStencils(n, {&masks[0].stencil, &masks[1].stencil, &masks[2].stencil, &masks[3].stencil}, c, hit, pcf);
 }
 
 void FrameResult::countHitPixels(const ImageU8& hit) {

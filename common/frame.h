@@ -138,6 +138,7 @@ struct FrameResult {
   DirectionalLight light;  // the scene's light, as rendered
   ShadowMap shadowMap;     // SSM and SSGI
   ImageU8 shadowLit;       // the one-tap shadow test on the full-res grid (SSM, SSGI)
+  ImageU8 pcfSample;       // SSM with the rule: which pixels of the 8×8 grid pay PCF (SPEC §11)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
@@ -188,13 +189,19 @@ void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model);
 // SPEC §11's counts for the frame's stencils: |S_ℓ| and |S_ℓ ∩ hit| per shaded level, from the
 // full-res hit flags (a level-ℓ pixel (x, y) is on geometry when full-res pixel (x·s + s/2,
 // y·s + s/2) is, clamped to the image: levelPixelHit), into f.counts.
-// With `fullResLit` (SSM's one-tap shadow test; empty for the other effects) also
-// |S_ℓ ∩ hit ∩ shadowed|, a level pixel shadowed where its full-res pixel is. H and H_s are
-// countHits' (the frame counts them once, before its early decision).
+// With `pcfSample` (SSM: which pixels of the kPcfSampleStep grid pay PCF, pcfSample in
+// cpu_ref/ssm.h; empty otherwise) also |S_ℓ ∩ hit ∩ pcf|, a full-res pixel paying PCF where
+// the sample of its kPcfSampleStep² block does. H and H_p are countHits' (the frame counts them
+// once, before its early decision).
 void countForRule(FrameCounts& counts, const Masks& masks, const Constants& constants, const ImageU8& fullResHit,
-                  const ImageU8& fullResLit);
-// H (and with `fullResLit`, H_s): the full-res pixels on geometry (and of those, in shadow).
-void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& fullResLit, const Constants& constants);
+                  const ImageU8& pcfSample);
+// H (and with `pcfSample`, H_p): the full-res pixels on geometry (and of those, paying PCF).
+void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants);
+constexpr int kPcfSampleStep = 8;  // one pixel in 8×8 asked whether it pays PCF (SPEC §11)
+inline bool pcfSampleAt(const ImageU8& pcfSample, int x, int y) {
+  return !pcfSample.empty() && pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),
+                                            std::min(y / kPcfSampleStep, pcfSample.height - 1)) != 0;
+}
 inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
   return fullResHit.at(std::min(x * scale + scale / 2, fullResHit.width - 1),
                        std::min(y * scale + scale / 2, fullResHit.height - 1)) != 0;

@@ -234,16 +234,20 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"indirect", "vec4 -> RGBA32F", "the indirect light, rgb", 0, "default"}},
        "cpu_ref/ssgi.cpp directLight and renderSsgi: N hemisphere samples, each projected pixel a sender patch of "
        "area pi R^2 / N. Drawn with the stencil test."},
-      {"ssm.frag", "fragment", "ssm", "none (includes shadowmap.glsl: the shadow map and its uniforms)",
+      {"ssm.frag", "fragment", "ssm, pcfsample",
+       "PCF_SAMPLE: the never-slower rule's sample (SPEC 11), on a ceil(W/8) x ceil(H/8) target over the level-0 "
+       "G-buffer, fragment (x, y) asking pixel (8x + 4, 8y + 4) (includes shadowmap.glsl: the shadow map and its "
+       "uniforms)",
        {kPositionHit, kNormalDepth},
        {{"tanHalfAngle", "float", "tan(theta/2) of the light's angular diameter theta (--light-angle, radians)"},
         {"blockerGrid", "int", "blocker-search taps per side"},
         {"grid", "int", "PCF taps per side n (N = n^2 = --samples)"},
         {"blockerFactors", "float[16]", "tap i of the blocker grid sits at factor_i h (cpu_ref/ssm.h gridTapFactor)"},
         {"pcfFactors", "float[32]", "tap i of the PCF grid sits at factor_i h"}},
-       {{"visibility", "vec4 -> R32F", "V in [0, 1] in r (1 = lit)", 0}},
+       {{"visibility", "vec4 -> R32F", "V in [0, 1] in r (1 = lit); PCF_SAMPLE: 1 where the blocker search finds a "
+         "blocker (PCF runs), else 0 (R8)", 0}},
        "cpu_ref/ssm.cpp ssmAt: PCSS (Fernando 2005), a blocker search then an n x n PCF over the filter width. Drawn "
-       "with the stencil test."},
+       "with the stencil test. PCF_SAMPLE: cpu_ref/ssm.cpp pcfSample."},
       {"stencil.frag", "fragment", "stencil", "", {kStencilMask}, {}, {},
        "none: fills the stencil buffer from S_l (discard where S = 0); the effect passes then run with the stencil test."},
   };

@@ -44,8 +44,13 @@ double restMs(const std::map<std::string, double>& ms) {
   for (const char* s : {"gbuffer.L0", "shadowmap", "shadowtest", "edges", "masks", "shade"}) paid += stage(ms, s);
   return stage(ms, "total") - paid;
 }
-// The frame less the full-res G-buffer every mode pays (the bench's effect time).
-double frameMs(const std::map<std::string, double>& ms) { return stage(ms, "total") - stage(ms, "gbuffer.L0"); }
+// The frame less what every mode pays alike, before the rule decides anything: the full-res
+// G-buffer, and for SSM and SSGI the shadow map and its one-tap test (the same work on the same
+// inputs in both modes; SSM's 2048² map is 30 ms of a 40 ms small frame, and its run-to-run
+// noise would decide which mode looks faster).
+double frameMs(const std::map<std::string, double>& ms) {
+  return stage(ms, "total") - stage(ms, "gbuffer.L0") - stage(ms, "shadowmap") - stage(ms, "shadowtest");
+}
 
 struct Measured {
   std::map<std::string, double> ms;  // medians per stage
@@ -152,24 +157,24 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   const double pixels = static_cast<double>(w) * h;
   CostModel model;
   model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 640x360";
-  // Per effect, full frames: H, H·N (, H_s·N) and W·H − H against the shading time. c comes
-  // from the frames nearly all background (the sky), where nothing else is paid; a, b (, e) by
-  // least squares on the rest with c fixed (fitted together, c traded off against a).
+  // Per effect, full frames: H, H·N (, H_p·N), W·H − H and 1 against the shading time. c and
+  // k₀ come from the frames nearly all background (the sky), where nothing else is paid; a, b
+  // (, e) by least squares on the rest with those fixed (fitted together, c traded off against a).
   struct FullRun {
-    std::vector<double> onGeometry;  // H, H·N (, H_s·N)
-    double background, ns;
+    std::vector<double> onGeometry;  // H, H·N (, H_p·N)
+    double pixels, background, ns;   // W·H, W·H − H, the shading's time
   };
   std::array<std::vector<FullRun>, 3> fullRuns;
   std::array<std::vector<double>, 3> perLevel;  // per effect: d
-  struct MrrRun {
+  struct MrrRun {  // at 640×360 and at 320×180, to tell s (per pixel) from k (per frame)
     Effect effect;
-    int samples;
+    Constants constants;
     FrameCounts counts;
-    double shadingMs;
+    double restMs;
   };
   std::vector<MrrRun> mrrRuns;
   LeastSquares gbufferFit;  // P_ℓ, P_ℓ·share, T → g, h, t
-  std::vector<double> blend, edges, masks;
+  std::vector<double> blend, fullBlend, edges, masks;
   for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
     const float diagonal = sc.scene->bounds().diagonal();
@@ -182,14 +187,27 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         Measured mrr = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n2), diagonal), repeats);
         const FrameCounts& n = mrr.last.counts;
         const double hit = static_cast<double>(n.hitPixels);
-        for (int samples : {n1, n2}) {
-          const Measured full = measure(sc.render, view.camera, makeConstants(settingsFor("full", e, w, h, samples), diagonal), repeats);
-          std::vector<double> row = {hit, hit * samples};
-          if (e == Effect::Ssm) row.push_back(static_cast<double>(n.shadowedPixels) * samples);
-          fullRuns[ei].push_back({row, pixels - hit, shadingMs(full.ms) * 1e6});
-          perLevel[ei].push_back(levelPixelMs(full.ms) * 1e6 / pixels);
+        const Measured small = measure(sc.render, view.camera,
+                                       makeConstants(settingsFor("mrr-norule", e, w / 2, h / 2, n2), diagonal), repeats);
+        // full at both sample counts, and at n2 at half the size: the sizes tell k₀ (per frame)
+        // from the per-pixel costs.
+        struct FullConfig {
+          int width, height, samples;
+          const FrameCounts* counts;
+        };
+        for (const FullConfig& fc : {FullConfig{w, h, n1, &n}, FullConfig{w, h, n2, &n},
+                                     FullConfig{w / 2, h / 2, n2, &small.last.counts}}) {
+          const Measured full = measure(
+              sc.render, view.camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
+          const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->hitPixels);
+          std::vector<double> row = {onGeometry, onGeometry * fc.samples};
+          if (e == Effect::Ssm) row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
+          fullRuns[ei].push_back({row, p, p - onGeometry, shadingMs(full.ms) * 1e6});
+          perLevel[ei].push_back(levelPixelMs(full.ms) * 1e6 / p);
+          fullBlend.push_back(stage(full.ms, "blend") * 1e6 / p);
         }
-        mrrRuns.push_back({e, n2, n, shadingMs(mrr.ms)});
+        mrrRuns.push_back({e, mrr.last.constants, n, restMs(mrr.ms)});
+        mrrRuns.push_back({e, small.last.constants, small.last.counts, restMs(small.ms)});
         const Constants& c = mrr.last.constants;
         for (const LevelConstants& lc : c.levels)
           if (lc.enabled && lc.index > 0) {
@@ -207,41 +225,59 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
     const auto ei = static_cast<size_t>(e);
     EffectCost& ec = model.effect[ei];
-    double skyNs = 0.0, skyPixels = 0.0;
+    // c and k₀ from the frames nearly all sky (at both sizes), then a, b (, e) on the rest
+    LeastSquares sky;
     for (const FullRun& r : fullRuns[ei])
-      if (r.onGeometry[0] < 0.05 * pixels) {
-        skyNs += r.ns;
-        skyPixels += r.background;
-      }
-    ec.nsPerBackgroundPixel = skyPixels > 0.0 ? skyNs / skyPixels : 0.0;
+      if (r.onGeometry[0] < 0.05 * r.pixels) sky.add({r.background, 1e6}, r.ns);
+    const std::vector<double> ck = sky.solve();
+    ec.nsPerBackgroundPixel = ck.empty() ? 0.0 : ck[0];
+    ec.fullFixedMs = ck.size() > 1 ? ck[1] : 0.0;
     LeastSquares fit;
     for (const FullRun& r : fullRuns[ei])
-      if (r.onGeometry[0] >= 0.05 * pixels) fit.add(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel);
+      if (r.onGeometry[0] >= 0.05 * r.pixels)
+        fit.add(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel - ec.fullFixedMs * 1e6);
     const std::vector<double> ab = fit.solve();
     ec.nsPerShadedPixel = ab.size() > 0 ? ab[0] : 0.0;
     ec.nsPerSample = ab.size() > 1 ? ab[1] : 0.0;
-    ec.nsPerShadowedSample = ab.size() > 2 ? ab[2] : 0.0;
+    ec.nsPerPcfSample = ab.size() > 2 ? ab[2] : 0.0;
     ec.nsPerLevelPixel = median(perLevel[ei]);
-    // s: the method's shading on geometry against full's per pixel, least squares through 0.
-    double xy = 0.0, xx = 0.0;
-    for (const MrrRun& r : mrrRuns) {
-      if (r.effect != e) continue;
-      const double onGeometry = sumOf(r.counts.shadedHit);
-      const double off = sumOf(r.counts.shaded) - onGeometry;
-      const double x = onGeometry * (ec.nsPerShadedPixel + ec.nsPerSample * r.samples) +
-                       sumOf(r.counts.shadedShadowed) * ec.nsPerShadowedSample * r.samples;
-      xy += x * (r.shadingMs * 1e6 - off * ec.nsPerBackgroundPixel);
-      xx += x * x;
-    }
-    ec.sparseFactor = xx > 0.0 ? std::max(1.0, xy / xx) : 1.0;
   }
   const std::vector<double> ght = gbufferFit.solve();
   model.nsPerCoarseGbufferPixel = ght[0];
   model.nsPerCoarseGbufferHit = ght[1];
   model.nsPerTrianglePerLevel = ght[2];
-  model.nsPerBlendPixel = median(blend);
+  // β: the method's blend beyond the one full pays too (its level 0 copied into the result)
+  model.nsPerBlendPixel = std::max(0.0, median(blend) - median(fullBlend));
   model.nsPerEdgePixel = median(edges);
   model.nsPerMaskPixel = median(masks);
+  // s and k, per effect: the method's rest of frame = s × (its shading on geometry, priced as
+  // full's) + k + the rest as priced above, least squares over both sizes. The small frames
+  // tell the per-frame k (pass set-up) from the per-pixel s (a stencilled pixel's premium).
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+    EffectCost& ec = model.effect[static_cast<size_t>(e)];
+    LeastSquares fit;
+    std::vector<std::pair<double, double>> xy;  // (shading on geometry, the rest less the others), ms
+    for (const MrrRun& r : mrrRuns) {
+      if (r.effect != e) continue;
+      CostModel m = model;
+      m.effect[static_cast<size_t>(e)].fixedMs = 0.0;
+      m.effect[static_cast<size_t>(e)].sparseFactor = 0.0;
+      const double others = predictMrrMs(m, r.constants, r.counts);
+      m.effect[static_cast<size_t>(e)].sparseFactor = 1.0;
+      const double shading = predictMrrMs(m, r.constants, r.counts) - others;
+      fit.add({shading, 1.0}, r.restMs - others);
+      xy.emplace_back(shading, r.restMs - others);
+    }
+    const std::vector<double> sk = fit.solve();
+    ec.sparseFactor = sk.empty() ? 1.0 : sk[0];
+    ec.fixedMs = sk.size() > 1 ? sk[1] : 0.0;
+    if (ec.sparseFactor < 1.0) {  // a stencilled pixel costs no less than a dense one: k alone
+      ec.sparseFactor = 1.0;
+      double residual = 0.0;
+      for (const auto& [x, y] : xy) residual += y - x;
+      ec.fixedMs = xy.empty() ? 0.0 : std::max(0.0, residual / static_cast<double>(xy.size()));
+    }
+  }
   return model;
 }
 

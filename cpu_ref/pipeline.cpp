@@ -42,6 +42,9 @@ class OracleFrame final : public FrameBackend {
   void shadowMap(FrameResult& f) override {
     f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), f.constants.ssm.shadowMapSize);
   }
+  void samplePcf(FrameResult& f) override {
+    f.pcfSample = pcfSample(f.levels[0].gbuffer, f.shadowMap, f.view, f.constants.ssm);
+  }
   void shadowTest(FrameResult& f) override {
     f.shadowLit = shadowTestImage(f.levels[0].gbuffer, f.shadowMap, f.view, f.constants.ssm.biasTexels);
   }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "common/parallel.h"
 #include "cpu_ref/stencil.h"
 
 namespace mrr {
@@ -17,6 +18,38 @@ float gridOffset(int i, int n, float half) { return gridTapFactor(i, n) * half; 
 // parallel light): (d_receiver − d_blocker) · 2 tan(θ/2).
 float penumbraWidth(float receiverDepth, float blockerDepth, float tanHalfAngle) {
   return (receiverDepth - blockerDepth) * 2.0f * tanHalfAngle;
+}
+
+// Step 1 of ssmAt: the blocker search over a blockerGrid² grid spanning the widest penumbra a
+// blocker at the light plane could cast. Fills d's searchTexels, searchTaps and blockers;
+// returns the blockers' summed depth.
+float blockerSearch(const ShadowMap& map, const Receiver& r, const Constants::Ssm& ssm, SsmDetail& d) {
+  d.searchTexels = std::clamp(r.depth * ssm.tanHalfAngle / map.texel, 0.5f, kMaxSearchTexels);
+  float blockerSum = 0.0f;
+  for (int j = 0; j < ssm.blockerGrid; ++j)
+    for (int i = 0; i < ssm.blockerGrid; ++i) {
+      const float du = gridOffset(i, ssm.blockerGrid, d.searchTexels);
+      const float dv = gridOffset(j, ssm.blockerGrid, d.searchTexels);
+      const float b = map.depthAt(r.u + du, r.v + dv);
+      ++d.searchTaps;
+      if (b < receiverDepthAt(r, du, dv)) {
+        blockerSum += b;
+        ++d.blockers;
+      }
+    }
+  return blockerSum;
+}
+
+// Whether pixel (x, y) pays PCF: on geometry, facing the light, and its blocker search finds
+// a blocker (SsmDetail's pcfTaps > 0 without the PCF itself).
+bool paysPcf(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y) {
+  if (!g.hit.at(x, y)) return false;
+  const Receiver r = receiverAt(map, view.toWorld(g.positionAt(x, y)), view.directionToWorld(g.normalAt(x, y)),
+                                ssm.biasTexels);
+  if (!r.facesLight) return false;
+  SsmDetail d;
+  blockerSearch(map, r, ssm, d);
+  return d.blockers > 0;
 }
 }  // namespace
 
@@ -33,19 +66,7 @@ float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Cons
     return 0.0f;
   }
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
-  d.searchTexels = std::clamp(r.depth * ssm.tanHalfAngle / map.texel, 0.5f, kMaxSearchTexels);
-  float blockerSum = 0.0f;
-  for (int j = 0; j < ssm.blockerGrid; ++j)
-    for (int i = 0; i < ssm.blockerGrid; ++i) {
-      const float du = gridOffset(i, ssm.blockerGrid, d.searchTexels);
-      const float dv = gridOffset(j, ssm.blockerGrid, d.searchTexels);
-      const float b = map.depthAt(r.u + du, r.v + dv);
-      ++d.searchTaps;
-      if (b < receiverDepthAt(r, du, dv)) {
-        blockerSum += b;
-        ++d.blockers;
-      }
-    }
+  const float blockerSum = blockerSearch(map, r, ssm, d);
   if (d.blockers == 0) {  // nothing in front anywhere in the search region: fully lit
     if (detail) *detail = d;
     return 1.0f;
@@ -64,6 +85,18 @@ float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Cons
   d.pcfTaps = ssm.grid * ssm.grid;
   if (detail) *detail = d;
   return static_cast<float>(d.litTaps) / static_cast<float>(d.pcfTaps);
+}
+
+ImageU8 pcfSample(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm) {
+  const int w = (g.width + kPcfSampleStep - 1) / kPcfSampleStep, h = (g.height + kPcfSampleStep - 1) / kPcfSampleStep;
+  ImageU8 sample(w, h, 1, 0);
+  parallelFor(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < w; ++x)
+        sample.at(x, y) = paysPcf(g, map, view, ssm, std::min(x * kPcfSampleStep + kPcfSampleStep / 2, g.width - 1),
+                                  std::min(y * kPcfSampleStep + kPcfSampleStep / 2, g.height - 1));
+  });
+  return sample;
 }
 
 ImageF renderSsm(const GBuffer& g, const ShadowMap& map, const ImageU8& stencil, const View& view,

@@ -126,6 +126,9 @@ class PortFrame final : public FrameBackend {
     drawShadowMap(scene_, f.shadowMap, *shadowMap_);
     if (keep_) f.shadowMap.depth = shadowMap_->read();
   }
+  void samplePcf(FrameResult& f) override {
+    f.pcfSample = drawPcfSample(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm);
+  }
   void shadowTest(FrameResult& f) override {
     shadowTest_ = scene_.target(gbuffers_[0]->width(), gbuffers_[0]->height(), 1, false, Texel::R8);
     drawShadowTest(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm.biasTexels,

@@ -23,6 +23,18 @@ void setTapFactors(unsigned program, const char* name, int n) {
   for (int i = 0; i < n; ++i) factors[static_cast<size_t>(i)] = gridTapFactor(i, n);
   glUniform1fv(uniform(program, name), n, factors.data());
 }
+
+// ssm.frag's inputs, for the effect and for the rule's sample.
+void setSsmInputs(unsigned program, const Framebuffer& gbuffer, const ShadowMap& map, unsigned mapTexture,
+                  const View& view, const Constants::Ssm& ssm) {
+  bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}});
+  bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
+  glUniform1f(uniform(program, "tanHalfAngle"), ssm.tanHalfAngle);
+  glUniform1i(uniform(program, "blockerGrid"), ssm.blockerGrid);
+  glUniform1i(uniform(program, "grid"), ssm.grid);
+  setTapFactors(program, "blockerFactors", ssm.blockerGrid);
+  setTapFactors(program, "pcfFactors", ssm.grid);
+}
 }  // namespace
 
 Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const ShadowMap& map,
@@ -31,15 +43,21 @@ Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stenc
   require(ssm.blockerGrid >= 1 && ssm.blockerGrid <= kMaxBlockerGrid && ssm.grid >= 1 && ssm.grid <= kMaxPcfGrid,
           "gpu: ssm grid sizes outside the shader's arrays");
   const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
-  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "ssm", [&] {
-    bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}});
-    bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
-    glUniform1f(uniform(program, "tanHalfAngle"), ssm.tanHalfAngle);
-    glUniform1i(uniform(program, "blockerGrid"), ssm.blockerGrid);
-    glUniform1i(uniform(program, "grid"), ssm.grid);
-    setTapFactors(program, "blockerFactors", ssm.blockerGrid);
-    setTapFactors(program, "pcfFactors", ssm.grid);
-  }, fillRects);
+  return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "ssm",
+                        [&] { setSsmInputs(program, gbuffer, map, mapTexture, view, ssm); }, fillRects);
+}
+
+ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
+                      const View& view, const Constants::Ssm& ssm) {
+  const unsigned program = scene.program("pcfsample", "fullscreen.vert", "ssm.frag", "#define PCF_SAMPLE\n");
+  const Target target = scene.target((gbuffer0.width() + kPcfSampleStep - 1) / kPcfSampleStep,
+                                     (gbuffer0.height() + kPcfSampleStep - 1) / kPcfSampleStep, 1, false, Texel::R8);
+  target->bind();
+  glUseProgram(program);
+  setSsmInputs(program, gbuffer0, map, mapTexture, view, ssm);
+  scene.drawFullscreen();
+  checkGl("pcfsample");
+  return target->readBinary(0);
 }
 
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,

@@ -19,4 +19,10 @@ Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stenc
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
                  unsigned mapTexture, const View& view, const LevelConstants& level, const Constants::Ssm& ssm);
 
+// SPEC §11: the never-slower rule's sample of where PCF is paid (ssm.frag with PCF_SAMPLE),
+// read back: ⌈W/8⌉×⌈H/8⌉, 1 where level-0 pixel (8x + 4, 8y + 4) pays PCF. Mirrors
+// cpu_ref/ssm.cpp: pcfSample, on the port's own G-buffer and shadow map.
+ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
+                      const View& view, const Constants::Ssm& ssm);
+
 }  // namespace mrr::gpu

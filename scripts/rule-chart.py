@@ -80,8 +80,8 @@ def main():
         f"# The never-slower rule on {s['frames']} frames nobody tuned it to",
         "",
         f"Machine: {sweep['machine']}; {sweep['threads']} threads; medians of {sweep['repeats']} runs after a warm-up, "
-        "full and mrr alternating in one process (`mrr bench --rule-sweep`). Times are the frame less the full-res "
-        "G-buffer, which every mode pays.",
+        "full and mrr alternating in one process (`mrr bench --rule-sweep`). Times are the frame less what every mode "
+        "pays alike before the rule decides: the full-res G-buffer, and SSM's and SSGI's shadow map and one-tap test.",
         "",
         "| frames | decision right (faster within 5%) | kept mrr | fell back | worst mrr/full where kept | "
         "worst full/mrr where fallen back | worst with-rule/full |",

@@ -2,6 +2,9 @@
 // Stage 4 for soft shadows — PCSS (Fernando 2005) on the light's shadow map (SPEC §6 SSM,
 // docs/spec.md §6.4), mirrors cpu_ref/ssm.cpp: ssmAt. Drawn with the stencil test, so it runs
 // only where S_ℓ = 1. Output: the visibility V in [0, 1].
+// With PCF_SAMPLE (cpu_ref/ssm.cpp: pcfSample, SPEC §11): the never-slower rule's sample of
+// where PCF is paid, drawn on a ⌈W/8⌉×⌈H/8⌉ target over the level-0 G-buffer; fragment (x, y)
+// asks pixel (8x + 4, 8y + 4) and writes 1 where its blocker search finds a blocker, else 0.
 #include "shadowmap.glsl"
 uniform sampler2D positionHit;  // level G-buffer: view position, hit
 uniform sampler2D normalDepth;  // level G-buffer: view normal, depth
@@ -15,6 +18,14 @@ uniform float pcfFactors[32];
 layout(location = 0) out vec4 visibility;
 
 const float kMaxSearchTexels = 64.0;  // caps the blocker search (and so the penumbra)
+const int kPcfSampleStep = 8;         // common/frame.h
+
+// Ends the fragment with V = v, or under PCF_SAMPLE with 0: this pixel pays no PCF.
+#ifdef PCF_SAMPLE
+#define RETURN_WITHOUT_PCF(v) { visibility = vec4(0.0); return; }
+#else
+#define RETURN_WITHOUT_PCF(v) { visibility = v; return; }
+#endif
 
 // Offset of a tap of a regular grid spanning [−h, h] (texel centres of the grid).
 float gridOffset(float factor, float halfWidth) { return factor * halfWidth; }
@@ -26,18 +37,17 @@ float penumbraWidth(float receiverDepth, float blockerDepth) {
 }
 
 void main() {
+#ifdef PCF_SAMPLE
+  ivec2 pixel = min(ivec2(gl_FragCoord.xy) * kPcfSampleStep + kPcfSampleStep / 2, textureSize(positionHit, 0) - 1);
+#else
   ivec2 pixel = ivec2(gl_FragCoord.xy);
+#endif
   vec4 ph = texelFetch(positionHit, pixel, 0);
-  if (ph.w < 0.5) {
-    visibility = vec4(1.0);
-    return;
-  }
+  if (ph.w < 0.5) RETURN_WITHOUT_PCF(vec4(1.0));
   vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
   Receiver r = receiverAt(viewToWorld(ph.xyz), viewDirectionToWorld(n));
-  if (!r.facesLight) {  // the visible side faces away from the light: in its own shadow
-    visibility = vec4(0.0, 0.0, 0.0, 1.0);
-    return;
-  }
+  if (!r.facesLight)  // the visible side faces away from the light: in its own shadow
+    RETURN_WITHOUT_PCF(vec4(0.0, 0.0, 0.0, 1.0));
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
   float searchTexels = clamp(r.depth * tanHalfAngle / mapTexel, 0.5, kMaxSearchTexels);
   float blockerSum = 0.0;
@@ -51,10 +61,12 @@ void main() {
         ++blockers;
       }
     }
-  if (blockers == 0) {  // nothing in front anywhere in the search region: fully lit
-    visibility = vec4(1.0);
-    return;
-  }
+  if (blockers == 0)  // nothing in front anywhere in the search region: fully lit
+    RETURN_WITHOUT_PCF(vec4(1.0));
+#ifdef PCF_SAMPLE
+  visibility = vec4(1.0);  // PCF runs here
+  return;
+#endif
   float blockerDepth = blockerSum / float(blockers);
   // 2. penumbra width from the receiver and mean blocker depths
   float penumbraWorld = penumbraWidth(r.depth, blockerDepth);

@@ -614,7 +614,10 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
       if (!expensive) {  // nothing but shading costs, and a stencilled pixel no more than a dense one
         model.nsPerCoarseGbufferPixel = model.nsPerCoarseGbufferHit = model.nsPerTrianglePerLevel = 0.0;
         model.nsPerEdgePixel = model.nsPerMaskPixel = 0.0;
-        for (EffectCost& e : model.effect) e.sparseFactor = 1.0;
+        for (EffectCost& e : model.effect) {
+          e.sparseFactor = 1.0;
+          e.fixedMs = 0.0;
+        }
       }
       const BothPaths b = renderBoth("builtin:demo", peerSettings(effect, Mode::Mrr, 97, 61), model);
       const std::string what = toString(effect) + (expensive ? " expensive blend" : " free overhead");
@@ -640,6 +643,40 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
   }
 }
 
+// SPEC §11's H_p: where the oracle's model prices PCF (e > 0), the port asks its own PCSS
+// (ssm.frag with PCF_SAMPLE) at the same one pixel in 8×8, and the two samples agree but for
+// taps on the knife's edge of a blocker test.
+TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const CostModel model = CostModel::defaults("cpu");
+  ASSERT_GT(model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample, 0.0);
+  Settings s = peerSettings(Effect::Ssm, Mode::Mrr, 203, 149);
+  s.neverSlower = false;
+  const BothPaths b = renderBoth("builtin:shadows", s, model);
+  ASSERT_EQ(b.cpu.pcfSample.width, 26);
+  ASSERT_EQ(b.cpu.pcfSample.height, 19);
+  ASSERT_EQ(b.port.pcfSample.width, b.cpu.pcfSample.width);
+  ASSERT_EQ(b.port.pcfSample.height, b.cpu.pcfSample.height);
+  int pays = 0, differ = 0;
+  for (size_t i = 0; i < b.cpu.pcfSample.data.size(); ++i) {
+    pays += b.cpu.pcfSample.data[i] != 0;
+    differ += (b.cpu.pcfSample.data[i] != 0) != (b.port.pcfSample.data[i] != 0);
+  }
+  EXPECT_GT(pays, 10) << "the scene's slabs cast shadows the search finds";
+  EXPECT_LT(pays, 26 * 19 - 10) << "and open ground it does not";
+  EXPECT_LE(differ, 2) << "of " << b.cpu.pcfSample.data.size() << " samples";
+  EXPECT_GT(b.port.counts.pcfPixels, 0);
+  EXPECT_NEAR(static_cast<double>(b.port.counts.pcfPixels), static_cast<double>(b.cpu.counts.pcfPixels),
+              0.02 * static_cast<double>(b.cpu.counts.pcfPixels));
+  // The port's own model prices no PCF (e = 0): it never draws the sample.
+  const CostModel portModel = CostModel::defaults("gpu");
+  const gpu::GpuRenderer port(*b.oracle.scene);
+  const FrameResult own = port.render(b.oracle.camera, makeConstants(s, b.oracle.scene->bounds().diagonal()),
+                                      {false, {}, &portModel});
+  EXPECT_TRUE(own.pcfSample.empty());
+  EXPECT_EQ(own.counts.pcfPixels, 0);
+}
+
 // A decision that differs stops the comparison at the "fallback" row: the frames have
 // different levels from there on.
 TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
@@ -648,7 +685,10 @@ TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
   fallsBack.nsPerBlendPixel = 1e9;
   staysMultires.nsPerBlendPixel = staysMultires.nsPerCoarseGbufferPixel = staysMultires.nsPerCoarseGbufferHit = 0.0;
   staysMultires.nsPerTrianglePerLevel = staysMultires.nsPerEdgePixel = staysMultires.nsPerMaskPixel = 0.0;
-  for (EffectCost& e : staysMultires.effect) e.sparseFactor = 1.0;
+  for (EffectCost& e : staysMultires.effect) {
+    e.sparseFactor = 1.0;
+    e.fixedMs = 0.0;
+  }
   const Settings s = peerSettings(Effect::Ssao, Mode::Mrr, 97, 61);
   const auto r = test::renderScene("builtin:demo", s);
   const Constants k = makeConstants(s, r.scene->bounds().diagonal());

@@ -245,8 +245,34 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorNs * 1e-6, 1e-12);
   // The floor never exceeds what the method pays from the edges on: ε + μ, then the late prediction.
   EXPECT_LE(predictMrrFloorMs(m, c, n), predictMrrMs(m, c, n) + 2048.0 * (7 + 11) * 1e-6);
+  // k, the method's per-frame set-up, adds to its prediction and its floor, never to full's.
+  const double fullBefore = predictFullMs(m, c, n), mrrBefore = predictMrrMs(m, c, n);
+  const double floorBefore = predictMrrFloorMs(m, c, n);
+  m.effect[static_cast<size_t>(Effect::Ssao)].fixedMs = 3.25;
+  EXPECT_EQ(predictFullMs(m, c, n), fullBefore);
+  EXPECT_NEAR(predictMrrMs(m, c, n), mrrBefore + 3.25, 1e-12);
+  EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorBefore + 3.25, 1e-12);
+  // k₀, a full frame's own set-up, adds to full's alone.
+  m.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 1.5;
+  EXPECT_NEAR(predictFullMs(m, c, n), fullBefore + 1.5, 1e-12);
+  EXPECT_NEAR(predictMrrMs(m, c, n), mrrBefore + 3.25, 1e-12);
+  m.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 0.0;
+  // H_p: SSM's pixels paying PCF cost e per sample more, at the sparse factor in the method.
+  CostModel ssm = m;
+  ssm.effect[static_cast<size_t>(Effect::Ssm)] = {10.0, 0.0, 0.0, 0.5, 3.0, 1.5, 0.0, 0.0};
+  Settings ssmSettings = defaultSettings(Effect::Ssm);
+  ssmSettings.width = 64;
+  ssmSettings.height = 32;
+  ssmSettings.ssm.samples = 16;
+  const Constants cs = makeConstants(ssmSettings, 1.0f);
+  const double ssmFull = predictFullMs(ssm, cs, n), ssmMrr = predictMrrMs(ssm, cs, n);
+  n.pcfPixels = 400;
+  n.shadedPcf = {30, 10, 0, 4};
+  EXPECT_NEAR(predictFullMs(ssm, cs, n) - ssmFull, 400.0 * 3 * 16 * 1e-6, 1e-12);
+  EXPECT_NEAR(predictMrrMs(ssm, cs, n) - ssmMrr, 44.0 * 3 * 16 * 1.5 * 1e-6, 1e-12);
   // A frame all background: full costs c per pixel and P_0 d, nothing on geometry.
   n.hitPixels = 0;
+  n.pcfPixels = 0;
   EXPECT_NEAR(predictFullMs(m, c, n), (2048.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
 }
 
@@ -265,7 +291,7 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   FrameCounts n;
   countHits(n, hit, ImageU8(), c);
   countForRule(n, masks, c, hit, ImageU8());
-  EXPECT_EQ(n.shadowedPixels, 0) << "no shadow test: no shadowed pixels";
+  EXPECT_EQ(n.pcfPixels, 0) << "no PCF sample: no pixels paying PCF";
   EXPECT_EQ(n.hitPixels, 20 * 32);
   EXPECT_EQ(n.shaded[0], 64 * 32);
   EXPECT_EQ(n.shadedHit[0], 20 * 32);
@@ -273,16 +299,17 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[1], 10 * 16);
   // Level 3: 8x + 4 < 20, x ≤ 1: 2 of 8 per row, 4 rows.
   EXPECT_EQ(n.shadedHit[3], 2 * 4);
-  // SSM's one-tap test: the top 16 rows in shadow. Shadowed counts only pixels on geometry.
-  ImageU8 lit(64, 32, 1, 1);
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 64; ++x) lit.at(x, y) = 0;
-  countHits(n, hit, lit, c);
-  countForRule(n, masks, c, hit, lit);
-  EXPECT_EQ(n.shadowedPixels, 20 * 16);
-  EXPECT_EQ(n.shadedShadowed[0], 20 * 16);
-  EXPECT_EQ(n.shadedShadowed[1], 10 * 8);  // rows 2y + 1 < 16
-  EXPECT_EQ(n.shadedShadowed[3], 2 * 2);   // rows 8y + 4 < 16
+  // SSM's PCF sample, one pixel in 8×8 (an 8×4 image): its top two rows pay PCF, so the top 16
+  // full-res rows do. H_p counts only pixels on geometry.
+  ImageU8 pcf(8, 4, 1, 0);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 8; ++x) pcf.at(x, y) = 1;
+  countHits(n, hit, pcf, c);
+  countForRule(n, masks, c, hit, pcf);
+  EXPECT_EQ(n.pcfPixels, 20 * 16);
+  EXPECT_EQ(n.shadedPcf[0], 20 * 16);
+  EXPECT_EQ(n.shadedPcf[1], 10 * 8);  // rows 2y + 1 < 16
+  EXPECT_EQ(n.shadedPcf[3], 2 * 2);   // rows 8y + 4 < 16
   EXPECT_EQ(n.shadedHit[1], 10 * 16) << "unchanged";
 }
 

@@ -201,7 +201,10 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
 
   CostModel free = CostModel::defaults("cpu");
   free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = free.nsPerEdgePixel = free.nsPerMaskPixel = 0.0;
-  for (EffectCost& e : free.effect) e.sparseFactor = 1.0;  // shading alone, at dense cost
+  for (EffectCost& e : free.effect) {  // shading alone, at dense cost, nothing per frame
+    e.sparseFactor = 1.0;
+    e.fixedMs = 0.0;
+  }
   const FrameResult kept = renderer.render(rs.camera, c, {true, {}, &free});
   EXPECT_FALSE(kept.fallback.fellBack);
   EXPECT_GT(kept.idealSpeedup, 1.2);

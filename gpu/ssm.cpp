@@ -24,16 +24,15 @@ void setTapFactors(unsigned program, const char* name, int n) {
   glUniform1fv(uniform(program, name), n, factors.data());
 }
 
-// ssm.frag's inputs, for the effect and for the rule's sample.
-void setSsmInputs(unsigned program, const Framebuffer& gbuffer, const ShadowMap& map, unsigned mapTexture,
-                  const View& view, const Constants::Ssm& ssm) {
+// ssm.frag's inputs up to the blocker search: for the effect and for the rule's sample (whose
+// PCF_SAMPLE variant stops there, so the PCF grid's uniforms are not active in it).
+void setBlockerSearchInputs(unsigned program, const Framebuffer& gbuffer, const ShadowMap& map, unsigned mapTexture,
+                            const View& view, const Constants::Ssm& ssm) {
   bindTextures(program, {{"positionHit", gbuffer.texture(0)}, {"normalDepth", gbuffer.texture(1)}});
   bindShadowMap(program, map, mapTexture, 2, view, ssm.biasTexels);
   glUniform1f(uniform(program, "tanHalfAngle"), ssm.tanHalfAngle);
   glUniform1i(uniform(program, "blockerGrid"), ssm.blockerGrid);
-  glUniform1i(uniform(program, "grid"), ssm.grid);
   setTapFactors(program, "blockerFactors", ssm.blockerGrid);
-  setTapFactors(program, "pcfFactors", ssm.grid);
 }
 }  // namespace
 
@@ -44,7 +43,12 @@ Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stenc
           "gpu: ssm grid sizes outside the shader's arrays");
   const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
   return drawStencilled(scene, stencil, gbuffer.width(), gbuffer.height(), Texel::R32f, program, "ssm",
-                        [&] { setSsmInputs(program, gbuffer, map, mapTexture, view, ssm); }, fillRects);
+                        [&] {
+                          setBlockerSearchInputs(program, gbuffer, map, mapTexture, view, ssm);
+                          glUniform1i(uniform(program, "grid"), ssm.grid);
+                          setTapFactors(program, "pcfFactors", ssm.grid);
+                        },
+                        fillRects);
 }
 
 ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
@@ -54,7 +58,7 @@ ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const 
                                      (gbuffer0.height() + kPcfSampleStep - 1) / kPcfSampleStep, 1, false, Texel::R8);
   target->bind();
   glUseProgram(program);
-  setSsmInputs(program, gbuffer0, map, mapTexture, view, ssm);
+  setBlockerSearchInputs(program, gbuffer0, map, mapTexture, view, ssm);
   scene.drawFullscreen();
   checkGl("pcfsample");
   return target->readBinary(0);

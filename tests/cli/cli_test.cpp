@@ -1108,12 +1108,12 @@ INSTANTIATE_TEST_SUITE_P(Faults, CliPlantedFaultTest,
 
 // probe --path both: on the open plane the paths agree everywhere; with the SSAO bias
 // planted, the first value where they part is the coarsest level's raw AO (the plane has no
-// edges, so only L3 is shaded).
+// edges, so only L3 is shaded; the rule off, which would shade so small a frame at full res).
 TEST(CliProbeBothTest, MarksTheFirstStageWhereThePathsPart) {
   const std::string dir = test::scratchDir();
   MRR_REQUIRE_GL_FOR_CLI(dir);
   const std::vector<std::string> args = {"probe", "--path", "both", "--scene", "builtin:plane", "--size", "64x48",
-                                         "--samples", "16", "--pixel", "31,23", "--json", "-q"};
+                                         "--samples", "16", "--pixel", "31,23", "--never-slower", "off", "--json", "-q"};
   const RunResult clean = runMrr(args, dir);
   ASSERT_EQ(clean.status, 0) << describe(clean);
   const json a = json::parse(clean.out);

@@ -27,9 +27,9 @@ class FrameBackend {
   // The full-res G-buffer's hit flags: for the never-slower rule's counts (SPEC §11) and
   // FrameResult::idealSpeedupHit (the port reads them back once when the frame keeps no G-buffer).
   virtual const ImageU8& fullResHit(const FrameResult& f) { return f.levels[0].gbuffer.hit; }
-  // SSM: which pixels of the 8×8 grid pay PCF, into f.pcfSample, for the rule's H_p (SPEC §11).
-  // The oracle asks its own PCSS (cpu_ref/ssm.h pcfSample); the port leaves it empty: its
-  // calibration finds no extra cost where PCF runs (e = 0), so it never asks.
+  // SSM: which pixels of the 8×8 grid pay PCF, into f.pcfSample, for the rule's H_p (SPEC §11),
+  // called when the model prices PCF (e > 0). Each path asks its own PCSS: cpu_ref/ssm.h
+  // pcfSample, ssm.frag with PCF_SAMPLE. Left empty, H_p is 0.
   virtual void samplePcf(FrameResult& /*f*/) {}
   virtual int64_t sceneTriangles() const = 0;  // SPEC §11's T
 

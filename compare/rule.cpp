@@ -57,12 +57,14 @@ struct Measured {
   FrameResult last;
 };
 
-// Renders `constants` once to warm up, then `repeats` times; medians per stage.
-Measured measure(const RenderFn& render, const Camera& camera, const Constants& constants, int repeats) {
+// Renders `constants` once to warm up, then `repeats` times; medians per stage. `model`: the
+// cost model the frame's rule counts with (default: the path's built-in).
+Measured measure(const RenderFn& render, const Camera& camera, const Constants& constants, int repeats,
+                 const CostModel* model = nullptr) {
   std::map<std::string, std::vector<double>> runs;
   Measured m;
   for (int i = 0; i <= repeats; ++i) {
-    FrameResult f = render(camera, constants, {false, {}, nullptr});
+    FrameResult f = render(camera, constants, {false, {}, model});
     if (i == 0) continue;
     for (const auto& [k, v] : stageMs(f)) runs[k].push_back(v);
     if (i == repeats) m.last = std::move(f);
@@ -174,6 +176,10 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   };
   std::vector<MrrRun> mrrRuns;
   LeastSquares gbufferFit;  // P_ℓ, P_ℓ·share, T → g, h, t
+  // The method's frames count with a model that prices PCF (e > 0), so that SSM's frames sample
+  // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
+  CostModel counting = CostModel::defaults(path.name);
+  counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
   std::vector<double> blend, fullBlend, edges, masks;
   for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
@@ -184,11 +190,13 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         const auto ei = static_cast<size_t>(e);
         const int n1 = e == Effect::Ssm ? 16 : 8, n2 = e == Effect::Ssm ? 256 : 128;
         std::cerr << "[calibrate] " << path.name << " " << sceneName << " " << view.name << " " << toString(e) << "\n";
-        Measured mrr = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n2), diagonal), repeats);
+        Measured mrr = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n2), diagonal),
+                               repeats, &counting);
         const FrameCounts& n = mrr.last.counts;
         const double hit = static_cast<double>(n.hitPixels);
         const Measured small = measure(sc.render, view.camera,
-                                       makeConstants(settingsFor("mrr-norule", e, w / 2, h / 2, n2), diagonal), repeats);
+                                       makeConstants(settingsFor("mrr-norule", e, w / 2, h / 2, n2), diagonal), repeats,
+                                       &counting);
         // full at both sample counts, and at n2 at half the size: the sizes tell k₀ (per frame)
         // from the per-pixel costs.
         struct FullConfig {

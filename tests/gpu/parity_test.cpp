@@ -673,13 +673,18 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
   EXPECT_GT(b.port.counts.pcfPixels, 0);
   EXPECT_NEAR(static_cast<double>(b.port.counts.pcfPixels), static_cast<double>(b.cpu.counts.pcfPixels),
               0.02 * static_cast<double>(b.cpu.counts.pcfPixels));
-  // The port's own model prices no PCF (e = 0): it never draws the sample.
-  const CostModel portModel = CostModel::defaults("gpu");
+  // The port's own model prices PCF as well; a model that does not (e = 0) never draws the sample.
   const gpu::GpuRenderer port(*b.oracle.scene);
-  const FrameResult own = port.render(b.oracle.camera, makeConstants(s, b.oracle.scene->bounds().diagonal()),
-                                      {false, {}, &portModel});
-  EXPECT_TRUE(own.pcfSample.empty());
-  EXPECT_EQ(own.counts.pcfPixels, 0);
+  const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());
+  const CostModel portModel = CostModel::defaults("gpu");
+  ASSERT_GT(portModel.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample, 0.0);
+  const FrameResult own = port.render(b.oracle.camera, k, {false, {}, &portModel});
+  EXPECT_EQ(own.pcfSample.data, b.port.pcfSample.data);
+  CostModel blind = portModel;
+  blind.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 0.0;
+  const FrameResult unsampled = port.render(b.oracle.camera, k, {false, {}, &blind});
+  EXPECT_TRUE(unsampled.pcfSample.empty());
+  EXPECT_EQ(unsampled.counts.pcfPixels, 0);
 }
 
 // A decision that differs stops the comparison at the "fallback" row: the frames have

@@ -36,28 +36,28 @@ CostModel CostModel::defaults(const std::string& path) {
     // Its SSM frames now sample where PCF runs during calibration, and e comes out as the
     // oracle's (1.6 ns per PCF tap): the port's PCF is paid where it runs, as the oracle's is.
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{219.5, 5.30, 0.0, 25.84, 0.0, 1.09, 5.07, 0.37},
-                EffectCost{166.1, 0.00, 0.0, 38.53, 1.62, 1.27, 4.42, 0.02},
-                EffectCost{32.9, 7.62, 16.33, 21.63, 0.0, 1.09, 4.02, 0.06}};
+    m.effect = {EffectCost{215.6, 5.25, 0.0, 28.33, 0.0, 1.15, 4.02, 0.29},
+                EffectCost{163.8, 0.00, 0.0, 33.87, 1.64, 1.34, 3.36, 0.24},
+                EffectCost{32.5, 7.53, 16.01, 19.37, 0.0, 1.01, 4.38, 0.12}};
     m.nsPerCoarseGbufferPixel = 0.0;
-    m.nsPerCoarseGbufferHit = 61.26;
-    m.nsPerTrianglePerLevel = 74.8;
-    m.nsPerBlendPixel = 14.0;
-    m.nsPerEdgePixel = 17.5;
-    m.nsPerMaskPixel = 15.6;
+    m.nsPerCoarseGbufferHit = 64.3;
+    m.nsPerTrianglePerLevel = 79.5;
+    m.nsPerBlendPixel = 14.1;
+    m.nsPerEdgePixel = 17.9;
+    m.nsPerMaskPixel = 16.7;
   } else {
     // cpu: the mean of two runs (--repeats 5), which agreed within 10% but for the small k's
     // (2026-11-24).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{207.2, 7.08, 0.98, 3.38, 0.0, 1.08, 0.33, 0.04},
-                EffectCost{80.65, 0.00, 0.0, 2.66, 1.55, 1.05, 2.06, 0.01},
-                EffectCost{32.3, 9.04, 13.88, 4.05, 0.0, 1.58, 0.0, 0.01}};
-    m.nsPerCoarseGbufferPixel = 13.05;
-    m.nsPerCoarseGbufferHit = 17.34;
-    m.nsPerTrianglePerLevel = 4.10;
-    m.nsPerBlendPixel = 3.04;
-    m.nsPerEdgePixel = 4.80;
-    m.nsPerMaskPixel = 3.40;
+    m.effect = {EffectCost{201.4, 6.87, 0.98, 3.16, 0.0, 1.06, 0.62, 0.02},
+                EffectCost{74.64, 0.00, 0.0, 2.63, 1.54, 1.06, 1.15, 0.01},
+                EffectCost{30.58, 8.72, 12.83, 3.58, 0.0, 1.62, 0.0, 0.07}};
+    m.nsPerCoarseGbufferPixel = 10.96;
+    m.nsPerCoarseGbufferHit = 18.99;
+    m.nsPerTrianglePerLevel = 4.11;
+    m.nsPerBlendPixel = 2.92;
+    m.nsPerEdgePixel = 4.43;
+    m.nsPerMaskPixel = 3.07;
   }
   return m;
 }
@@ -113,18 +113,18 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_mask_pixel", nsPerMaskPixel}};
 }
 
-// SPEC §11: H (a + b N) + H_p e N + (W·H − H) c + P_0 d + k₀, in ms.
+// SPEC §11: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀, in ms.
 double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
-  const double hit = static_cast<double>(n.hitPixels);
-  const double background = std::max(0.0, static_cast<double>(c.width) * c.height - hit);
-  return (hit * shadeNs(e, c.samples()) + static_cast<double>(n.pcfPixels) * e.nsPerPcfSample * c.samples() +
-          background * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
-         1e-6 +
+  const double paying = static_cast<double>(n.searchedPixels);
+  const double rest = std::max(0.0, static_cast<double>(c.width) * c.height - paying);
+  return (paying * shadeNs(e, c.samples()) + static_cast<double>(n.pcfPixels) * e.nsPerPcfSample * c.samples() +
+          rest * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
+             1e-6 +
          e.fullFixedMs;
 }
 
-// SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ hit| (a + b N) + |S_ℓ ∩ hit ∩ pcf| e N) s + |S_ℓ \ hit| c +
+// SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) + |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c +
 // P_ℓ d) + the coarse G-buffers and the blend + k, in ms.
 double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
@@ -132,23 +132,24 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);
-    const double onGeometry = static_cast<double>(n.shadedHit[l]);
-    const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - onGeometry);
+    const double paying = static_cast<double>(n.shadedSearched[l]);
+    const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - paying);
     const double pcf = static_cast<double>(n.shadedPcf[l]) * e.nsPerPcfSample * c.samples();
-    ns += (onGeometry * shadeNs(e, c.samples()) + pcf) * e.sparseFactor + off * e.nsPerBackgroundPixel +
+    ns += (paying * shadeNs(e, c.samples()) + pcf) * e.sparseFactor + off * e.nsPerBackgroundPixel +
           levelPixels(lc) * e.nsPerLevelPixel;
   }
   return ns * 1e-6 + e.fixedMs;
 }
 
-// SPEC §11: P_0 (ε + μ) + the coarse G-buffers and the blend + P_k (((H (a + b N) + H_p e N) /
-// W·H) s + (1 − H / W·H) c + d) for the coarsest enabled level + k, in ms.
+// SPEC §11: P_0 (ε + μ) + the coarse G-buffers and the blend + P_k (((H_a (a + b N) + H_p e N) /
+// W·H) s + (1 − H_a / W·H) c + d) for the coarsest enabled level + k, in ms.
 double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   const LevelConstants& coarsest = c.levels[static_cast<size_t>(c.coarsestEnabled)];
-  const double share = hitShare(c, n);
+  const double pixels = std::max(1.0, static_cast<double>(c.width) * c.height);
+  const double share = static_cast<double>(n.searchedPixels) / pixels;  // H_a / W·H
   double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c, n);
-  const double pcfShare = static_cast<double>(n.pcfPixels) / std::max(1.0, static_cast<double>(c.width) * c.height);
+  const double pcfShare = static_cast<double>(n.pcfPixels) / pixels;
   ns += levelPixels(coarsest) *
         ((share * shadeNs(e, c.samples()) + pcfShare * e.nsPerPcfSample * c.samples()) * e.sparseFactor +
          (1.0 - share) * e.nsPerBackgroundPixel + e.nsPerLevelPixel);

@@ -70,12 +70,16 @@ struct CostModel {
 struct FrameCounts {
   int64_t hitPixels = 0;  // H: level-0 pixels (W×H) on geometry
   int64_t triangles = 0;  // the scene's
-  // H_p: of those, paying PCF (SSM with e > 0; else 0), estimated from one pixel in 8×8
+  // H_a: of those, the ones paying the effect's per-pixel cost (a, b): all of them but for SSM
+  // with e > 0, whose pixels facing away from the light return before any tap. H_p: of those,
+  // paying PCF (SSM with e > 0; else 0). Both estimated from one pixel in 8×8 (pcfSample).
+  int64_t searchedPixels = 0;
   int64_t pcfPixels = 0;
   // |S_ℓ| and |S_ℓ ∩ hit| per level (a level-ℓ pixel on geometry when its full-res pixel
   // (x·s + s/2, y·s + s/2) is: levelPixelHits). Zero before the stencils are known.
   std::array<int64_t, kLevelCount> shaded{}, shadedHit{};
-  std::array<int64_t, kLevelCount> shadedPcf{};  // |S_ℓ ∩ hit ∩ pcf| (SSM)
+  std::array<int64_t, kLevelCount> shadedSearched{};  // |S_ℓ ∩ hit ∩ searched|
+  std::array<int64_t, kLevelCount> shadedPcf{};       // |S_ℓ ∩ hit ∩ pcf| (SSM)
 };
 
 // What the rule decided for one frame (the report's `never_slower`).
@@ -88,15 +92,15 @@ struct FallbackDecision {
   std::string costModel;         // CostModel::source
 };
 
-// SPEC §11, in ms. Full's rest: H (a + b N) + H_p e N + (W·H − H) c + P_0 d + k₀.
+// SPEC §11, in ms. Full's rest: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀.
 double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
-// The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ hit| (a + b N) +
-// |S_ℓ ∩ hit ∩ pcf| e N) s + |S_ℓ \ hit| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β
+// The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) +
+// |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β
 // + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The least the method can still pay before its edges: P_0 (ε + μ) + the coarse G-buffers and
-// the blend as above + every pixel of the coarsest enabled level shaded, on geometry in
-// proportion to H, + k.
+// the blend as above + every pixel of the coarsest enabled level shaded, paying in proportion
+// to H_a and H_p, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
 // The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted

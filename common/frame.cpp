@@ -131,37 +131,48 @@ void FrameResult::countShadedPixels() {
   blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
 }
 
+namespace {
+// What a full-res pixel on geometry pays by the sample: the search at least, without one.
+uint8_t paysAt(const ImageU8& pcf, int x, int y) { return pcf.empty() ? kPcfSampleSearch : pcfSampleValue(pcf, x, y); }
+}  // namespace
+
 void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c) {
-  n.hitPixels = n.pcfPixels = 0;
+  n.hitPixels = n.searchedPixels = n.pcfPixels = 0;
   for (int y = 0; y < std::min(c.height, hit.height); ++y)
     for (int x = 0; x < std::min(c.width, hit.width); ++x)
       if (hit.at(x, y)) {
         ++n.hitPixels;
-        n.pcfPixels += pcfSampleAt(pcf, x, y);
+        const uint8_t pays = paysAt(pcf, x, y);
+        n.searchedPixels += pays != kPcfSampleNone;
+        n.pcfPixels += pays == kPcfSamplePcf;
       }
 }
 
 namespace {
-// |S_ℓ|, |S_ℓ ∩ hit| and |S_ℓ ∩ hit ∩ pcf| per shaded level (H and H_p are countHits').
+// |S_ℓ|, |S_ℓ ∩ hit|, |S_ℓ ∩ hit ∩ searched| and |S_ℓ ∩ hit ∩ pcf| per shaded level (H, H_a and
+// H_p are countHits').
 void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>& stencils, const Constants& c,
                    const ImageU8& hit, const ImageU8& pcf) {
   for (int l = 0; l < kLevelCount; ++l) {
     const auto i = static_cast<size_t>(l);
-    n.shaded[i] = n.shadedHit[i] = n.shadedPcf[i] = 0;
+    n.shaded[i] = n.shadedHit[i] = n.shadedSearched[i] = n.shadedPcf[i] = 0;
     if (!c.levels[i].enabled || !c.levels[i].shaded) continue;
     const ImageU8& s = *stencils[i];
     const int scale = 1 << l;
-    int64_t shaded = 0, onGeometry = 0, paysPcf = 0;
+    int64_t shaded = 0, onGeometry = 0, searched = 0, paysPcf = 0;
     for (int y = 0; y < s.height; ++y)
       for (int x = 0; x < s.width; ++x)
         if (s.at(x, y)) {
           ++shaded;
           if (!levelPixelHit(hit, x, y, scale)) continue;
           ++onGeometry;
-          paysPcf += pcfSampleAt(pcf, x * scale + scale / 2, y * scale + scale / 2);
+          const uint8_t pays = paysAt(pcf, x * scale + scale / 2, y * scale + scale / 2);
+          searched += pays != kPcfSampleNone;
+          paysPcf += pays == kPcfSamplePcf;
         }
     n.shaded[i] = shaded;
     n.shadedHit[i] = onGeometry;
+    n.shadedSearched[i] = searched;
     n.shadedPcf[i] = paysPcf;
   }
 }

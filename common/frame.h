@@ -138,7 +138,7 @@ struct FrameResult {
   DirectionalLight light;  // the scene's light, as rendered
   ShadowMap shadowMap;     // SSM and SSGI
   ImageU8 shadowLit;       // the one-tap shadow test on the full-res grid (SSM, SSGI)
-  ImageU8 pcfSample;       // SSM with the rule: which pixels of the 8×8 grid pay PCF (SPEC §11)
+  ImageU8 pcfSample;       // SSM with the rule: what PCSS pays at each pixel of the 8×8 grid (SPEC §11)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
@@ -189,18 +189,25 @@ void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model);
 // SPEC §11's counts for the frame's stencils: |S_ℓ| and |S_ℓ ∩ hit| per shaded level, from the
 // full-res hit flags (a level-ℓ pixel (x, y) is on geometry when full-res pixel (x·s + s/2,
 // y·s + s/2) is, clamped to the image: levelPixelHit), into f.counts.
-// With `pcfSample` (SSM: which pixels of the kPcfSampleStep grid pay PCF, pcfSample in
-// cpu_ref/ssm.h; empty otherwise) also |S_ℓ ∩ hit ∩ pcf|, a full-res pixel paying PCF where
-// the sample of its kPcfSampleStep² block does. H and H_p are countHits' (the frame counts them
+// With `pcfSample` (SSM: what PCSS pays at each pixel of the kPcfSampleStep grid, pcfSample in
+// cpu_ref/ssm.h; empty otherwise) also |S_ℓ ∩ hit ∩ pcf| and |S_ℓ ∩ hit ∩ searched|, a full-res
+// pixel on geometry paying what the sample of its kPcfSampleStep² block pays; without it every
+// pixel on geometry counts as searched. H, H_a and H_p are countHits' (the frame counts them
 // once, before its early decision).
 void countForRule(FrameCounts& counts, const Masks& masks, const Constants& constants, const ImageU8& fullResHit,
                   const ImageU8& pcfSample);
-// H (and with `pcfSample`, H_p): the full-res pixels on geometry (and of those, paying PCF).
+// H, H_a and H_p: the full-res pixels on geometry, those of them that pay the effect's per-pixel
+// cost (SSM: its blocker search; every one without a sample) and those that pay PCF.
 void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants);
-constexpr int kPcfSampleStep = 8;  // one pixel in 8×8 asked whether it pays PCF (SPEC §11)
-inline bool pcfSampleAt(const ImageU8& pcfSample, int x, int y) {
-  return !pcfSample.empty() && pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),
-                                            std::min(y / kPcfSampleStep, pcfSample.height - 1)) != 0;
+constexpr int kPcfSampleStep = 8;  // one pixel in 8×8 asked what SSM pays there (SPEC §11)
+// The sample's values: what PCSS pays at the pixel (cpu_ref/ssm.h pcfSample, ssm.frag PCF_SAMPLE).
+constexpr uint8_t kPcfSampleNone = 0;    // nothing: a surface facing away from the light
+constexpr uint8_t kPcfSampleSearch = 1;  // the blocker search, which finds no blocker (and sky)
+constexpr uint8_t kPcfSamplePcf = 2;     // the search and PCF's N taps
+// The sample's value for full-res pixel (x, y): that of its kPcfSampleStep² block.
+inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
+  return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),
+                      std::min(y / kPcfSampleStep, pcfSample.height - 1));
 }
 inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
   return fullResHit.at(std::min(x * scale + scale / 2, fullResHit.width - 1),

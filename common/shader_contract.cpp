@@ -244,8 +244,8 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"grid", "int", "PCF taps per side n (N = n^2 = --samples)"},
         {"blockerFactors", "float[16]", "tap i of the blocker grid sits at factor_i h (cpu_ref/ssm.h gridTapFactor)"},
         {"pcfFactors", "float[32]", "tap i of the PCF grid sits at factor_i h"}},
-       {{"visibility", "vec4 -> R32F", "V in [0, 1] in r (1 = lit); PCF_SAMPLE: 1 where the blocker search finds a "
-         "blocker (PCF runs), else 0 (R8)", 0}},
+       {{"visibility", "vec4 -> R32F", "V in [0, 1] in r (1 = lit); PCF_SAMPLE: what the pixel pays, a byte of an R8 "
+         "target: 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF", 0}},
        "cpu_ref/ssm.cpp ssmAt: PCSS (Fernando 2005), a blocker search then an n x n PCF over the filter width. Drawn "
        "with the stencil test. PCF_SAMPLE: cpu_ref/ssm.cpp pcfSample."},
       {"stencil.frag", "fragment", "stencil", "", {kStencilMask}, {}, {},

@@ -39,8 +39,10 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
                          {"cost_model", f.fallback.costModel}};
-  if (f.fallback.evaluated && c.effect == Effect::Ssm)  // H_p: estimated from one pixel in 8×8
+  if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
+    j["never_slower"]["searched_pixels"] = f.counts.searchedPixels;
     j["never_slower"]["pcf_pixels"] = f.counts.pcfPixels;
+  }
   if (c.mode == Mode::Tiles) {
     std::array<int, 3> tiles{};
     for (uint8_t r : f.tileRates.data) ++tiles[r];

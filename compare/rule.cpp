@@ -159,12 +159,12 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   const double pixels = static_cast<double>(w) * h;
   CostModel model;
   model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 640x360";
-  // Per effect, full frames: H, H·N (, H_p·N), W·H − H and 1 against the shading time. c and
+  // Per effect, full frames: H_a, H_a·N (, H_p·N), W·H − H_a and 1 against the shading time. c and
   // k₀ come from the frames nearly all background (the sky), where nothing else is paid; a, b
   // (, e) by least squares on the rest with those fixed (fitted together, c traded off against a).
   struct FullRun {
-    std::vector<double> onGeometry;  // H, H·N (, H_p·N)
-    double pixels, background, ns;   // W·H, W·H − H, the shading's time
+    std::vector<double> onGeometry;  // H_a, H_a·N (, H_p·N)
+    double pixels, background, ns;   // W·H, W·H − H_a, the shading's time
   };
   std::array<std::vector<FullRun>, 3> fullRuns;
   std::array<std::vector<double>, 3> perLevel;  // per effect: d
@@ -207,7 +207,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
                                      FullConfig{w / 2, h / 2, n2, &small.last.counts}}) {
           const Measured full = measure(
               sc.render, view.camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
-          const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->hitPixels);
+          const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
           std::vector<double> row = {onGeometry, onGeometry * fc.samples};
           if (e == Effect::Ssm) row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
           fullRuns[ei].push_back({row, p, p - onGeometry, shadingMs(full.ms) * 1e6});

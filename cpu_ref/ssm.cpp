@@ -40,16 +40,18 @@ float blockerSearch(const ShadowMap& map, const Receiver& r, const Constants::Ss
   return blockerSum;
 }
 
-// Whether pixel (x, y) pays PCF: on geometry, facing the light, and its blocker search finds
-// a blocker (SsmDetail's pcfTaps > 0 without the PCF itself).
-bool paysPcf(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y) {
-  if (!g.hit.at(x, y)) return false;
+// What pixel (x, y) pays (common/frame.h): kPcfSampleNone facing away from the light (V = 0 at
+// once), kPcfSampleSearch facing it with no blocker found (the search alone; also off geometry,
+// where the block's pixels on geometry are assumed to search), kPcfSamplePcf where the search
+// finds a blocker (SsmDetail's pcfTaps > 0, without the PCF).
+uint8_t pcfSampleAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y) {
+  if (!g.hit.at(x, y)) return kPcfSampleSearch;
   const Receiver r = receiverAt(map, view.toWorld(g.positionAt(x, y)), view.directionToWorld(g.normalAt(x, y)),
                                 ssm.biasTexels);
-  if (!r.facesLight) return false;
+  if (!r.facesLight) return kPcfSampleNone;
   SsmDetail d;
   blockerSearch(map, r, ssm, d);
-  return d.blockers > 0;
+  return d.blockers > 0 ? kPcfSamplePcf : kPcfSampleSearch;
 }
 }  // namespace
 
@@ -93,8 +95,8 @@ ImageU8 pcfSample(const GBuffer& g, const ShadowMap& map, const View& view, cons
   parallelFor(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y)
       for (int x = 0; x < w; ++x)
-        sample.at(x, y) = paysPcf(g, map, view, ssm, std::min(x * kPcfSampleStep + kPcfSampleStep / 2, g.width - 1),
-                                  std::min(y * kPcfSampleStep + kPcfSampleStep / 2, g.height - 1));
+        sample.at(x, y) = pcfSampleAt(g, map, view, ssm, std::min(x * kPcfSampleStep + kPcfSampleStep / 2, g.width - 1),
+                                      std::min(y * kPcfSampleStep + kPcfSampleStep / 2, g.height - 1));
   });
   return sample;
 }

@@ -30,8 +30,10 @@ float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Cons
 // The never-slower rule's view of PCSS's cost (SPEC §11): PCF is paid only where the blocker
 // search finds a blocker, which the one-tap test cannot tell (the search reaches up to 64 texels
 // around a lit pixel). One pixel in kPcfSampleStep² is asked, (x·8 + 4, y·8 + 4) on the
-// full-res G-buffer, the level-3 grid: 1 where ssmAt would filter, else 0. The search alone
-// costs about 1/64 of a full frame's searches.
+// full-res G-buffer, the level-3 grid: kPcfSamplePcf where ssmAt would filter, kPcfSampleSearch
+// where it searches and finds no blocker (and on sky, where a block's pixels on geometry are
+// assumed to search), kPcfSampleNone where it returns at once (a surface facing away from the
+// light). The searches cost about 1/64 of a full frame's.
 ImageU8 pcfSample(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm);
 
 ImageF renderSsm(const GBuffer& g, const ShadowMap& map, const ImageU8& stencil, const View& view,

@@ -61,7 +61,7 @@ ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const 
   setBlockerSearchInputs(program, gbuffer0, map, mapTexture, view, ssm);
   scene.drawFullscreen();
   checkGl("pcfsample");
-  return target->readBinary(0);
+  return target->readBytes(0);  // the bytes common/frame.h names (kPcfSample…)
 }
 
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,

@@ -20,7 +20,7 @@ ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU
                  unsigned mapTexture, const View& view, const LevelConstants& level, const Constants::Ssm& ssm);
 
 // SPEC §11: the never-slower rule's sample of where PCF is paid (ssm.frag with PCF_SAMPLE),
-// read back: ⌈W/8⌉×⌈H/8⌉, 1 where level-0 pixel (8x + 4, 8y + 4) pays PCF. Mirrors
+// read back: ⌈W/8⌉×⌈H/8⌉, what level-0 pixel (8x + 4, 8y + 4) pays (kPcfSample…). Mirrors
 // cpu_ref/ssm.cpp: pcfSample, on the port's own G-buffer and shadow map.
 ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
                       const View& view, const Constants::Ssm& ssm);

@@ -3,8 +3,9 @@
 // docs/spec.md §6.4), mirrors cpu_ref/ssm.cpp: ssmAt. Drawn with the stencil test, so it runs
 // only where S_ℓ = 1. Output: the visibility V in [0, 1].
 // With PCF_SAMPLE (cpu_ref/ssm.cpp: pcfSample, SPEC §11): the never-slower rule's sample of
-// where PCF is paid, drawn on a ⌈W/8⌉×⌈H/8⌉ target over the level-0 G-buffer; fragment (x, y)
-// asks pixel (8x + 4, 8y + 4) and writes 1 where its blocker search finds a blocker, else 0.
+// where PCF is paid, drawn on a ⌈W/8⌉×⌈H/8⌉ R8 target over the level-0 G-buffer; fragment
+// (x, y) asks pixel (8x + 4, 8y + 4) what it pays and writes the byte common/frame.h names:
+// 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF.
 #include "shadowmap.glsl"
 uniform sampler2D positionHit;  // level G-buffer: view position, hit
 uniform sampler2D normalDepth;  // level G-buffer: view normal, depth
@@ -20,12 +21,13 @@ layout(location = 0) out vec4 visibility;
 const float kMaxSearchTexels = 64.0;  // caps the blocker search (and so the penumbra)
 const int kPcfSampleStep = 8;         // common/frame.h
 
-// Ends the fragment with V = v, or under PCF_SAMPLE with 0: this pixel pays no PCF.
+// Ends the fragment with V = v, or under PCF_SAMPLE with what the pixel paid (the byte `paid`).
 #ifdef PCF_SAMPLE
-#define RETURN_WITHOUT_PCF(v) { visibility = vec4(0.0); return; }
+#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4(float(paid) / 255.0); return; }
 #else
-#define RETURN_WITHOUT_PCF(v) { visibility = v; return; }
+#define RETURN_WITHOUT_PCF(v, paid) { visibility = v; return; }
 #endif
+const int kPcfSampleNone = 0, kPcfSampleSearch = 1, kPcfSamplePcf = 2;  // common/frame.h
 
 // Offset of a tap of a regular grid spanning [−h, h] (texel centres of the grid).
 float gridOffset(float factor, float halfWidth) { return factor * halfWidth; }
@@ -43,11 +45,11 @@ void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
 #endif
   vec4 ph = texelFetch(positionHit, pixel, 0);
-  if (ph.w < 0.5) RETURN_WITHOUT_PCF(vec4(1.0));
+  if (ph.w < 0.5) RETURN_WITHOUT_PCF(vec4(1.0), kPcfSampleSearch);
   vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
   Receiver r = receiverAt(viewToWorld(ph.xyz), viewDirectionToWorld(n));
   if (!r.facesLight)  // the visible side faces away from the light: in its own shadow
-    RETURN_WITHOUT_PCF(vec4(0.0, 0.0, 0.0, 1.0));
+    RETURN_WITHOUT_PCF(vec4(0.0, 0.0, 0.0, 1.0), kPcfSampleNone);
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
   float searchTexels = clamp(r.depth * tanHalfAngle / mapTexel, 0.5, kMaxSearchTexels);
   float blockerSum = 0.0;
@@ -62,9 +64,9 @@ void main() {
       }
     }
   if (blockers == 0)  // nothing in front anywhere in the search region: fully lit
-    RETURN_WITHOUT_PCF(vec4(1.0));
+    RETURN_WITHOUT_PCF(vec4(1.0), kPcfSampleSearch);
 #ifdef PCF_SAMPLE
-  visibility = vec4(1.0);  // PCF runs here
+  visibility = vec4(float(kPcfSamplePcf) / 255.0);  // PCF runs here
   return;
 #endif
   float blockerDepth = blockerSum / float(blockers);

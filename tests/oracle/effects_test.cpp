@@ -81,30 +81,42 @@ TEST(Ssm, PenumbraWidensWithTheReceiversDistanceFromTheBlocker) {
   EXPECT_GT(highPartial, 2 * lowPartial);
 }
 
-TEST(Ssm, PcfSampleSaysWhereSsmAtFilters) {
-  // SPEC §11's H_p: the rule's sample asks one pixel in 8×8 whether PCSS filters there. It must
-  // be ssmAt's own answer (pcfTaps > 0) at (8x + 4, 8y + 4), and on this scene both answers occur:
-  // lit ground far from the slabs, and ground whose search reaches a slab though one tap is lit.
-  const auto r = test::renderScene("builtin:shadows", effectSettings(Effect::Ssm, 203, 149, 49, Mode::Full));
-  const FrameResult& f = r.frame;
-  const GBuffer& g = f.levels[0].gbuffer;
-  const ImageU8 sample = pcfSample(g, f.shadowMap, f.view, f.constants.ssm);
-  ASSERT_EQ(sample.width, 26);  // ⌈203 / 8⌉
-  ASSERT_EQ(sample.height, 19);
-  int pays = 0, searchOnly = 0, paysWhereOneTapIsLit = 0;
-  for (int y = 0; y < sample.height; ++y)
-    for (int x = 0; x < sample.width; ++x) {
-      const int px = std::min(x * 8 + 4, 202), py = std::min(y * 8 + 4, 148);
-      SsmDetail d;
-      ssmAt(g, f.shadowMap, f.view, f.constants.ssm, px, py, &d);
-      ASSERT_EQ(sample.at(x, y) != 0, d.pcfTaps > 0) << x << "," << y;
-      pays += d.pcfTaps > 0;
-      searchOnly += g.hit.at(px, py) && d.facesLight && d.pcfTaps == 0;
-      paysWhereOneTapIsLit += d.pcfTaps > 0 && f.shadowLit.at(px, py);
-    }
+TEST(Ssm, PcfSampleSaysWhatSsmAtPays) {
+  // SPEC §11's H_a and H_p: the rule's sample asks one pixel in 8×8 what PCSS pays there. It must
+  // be ssmAt's own answer at (8x + 4, 8y + 4): PCF where pcfTaps > 0, the search alone where it
+  // faces the light and finds nothing, nothing where it faces away (sky: the search, assumed).
+  // Lit from above and from below, every kind occurs, and the search sees blockers the one-tap
+  // test does not.
+  int pays = 0, searchOnly = 0, facesAway = 0, paysWhereOneTapIsLit = 0;
+  auto check = [&](const FrameResult& f) {
+    const GBuffer& g = f.levels[0].gbuffer;
+    const ImageU8 sample = pcfSample(g, f.shadowMap, f.view, f.constants.ssm);
+    ASSERT_EQ(sample.width, 26);  // ⌈203 / 8⌉
+    ASSERT_EQ(sample.height, 19);
+    for (int y = 0; y < sample.height; ++y)
+      for (int x = 0; x < sample.width; ++x) {
+        const int px = std::min(x * 8 + 4, 202), py = std::min(y * 8 + 4, 148);
+        SsmDetail d;
+        ssmAt(g, f.shadowMap, f.view, f.constants.ssm, px, py, &d);
+        const uint8_t expected = !g.hit.at(px, py) ? kPcfSampleSearch
+                                 : !d.facesLight   ? kPcfSampleNone
+                                 : d.pcfTaps > 0   ? kPcfSamplePcf
+                                                   : kPcfSampleSearch;
+        ASSERT_EQ(sample.at(x, y), expected) << x << "," << y;
+        pays += expected == kPcfSamplePcf;
+        searchOnly += g.hit.at(px, py) && expected == kPcfSampleSearch;
+        facesAway += expected == kPcfSampleNone;
+        paysWhereOneTapIsLit += d.pcfTaps > 0 && f.shadowLit.at(px, py);
+      }
+  };
+  auto r = test::renderScene("builtin:shadows", effectSettings(Effect::Ssm, 203, 149, 49, Mode::Full));
+  check(r.frame);
   EXPECT_GT(pays, 10);
   EXPECT_GT(searchOnly, 10);
   EXPECT_GT(paysWhereOneTapIsLit, 0) << "the search sees blockers the one-tap test does not";
+  r.scene->light.direction = glm::normalize(glm::vec3(0.3f, 1.0f, -0.4f));  // from below: the ground faces away
+  check(r.renderer->render(r.camera, r.frame.constants));
+  EXPECT_GT(facesAway, 100);
 }
 
 TEST(Ssm, ShadowEdgesPutTheFullResStencilAlongShadowBoundaries) {

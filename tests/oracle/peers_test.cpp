@@ -229,12 +229,12 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   m.nsPerMaskPixel = 11.0;
   const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   FrameCounts n;
-  n.hitPixels = 1024;  // half the frame on geometry
+  n.hitPixels = n.searchedPixels = 1024;  // half the frame on geometry, all of it paying the effect
   n.triangles = 1000;
   // full: 1024 × (10 + 16) on geometry + 1024 × 0.5 off it + 2048 × 2
   EXPECT_NEAR(predictFullMs(m, c, n), (1024.0 * 26 + 1024.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
   n.shaded = {100, 50, 20, 32};
-  n.shadedHit = {60, 25, 10, 16};
+  n.shadedHit = n.shadedSearched = {60, 25, 10, 16};
   // on geometry × 26 × 1.5 + off × 0.5 + level pixels × 2 + coarse pixels × (3 + ½ × 4) + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
   const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 2 + coarse * (3 + 0.5 * 4) + 2048.0 * 5;
@@ -273,8 +273,14 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.shadedPcf = {30, 10, 0, 4};
   EXPECT_NEAR(predictFullMs(ssm, cs, n) - ssmFull, 400.0 * 3 * 16 * 1e-6, 1e-12);
   EXPECT_NEAR(predictMrrMs(ssm, cs, n) - ssmMrr, 44.0 * 3 * 16 * 1.5 * 1e-6, 1e-12);
+  // H_a: SSM's pixels facing away from the light pay c, as background does, not a.
+  const double withAll = predictFullMs(ssm, cs, n), mrrWithAll = predictMrrMs(ssm, cs, n);
+  n.searchedPixels = 1024 - 200;
+  n.shadedSearched = {50, 25, 10, 16};
+  EXPECT_NEAR(withAll - predictFullMs(ssm, cs, n), 200.0 * (10 - 0.5) * 1e-6, 1e-12);
+  EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), 10.0 * (10 * 1.5 - 0.5) * 1e-6, 1e-12);
   // A frame all background: full costs c per pixel and P_0 d, nothing on geometry.
-  n.hitPixels = 0;
+  n.hitPixels = n.searchedPixels = 0;
   n.pcfPixels = 0;
   EXPECT_NEAR(predictFullMs(m, c, n), (2048.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
 }
@@ -302,17 +308,26 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[1], 10 * 16);
   // Level 3: 8x + 4 < 20, x ≤ 1: 2 of 8 per row, 4 rows.
   EXPECT_EQ(n.shadedHit[3], 2 * 4);
+  EXPECT_EQ(n.searchedPixels, 20 * 32) << "no sample: every pixel on geometry pays the effect";
+  EXPECT_EQ(n.shadedSearched, n.shadedHit);
   // SSM's PCF sample, one pixel in 8×8 (an 8×4 image): its top two rows pay PCF, so the top 16
-  // full-res rows do. H_p counts only pixels on geometry.
-  ImageU8 pcf(8, 4, 1, 0);
-  for (int y = 0; y < 2; ++y)
-    for (int x = 0; x < 8; ++x) pcf.at(x, y) = 1;
+  // full-res rows do; its bottom row faces away from the light, so rows 24–31 pay nothing.
+  // H_a and H_p count only pixels on geometry.
+  ImageU8 pcf(8, 4, 1, kPcfSampleSearch);
+  for (int x = 0; x < 8; ++x) {
+    pcf.at(x, 0) = pcf.at(x, 1) = kPcfSamplePcf;
+    pcf.at(x, 3) = kPcfSampleNone;
+  }
   countHits(n, hit, pcf, c);
   countForRule(n, masks, c, hit, pcf);
   EXPECT_EQ(n.pcfPixels, 20 * 16);
+  EXPECT_EQ(n.searchedPixels, 20 * 24);
   EXPECT_EQ(n.shadedPcf[0], 20 * 16);
   EXPECT_EQ(n.shadedPcf[1], 10 * 8);  // rows 2y + 1 < 16
   EXPECT_EQ(n.shadedPcf[3], 2 * 2);   // rows 8y + 4 < 16
+  EXPECT_EQ(n.shadedSearched[0], 20 * 24);
+  EXPECT_EQ(n.shadedSearched[1], 10 * 12);  // rows 2y + 1 < 24
+  EXPECT_EQ(n.shadedSearched[3], 2 * 3);    // rows 8y + 4 < 24
   EXPECT_EQ(n.shadedHit[1], 10 * 16) << "unchanged";
 }
 

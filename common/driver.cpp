@@ -46,12 +46,13 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
   f.counts.triangles = b.sceneTriangles();
-  // SSM: where PCF is paid, asked of one pixel in 8×8, when the model prices it (e > 0)
+  // SSM: what PCSS pays (nothing, the search, or the search and PCF), asked of one pixel in 8×8,
+  // when the model prices PCF (e > 0). Untimed: it is the rule's, in the frame's total.
   if (c.mode == Mode::Mrr && c.effect == Effect::Ssm &&
       model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
     b.samplePcf(f);
   bool fellBackEarly = false;
-  if (c.mode == Mode::Mrr) countHits(f.counts, b.fullResHit(f), f.pcfSample, c);  // H, H_p: once
+  if (c.mode == Mode::Mrr) countHits(f.counts, b.fullResHit(f), f.pcfSample, c);  // H, H_a, H_p: once
   if (c.mode == Mode::Mrr && c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {

@@ -27,10 +27,10 @@ class FrameBackend {
   // The full-res G-buffer's hit flags: for the never-slower rule's counts (SPEC §11) and
   // FrameResult::idealSpeedupHit (the port reads them back once when the frame keeps no G-buffer).
   virtual const ImageU8& fullResHit(const FrameResult& f) { return f.levels[0].gbuffer.hit; }
-  // SSM: which pixels of the 8×8 grid pay PCF, into f.pcfSample, for the rule's H_p (SPEC §11),
-  // called when the model prices PCF (e > 0). Each path asks its own PCSS: cpu_ref/ssm.h
-  // pcfSample, ssm.frag with PCF_SAMPLE. Left empty, H_p is 0.
-  virtual void samplePcf(FrameResult& /*f*/) {}
+  // SSM: what PCSS pays at each pixel of the 8×8 grid, into f.pcfSample, for the rule's H_a and
+  // H_p (SPEC §11), called when the model prices PCF (e > 0). Each path asks its own PCSS:
+  // cpu_ref/ssm.h pcfSample, ssm.frag with PCF_SAMPLE.
+  virtual void samplePcf(FrameResult& f) = 0;
   virtual int64_t sceneTriangles() const = 0;  // SPEC §11's T
 
   // 1. One level's G-buffer (level 0 first: the masks are made from it alone).

@@ -17,6 +17,7 @@
 #include "common/camera.h"
 #include "common/cost_model.h"
 #include "common/image.h"
+#include "common/shader_constants.h"
 #include "common/params.h"
 #include "common/scene.h"
 #include "common/shader_constants.h"
@@ -199,12 +200,7 @@ void countForRule(FrameCounts& counts, const Masks& masks, const Constants& cons
 // H, H_a and H_p: the full-res pixels on geometry, those of them that pay the effect's per-pixel
 // cost (SSM: its blocker search; every one without a sample) and those that pay PCF.
 void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants);
-constexpr int kPcfSampleStep = 8;  // one pixel in 8×8 asked what SSM pays there (SPEC §11)
-// The sample's values: what PCSS pays at the pixel (cpu_ref/ssm.h pcfSample, ssm.frag PCF_SAMPLE).
-constexpr uint8_t kPcfSampleNone = 0;    // nothing: a surface facing away from the light
-constexpr uint8_t kPcfSampleSearch = 1;  // the blocker search, which finds no blocker (and sky)
-constexpr uint8_t kPcfSamplePcf = 2;     // the search and PCF's N taps
-// The sample's value for full-res pixel (x, y): that of its kPcfSampleStep² block.
+// The sample's value (kPcfSample…, common/shader_constants.h) for full-res pixel (x, y): that of its kPcfSampleStep² block.
 inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
   return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),
                       std::min(y / kPcfSampleStep, pcfSample.height - 1));

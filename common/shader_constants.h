@@ -4,6 +4,8 @@
 // declarations that gpu/program.cpp pastes after each shader's #version line, printed with
 // enough digits (%.9g) that the GLSL compiler rounds them back to the same float.
 // Per-frame numbers (thresholds, radii, kernels) are uniforms made from Constants instead.
+#include <cstdint>
+
 namespace mrr {
 
 // SSAO, occluderDepth (docs/spec.md §6.1): below this |cos|² between the sample ray and the
@@ -20,6 +22,14 @@ inline constexpr float kReceiverMinCosine = 0.0175f;  // cos 89°
 // The shaded image's sky colour on background pixels (SPEC §6, cpu_ref/shade.cpp).
 inline constexpr float kSkyRed = 0.62f, kSkyGreen = 0.70f, kSkyBlue = 0.80f;
 
+// The never-slower rule's sample of what SSM pays (SPEC §11, cpu_ref/ssm.h pcfSample, ssm.frag
+// with PCF_SAMPLE): one pixel in kPcfSampleStep², whose value says what PCSS pays there. The
+// port writes the value as a byte of an R8 target (value / 255).
+inline constexpr int kPcfSampleStep = 8;
+inline constexpr uint8_t kPcfSampleNone = 0;    // nothing: a surface facing away from the light
+inline constexpr uint8_t kPcfSampleSearch = 1;  // the blocker search, which finds no blocker (and sky)
+inline constexpr uint8_t kPcfSamplePcf = 2;     // the search and PCF's N taps
+
 struct ShaderConstant {
   const char* name;  // the same identifier in C++ and GLSL
   float value;
@@ -31,6 +41,10 @@ inline constexpr ShaderConstant kShaderConstants[] = {
     {"kSkyRed", kSkyRed},
     {"kSkyGreen", kSkyGreen},
     {"kSkyBlue", kSkyBlue},
+    {"kPcfSampleStep", static_cast<float>(kPcfSampleStep)},
+    {"kPcfSampleNone", kPcfSampleNone},
+    {"kPcfSampleSearch", kPcfSampleSearch},
+    {"kPcfSamplePcf", kPcfSamplePcf},
 };
 
 }  // namespace mrr

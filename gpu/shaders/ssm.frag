@@ -4,7 +4,7 @@
 // only where S_ℓ = 1. Output: the visibility V in [0, 1].
 // With PCF_SAMPLE (cpu_ref/ssm.cpp: pcfSample, SPEC §11): the never-slower rule's sample of
 // where PCF is paid, drawn on a ⌈W/8⌉×⌈H/8⌉ R8 target over the level-0 G-buffer; fragment
-// (x, y) asks pixel (8x + 4, 8y + 4) what it pays and writes the byte common/frame.h names:
+// (x, y) asks pixel (8x + 4, 8y + 4) what it pays and writes the byte common/shader_constants.h names:
 // 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF.
 #include "shadowmap.glsl"
 uniform sampler2D positionHit;  // level G-buffer: view position, hit
@@ -19,15 +19,13 @@ uniform float pcfFactors[32];
 layout(location = 0) out vec4 visibility;
 
 const float kMaxSearchTexels = 64.0;  // caps the blocker search (and so the penumbra)
-const int kPcfSampleStep = 8;         // common/frame.h
 
 // Ends the fragment with V = v, or under PCF_SAMPLE with what the pixel paid (the byte `paid`).
 #ifdef PCF_SAMPLE
-#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4(float(paid) / 255.0); return; }
+#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4(paid / 255.0); return; }
 #else
 #define RETURN_WITHOUT_PCF(v, paid) { visibility = v; return; }
 #endif
-const int kPcfSampleNone = 0, kPcfSampleSearch = 1, kPcfSamplePcf = 2;  // common/frame.h
 
 // Offset of a tap of a regular grid spanning [−h, h] (texel centres of the grid).
 float gridOffset(float factor, float halfWidth) { return factor * halfWidth; }
@@ -40,7 +38,9 @@ float penumbraWidth(float receiverDepth, float blockerDepth) {
 
 void main() {
 #ifdef PCF_SAMPLE
-  ivec2 pixel = min(ivec2(gl_FragCoord.xy) * kPcfSampleStep + kPcfSampleStep / 2, textureSize(positionHit, 0) - 1);
+  // kPcfSample… (the step and the values): common/shader_constants.h
+  const int stride = int(kPcfSampleStep);
+  ivec2 pixel = min(ivec2(gl_FragCoord.xy) * stride + stride / 2, textureSize(positionHit, 0) - 1);
 #else
   ivec2 pixel = ivec2(gl_FragCoord.xy);
 #endif
@@ -66,7 +66,7 @@ void main() {
   if (blockers == 0)  // nothing in front anywhere in the search region: fully lit
     RETURN_WITHOUT_PCF(vec4(1.0), kPcfSampleSearch);
 #ifdef PCF_SAMPLE
-  visibility = vec4(float(kPcfSamplePcf) / 255.0);  // PCF runs here
+  visibility = vec4(kPcfSamplePcf / 255.0);  // PCF runs here
   return;
 #endif
   float blockerDepth = blockerSum / float(blockers);

@@ -32,32 +32,34 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
   // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀}.
   if (path == "gpu") {
-    // gpu: the mean of two runs (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24).
-    // Its SSM frames now sample where PCF runs during calibration, and e comes out as the
-    // oracle's (1.6 ns per PCF tap): the port's PCF is paid where it runs, as the oracle's is.
+    // gpu: the mean of two runs (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24,
+    // at 320×180, 640×360 and 1280×720; T counts the triangles in view). SSAO's k is the
+    // least steady figure (7.8 and 1.7 ms): its s clamps at 1, and k is then the mean residual.
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{215.6, 5.25, 0.0, 28.33, 0.0, 1.15, 4.02, 0.29},
-                EffectCost{163.8, 0.00, 0.0, 33.87, 1.64, 1.34, 3.36, 0.24},
-                EffectCost{32.5, 7.53, 16.01, 19.37, 0.0, 1.01, 4.38, 0.12}};
-    m.nsPerCoarseGbufferPixel = 0.0;
-    m.nsPerCoarseGbufferHit = 64.3;
-    m.nsPerTrianglePerLevel = 79.5;
-    m.nsPerBlendPixel = 14.1;
-    m.nsPerEdgePixel = 17.9;
-    m.nsPerMaskPixel = 16.7;
+    m.effect = {EffectCost{224.2, 6.21, 0.0, 30.93, 0.0, 1.0, 4.73, 0.48},
+                EffectCost{156.7, 0.00, 0.0, 37.18, 1.64, 1.15, 10.09, 0.01},
+                EffectCost{13.2, 13.23, 16.64, 19.87, 0.0, 1.0, 0.0, 0.17}};
+    m.nsPerCoarseGbufferPixel = 13.08;
+    m.nsPerCoarseGbufferHit = 24.0;
+    m.nsPerTrianglePerLevel = 209.5;
+    m.nsPerBlendPixel = 14.88;
+    m.nsPerEdgePixel = 17.07;
+    m.nsPerMaskPixel = 12.74;
+    m.edgesMasksFixedMs = 1.51;
   } else {
     // cpu: the mean of two runs (--repeats 5), which agreed within 10% but for the small k's
-    // (2026-11-24).
+    // (2026-11-24, at 320×180, 640×360 and 1280×720).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{201.4, 6.87, 0.98, 3.16, 0.0, 1.06, 0.62, 0.02},
-                EffectCost{74.64, 0.00, 0.0, 2.63, 1.54, 1.06, 1.15, 0.01},
-                EffectCost{30.58, 8.72, 12.83, 3.58, 0.0, 1.62, 0.0, 0.07}};
-    m.nsPerCoarseGbufferPixel = 10.96;
-    m.nsPerCoarseGbufferHit = 18.99;
-    m.nsPerTrianglePerLevel = 4.11;
-    m.nsPerBlendPixel = 2.92;
-    m.nsPerEdgePixel = 4.43;
-    m.nsPerMaskPixel = 3.07;
+    m.effect = {EffectCost{192.5, 8.90, 1.0, 3.52, 0.0, 1.0, 0.0, 0.0},
+                EffectCost{70.52, 0.00, 0.0, 2.47, 1.54, 1.08, 3.88, 0.02},
+                EffectCost{8.43, 12.44, 14.82, 3.46, 0.0, 1.28, 0.0, 0.04}};
+    m.nsPerCoarseGbufferPixel = 12.22;
+    m.nsPerCoarseGbufferHit = 11.44;
+    m.nsPerTrianglePerLevel = 18.02;
+    m.nsPerBlendPixel = 2.71;
+    m.nsPerEdgePixel = 3.29;
+    m.nsPerMaskPixel = 2.59;
+    m.edgesMasksFixedMs = 0.15;
   }
   return m;
 }
@@ -80,6 +82,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
     m.nsPerCoarseGbufferHit = j.at("ns_per_coarse_gbuffer_hit").get<double>();
+    m.edgesMasksFixedMs = j.at("edges_masks_fixed_ms").get<double>();
     m.nsPerTrianglePerLevel = j.at("ns_per_triangle_per_level").get<double>();
     m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
     m.nsPerEdgePixel = j.at("ns_per_edge_pixel").get<double>();
@@ -110,7 +113,8 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_triangle_per_level", nsPerTrianglePerLevel},
           {"ns_per_blend_pixel", nsPerBlendPixel},
           {"ns_per_edge_pixel", nsPerEdgePixel},
-          {"ns_per_mask_pixel", nsPerMaskPixel}};
+          {"ns_per_mask_pixel", nsPerMaskPixel},
+          {"edges_masks_fixed_ms", edgesMasksFixedMs}};
 }
 
 // SPEC §11: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀, in ms.
@@ -141,19 +145,33 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
   return ns * 1e-6 + e.fixedMs;
 }
 
-// SPEC §11: P_0 (ε + μ) + the coarse G-buffers and the blend + P_k (((H_a (a + b N) + H_p e N) /
-// W·H) s + (1 − H_a / W·H) c + d) for the coarsest enabled level + k, in ms.
+// SPEC §11: P_0 (ε + μ) + κ + the coarse G-buffers and the blend + Σ_ℓ shaded P_ℓ d
+// + |B_0| (what a pixel on geometry pays on average) + Σ_{0<ℓ<k} |B_ℓ| (what a pixel pays on
+// average) + P_k (((H_a (a + b N) + H_p e N) / W·H) s + (1 − H_a / W·H) c) for the coarsest
+// enabled level k + k, in ms.
 double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
-  const LevelConstants& coarsest = c.levels[static_cast<size_t>(c.coarsestEnabled)];
   const double pixels = std::max(1.0, static_cast<double>(c.width) * c.height);
-  const double share = static_cast<double>(n.searchedPixels) / pixels;  // H_a / W·H
+  // What one shaded pixel pays on average, where a share of the pixels pays the effect (a, b),
+  // another share PCF (e N) at the sparse factor, and the rest leaves at once (c).
+  auto averageNs = [&](double searchedShare, double pcfShare) {
+    return (searchedShare * shadeNs(e, c.samples()) + pcfShare * e.nsPerPcfSample * c.samples()) * e.sparseFactor +
+           (1.0 - searchedShare) * e.nsPerBackgroundPixel;
+  };
+  const double perPixel = averageNs(static_cast<double>(n.searchedPixels) / pixels, static_cast<double>(n.pcfPixels) / pixels);
+  const double hits = std::max(1.0, static_cast<double>(n.hitPixels));
+  const double perHit = averageNs(static_cast<double>(n.searchedPixels) / hits, static_cast<double>(n.pcfPixels) / hits);
   double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c, n);
-  const double pcfShare = static_cast<double>(n.pcfPixels) / pixels;
-  ns += levelPixels(coarsest) *
-        ((share * shadeNs(e, c.samples()) + pcfShare * e.nsPerPcfSample * c.samples()) * e.sparseFactor +
-         (1.0 - share) * e.nsPerBackgroundPixel + e.nsPerLevelPixel);
-  return ns * 1e-6 + e.fixedMs;
+  for (const LevelConstants& lc : c.levels) {
+    if (!lc.enabled || !lc.shaded) continue;
+    const auto l = static_cast<size_t>(lc.index);
+    ns += levelPixels(lc) * e.nsPerLevelPixel;  // every shaded level pays d over its whole grid
+    if (lc.index == c.coarsestEnabled)
+      ns += levelPixels(lc) * perPixel;  // S_k = 1 everywhere
+    else
+      ns += static_cast<double>(n.silhouette[l]) * (lc.index == 0 ? perHit : perPixel);
+  }
+  return ns * 1e-6 + m.edgesMasksFixedMs + e.fixedMs;
 }
 
 namespace {

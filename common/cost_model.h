@@ -3,13 +3,14 @@
 // frame and the rest of a `full` frame from what it knows of the frame, and shades the frame at
 // full resolution when it predicts no gain. It decides twice:
 //  - early, after the level-0 G-buffer (and the shadow map), from the frame's size, its pixels
-//    on geometry and the scene's triangles: when even the least the method could pay (edges,
-//    masks, coarse G-buffers, blend, every pixel at the coarsest level) is no less than full's
+//    on geometry, its silhouettes and the triangles in view: when even the least the method
+//    could pay (edges, masks, coarse G-buffers, blend, its silhouettes at every level, every
+//    pixel at the coarsest level) is no less than full's
 //    rest, the frame falls back before the edges are found;
 //  - then, once the stencils are known and before anything is shaded, from |S_ℓ| and how many
 //    of those pixels lie on geometry.
 // Background pixels cost each mode what they cost (the effects leave them at once), the
-// coarse G-buffers cost rays on geometry and off it (the oracle) or triangles per level (the
+// coarse G-buffers cost rays on geometry and off it (the oracle) or triangles in view per level (the
 // port), and the effect costs per pixel and per sample. The costs are measured, not guessed:
 // `mrr bench --calibrate` fits them on the machine at hand, for each path, and writes the JSON
 // `--cost-model` reads; the defaults below are that command's output on this project's CI
@@ -53,12 +54,14 @@ struct CostModel {
   std::array<EffectCost, 3> effect{};  // by Effect
   double nsPerCoarseGbufferPixel = 0.0;  // g: one level-ℓ G-buffer pixel, ℓ ≥ 1
   double nsPerCoarseGbufferHit = 0.0;    // h: more per level-ℓ pixel on geometry (a ray that hits)
-  // t: a rasterised G-buffer (the port) also costs its triangles at every level, whatever the
-  // level's size: t per triangle per coarse level. Ray casting (the oracle) leaves it 0.
+  // t: a rasterised G-buffer (the port) also costs its triangles in view at every level,
+  // whatever the level's size: t per such triangle per coarse level. Ray casting (the oracle)
+  // leaves it near 0.
   double nsPerTrianglePerLevel = 0.0;
   double nsPerBlendPixel = 0.0;  // β: the blend, per full-res pixel
   double nsPerEdgePixel = 0.0;   // ε: edges, per padded full-res pixel (the early decision's)
   double nsPerMaskPixel = 0.0;   // μ: the masks, per padded full-res pixel (the same)
+  double edgesMasksFixedMs = 0.0;  // κ: the edges' and masks' passes per frame, whatever its size
 
   // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu").
   static CostModel defaults(const std::string& path);
@@ -69,12 +72,17 @@ struct CostModel {
 // What the rule knows of a frame: counts only.
 struct FrameCounts {
   int64_t hitPixels = 0;  // H: level-0 pixels (W×H) on geometry
-  int64_t triangles = 0;  // the scene's
+  int64_t triangles = 0;  // T: the scene's triangles in view (countTrianglesInView)
   // H_a: of those, the ones paying the effect's per-pixel cost (a, b): all of them but for SSM
   // with e > 0, whose pixels facing away from the light return before any tap. H_p: of those,
   // paying PCF (SSM with e > 0; else 0). Both estimated from one pixel in 8×8 (pcfSample).
   int64_t searchedPixels = 0;
   int64_t pcfPixels = 0;
+  // B_ℓ: level-ℓ pixels whose block holds a silhouette pixel (a full-res pixel on geometry with a
+  // background 4-neighbour: a background edge, SPEC §2). B_0 ⊆ E ⊆ S_0, and the masks' closure
+  // puts maxpool(B_0) into every coarser enabled S_ℓ, so the method shades at least B_ℓ at every
+  // level whatever else its edges find: the early floor counts them (countHits).
+  std::array<int64_t, kLevelCount> silhouette{};
   // |S_ℓ| and |S_ℓ ∩ hit| per level (a level-ℓ pixel on geometry when its full-res pixel
   // (x·s + s/2, y·s + s/2) is: levelPixelHits). Zero before the stencils are known.
   std::array<int64_t, kLevelCount> shaded{}, shadedHit{};
@@ -98,9 +106,10 @@ double predictFullMs(const CostModel& model, const Constants& constants, const F
 // |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β
 // + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
-// The least the method can still pay before its edges: P_0 (ε + μ) + the coarse G-buffers and
-// the blend as above + every pixel of the coarsest enabled level shaded, paying in proportion
-// to H_a and H_p, + k.
+// The least the method can still pay before its edges: P_0 (ε + μ) + κ + the coarse G-buffers
+// and the blend as above + d over every shaded level + its silhouettes B_ℓ shaded at every
+// level but the coarsest + every pixel of the coarsest enabled level, paying in proportion to
+// H_a and H_p, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
 // The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted

@@ -45,10 +45,11 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // SPEC §11, early: when even the least the method could still pay is no gain, the frame
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
-  f.counts.triangles = b.sceneTriangles();
+  if (c.mode == Mode::Mrr) f.counts.triangles = countTrianglesInView(b.sourceScene(), f.view);  // T
   // SSM: what PCSS pays (nothing, the search, or the search and PCF), asked of one pixel in 8×8,
-  // when the model prices PCF (e > 0). Untimed: it is the rule's, in the frame's total.
-  if (c.mode == Mode::Mrr && c.effect == Effect::Ssm &&
+  // when the model prices PCF (e > 0) and the rule will decide (or the caller reads its counts).
+  // Untimed: it is the rule's, in the frame's total.
+  if (c.mode == Mode::Mrr && c.effect == Effect::Ssm && (c.neverSlower || options.sampleWithRuleOff) &&
       model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
     b.samplePcf(f);
   bool fellBackEarly = false;

@@ -138,6 +138,13 @@ uint8_t paysAt(const ImageU8& pcf, int x, int y) { return pcf.empty() ? kPcfSamp
 
 void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c) {
   n.hitPixels = n.searchedPixels = n.pcfPixels = 0;
+  // B_ℓ: a level-ℓ pixel is marked when its block holds a silhouette pixel (edgeAt's background
+  // edge: on geometry, with a 4-neighbour inside the image off it).
+  std::array<ImageU8, kLevelCount> marked;
+  for (const LevelConstants& lc : c.levels)
+    if (lc.enabled && lc.index > 0) marked[static_cast<size_t>(lc.index)] = ImageU8(lc.width, lc.height, 1, 0);
+  auto background = [&](int x, int y) { return hit.contains(x, y) && !hit.at(x, y); };
+  n.silhouette = {};
   for (int y = 0; y < std::min(c.height, hit.height); ++y)
     for (int x = 0; x < std::min(c.width, hit.width); ++x)
       if (hit.at(x, y)) {
@@ -145,7 +152,44 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
         const uint8_t pays = paysAt(pcf, x, y);
         n.searchedPixels += pays != kPcfSampleNone;
         n.pcfPixels += pays == kPcfSamplePcf;
+        if (!(background(x - 1, y) || background(x + 1, y) || background(x, y - 1) || background(x, y + 1))) continue;
+        ++n.silhouette[0];
+        for (int l = 1; l < kLevelCount; ++l) {
+          ImageU8& level = marked[static_cast<size_t>(l)];
+          if (level.empty()) continue;
+          uint8_t& m = level.at(std::min(x >> l, level.width - 1), std::min(y >> l, level.height - 1));
+          n.silhouette[static_cast<size_t>(l)] += m == 0;
+          m = 1;
+        }
       }
+}
+
+namespace {
+// Which sides of the view's padded frustum a view-space point lies beyond (bit per side): a
+// triangle whose three vertices share a bit is outside it whole. Sides at the padded image's
+// edges (the G-buffers' grid: px ∈ [0, Wp], py ∈ [0, Hp]) and the camera plane (d = −z > 0).
+uint8_t outsideSides(const View& v, const glm::vec3& p) {
+  const float d = -p.z;
+  const float px = p.x * v.focal, py = -p.y * v.focal;  // (pixel − principal point) · d
+  uint8_t sides = 0;
+  if (d <= 0.0f) sides |= 1;
+  if (px < -v.cx * d) sides |= 2;
+  if (px > (static_cast<float>(v.paddedWidth) - v.cx) * d) sides |= 4;
+  if (py < -v.cy * d) sides |= 8;
+  if (py > (static_cast<float>(v.paddedHeight) - v.cy) * d) sides |= 16;
+  return sides;
+}
+}  // namespace
+
+int64_t countTrianglesInView(const Scene& scene, const View& view) {
+  int64_t inView = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    std::vector<uint8_t> sides(mesh.positions.size());
+    for (size_t i = 0; i < sides.size(); ++i) sides[i] = outsideSides(view, view.toView(mesh.positions[i]));
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+      inView += (sides[mesh.indices[t]] & sides[mesh.indices[t + 1]] & sides[mesh.indices[t + 2]]) == 0;
+  }
+  return inView;
 }
 
 namespace {

@@ -179,6 +179,10 @@ struct RenderOptions {
   ProgressFn progress;
   // The never-slower rule's per-pixel costs (SPEC §11); null: CostModel::defaults of the path.
   const CostModel* costModel = nullptr;
+  // SSM with the rule off: still sample what PCSS pays (pcfSample), so that f.counts and the
+  // report's predictions are the rule's own. `bench --calibrate` and `--rule-sweep` read them from
+  // frames rendered with the rule off; a user who turned the rule off does not pay for it.
+  bool sampleWithRuleOff = false;
 };
 
 // SPEC §11 on a frame whose stencils are `masks` (counted into f.counts) and nothing else of
@@ -200,6 +204,11 @@ void countForRule(FrameCounts& counts, const Masks& masks, const Constants& cons
 // H, H_a and H_p: the full-res pixels on geometry, those of them that pay the effect's per-pixel
 // cost (SSM: its blocker search; every one without a sample) and those that pay PCF.
 void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants);
+// T (SPEC §11): the scene's triangles a rasteriser cannot reject whole, those not entirely
+// behind the camera or entirely beyond one side of the view's padded frustum (what the port's
+// coarse G-buffers draw at every level; the rest are clipped before any raster work). Exact for
+// any thread count (integer sums).
+int64_t countTrianglesInView(const Scene& scene, const View& view);
 // The sample's value (kPcfSample…, common/shader_constants.h) for full-res pixel (x, y): that of its kPcfSampleStep² block.
 inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
   return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),

@@ -64,7 +64,7 @@ Measured measure(const RenderFn& render, const Camera& camera, const Constants& 
   std::map<std::string, std::vector<double>> runs;
   Measured m;
   for (int i = 0; i <= repeats; ++i) {
-    FrameResult f = render(camera, constants, {false, {}, model});
+    FrameResult f = render(camera, constants, {false, {}, model, true});
     if (i == 0) continue;
     for (const auto& [k, v] : stageMs(f)) runs[k].push_back(v);
     if (i == repeats) m.last = std::move(f);
@@ -127,12 +127,6 @@ struct LeastSquares {
   }
 };
 
-double sumOf(const std::array<int64_t, kLevelCount>& v) {
-  double s = 0.0;
-  for (int64_t x : v) s += static_cast<double>(x);
-  return s;
-}
-
 }  // namespace
 
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect) {
@@ -158,7 +152,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   const int w = 640, h = 360;
   const double pixels = static_cast<double>(w) * h;
   CostModel model;
-  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 640x360";
+  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 320x180 to 1280x720";
   // Per effect, full frames: H_a, H_a·N (, H_p·N), W·H − H_a and 1 against the shading time. c and
   // k₀ come from the frames nearly all background (the sky), where nothing else is paid; a, b
   // (, e) by least squares on the rest with those fixed (fitted together, c traded off against a).
@@ -168,7 +162,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   };
   std::array<std::vector<FullRun>, 3> fullRuns;
   std::array<std::vector<double>, 3> perLevel;  // per effect: d
-  struct MrrRun {  // at 640×360 and at 320×180, to tell s (per pixel) from k (per frame)
+  struct MrrRun {  // at 320×180, 640×360 and 1280×720, to tell s (per pixel) from k (per frame)
     Effect effect;
     Constants constants;
     FrameCounts counts;
@@ -180,7 +174,8 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
   CostModel counting = CostModel::defaults(path.name);
   counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
-  std::vector<double> blend, fullBlend, edges, masks;
+  std::vector<double> blend, fullBlend;
+  LeastSquares edgesFit, masksFit;  // P_0, 1 → ε, κ's share (and μ, the rest of κ)
   for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
     const float diagonal = sc.scene->bounds().diagonal();
@@ -193,18 +188,21 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         Measured mrr = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n2), diagonal),
                                repeats, &counting);
         const FrameCounts& n = mrr.last.counts;
-        const double hit = static_cast<double>(n.hitPixels);
         const Measured small = measure(sc.render, view.camera,
                                        makeConstants(settingsFor("mrr-norule", e, w / 2, h / 2, n2), diagonal), repeats,
                                        &counting);
-        // full at both sample counts, and at n2 at half the size: the sizes tell k₀ (per frame)
-        // from the per-pixel costs.
+        const Measured large = measure(sc.render, view.camera,
+                                       makeConstants(settingsFor("mrr-norule", e, 2 * w, 2 * h, n2), diagonal), repeats,
+                                       &counting);
+        // full at both sample counts, and at n2 at half and twice the size: the sizes tell k₀
+        // (per frame) from the per-pixel costs, and the fit holds from 320×180 to 1280×720.
         struct FullConfig {
           int width, height, samples;
           const FrameCounts* counts;
         };
         for (const FullConfig& fc : {FullConfig{w, h, n1, &n}, FullConfig{w, h, n2, &n},
-                                     FullConfig{w / 2, h / 2, n2, &small.last.counts}}) {
+                                     FullConfig{w / 2, h / 2, n2, &small.last.counts},
+                                     FullConfig{2 * w, 2 * h, n2, &large.last.counts}}) {
           const Measured full = measure(
               sc.render, view.camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
           const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
@@ -216,17 +214,24 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         }
         mrrRuns.push_back({e, mrr.last.constants, n, restMs(mrr.ms)});
         mrrRuns.push_back({e, small.last.constants, small.last.counts, restMs(small.ms)});
-        const Constants& c = mrr.last.constants;
-        for (const LevelConstants& lc : c.levels)
-          if (lc.enabled && lc.index > 0) {
-            const double p = static_cast<double>(lc.width) * lc.height;
-            gbufferFit.add({p, p * hit / pixels, static_cast<double>(n.triangles)},
-                           stage(mrr.ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6);
-          }
-        const double padded = static_cast<double>(c.levels[0].width) * c.levels[0].height;
+        mrrRuns.push_back({e, large.last.constants, large.last.counts, restMs(large.ms)});
+        for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large})  // the coarse G-buffers at every size
+          for (const LevelConstants& lc : m->last.constants.levels)
+            if (lc.enabled && lc.index > 0) {
+              const FrameCounts& mn = m->last.counts;
+              const double p = static_cast<double>(lc.width) * lc.height;
+              const double share = static_cast<double>(mn.hitPixels) /
+                                   (static_cast<double>(m->last.constants.width) * m->last.constants.height);
+              gbufferFit.add({p, p * share, static_cast<double>(mn.triangles)},
+                             stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6);
+            }
         blend.push_back(stage(mrr.ms, "blend") * 1e6 / pixels);
-        edges.push_back(stage(mrr.ms, "edges") * 1e6 / padded);
-        masks.push_back(stage(mrr.ms, "masks") * 1e6 / padded);
+        for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
+          const LevelConstants& l0 = m->last.constants.levels[0];
+          const double padded = static_cast<double>(l0.width) * l0.height;
+          edgesFit.add({padded, 1e6}, stage(m->ms, "edges") * 1e6);
+          masksFit.add({padded, 1e6}, stage(m->ms, "masks") * 1e6);
+        }
       }
     }
   }
@@ -256,8 +261,11 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   model.nsPerTrianglePerLevel = ght[2];
   // β: the method's blend beyond the one full pays too (its level 0 copied into the result)
   model.nsPerBlendPixel = std::max(0.0, median(blend) - median(fullBlend));
-  model.nsPerEdgePixel = median(edges);
-  model.nsPerMaskPixel = median(masks);
+  // ε, μ and κ: the edges and the masks per padded pixel and per frame, over the three sizes
+  const std::vector<double> edgeCost = edgesFit.solve(), maskCost = masksFit.solve();
+  model.nsPerEdgePixel = edgeCost[0];
+  model.nsPerMaskPixel = maskCost[0];
+  model.edgesMasksFixedMs = edgeCost[1] + maskCost[1];
   // s and k, per effect: the method's rest of frame = s × (its shading on geometry, priced as
   // full's) + k + the rest as priced above, least squares over both sizes. The small frames
   // tell the per-frame k (pass set-up) from the per-pixel s (a stencilled pixel's premium).
@@ -333,22 +341,29 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           auto constantsFor = [&](const std::string& method) {
             return makeConstants(settingsFor(method, cfg.effect, cfg.width, cfg.height, cfg.samples), diagonal);
           };
-          // full and mrr without the rule, alternating (one warm-up each, then medians).
+          // full and mrr without the rule, alternating (one warm-up each, then medians). A frame
+          // within 10% of break-even gets as many pairs again: its verdict is the one noise sways.
           std::map<std::string, std::vector<double>> fullRuns, mrrRuns;
           Measured full, mrr;
-          for (int i = 0; i <= o.repeats; ++i) {
-            FrameResult ff = sc.render(view.camera, constantsFor("full"), {false, {}, nullptr});
-            FrameResult fm = sc.render(view.camera, constantsFor("mrr-norule"), {false, {}, nullptr});
-            if (i == 0) continue;
-            for (const auto& [key, v] : stageMs(ff)) fullRuns[key].push_back(v);
-            for (const auto& [key, v] : stageMs(fm)) mrrRuns[key].push_back(v);
-            if (i == o.repeats) {
-              full.last = std::move(ff);
-              mrr.last = std::move(fm);
+          auto runPairs = [&](int pairs, bool warmUp) {
+            for (int i = warmUp ? 0 : 1; i <= pairs; ++i) {
+              FrameResult ff = sc.render(view.camera, constantsFor("full"), {false, {}, nullptr});
+              FrameResult fm = sc.render(view.camera, constantsFor("mrr-norule"), {false, {}, nullptr, true});
+              if (i == 0) continue;
+              for (const auto& [key, v] : stageMs(ff)) fullRuns[key].push_back(v);
+              for (const auto& [key, v] : stageMs(fm)) mrrRuns[key].push_back(v);
+              if (i == pairs) {
+                full.last = std::move(ff);
+                mrr.last = std::move(fm);
+              }
             }
-          }
-          for (const auto& [key, v] : fullRuns) full.ms[key] = median(v);
-          for (const auto& [key, v] : mrrRuns) mrr.ms[key] = median(v);
+            for (const auto& [key, v] : fullRuns) full.ms[key] = median(v);
+            for (const auto& [key, v] : mrrRuns) mrr.ms[key] = median(v);
+          };
+          runPairs(o.repeats, true);
+          const double nearRatio = frameMs(mrr.ms) / std::max(frameMs(full.ms), 1e-9);
+          const bool nearBreakEven = nearRatio > 0.9 && nearRatio < 1.1;
+          if (nearBreakEven) runPairs(o.repeats, false);
           // The rule's decision on this frame, as renderFrame takes it: early from H, then from
           // the stencils (the same counts; the oracle's decision is a function of them alone).
           const FrameCounts& n = mrr.last.counts;
@@ -371,6 +386,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"samples", cfg.samples},
                             {"width", cfg.width},
                             {"height", cfg.height},
+                            {"triangles_in_view", n.triangles},
                             {"hit_share", static_cast<double>(n.hitPixels) / (static_cast<double>(cfg.width) * cfg.height)},
                             {"ideal_speedup", mrr.last.idealSpeedup},
                             {"ideal_speedup_hit", mrr.last.idealSpeedupHit},
@@ -383,6 +399,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"full_ms", fullMs},
                             {"mrr_ms", mrrMs},
                             {"rule_ms", ruleMs},
+                            {"repeats", nearBreakEven ? 2 * o.repeats : o.repeats},
                             {"right", right}});
         }
     }

@@ -34,7 +34,7 @@ class OracleFrame final : public FrameBackend {
       : scene_(scene), rays_(rays), planes_(planes), options_(options) {}
 
   const char* pathName() const override { return "cpu"; }
-  int64_t sceneTriangles() const override { return static_cast<int64_t>(scene_.triangleCount()); }
+  const Scene& sourceScene() const override { return scene_; }
 
   void gbuffer(FrameResult& f, int l) override {
     f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, f.constants.levels[static_cast<size_t>(l)]);

@@ -62,9 +62,9 @@ namespace {
 // probe, compare) every stage is read back too, into the structures the oracle fills.
 class PortFrame final : public FrameBackend {
  public:
-  PortFrame(const GpuScene& scene, const DirectionalLight& light, bool timerQueries, int64_t triangles,
+  PortFrame(const GpuScene& scene, const Scene& source, bool timerQueries,
             const RenderOptions& options)
-      : scene_(scene), light_(light), timerQueries_(timerQueries), keep_(options.keepStages), triangles_(triangles) {}
+      : scene_(scene), source_(source), light_(source.light), timerQueries_(timerQueries), keep_(options.keepStages) {}
 
   const char* pathName() const override { return "gpu"; }
 
@@ -106,7 +106,7 @@ class PortFrame final : public FrameBackend {
     }
     return hit_;
   }
-  int64_t sceneTriangles() const override { return triangles_; }
+  const Scene& sourceScene() const override { return source_; }
 
   // G-buffers, rasterised per level. A coarse level's albedo is read only by SSGI's direct
   // light (and --stages): the resident frame leaves that target out otherwise.
@@ -224,9 +224,9 @@ class PortFrame final : public FrameBackend {
 
  private:
   const GpuScene& scene_;
+  const Scene& source_;
   const DirectionalLight& light_;
   const bool timerQueries_, keep_;
-  const int64_t triangles_;
   ImageU8 hit_;  // the full-res hit flags, read back once (fullResHit)
   std::vector<std::pair<size_t, unsigned>> queries_;
   std::array<Target, kLevelCount> gbuffers_;
@@ -241,7 +241,7 @@ class PortFrame final : public FrameBackend {
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
-  PortFrame backend(gpuScene_, scene_.light, timerQueries_, static_cast<int64_t>(scene_.triangleCount()), options);
+  PortFrame backend(gpuScene_, scene_, timerQueries_, options);
   return renderFrame(backend, scene_.light, camera, constants, options);
 }
 

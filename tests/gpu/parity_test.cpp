@@ -509,9 +509,10 @@ BothPaths renderBoth(const std::string& spec, const Settings& s, const CostModel
   BothPaths b;
   b.oracle = test::renderScene(spec, s);
   const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());
-  b.cpu = b.oracle.renderer->render(b.oracle.camera, k, {true, {}, &model});
+  // the rule's counts (SSM: its PCF sample) also where the rule is off: both predictions are compared
+  b.cpu = b.oracle.renderer->render(b.oracle.camera, k, {true, {}, &model, true});
   const gpu::GpuRenderer port(*b.oracle.scene);
-  b.port = port.render(b.oracle.camera, k, {true, {}, &model});
+  b.port = port.render(b.oracle.camera, k, {true, {}, &model, true});
   return b;
 }
 
@@ -616,7 +617,7 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
       model.nsPerBlendPixel = expensive ? 1e9 : 0.0;
       if (!expensive) {  // nothing but shading costs, and a stencilled pixel no more than a dense one
         model.nsPerCoarseGbufferPixel = model.nsPerCoarseGbufferHit = model.nsPerTrianglePerLevel = 0.0;
-        model.nsPerEdgePixel = model.nsPerMaskPixel = 0.0;
+        model.nsPerEdgePixel = model.nsPerMaskPixel = model.edgesMasksFixedMs = 0.0;
         for (EffectCost& e : model.effect) {
           e.sparseFactor = 1.0;
           e.fixedMs = 0.0;
@@ -681,13 +682,20 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
   const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());
   const CostModel portModel = CostModel::defaults("gpu");
   ASSERT_GT(portModel.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample, 0.0);
-  const FrameResult own = port.render(b.oracle.camera, k, {false, {}, &portModel});
+  const FrameResult own = port.render(b.oracle.camera, k, {false, {}, &portModel, true});
   EXPECT_EQ(own.pcfSample.data, b.port.pcfSample.data);
   CostModel blind = portModel;
   blind.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 0.0;
-  const FrameResult unsampled = port.render(b.oracle.camera, k, {false, {}, &blind});
+  const FrameResult unsampled = port.render(b.oracle.camera, k, {false, {}, &blind, true});
   EXPECT_TRUE(unsampled.pcfSample.empty());
   EXPECT_EQ(unsampled.counts.pcfPixels, 0);
+  // With the rule off, a frame whose caller does not read the rule's counts pays no sample; with
+  // it on, the sample is drawn whatever the caller asks.
+  ASSERT_FALSE(k.neverSlower);
+  EXPECT_TRUE(port.render(b.oracle.camera, k, {false, {}, &portModel}).pcfSample.empty());
+  Constants on = k;
+  on.neverSlower = true;
+  EXPECT_EQ(port.render(b.oracle.camera, on, {false, {}, &portModel}).pcfSample.data, b.port.pcfSample.data);
 }
 
 // A decision that differs stops the comparison at the "fallback" row: the frames have
@@ -698,6 +706,7 @@ TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
   fallsBack.nsPerBlendPixel = 1e9;
   staysMultires.nsPerBlendPixel = staysMultires.nsPerCoarseGbufferPixel = staysMultires.nsPerCoarseGbufferHit = 0.0;
   staysMultires.nsPerTrianglePerLevel = staysMultires.nsPerEdgePixel = staysMultires.nsPerMaskPixel = 0.0;
+  staysMultires.edgesMasksFixedMs = 0.0;
   for (EffectCost& e : staysMultires.effect) {
     e.sparseFactor = 1.0;
     e.fixedMs = 0.0;

@@ -46,6 +46,46 @@ TEST_P(EveryBuiltin, StencilsAreClosedFromFineToCoarse) {
     if (f.edges.combined.data[i]) ASSERT_TRUE(f.levels[0].masks.stencil.data[i]);
 }
 
+// The early floor's premise (SPEC §11, B_ℓ): a silhouette pixel (on geometry, a background
+// 4-neighbour) is a background edge, so it is shaded at full res, and its block at every coarser
+// enabled level; countHits counts exactly those blocks. SSGI skips the half level.
+TEST_P(EveryBuiltin, SilhouettesAreShadedAtEveryLevelAsTheFloorCounts) {
+  for (const Effect effect : {Effect::Ssao, Effect::Ssgi}) {
+    Settings s = defaultSettings(effect);  // Table 1's levels for the effect
+    s.width = 128;
+    s.height = 96;
+    s.ssao.samples = s.ssgi.samples = 8;
+    s.neverSlower = false;
+    const auto r = renderScene("builtin:" + GetParam(), s);
+    const FrameResult& f = r.frame;
+    const ImageU8& hit = f.levels[0].gbuffer.hit;
+    FrameCounts n;
+    countHits(n, hit, ImageU8(), f.constants);
+    std::array<int64_t, kLevelCount> blocks{};
+    std::array<ImageU8, kLevelCount> seen;
+    for (int l = 0; l < kLevelCount; ++l)
+      seen[static_cast<size_t>(l)] = ImageU8(f.constants.levels[static_cast<size_t>(l)].width,
+                                             f.constants.levels[static_cast<size_t>(l)].height, 1, 0);
+    for (int y = 0; y < 96; ++y)
+      for (int x = 0; x < 128; ++x) {
+        if (!hit.at(x, y)) continue;
+        bool silhouette = false;
+        for (const auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
+          silhouette |= hit.contains(x + dx, y + dy) && !hit.at(x + dx, y + dy);
+        if (!silhouette) continue;
+        for (int l = 0; l < kLevelCount; ++l) {
+          if (!f.constants.levels[static_cast<size_t>(l)].enabled) continue;
+          ASSERT_TRUE(f.levels[static_cast<size_t>(l)].masks.stencil.at(x >> l, y >> l))
+              << toString(effect) << ": silhouette " << x << "," << y << " not shaded at level " << l;
+          uint8_t& b = seen[static_cast<size_t>(l)].at(x >> l, y >> l);
+          blocks[static_cast<size_t>(l)] += b == 0;
+          b = 1;
+        }
+      }
+    EXPECT_EQ(n.silhouette, blocks) << toString(effect);
+  }
+}
+
 TEST_P(EveryBuiltin, MaskedBilinearNeverReadsAnUnrenderedPixel) {
   const auto r = renderScene("builtin:" + GetParam(), ssaoSettings(96, 64, 8));
   const FrameResult& f = r.frame;

@@ -189,22 +189,24 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   EXPECT_TRUE(early.edges.combined.empty()) << "no edges were found";
   EXPECT_EQ(early.timing("edges"), 0.0);
 
-  // Each shaded level's per-pixel part dear: the floor (level 3 alone) stays under full's
-  // (level 0), the method's four levels do not: it decides on the stencils, late.
-  CostModel perLevel = CostModel::defaults("cpu");
-  for (EffectCost& e : perLevel.effect) e.nsPerLevelPixel = 1e6;
-  const FrameResult late = renderer.render(rs.camera, c, {true, {}, &perLevel});
+  // Shading alone, and a stencilled pixel five times a dense one: the floor (the coarsest level
+  // and the silhouettes) stays under full's, the method's stencils do not: it decides on the
+  // stencils, late.
+  CostModel free = CostModel::defaults("cpu");
+  free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = free.nsPerCoarseGbufferHit = 0.0;
+  free.nsPerTrianglePerLevel = free.nsPerEdgePixel = free.nsPerMaskPixel = free.edgesMasksFixedMs = 0.0;
+  for (EffectCost& e : free.effect) {  // shading alone, at dense cost, nothing per frame
+    e.sparseFactor = 1.0;
+    e.fixedMs = 0.0;
+  }
+  CostModel sparse = free;
+  for (EffectCost& e : sparse.effect) e.sparseFactor = 5.0;
+  const FrameResult late = renderer.render(rs.camera, c, {true, {}, &sparse});
   EXPECT_TRUE(late.fallback.fellBack);
   EXPECT_FALSE(late.fallback.early);
   EXPECT_EQ(late.final().data, full.final().data);
   EXPECT_FALSE(late.edges.combined.empty()) << "its edges are kept for debugging";
 
-  CostModel free = CostModel::defaults("cpu");
-  free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = free.nsPerEdgePixel = free.nsPerMaskPixel = 0.0;
-  for (EffectCost& e : free.effect) {  // shading alone, at dense cost, nothing per frame
-    e.sparseFactor = 1.0;
-    e.fixedMs = 0.0;
-  }
   const FrameResult kept = renderer.render(rs.camera, c, {true, {}, &free});
   EXPECT_FALSE(kept.fallback.fellBack);
   EXPECT_GT(kept.idealSpeedup, 1.2);
@@ -242,10 +244,15 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   // Triangles cost a rasterised G-buffer at each of the three coarse levels.
   m.nsPerTrianglePerLevel = 2.0;
   EXPECT_NEAR(predictMrrMs(m, c, n), (expected + 3 * 1000.0 * 2) * 1e-6, 1e-12);
-  // The floor: edges and masks over P_0, the coarse G-buffers and blend, and level 3 shaded whole.
+  // The floor: edges and masks over P_0, the coarse G-buffers and blend, d over every shaded
+  // level, and level 3 shaded whole (half its pixels on geometry, on average).
   const double floorNs = 2048.0 * (7 + 11) + coarse * (3 + 0.5 * 4) + 3 * 1000.0 * 2 + 2048.0 * 5 +
-                         32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5 + 2);
+                         levelPixels * 2 + 32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5);
   EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorNs * 1e-6, 1e-12);
+  // Silhouettes are shaded at every level (B_ℓ): at level 0 each is on geometry (26 at s = 1.5),
+  // at levels 1 and 2 they pay what an average pixel does; level 3 is counted whole already.
+  n.silhouette = {40, 20, 8, 2};
+  EXPECT_NEAR(predictMrrFloorMs(m, c, n), (floorNs + 40.0 * 26 * 1.5 + 28.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5)) * 1e-6, 1e-12);
   // The floor never exceeds what the method pays from the edges on: ε + μ, then the late prediction.
   EXPECT_LE(predictMrrFloorMs(m, c, n), predictMrrMs(m, c, n) + 2048.0 * (7 + 11) * 1e-6);
   // k, the method's per-frame set-up, adds to its prediction and its floor, never to full's.
@@ -255,6 +262,13 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   EXPECT_EQ(predictFullMs(m, c, n), fullBefore);
   EXPECT_NEAR(predictMrrMs(m, c, n), mrrBefore + 3.25, 1e-12);
   EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorBefore + 3.25, 1e-12);
+  // κ, the edges' and masks' per-frame set-up, adds to the floor alone (the late decision comes
+  // after the edges and masks are paid).
+  m.edgesMasksFixedMs = 0.75;
+  EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorBefore + 3.25 + 0.75, 1e-12);
+  EXPECT_NEAR(predictMrrMs(m, c, n), mrrBefore + 3.25, 1e-12);
+  EXPECT_EQ(predictFullMs(m, c, n), fullBefore);
+  m.edgesMasksFixedMs = 0.0;
   // k₀, a full frame's own set-up, adds to full's alone.
   m.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 1.5;
   EXPECT_NEAR(predictFullMs(m, c, n), fullBefore + 1.5, 1e-12);
@@ -310,6 +324,9 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[3], 2 * 4);
   EXPECT_EQ(n.searchedPixels, 20 * 32) << "no sample: every pixel on geometry pays the effect";
   EXPECT_EQ(n.shadedSearched, n.shadedHit);
+  // Silhouettes: column 19 (its right neighbour is off geometry; column 0's left one is outside
+  // the image, which is no edge), and its blocks at every level.
+  EXPECT_EQ(n.silhouette, (std::array<int64_t, kLevelCount>{32, 16, 8, 4}));
   // SSM's PCF sample, one pixel in 8×8 (an 8×4 image): its top two rows pay PCF, so the top 16
   // full-res rows do; its bottom row faces away from the light, so rows 24–31 pay nothing.
   // H_a and H_p count only pixels on geometry.
@@ -331,12 +348,45 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[1], 10 * 16) << "unchanged";
 }
 
+// T: the triangles a rasteriser cannot reject whole. A camera at the origin looking down −z,
+// 90° vertical field of view on a square frame: the frustum is |x|, |y| ≤ −z.
+TEST(NeverSlower, CountsTheTrianglesInView) {
+  Scene scene;
+  Mesh m;
+  auto add = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const auto i = static_cast<uint32_t>(m.positions.size());
+    m.positions.insert(m.positions.end(), {a, b, c});
+    m.indices.insert(m.indices.end(), {i, i + 1, i + 2});
+  };
+  add({-0.5f, -0.5f, -5}, {0.5f, -0.5f, -5}, {0, 0.5f, -5});   // 1. in the middle: in view
+  add({-0.5f, -0.5f, 5}, {0.5f, -0.5f, 5}, {0, 0.5f, 5});      // 2. behind the camera
+  add({-20, -0.5f, -5}, {-10, -0.5f, -5}, {-15, 0.5f, -5});    // 3. beyond the left side
+  add({-8, -0.5f, -5}, {1, -0.5f, -5}, {-8, 0.5f, -5});        // 4. across the left side
+  add({-50, -50, -5}, {50, -50, -5}, {0, 80, -5});             // 5. round the whole view
+  add({0, 12, -5}, {-12, 0, -5}, {-12, 12, -5});               // 6. beyond left and top, apart
+  add({-0.5f, 0, 1}, {0.5f, 0, 1}, {0, 0, -5});                // 7. from behind into view
+  m.normals.assign(m.positions.size(), glm::vec3(0, 0, 1));
+  scene.meshes.push_back(m);
+  Camera camera;
+  camera.eye = glm::vec3(0.0f);
+  camera.target = glm::vec3(0, 0, -1);
+  camera.yfov = 1.57079633f;
+  const View view = makeView(camera, 64, 64, 64, 64);
+  // 6 has a vertex beyond the left side and one beyond the top, none beyond both, and the edge
+  // between them passes outside the corner: a rasteriser clips it to nothing, but the test by
+  // sides (as GL's trivial reject) cannot tell, and counts it; so do we.
+  EXPECT_EQ(countTrianglesInView(scene, view), 5) << "1, 4, 5, 6 and 7";
+  camera.target = glm::vec3(0, 0, 1);  // turned round: only 2 and 7 (its two vertices at z = 1)
+  EXPECT_EQ(countTrianglesInView(scene, makeView(camera, 64, 64, 64, 64)), 2);
+}
+
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());
   EXPECT_EQ(back.toJson(), m.toJson());
   EXPECT_GT(back.nsPerTrianglePerLevel, 0.0) << "the port rasterises: triangles cost every level";
-  for (const char* key : {"ns_per_blend_pixel", "ns_per_coarse_gbuffer_hit", "ns_per_triangle_per_level", "ns_per_edge_pixel"}) {
+  for (const char* key : {"ns_per_blend_pixel", "ns_per_coarse_gbuffer_hit", "ns_per_triangle_per_level", "ns_per_edge_pixel",
+                          "edges_masks_fixed_ms"}) {
     nlohmann::json broken = m.toJson();
     broken.erase(key);
     EXPECT_THROW(CostModel::fromJson(broken), MrrError) << key;

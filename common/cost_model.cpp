@@ -15,10 +15,10 @@ double hitShare(const Constants& c, const FrameCounts& n) {
   return static_cast<double>(n.hitPixels) / std::max(1.0, static_cast<double>(c.width) * c.height);
 }
 
-// SPEC §11: Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β, in ns: what the method
-// pays beyond shading whatever its stencils.
+// SPEC §11: Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H (β₀ + β), in ns: what the
+// method pays beyond shading whatever its stencils.
 double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c, const FrameCounts& n) {
-  double ns = static_cast<double>(c.width) * c.height * m.nsPerBlendPixel;
+  double ns = static_cast<double>(c.width) * c.height * (m.nsPerFullBlendPixel + m.nsPerBlendPixel);
   for (const LevelConstants& lc : c.levels)
     if (lc.enabled && lc.index > 0)
       ns += levelPixels(lc) * (m.nsPerCoarseGbufferPixel + hitShare(c, n) * m.nsPerCoarseGbufferHit) +
@@ -32,34 +32,36 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
   // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀}.
   if (path == "gpu") {
-    // gpu: the mean of two runs (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24,
-    // at 320×180, 640×360 and 1280×720; T counts the triangles in view). SSAO's k is the
-    // least steady figure (7.8 and 1.7 ms): its s clamps at 1, and k is then the mean residual.
+    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24: 320×180 to
+    // 1280×720, relative affine fits, T the triangles in view). Two runs of the same fits agree
+    // within 10%, but for k (SSGI's 4.9 and 3.4 ms) and g and h (traded off against each other).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{224.2, 6.21, 0.0, 30.93, 0.0, 1.0, 4.73, 0.48},
-                EffectCost{156.7, 0.00, 0.0, 37.18, 1.64, 1.15, 10.09, 0.01},
-                EffectCost{13.2, 13.23, 16.64, 19.87, 0.0, 1.0, 0.0, 0.17}};
-    m.nsPerCoarseGbufferPixel = 13.08;
-    m.nsPerCoarseGbufferHit = 24.0;
-    m.nsPerTrianglePerLevel = 209.5;
-    m.nsPerBlendPixel = 14.88;
-    m.nsPerEdgePixel = 17.07;
-    m.nsPerMaskPixel = 12.74;
-    m.edgesMasksFixedMs = 1.51;
+    m.effect = {EffectCost{209.2, 5.233, 0, 28.66, 0, 1.305, 4.629, 0.2925},
+                EffectCost{159.1, 0, 0, 34.03, 1.656, 1.509, 3.938, 0.3955},
+                EffectCost{29.85, 6.963, 12.41, 21.52, 0, 1.25, 7.179, 1.173}};
+    m.nsPerCoarseGbufferPixel = 14.8;
+    m.nsPerCoarseGbufferHit = 7.498;
+    m.nsPerTrianglePerLevel = 113.1;
+    m.nsPerFullBlendPixel = 5.029;
+    m.nsPerBlendPixel = 4.61;
+    m.nsPerEdgePixel = 14.25;
+    m.nsPerMaskPixel = 6.099;
+    m.edgesMasksFixedMs = 1.067;
   } else {
-    // cpu: the mean of two runs (--repeats 5), which agreed within 10% but for the small k's
-    // (2026-11-24, at 320×180, 640×360 and 1280×720).
+    // cpu: one run (--repeats 5; 2026-11-24: 320×180 to 1280×720, relative affine fits). Two
+    // runs of the same fits agree within 10%, but for the small k₀'s.
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{192.5, 8.90, 1.0, 3.52, 0.0, 1.0, 0.0, 0.0},
-                EffectCost{70.52, 0.00, 0.0, 2.47, 1.54, 1.08, 3.88, 0.02},
-                EffectCost{8.43, 12.44, 14.82, 3.46, 0.0, 1.28, 0.0, 0.04}};
-    m.nsPerCoarseGbufferPixel = 12.22;
-    m.nsPerCoarseGbufferHit = 11.44;
-    m.nsPerTrianglePerLevel = 18.02;
-    m.nsPerBlendPixel = 2.71;
-    m.nsPerEdgePixel = 3.29;
-    m.nsPerMaskPixel = 2.59;
-    m.edgesMasksFixedMs = 0.15;
+    m.effect = {EffectCost{201.6, 6.905, 1.081, 3.006, 0, 1.089, 0.5752, 0.02851},
+                EffectCost{77.26, 0, 0, 2.362, 1.542, 1.222, 0.6286, 0.00775},
+                EffectCost{38.19, 8.417, 16.92, 3.255, 0, 1.387, 0.6532, 0.08061}};
+    m.nsPerCoarseGbufferPixel = 12.27;
+    m.nsPerCoarseGbufferHit = 15.45;
+    m.nsPerTrianglePerLevel = 1.972;
+    m.nsPerFullBlendPixel = 3.685;
+    m.nsPerBlendPixel = 2.256;
+    m.nsPerEdgePixel = 1.289;
+    m.nsPerMaskPixel = 2.516;
+    m.edgesMasksFixedMs = 0.07554;
   }
   return m;
 }
@@ -85,6 +87,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     m.edgesMasksFixedMs = j.at("edges_masks_fixed_ms").get<double>();
     m.nsPerTrianglePerLevel = j.at("ns_per_triangle_per_level").get<double>();
     m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
+    m.nsPerFullBlendPixel = j.at("ns_per_full_blend_pixel").get<double>();
     m.nsPerEdgePixel = j.at("ns_per_edge_pixel").get<double>();
     m.nsPerMaskPixel = j.at("ns_per_mask_pixel").get<double>();
   } catch (const nlohmann::json::exception& e) {
@@ -112,24 +115,26 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_coarse_gbuffer_hit", nsPerCoarseGbufferHit},
           {"ns_per_triangle_per_level", nsPerTrianglePerLevel},
           {"ns_per_blend_pixel", nsPerBlendPixel},
+          {"ns_per_full_blend_pixel", nsPerFullBlendPixel},
           {"ns_per_edge_pixel", nsPerEdgePixel},
           {"ns_per_mask_pixel", nsPerMaskPixel},
           {"edges_masks_fixed_ms", edgesMasksFixedMs}};
 }
 
-// SPEC §11: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀, in ms.
+// SPEC §11: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 (H / W·H) d + W·H β₀ + k₀, in ms.
 double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   const double paying = static_cast<double>(n.searchedPixels);
   const double rest = std::max(0.0, static_cast<double>(c.width) * c.height - paying);
   return (paying * shadeNs(e, c.samples()) + static_cast<double>(n.pcfPixels) * e.nsPerPcfSample * c.samples() +
-          rest * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * e.nsPerLevelPixel) *
+          rest * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * hitShare(c, n) * e.nsPerLevelPixel +
+          static_cast<double>(c.width) * c.height * m.nsPerFullBlendPixel) *
              1e-6 +
          e.fullFixedMs;
 }
 
 // SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) + |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c +
-// P_ℓ d) + the coarse G-buffers and the blend + k, in ms.
+// P_ℓ (H / W·H) d) + the coarse G-buffers and the blend + k, in ms.
 double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   double ns = coarseGbuffersAndBlendNs(m, c, n);
@@ -140,12 +145,12 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
     const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - paying);
     const double pcf = static_cast<double>(n.shadedPcf[l]) * e.nsPerPcfSample * c.samples();
     ns += (paying * shadeNs(e, c.samples()) + pcf) * e.sparseFactor + off * e.nsPerBackgroundPixel +
-          levelPixels(lc) * e.nsPerLevelPixel;
+          levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;
   }
   return ns * 1e-6 + e.fixedMs;
 }
 
-// SPEC §11: P_0 (ε + μ) + κ + the coarse G-buffers and the blend + Σ_ℓ shaded P_ℓ d
+// SPEC §11: P_0 (ε + μ) + κ + the coarse G-buffers and the blend + Σ_ℓ shaded P_ℓ (H / W·H) d
 // + |B_0| (what a pixel on geometry pays on average) + Σ_{0<ℓ<k} |B_ℓ| (what a pixel pays on
 // average) + P_k (((H_a (a + b N) + H_p e N) / W·H) s + (1 − H_a / W·H) c) for the coarsest
 // enabled level k + k, in ms.
@@ -165,7 +170,7 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);
-    ns += levelPixels(lc) * e.nsPerLevelPixel;  // every shaded level pays d over its whole grid
+    ns += levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;  // every shaded level pays d over its grid
     if (lc.index == c.coarsestEnabled)
       ns += levelPixels(lc) * perPixel;  // S_k = 1 everywhere
     else

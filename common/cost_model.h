@@ -29,8 +29,8 @@ namespace mrr {
 struct EffectCost {
   double nsPerShadedPixel = 0.0;      // a: per shaded pixel on geometry, whatever the sample count
   double nsPerSample = 0.0;           // b: per shaded pixel on geometry and sample
-  double nsPerLevelPixel = 0.0;       // d: per pixel of every shaded level (SSAO's occluder
-                                      //    planes, SSGI's direct light)
+  double nsPerLevelPixel = 0.0;       // d: per pixel on geometry of every shaded level (SSAO's
+                                      //    occluder planes, SSGI's direct light)
   double nsPerBackgroundPixel = 0.0;  // c: per shaded pixel off geometry (the effect's early out)
   // e: more per sample where the pixel pays PCF (SSM: PCSS filters only where its blocker
   // search finds blockers; any other pixel pays the search alone, or less).
@@ -58,7 +58,8 @@ struct CostModel {
   // whatever the level's size: t per such triangle per coarse level. Ray casting (the oracle)
   // leaves it near 0.
   double nsPerTrianglePerLevel = 0.0;
-  double nsPerBlendPixel = 0.0;  // β: the blend, per full-res pixel
+  double nsPerFullBlendPixel = 0.0;  // β₀: full's blend (level 0 copied into the result), per pixel
+  double nsPerBlendPixel = 0.0;      // β: the method's blend beyond β₀, per full-res pixel
   double nsPerEdgePixel = 0.0;   // ε: edges, per padded full-res pixel (the early decision's)
   double nsPerMaskPixel = 0.0;   // μ: the masks, per padded full-res pixel (the same)
   double edgesMasksFixedMs = 0.0;  // κ: the edges' and masks' passes per frame, whatever its size

@@ -35,6 +35,8 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
     j["never_slower"] = {{"fell_back_to_full", f.fallback.fellBack},
                          {"decided", f.fallback.early ? "early, before the edges" : "on the stencils"},
                          {"hit_pixels", f.counts.hitPixels},
+                         {"silhouette_pixels", f.counts.silhouette[0]},
+                         {"triangles_in_view", f.counts.triangles},
                          {"predicted_full_ms", f.fallback.predictedFullMs},
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},

@@ -82,6 +82,14 @@ struct LeastSquares {
     rows.push_back(std::move(row));
     y.push_back(value);
   }
+  // A row weighted by 1/measured: the fit minimises relative errors, so the small frames, where
+  // the per-frame costs decide, count as much as the large ones (the rule compares two
+  // predictions of one frame: their relative error decides it).
+  void addRelative(std::vector<double> row, double value, double measured) {
+    const double w = 1.0 / std::max(std::abs(measured), 1e-9);
+    for (double& v : row) v *= w;
+    add(std::move(row), value * w);
+  }
   std::vector<double> solve() const {
     const size_t unknowns = rows.empty() ? 0 : rows.front().size();
     std::vector<bool> free(unknowns, true);
@@ -150,7 +158,6 @@ std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, flo
 CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
   const int w = 640, h = 360;
-  const double pixels = static_cast<double>(w) * h;
   CostModel model;
   model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 320x180 to 1280x720";
   // Per effect, full frames: H_a, H_a·N (, H_p·N), W·H − H_a and 1 against the shading time. c and
@@ -161,7 +168,11 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     double pixels, background, ns;   // W·H, W·H − H_a, the shading's time
   };
   std::array<std::vector<FullRun>, 3> fullRuns;
-  std::array<std::vector<double>, 3> perLevel;  // per effect: d
+  // Per-pixel slopes from affine fits over the three sizes (P, 1): the intercepts are the passes'
+  // set-up, paid per frame whatever its size; full's go to k₀, the method's to k (fitted below on
+  // the rest, which holds them).
+  std::array<LeastSquares, 3> levelFit;  // per effect, full frames: P_0 (H / W·H), 1 → d (SSAO's planes, SSGI's direct light)
+  LeastSquares fullBlendFit, blendFit;   // full's and the method's blend: W·H, 1 → β₀, β₀ + β
   struct MrrRun {  // at 320×180, 640×360 and 1280×720, to tell s (per pixel) from k (per frame)
     Effect effect;
     Constants constants;
@@ -174,7 +185,6 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
   CostModel counting = CostModel::defaults(path.name);
   counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
-  std::vector<double> blend, fullBlend;
   LeastSquares edgesFit, masksFit;  // P_0, 1 → ε, κ's share (and μ, the rest of κ)
   for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
@@ -209,12 +219,19 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
           std::vector<double> row = {onGeometry, onGeometry * fc.samples};
           if (e == Effect::Ssm) row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
           fullRuns[ei].push_back({row, p, p - onGeometry, shadingMs(full.ms) * 1e6});
-          perLevel[ei].push_back(levelPixelMs(full.ms) * 1e6 / p);
-          fullBlend.push_back(stage(full.ms, "blend") * 1e6 / p);
+          const double levelNs = levelPixelMs(full.ms) * 1e6, blendNs = stage(full.ms, "blend") * 1e6;
+          const double hits = static_cast<double>(fc.counts->hitPixels);  // P_0 (H / W·H) = H
+          if (levelNs > 0.0) levelFit[ei].addRelative({hits, 1e6}, levelNs, levelNs);
+          if (blendNs > 0.0) fullBlendFit.addRelative({p, 1e6}, blendNs, blendNs);
         }
         mrrRuns.push_back({e, mrr.last.constants, n, restMs(mrr.ms)});
         mrrRuns.push_back({e, small.last.constants, small.last.counts, restMs(small.ms)});
         mrrRuns.push_back({e, large.last.constants, large.last.counts, restMs(large.ms)});
+        // and at the low sample count: where a pixel's fixed part (a; SSM's blocker search) is most
+        // of its cost, the stencilled pixel's premium differs from the one at n2 (PCF's taps)
+        const Measured few = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n1), diagonal),
+                                     repeats, &counting);
+        mrrRuns.push_back({e, few.last.constants, few.last.counts, restMs(few.ms)});
         for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large})  // the coarse G-buffers at every size
           for (const LevelConstants& lc : m->last.constants.levels)
             if (lc.enabled && lc.index > 0) {
@@ -222,15 +239,19 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
               const double p = static_cast<double>(lc.width) * lc.height;
               const double share = static_cast<double>(mn.hitPixels) /
                                    (static_cast<double>(m->last.constants.width) * m->last.constants.height);
-              gbufferFit.add({p, p * share, static_cast<double>(mn.triangles)},
-                             stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6);
+              const double ns = stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6;
+              gbufferFit.addRelative({p, p * share, static_cast<double>(mn.triangles), 1e6}, ns, ns);
             }
-        blend.push_back(stage(mrr.ms, "blend") * 1e6 / pixels);
         for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
           const LevelConstants& l0 = m->last.constants.levels[0];
           const double padded = static_cast<double>(l0.width) * l0.height;
-          edgesFit.add({padded, 1e6}, stage(m->ms, "edges") * 1e6);
-          masksFit.add({padded, 1e6}, stage(m->ms, "masks") * 1e6);
+          const double blendNs = stage(m->ms, "blend") * 1e6;
+          if (blendNs > 0.0)
+            blendFit.addRelative({static_cast<double>(m->last.constants.width) * m->last.constants.height, 1e6}, blendNs,
+                                 blendNs);
+          const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
+          edgesFit.addRelative({padded, 1e6}, edgesNs, edgesNs);
+          masksFit.addRelative({padded, 1e6}, masksNs, masksNs);
         }
       }
     }
@@ -241,26 +262,31 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     // c and k₀ from the frames nearly all sky (at both sizes), then a, b (, e) on the rest
     LeastSquares sky;
     for (const FullRun& r : fullRuns[ei])
-      if (r.onGeometry[0] < 0.05 * r.pixels) sky.add({r.background, 1e6}, r.ns);
+      if (r.onGeometry[0] < 0.05 * r.pixels) sky.addRelative({r.background, 1e6}, r.ns, r.ns);
     const std::vector<double> ck = sky.solve();
     ec.nsPerBackgroundPixel = ck.empty() ? 0.0 : ck[0];
     ec.fullFixedMs = ck.size() > 1 ? ck[1] : 0.0;
     LeastSquares fit;
     for (const FullRun& r : fullRuns[ei])
       if (r.onGeometry[0] >= 0.05 * r.pixels)
-        fit.add(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel - ec.fullFixedMs * 1e6);
+        fit.addRelative(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel - ec.fullFixedMs * 1e6, r.ns);
     const std::vector<double> ab = fit.solve();
     ec.nsPerShadedPixel = ab.size() > 0 ? ab[0] : 0.0;
     ec.nsPerSample = ab.size() > 1 ? ab[1] : 0.0;
     ec.nsPerPcfSample = ab.size() > 2 ? ab[2] : 0.0;
-    ec.nsPerLevelPixel = median(perLevel[ei]);
+    const std::vector<double> d = levelFit[ei].solve();
+    ec.nsPerLevelPixel = d.empty() ? 0.0 : d[0];
+    ec.fullFixedMs += d.size() > 1 ? d[1] : 0.0;  // full's one level pass
   }
   const std::vector<double> ght = gbufferFit.solve();
   model.nsPerCoarseGbufferPixel = ght[0];
   model.nsPerCoarseGbufferHit = ght[1];
   model.nsPerTrianglePerLevel = ght[2];
-  // β: the method's blend beyond the one full pays too (its level 0 copied into the result)
-  model.nsPerBlendPixel = std::max(0.0, median(blend) - median(fullBlend));
+  // β₀: full's blend (its level 0 copied into the result), and β, the method's beyond it
+  const std::vector<double> fullBlend = fullBlendFit.solve(), blend = blendFit.solve();
+  model.nsPerFullBlendPixel = fullBlend.empty() ? 0.0 : fullBlend[0];
+  for (EffectCost& ec : model.effect) ec.fullFixedMs += fullBlend.size() > 1 ? fullBlend[1] : 0.0;
+  model.nsPerBlendPixel = std::max(0.0, (blend.empty() ? 0.0 : blend[0]) - model.nsPerFullBlendPixel);
   // ε, μ and κ: the edges and the masks per padded pixel and per frame, over the three sizes
   const std::vector<double> edgeCost = edgesFit.solve(), maskCost = masksFit.solve();
   model.nsPerEdgePixel = edgeCost[0];
@@ -281,7 +307,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
       const double others = predictMrrMs(m, r.constants, r.counts);
       m.effect[static_cast<size_t>(e)].sparseFactor = 1.0;
       const double shading = predictMrrMs(m, r.constants, r.counts) - others;
-      fit.add({shading, 1.0}, r.restMs - others);
+      fit.addRelative({shading, 1.0}, r.restMs - others, r.restMs);
       xy.emplace_back(shading, r.restMs - others);
     }
     const std::vector<double> sk = fit.solve();
@@ -400,6 +426,8 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"mrr_ms", mrrMs},
                             {"rule_ms", ruleMs},
                             {"repeats", nearBreakEven ? 2 * o.repeats : o.repeats},
+                            {"full_stages_ms", full.ms},  // medians per stage: where a prediction went wrong
+                            {"mrr_stages_ms", mrr.ms},
                             {"right", right}});
         }
     }

@@ -436,6 +436,10 @@ TEST_F(CliRenderTest, NeverSlowerReportsTheFallback) {
       EXPECT_GT(j["never_slower"]["predicted_mrr_ms"].get<double>(), j["never_slower"]["predicted_full_ms"].get<double>());
       EXPECT_EQ(j["ideal_speedup"].get<double>(), 1.0);
       EXPECT_NE(r.err.find("never slower"), std::string::npos) << describe(r);
+      // the counts it decided from (a silhouette pixel is one on geometry, so B ≤ H)
+      EXPECT_GT(j["never_slower"]["hit_pixels"].get<int64_t>(), 160 * 90 / 2);
+      EXPECT_GT(j["never_slower"]["triangles_in_view"].get<int64_t>(), 0);
+      EXPECT_LE(j["never_slower"]["silhouette_pixels"].get<int64_t>(), j["never_slower"]["hit_pixels"].get<int64_t>());
     } else {
       EXPECT_FALSE(j.contains("never_slower"));
       EXPECT_LT(j["ideal_speedup"].get<double>(), 1.0) << "every level shades nearly everything";

@@ -233,13 +233,13 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   FrameCounts n;
   n.hitPixels = n.searchedPixels = 1024;  // half the frame on geometry, all of it paying the effect
   n.triangles = 1000;
-  // full: 1024 × (10 + 16) on geometry + 1024 × 0.5 off it + 2048 × 2
-  EXPECT_NEAR(predictFullMs(m, c, n), (1024.0 * 26 + 1024.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
+  // full: 1024 × (10 + 16) on geometry + 1024 × 0.5 off it + 2048 × ½ × 2 (d on geometry)
+  EXPECT_NEAR(predictFullMs(m, c, n), (1024.0 * 26 + 1024.0 * 0.5 + 2048.0 * 0.5 * 2) * 1e-6, 1e-12);
   n.shaded = {100, 50, 20, 32};
   n.shadedHit = n.shadedSearched = {60, 25, 10, 16};
   // on geometry × 26 × 1.5 + off × 0.5 + level pixels × 2 + coarse pixels × (3 + ½ × 4) + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
-  const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 2 + coarse * (3 + 0.5 * 4) + 2048.0 * 5;
+  const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 0.5 * 2 + coarse * (3 + 0.5 * 4) + 2048.0 * 5;
   EXPECT_NEAR(predictMrrMs(m, c, n), expected * 1e-6, 1e-12);
   // Triangles cost a rasterised G-buffer at each of the three coarse levels.
   m.nsPerTrianglePerLevel = 2.0;
@@ -247,7 +247,7 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   // The floor: edges and masks over P_0, the coarse G-buffers and blend, d over every shaded
   // level, and level 3 shaded whole (half its pixels on geometry, on average).
   const double floorNs = 2048.0 * (7 + 11) + coarse * (3 + 0.5 * 4) + 3 * 1000.0 * 2 + 2048.0 * 5 +
-                         levelPixels * 2 + 32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5);
+                         levelPixels * 0.5 * 2 + 32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5);
   EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorNs * 1e-6, 1e-12);
   // Silhouettes are shaded at every level (B_ℓ): at level 0 each is on geometry (26 at s = 1.5),
   // at levels 1 and 2 they pay what an average pixel does; level 3 is counted whole already.
@@ -293,10 +293,18 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.shadedSearched = {50, 25, 10, 16};
   EXPECT_NEAR(withAll - predictFullMs(ssm, cs, n), 200.0 * (10 - 0.5) * 1e-6, 1e-12);
   EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), 10.0 * (10 * 1.5 - 0.5) * 1e-6, 1e-12);
-  // A frame all background: full costs c per pixel and P_0 d, nothing on geometry.
+  // β₀, full's own blend (a copy of level 0), is paid by both modes alike.
+  {
+    CostModel copy = m;
+    copy.nsPerFullBlendPixel = 0.5;
+    EXPECT_NEAR(predictFullMs(copy, c, n) - predictFullMs(m, c, n), 2048.0 * 0.5 * 1e-6, 1e-12);
+    EXPECT_NEAR(predictMrrMs(copy, c, n) - predictMrrMs(m, c, n), 2048.0 * 0.5 * 1e-6, 1e-12);
+    EXPECT_NEAR(predictMrrFloorMs(copy, c, n) - predictMrrFloorMs(m, c, n), 2048.0 * 0.5 * 1e-6, 1e-12);
+  }
+  // A frame all background: full costs c per pixel, nothing on geometry.
   n.hitPixels = n.searchedPixels = 0;
   n.pcfPixels = 0;
-  EXPECT_NEAR(predictFullMs(m, c, n), (2048.0 * 0.5 + 2048.0 * 2) * 1e-6, 1e-12);
+  EXPECT_NEAR(predictFullMs(m, c, n), 2048.0 * 0.5 * 1e-6, 1e-12) << "and d only on geometry: none";
 }
 
 // The counts the rule reads: H over W×H and a level pixel on geometry where its full-res
@@ -385,7 +393,7 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel back = CostModel::fromJson(m.toJson());
   EXPECT_EQ(back.toJson(), m.toJson());
   EXPECT_GT(back.nsPerTrianglePerLevel, 0.0) << "the port rasterises: triangles cost every level";
-  for (const char* key : {"ns_per_blend_pixel", "ns_per_coarse_gbuffer_hit", "ns_per_triangle_per_level", "ns_per_edge_pixel",
+  for (const char* key : {"ns_per_blend_pixel", "ns_per_full_blend_pixel", "ns_per_coarse_gbuffer_hit", "ns_per_triangle_per_level", "ns_per_edge_pixel",
                           "edges_masks_fixed_ms"}) {
     nlohmann::json broken = m.toJson();
     broken.erase(key);

@@ -56,7 +56,7 @@ CostModel CostModel::defaults(const std::string& path) {
                 EffectCost{38.19, 8.417, 16.92, 3.255, 0, 1.387, 0.6532, 0.08061}};
     m.nsPerCoarseGbufferPixel = 12.27;
     m.nsPerCoarseGbufferHit = 15.45;
-    m.nsPerTrianglePerLevel = 1.972;
+    m.nsPerTrianglePerLevel = 0.0;  // ray cast: nothing per triangle (`--calibrate` fits no t here)
     m.nsPerFullBlendPixel = 3.685;
     m.nsPerBlendPixel = 2.256;
     m.nsPerEdgePixel = 1.289;

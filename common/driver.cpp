@@ -45,7 +45,10 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // SPEC §11, early: when even the least the method could still pay is no gain, the frame
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
-  if (c.mode == Mode::Mrr) f.counts.triangles = countTrianglesInView(b.sourceScene(), f.view);  // T
+  // T, where triangles cost (a rasterised G-buffer: the port's t > 0; the oracle casts rays, and
+  // counting 122k triangles would cost it a millisecond for nothing)
+  if (c.mode == Mode::Mrr && model.nsPerTrianglePerLevel > 0.0)
+    f.counts.triangles = countTrianglesInView(b.sourceScene(), f.view);
   // SSM: what PCSS pays (nothing, the search, or the search and PCF), asked of one pixel in 8×8,
   // when the model prices PCF (e > 0) and the rule will decide (or the caller reads its counts).
   // Untimed: it is the rule's, in the frame's total.

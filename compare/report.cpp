@@ -36,11 +36,12 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                          {"decided", f.fallback.early ? "early, before the edges" : "on the stencils"},
                          {"hit_pixels", f.counts.hitPixels},
                          {"silhouette_pixels", f.counts.silhouette[0]},
-                         {"triangles_in_view", f.counts.triangles},
                          {"predicted_full_ms", f.fallback.predictedFullMs},
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
                          {"cost_model", f.fallback.costModel}};
+  if (f.fallback.evaluated && f.counts.triangles > 0)  // T, counted where the model prices triangles
+    j["never_slower"]["triangles_in_view"] = f.counts.triangles;
   if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
     j["never_slower"]["searched_pixels"] = f.counts.searchedPixels;
     j["never_slower"]["pcf_pixels"] = f.counts.pcfPixels;

@@ -181,6 +181,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   };
   std::vector<MrrRun> mrrRuns;
   LeastSquares gbufferFit;  // P_ℓ, P_ℓ·share, T → g, h, t
+  const bool rasterises = path.name != "cpu";  // the oracle's G-buffers are ray cast: t = 0
   // The method's frames count with a model that prices PCF (e > 0), so that SSM's frames sample
   // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
   CostModel counting = CostModel::defaults(path.name);
@@ -240,7 +241,9 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
               const double share = static_cast<double>(mn.hitPixels) /
                                    (static_cast<double>(m->last.constants.width) * m->last.constants.height);
               const double ns = stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6;
-              gbufferFit.addRelative({p, p * share, static_cast<double>(mn.triangles), 1e6}, ns, ns);
+              // T only where the G-buffer is rasterised (the port); the oracle casts rays
+              const double triangles = rasterises ? static_cast<double>(mn.triangles) : 0.0;
+              gbufferFit.addRelative({p, p * share, triangles, 1e6}, ns, ns);
             }
         for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
           const LevelConstants& l0 = m->last.constants.levels[0];

@@ -139,12 +139,17 @@ TEST(GpuNeverSlower, CountsTheSameFrameAsTheOracle) {
   const Renderer oracle(rs.scene);
   Settings s = smallFrame(Effect::Ssao, 160, 90, false);
   const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
-  const CostModel model = CostModel::defaults("cpu");
+  const CostModel model = CostModel::defaults("gpu");  // t > 0: T is counted
+  ASSERT_GT(model.nsPerTrianglePerLevel, 0.0);
   const FrameResult p = port.render(rs.camera, c, {false, {}, &model});
   const FrameResult o = oracle.render(rs.camera, c, {false, {}, &model});
   EXPECT_EQ(p.counts.triangles, countTrianglesInView(rs.scene, p.view));
   EXPECT_GT(p.counts.triangles, 0);
   EXPECT_EQ(p.counts.triangles, o.counts.triangles);
+  // The oracle's own model prices no triangle (its G-buffers are ray cast): T is not counted.
+  const CostModel rays = CostModel::defaults("cpu");
+  ASSERT_EQ(rays.nsPerTrianglePerLevel, 0.0);
+  EXPECT_EQ(oracle.render(rs.camera, c, {false, {}, &rays}).counts.triangles, 0);
   EXPECT_GT(o.counts.hitPixels, 160 * 90 / 4);
   EXPECT_NEAR(static_cast<double>(p.counts.hitPixels), static_cast<double>(o.counts.hitPixels), 0.01 * 160 * 90);
   EXPECT_NEAR(p.fallback.predictedFullMs, o.fallback.predictedFullMs, 0.02 * o.fallback.predictedFullMs);

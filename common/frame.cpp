@@ -138,30 +138,66 @@ uint8_t paysAt(const ImageU8& pcf, int x, int y) { return pcf.empty() ? kPcfSamp
 
 void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c) {
   n.hitPixels = n.searchedPixels = n.pcfPixels = 0;
-  // B_ℓ: a level-ℓ pixel is marked when its block holds a silhouette pixel (edgeAt's background
-  // edge: on geometry, with a 4-neighbour inside the image off it).
-  std::array<ImageU8, kLevelCount> marked;
-  for (const LevelConstants& lc : c.levels)
-    if (lc.enabled && lc.index > 0) marked[static_cast<size_t>(lc.index)] = ImageU8(lc.width, lc.height, 1, 0);
-  auto background = [&](int x, int y) { return hit.contains(x, y) && !hit.at(x, y); };
   n.silhouette = {};
-  for (int y = 0; y < std::min(c.height, hit.height); ++y)
-    for (int x = 0; x < std::min(c.width, hit.width); ++x)
-      if (hit.at(x, y)) {
-        ++n.hitPixels;
-        const uint8_t pays = paysAt(pcf, x, y);
-        n.searchedPixels += pays != kPcfSampleNone;
-        n.pcfPixels += pays == kPcfSamplePcf;
-        if (!(background(x - 1, y) || background(x + 1, y) || background(x, y - 1) || background(x, y + 1))) continue;
-        ++n.silhouette[0];
-        for (int l = 1; l < kLevelCount; ++l) {
-          ImageU8& level = marked[static_cast<size_t>(l)];
-          if (level.empty()) continue;
-          uint8_t& m = level.at(std::min(x >> l, level.width - 1), std::min(y >> l, level.height - 1));
-          n.silhouette[static_cast<size_t>(l)] += m == 0;
-          m = 1;
-        }
+  const int w = std::min(c.width, hit.width), h = std::min(c.height, hit.height);
+  if (w <= 0 || h <= 0) return;
+  // 1. Per row, in parallel (integer sums per row, so the totals are the same for any thread
+  // count): H, H_a, H_p, and the silhouette pixels (edgeAt's background edge: on geometry, with a
+  // 4-neighbour inside the image off it) into `marks[0]`.
+  std::array<ImageU8, kLevelCount> marks;
+  marks[0] = ImageU8::uninitialised(w, h);
+  std::vector<std::array<int64_t, 4>> rows(static_cast<size_t>(h));  // H, H_a, H_p, B_0
+  parallelFor(0, h, [&](int y) {
+    const uint8_t* mid = &hit.at(0, y);
+    const uint8_t* up = y > 0 ? &hit.at(0, y - 1) : nullptr;
+    const uint8_t* down = y + 1 < hit.height ? &hit.at(0, y + 1) : nullptr;
+    uint8_t* out = &marks[0].at(0, y);
+    std::array<int64_t, 4> r{};
+    for (int x = 0; x < w; ++x) {
+      out[x] = 0;
+      if (!mid[x]) continue;
+      ++r[0];
+      if (!pcf.empty()) {
+        const uint8_t pays = pcfSampleValue(pcf, x, y);
+        r[1] += pays != kPcfSampleNone;
+        r[2] += pays == kPcfSamplePcf;
+      } else {
+        ++r[1];
       }
+      const bool edge = (x > 0 && !mid[x - 1]) || (x + 1 < hit.width && !mid[x + 1]) || (up && !up[x]) || (down && !down[x]);
+      out[x] = edge;
+      r[3] += edge;
+    }
+    rows[static_cast<size_t>(y)] = r;
+  });
+  for (const auto& r : rows) {
+    n.hitPixels += r[0];
+    n.searchedPixels += r[1];
+    n.pcfPixels += r[2];
+    n.silhouette[0] += r[3];
+  }
+  // 2. B_ℓ: level ℓ's marks are the 2×2 OR of level ℓ−1's (a level-ℓ pixel whose 2^ℓ block holds a
+  // silhouette pixel), counted at every enabled level.
+  for (int l = 1; l < kLevelCount; ++l) {
+    const ImageU8& finer = marks[static_cast<size_t>(l - 1)];
+    ImageU8& m = marks[static_cast<size_t>(l)];
+    m = ImageU8::uninitialised((finer.width + 1) / 2, (finer.height + 1) / 2);
+    std::vector<int64_t> counts(static_cast<size_t>(m.height), 0);
+    parallelFor(0, m.height, [&](int y) {
+      const uint8_t* a = &finer.at(0, 2 * y);
+      const uint8_t* b = 2 * y + 1 < finer.height ? &finer.at(0, 2 * y + 1) : a;
+      uint8_t* out = &m.at(0, y);
+      int64_t count = 0;
+      for (int x = 0; x < m.width; ++x) {
+        const int x1 = std::min(2 * x + 1, finer.width - 1);
+        out[x] = a[2 * x] | a[x1] | b[2 * x] | b[x1];
+        count += out[x];
+      }
+      counts[static_cast<size_t>(y)] = count;
+    });
+    if (c.levels[static_cast<size_t>(l)].enabled)
+      for (int64_t v : counts) n.silhouette[static_cast<size_t>(l)] += v;
+  }
 }
 
 namespace {

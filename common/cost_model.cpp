@@ -15,6 +15,12 @@ double hitShare(const Constants& c, const FrameCounts& n) {
   return static_cast<double>(n.hitPixels) / std::max(1.0, static_cast<double>(c.width) * c.height);
 }
 
+// SPEC §11: P_ℓ (H / W·H) d, in ns: a shaded level's per-pixel pass (SSAO's occluder planes,
+// SSGI's direct light), paid by its pixels on geometry.
+double levelPassNs(const EffectCost& e, const LevelConstants& lc, const Constants& c, const FrameCounts& n) {
+  return levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;
+}
+
 // SPEC §11: Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H (β₀ + β), in ns: what the
 // method pays beyond shading whatever its stencils.
 double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c, const FrameCounts& n) {
@@ -127,7 +133,7 @@ double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& 
   const double paying = static_cast<double>(n.searchedPixels);
   const double rest = std::max(0.0, static_cast<double>(c.width) * c.height - paying);
   return (paying * shadeNs(e, c.samples()) + static_cast<double>(n.pcfPixels) * e.nsPerPcfSample * c.samples() +
-          rest * e.nsPerBackgroundPixel + levelPixels(c.levels[0]) * hitShare(c, n) * e.nsPerLevelPixel +
+          rest * e.nsPerBackgroundPixel + levelPassNs(e, c.levels[0], c, n) +
           static_cast<double>(c.width) * c.height * m.nsPerFullBlendPixel) *
              1e-6 +
          e.fullFixedMs;
@@ -145,7 +151,7 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
     const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - paying);
     const double pcf = static_cast<double>(n.shadedPcf[l]) * e.nsPerPcfSample * c.samples();
     ns += (paying * shadeNs(e, c.samples()) + pcf) * e.sparseFactor + off * e.nsPerBackgroundPixel +
-          levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;
+          levelPassNs(e, lc, c, n);
   }
   return ns * 1e-6 + e.fixedMs;
 }
@@ -170,7 +176,7 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);
-    ns += levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;  // every shaded level pays d over its grid
+    ns += levelPassNs(e, lc, c, n);  // every shaded level pays d
     if (lc.index == c.coarsestEnabled)
       ns += levelPixels(lc) * perPixel;  // S_k = 1 everywhere
     else

@@ -157,13 +157,9 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
       out[x] = 0;
       if (!mid[x]) continue;
       ++r[0];
-      if (!pcf.empty()) {
-        const uint8_t pays = pcfSampleValue(pcf, x, y);
-        r[1] += pays != kPcfSampleNone;
-        r[2] += pays == kPcfSamplePcf;
-      } else {
-        ++r[1];
-      }
+      const uint8_t pays = paysAt(pcf, x, y);
+      r[1] += pays != kPcfSampleNone;
+      r[2] += pays == kPcfSamplePcf;
       const bool edge = (x > 0 && !mid[x - 1]) || (x + 1 < hit.width && !mid[x + 1]) || (up && !up[x]) || (down && !down[x]);
       out[x] = edge;
       r[3] += edge;

@@ -17,7 +17,6 @@
 #include "common/camera.h"
 #include "common/cost_model.h"
 #include "common/image.h"
-#include "common/shader_constants.h"
 #include "common/params.h"
 #include "common/scene.h"
 #include "common/shader_constants.h"

@@ -233,25 +233,22 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         const Measured few = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n1), diagonal),
                                      repeats, &counting);
         mrrRuns.push_back({e, few.last.constants, few.last.counts, restMs(few.ms)});
-        for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large})  // the coarse G-buffers at every size
-          for (const LevelConstants& lc : m->last.constants.levels)
+        // The method's other stages at every size: the coarse G-buffers, the blend, edges and masks.
+        for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
+          const Constants& mc = m->last.constants;
+          const double frame = static_cast<double>(mc.width) * mc.height;
+          const double share = static_cast<double>(m->last.counts.hitPixels) / frame;
+          // T only where the G-buffer is rasterised (the port); the oracle casts rays
+          const double triangles = rasterises ? static_cast<double>(m->last.counts.triangles) : 0.0;
+          for (const LevelConstants& lc : mc.levels)
             if (lc.enabled && lc.index > 0) {
-              const FrameCounts& mn = m->last.counts;
               const double p = static_cast<double>(lc.width) * lc.height;
-              const double share = static_cast<double>(mn.hitPixels) /
-                                   (static_cast<double>(m->last.constants.width) * m->last.constants.height);
               const double ns = stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6;
-              // T only where the G-buffer is rasterised (the port); the oracle casts rays
-              const double triangles = rasterises ? static_cast<double>(mn.triangles) : 0.0;
               gbufferFit.addRelative({p, p * share, triangles, 1e6}, ns, ns);
             }
-        for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
-          const LevelConstants& l0 = m->last.constants.levels[0];
-          const double padded = static_cast<double>(l0.width) * l0.height;
           const double blendNs = stage(m->ms, "blend") * 1e6;
-          if (blendNs > 0.0)
-            blendFit.addRelative({static_cast<double>(m->last.constants.width) * m->last.constants.height, 1e6}, blendNs,
-                                 blendNs);
+          if (blendNs > 0.0) blendFit.addRelative({frame, 1e6}, blendNs, blendNs);
+          const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
           const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
           edgesFit.addRelative({padded, 1e6}, edgesNs, edgesNs);
           masksFit.addRelative({padded, 1e6}, masksNs, masksNs);
@@ -262,7 +259,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
     const auto ei = static_cast<size_t>(e);
     EffectCost& ec = model.effect[ei];
-    // c and k₀ from the frames nearly all sky (at both sizes), then a, b (, e) on the rest
+    // c and k₀ from the frames nearly all sky (at every size), then a, b (, e) on the rest
     LeastSquares sky;
     for (const FullRun& r : fullRuns[ei])
       if (r.onGeometry[0] < 0.05 * r.pixels) sky.addRelative({r.background, 1e6}, r.ns, r.ns);
@@ -296,8 +293,9 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   model.nsPerMaskPixel = maskCost[0];
   model.edgesMasksFixedMs = edgeCost[1] + maskCost[1];
   // s and k, per effect: the method's rest of frame = s × (its shading on geometry, priced as
-  // full's) + k + the rest as priced above, least squares over both sizes. The small frames
-  // tell the per-frame k (pass set-up) from the per-pixel s (a stencilled pixel's premium).
+  // full's) + k + the rest as priced above, least squares over every size and both sample
+  // counts. The small frames tell the per-frame k (pass set-up) from the per-pixel s (a
+  // stencilled pixel's premium).
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
     EffectCost& ec = model.effect[static_cast<size_t>(e)];
     LeastSquares fit;

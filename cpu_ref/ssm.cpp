@@ -40,7 +40,7 @@ float blockerSearch(const ShadowMap& map, const Receiver& r, const Constants::Ss
   return blockerSum;
 }
 
-// What pixel (x, y) pays (common/frame.h): kPcfSampleNone facing away from the light (V = 0 at
+// What pixel (x, y) pays (common/shader_constants.h): kPcfSampleNone facing away from the light (V = 0 at
 // once), kPcfSampleSearch facing it with no blocker found (the search alone; also off geometry,
 // where the block's pixels on geometry are assumed to search), kPcfSamplePcf where the search
 // finds a blocker (SsmDetail's pcfTaps > 0, without the PCF).

@@ -64,7 +64,7 @@ class PortFrame final : public FrameBackend {
  public:
   PortFrame(const GpuScene& scene, const Scene& source, bool timerQueries,
             const RenderOptions& options)
-      : scene_(scene), source_(source), light_(source.light), timerQueries_(timerQueries), keep_(options.keepStages) {}
+      : scene_(scene), source_(source), timerQueries_(timerQueries), keep_(options.keepStages) {}
 
   const char* pathName() const override { return "gpu"; }
 
@@ -121,7 +121,7 @@ class PortFrame final : public FrameBackend {
   }
   void shadowMap(FrameResult& f) override {
     const int size = f.constants.ssm.shadowMapSize;
-    f.shadowMap = shadowMapFrame(light_, scene_.bounds(), size);
+    f.shadowMap = shadowMapFrame(source_.light, scene_.bounds(), size);
     shadowMap_ = std::make_unique<ShadowMapTarget>(size);
     drawShadowMap(scene_, f.shadowMap, *shadowMap_);
     if (keep_) f.shadowMap.depth = shadowMap_->read();
@@ -186,7 +186,7 @@ class PortFrame final : public FrameBackend {
       case Effect::Ssgi: {
         const Target direct = scene_.target(lc.width, lc.height, 1, false);
         stage("direct.L" + std::to_string(l), [&] {
-          drawDirectLight(scene_, targets, f.shadowMap, shadowMap_->texture(), f.view, light_, c.ssm.biasTexels,
+          drawDirectLight(scene_, targets, f.shadowMap, shadowMap_->texture(), f.view, source_.light, c.ssm.biasTexels,
                           *direct);
         });
         stage(stageName(Part::Raw, l),
@@ -219,13 +219,12 @@ class PortFrame final : public FrameBackend {
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {
     f.shaded = drawShade(scene_, *gbuffers_[0], final_.texture(), shadowTest_ ? shadowTest_->texture(0) : 0, f.view,
-                         light_, f.constants);
+                         source_.light, f.constants);
   }
 
  private:
   const GpuScene& scene_;
-  const Scene& source_;
-  const DirectionalLight& light_;
+  const Scene& source_;  // its light, and the triangles the rule counts
   const bool timerQueries_, keep_;
   ImageU8 hit_;  // the full-res hit flags, read back once (fullResHit)
   std::vector<std::pair<size_t, unsigned>> queries_;

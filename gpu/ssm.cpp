@@ -61,7 +61,7 @@ ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const 
   setBlockerSearchInputs(program, gbuffer0, map, mapTexture, view, ssm);
   scene.drawFullscreen();
   checkGl("pcfsample");
-  return target->readBytes(0);  // the bytes common/frame.h names (kPcfSample…)
+  return target->readBytes(0);  // the bytes common/shader_constants.h names (kPcfSample…)
 }
 
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,

@@ -242,7 +242,7 @@ void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>
           ++shaded;
           if (!levelPixelHit(hit, x, y, scale)) continue;
           ++onGeometry;
-          const uint8_t pays = paysAt(pcf, x * scale + scale / 2, y * scale + scale / 2);
+          const uint8_t pays = paysAt(pcf, levelSamplePixel(x, scale), levelSamplePixel(y, scale));
           searched += pays != kPcfSampleNone;
           paysPcf += pays == kPcfSamplePcf;
         }

@@ -8,7 +8,9 @@
 // The stage list (common/stages.h) names every image here, its EXR part and its parity rule.
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -213,9 +215,22 @@ inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
   return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),
                       std::min(y / kPcfSampleStep, pcfSample.height - 1));
 }
+// SPEC §0: the full-res pixel that level pixel x (of scale s) samples, along one axis: x·s + ⌊s/2⌋,
+// a pixel at its block's centre (level 0: the pixel itself). Level ℓ's G-buffer is level 0's at
+// these pixels (§1: subsampleGBuffer), and the blend puts its values there (§5).
+inline int levelSamplePixel(int x, int scale) { return x * scale + scale / 2; }
+// SPEC §0: the level texel whose sample is nearest an on-screen point at level coordinates
+// u = q/s (q a continuous full-res coordinate, u in [0, level size)), along one axis: the samples
+// sit at x·s + ⌊s/2⌋ + ½, half a full-res pixel past their blocks' centres above level 0, so
+// floor(u − ½/s) there (clamped at 0) and floor(u) at level 0. SSAO's occluders and SSGI's
+// senders are looked up here (ssao.frag and ssgi.frag take the same steps).
+inline int nearestLevelTexel(float u, float invScale) {
+  const float shifted = invScale < 1.0f ? u - 0.5f * invScale : u;
+  return std::max(static_cast<int>(std::floor(shifted)), 0);
+}
 inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
-  return fullResHit.at(std::min(x * scale + scale / 2, fullResHit.width - 1),
-                       std::min(y * scale + scale / 2, fullResHit.height - 1)) != 0;
+  return fullResHit.at(std::min(levelSamplePixel(x, scale), fullResHit.width - 1),
+                       std::min(levelSamplePixel(y, scale), fullResHit.height - 1)) != 0;
 }
 
 // The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred

@@ -75,8 +75,9 @@ const std::vector<ShaderContract>& shaderContracts() {
        "cpu_ref/blend.cpp: upsampleAt (bilinear over the four level texels with S = 1, renormalised) and blendStep "
        "with the erratum-corrected Eq. 1, c'_l = alpha_l c^_l + (1 - alpha_l) c'_(l+1), coarse to fine."},
       {"common.glsl", "include", "ssao, ssgi, hash", "", {}, {}, {},
-       "common/hash.h pixelHash (PCG, 32-bit wrap-around) and cpu_ref/hemisphere.h sampleFrame: the kernel rotated "
-       "about N by an angle from the hash of (x, y, level)."},
+       "common/hash.h pixelHash (PCG, 32-bit wrap-around), cpu_ref/hemisphere.h sampleFrame (the kernel rotated "
+       "about N by an angle from the hash of (x, y, level)) and common/frame.h nearestLevelTexel (the texel whose "
+       "sample is nearest a projected point)."},
       {"cutout.glsl", "include", "gbuffer, shadowmap", "",
        {{"cutout", "sampler2D R8", "the mesh's alpha cutout: 1 where the texel is opaque (Scene::cutouts)"}},
        {{"hasCutout", "int", "1: the mesh has a cutout, 0: opaque"},
@@ -99,17 +100,24 @@ const std::vector<ShaderContract>& shaderContracts() {
        {{"useRects", "bool", "draw the given pixel rectangles instead of one full-screen triangle"},
         {"targetSize", "vec2", "the target's size in pixels"}},
        {}, "none: the passes run one fragment per target pixel at gl_FragCoord = pixel centre (x + 0.5, y + 0.5)."},
-      {"gbuffer.frag", "fragment", "gbuffer", "",
-       {{"viewPosition", "in vec3", "view-space position of the fragment (gbuffer.vert)"},
-        {"viewNormal", "in vec3", "view-space vertex normal, interpolated (gbuffer.vert)"},
-        {"surfaceTexcoord", "in vec2", "texture coordinate for the alpha cutout (gbuffer.vert; includes cutout.glsl)"}},
-       {{"albedo", "vec3", "the mesh's base colour, linear RGB"},
-        {"farDepth", "float", "the linear depth written as 1 to gl_FragDepth: surfaces are ordered by linear depth"}},
-       {{"outPositionHit", "vec4 -> RGBA32F", "view-space position, hit = 1", 0},
+      {"gbuffer.frag", "fragment", "gbuffer, gbuffer.subsample",
+       "SUBSAMPLE: level l >= 1, copied from level 0 (drawn with fullscreen.vert)",
+       {{"viewPosition", "in vec3", "view-space position of the fragment (gbuffer.vert)", -1, "default"},
+        {"viewNormal", "in vec3", "view-space vertex normal, interpolated (gbuffer.vert)", -1, "default"},
+        {"surfaceTexcoord", "in vec2", "texture coordinate for the alpha cutout (gbuffer.vert; includes cutout.glsl)", -1,
+         "default"},
+        {"fullPositionHit", "sampler2D RGBA32F", "level 0's G-buffer: position, hit", -1, "SUBSAMPLE"},
+        {"fullNormalDepth", "sampler2D RGBA32F", "level 0's G-buffer: normal, depth", -1, "SUBSAMPLE"},
+        {"fullAlbedo", "sampler2D RGBA32F", "level 0's G-buffer: albedo", -1, "SUBSAMPLE"}},
+       {{"albedo", "vec3", "the mesh's base colour, linear RGB", -1, "default"},
+        {"farDepth", "float", "the linear depth written as 1 to gl_FragDepth: surfaces are ordered by linear depth", -1,
+         "default"},
+        {"scale", "int", "s_l = 2^l: level pixel x copies full-res pixel x s + s/2", -1, "SUBSAMPLE"}},
+       {{"outPositionHit", "vec4 -> RGBA32F", "view-space position, hit = 1 (0 on sky)", 0},
         {"outNormalDepth", "vec4 -> RGBA32F", "unit view normal facing the camera, linear depth z = -p.z", 1},
         {"outAlbedo", "vec4 -> RGBA32F", "base colour, 1", 2}},
-       "cpu_ref/gbuffer.cpp: one ray per level pixel centre ((x + 0.5) s, (y + 0.5) s) of the padded full-res grid "
-       "(Embree); the port rasterises each level at its own size."},
+       "cpu_ref/gbuffer.cpp: renderGBuffer, one ray per pixel centre (x + 0.5, y + 0.5) of the padded full-res grid "
+       "(Embree); subsampleGBuffer, level l's pixel (x, y) a copy of full-res pixel (x s + s/2, y s + s/2)."},
       {"gbuffer.vert", "vertex", "gbuffer", "",
        {{"worldPosition", "vec3", "vertex position, world space", 0},
         {"worldNormal", "vec3", "vertex normal, world space", 1},
@@ -307,7 +315,8 @@ std::string shaderContractMarkdown() {
         "is read with `texelFetch` at integer texels (no filtering, no normalised coordinates). Images are stored "
         "top row first: GL row 0 is image row 0, so nothing is flipped.\n";
   md += "- Levels: level l has scale s_l = 2^l; its pixel (x, y) covers full-res pixels [x s_l, (x+1) s_l) and "
-        "samples the padded full-res grid at ((x + 0.5) s_l, (y + 0.5) s_l). Per-level passes run at the level's size.\n";
+        "holds full-res pixel (x s_l + s_l/2, y s_l + s_l/2) (integer division): its G-buffer is level 0's at those "
+        "pixels. Per-level passes run at the level's size.\n";
   md += "- Stencil: the effect passes (ssao, ssm, ssgi, bilateral) are drawn with the stencil test: "
         "`stencil.frag` marks the pixels with S_l = 1, and only those run. Pixels with S_l = 0 keep the cleared 0 "
         "(never evaluated); a shader must not rely on them.\n";

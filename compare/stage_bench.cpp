@@ -98,8 +98,12 @@ void registerStages() {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     const char* names[kLevelCount] = {"gbuffer/L0", "gbuffer/L1", "gbuffer/L2", "gbuffer/L3"};
-    add(names[l], static_cast<int64_t>(lc.width) * lc.height,
-        [&fr, &lc] { benchmark::DoNotOptimize(renderGBuffer(*fr.rays, fr.f.view, lc)); });
+    if (l == 0)  // rays; the coarser levels are level 0 subsampled (SPEC §1)
+      add(names[l], static_cast<int64_t>(lc.width) * lc.height,
+          [&fr, &lc] { benchmark::DoNotOptimize(renderGBuffer(*fr.rays, fr.f.view, lc)); });
+    else
+      add(names[l], static_cast<int64_t>(lc.width) * lc.height,
+          [&l0, &lc] { benchmark::DoNotOptimize(subsampleGBuffer(l0.gbuffer, lc)); });
   }
   const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
   add(stageName(Part::Edges), full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(detectEdges(l0.gbuffer, c.edges, shadowEdges)); });

@@ -9,12 +9,12 @@ namespace mrr {
 
 namespace {
 // Fast path, equal to step 1 (bilinearTapsReference's floor form): floor(u) and u − floor(u)
-// for u = (p + ½)/s − ½ = (2p + 1 − s) / 2s, in integers. Every
+// for u = (p − ⌊s/2⌋)/s = 2(p − ⌊s/2⌋) / 2s, in integers. Every
 // quantity here is a small dyadic rational, so float arithmetic (what a shader does with
 // floor()) gives exactly these values. 2s is a power of two: the floor division is an
 // arithmetic shift (C++20 defines >> on negative values as floor), the remainder a mask.
 void tapCoordinate(int p, int s, int shift, int& base, float& fraction) {
-  const int num = 2 * p + 1 - s, den = 2 * s;
+  const int num = 2 * (p - s / 2), den = 2 * s;
   base = num >> shift;
   fraction = static_cast<float>(num & (den - 1)) / static_cast<float>(den);
 }
@@ -58,10 +58,11 @@ struct LevelRow {
 }  // namespace
 
 BilinearTaps bilinearTapsReference(int px, int py, const LevelConstants& level) {
-  // 1. u = (p + ½)/s − ½ in level coordinates, its floor and fraction; tap k = 2j + i is
-  // (f + i, f + j) clamped to the level grid, with weight (i ? t.x : 1 − t.x)·(j ? t.y : 1 − t.y)
+  // 1. u = (p − ⌊s/2⌋)/s in level coordinates (level pixel x holds full-res pixel x·s + ⌊s/2⌋,
+  // SPEC §0), its floor and fraction; tap k = 2j + i is (f + i, f + j) clamped to the level grid,
+  // with weight (i ? t.x : 1 − t.x)·(j ? t.y : 1 − t.y)
   const float s = static_cast<float>(level.scale);
-  const float ux = (static_cast<float>(px) + 0.5f) / s - 0.5f, uy = (static_cast<float>(py) + 0.5f) / s - 0.5f;
+  const float ux = static_cast<float>(px - level.scale / 2) / s, uy = static_cast<float>(py - level.scale / 2) / s;
   const float fx = std::floor(ux), fy = std::floor(uy);
   const float tx = ux - fx, ty = uy - fy;
   BilinearTaps t;
@@ -128,7 +129,7 @@ BlendResult blendReference(const std::array<LevelImages, kLevelCount>& levels, c
 }
 
 BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level) {
-  // u = (p + ½)/s − ½ in level coordinates; tap k = 2j + i has weight wx_i · wy_j
+  // u = (p − ⌊s/2⌋)/s in level coordinates; tap k = 2j + i has weight wx_i · wy_j
   const TapAxis ax = tapAxis(px, level, level.width), ay = tapAxis(py, level, level.height);
   BilinearTaps t;
   for (int j = 0; j < 2; ++j)

@@ -2,7 +2,7 @@
 // Stage 5 — masked-bilinear upsampling and the coarse-to-fine blend (SPEC §5, the paper's
 // Eq. 1 with its erratum corrected: the right-hand side blends over the coarser composite).
 // The steps are numbered as in gpu/shaders/blend.frag, which computes the same function:
-//   1. the bilinear taps of u = (p + ½)/s − ½        (bilinearTapsReference, tapAxis)
+//   1. the bilinear taps of u = (p − ⌊s/2⌋)/s        (bilinearTapsReference, tapAxis)
 //   2. masked bilinear ĉ and â over the four taps    (upsampleReference, upsampleImpl)
 //   3. α = min(â·w, 1) where a tap is rendered, else 0
 //   4. c'_ℓ = α ĉ_ℓ + (1 − α) c'_coarser             (blendStep)
@@ -17,7 +17,7 @@
 
 namespace mrr {
 
-// The 4 bilinear taps of full-res pixel (px, py) in level ℓ: u = (p + ½)/s − ½, clamped
+// The 4 bilinear taps of full-res pixel (px, py) in level ℓ: u = (p − ⌊s/2⌋)/s, clamped
 // to the level grid; weights b_q sum to 1.
 struct BilinearTaps {
   int x[4] = {0, 0, 0, 0};
@@ -26,7 +26,7 @@ struct BilinearTaps {
 };
 BilinearTaps bilinearTaps(int px, int py, const LevelConstants& level);
 
-// Step 1, readable: the shader's floor form, u = (p + ½)/s − ½, f = floor(u), t = u − f. Every
+// Step 1, readable: the shader's floor form, u = (p − ⌊s/2⌋)/s, f = floor(u), t = u − f. Every
 // quantity is a small dyadic rational, so float gives exactly what bilinearTaps' integer
 // shift-and-mask gives (tested equal at every pixel).
 BilinearTaps bilinearTapsReference(int px, int py, const LevelConstants& level);

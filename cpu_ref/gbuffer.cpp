@@ -1,11 +1,13 @@
 #include "cpu_ref/gbuffer.h"
 
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <string>
 
 #include "common/error.h"
+#include "common/parallel.h"
 #include "cpu_ref/rays.h"
 
 namespace mrr {
@@ -125,6 +127,27 @@ GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstan
           g.albedo.at(x, y, c) = mesh.baseColor[c];
         }
       });
+  return g;
+}
+
+GBuffer subsampleGBuffer(const GBuffer& full, const LevelConstants& level) {
+  GBuffer g = GBuffer::uninitialised(level.width, level.height);  // every pixel written below
+  const int s = level.scale;
+  parallelFor(0, g.height, [&](int y) {
+    // 1. the full-res pixel this level pixel samples (SPEC §0), clamped to the grid
+    const int fy = std::min(levelSamplePixel(y, s), full.height - 1);
+    for (int x = 0; x < g.width; ++x) {
+      const int fx = std::min(levelSamplePixel(x, s), full.width - 1);
+      // 2. its every channel, copied
+      g.hit.at(x, y) = full.hit.at(fx, fy);
+      g.depth.at(x, y) = full.depth.at(fx, fy);
+      for (int c = 0; c < 3; ++c) {
+        g.position.at(x, y, c) = full.position.at(fx, fy, c);
+        g.normal.at(x, y, c) = full.normal.at(fx, fy, c);
+        g.albedo.at(x, y, c) = full.albedo.at(fx, fy, c);
+      }
+    }
+  });
   return g;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// Stage 1 — G-buffer (SPEC §1): primary visibility at each enabled level's pixel centres.
+// Stage 1 — G-buffer (SPEC §1): primary visibility at the full-res pixel centres, and each
+// coarser level's G-buffer subsampled from it.
 #include <embree3/rtcore.h>
 
 #include <memory>
@@ -44,7 +45,12 @@ glm::vec2 texcoordAt(const Mesh& mesh, unsigned primitive, float u, float v);
 bool opaqueHit(const Scene& scene, const Mesh& mesh, unsigned primitive, float u, float v);
 
 // Casts one ray per pixel centre of `level` ((x+0.5)·s, (y+0.5)·s in full-res pixels),
-// in 4×4 packets (rtcIntersect16), in parallel over tiles.
+// in 4×4 packets (rtcIntersect16), in parallel over tiles. The pipeline casts level 0 alone.
 GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstants& level);
+
+// Level ℓ's G-buffer from level 0's (SPEC §1): pixel (x, y) is a copy of full-res pixel
+// (levelSamplePixel(x, s), levelSamplePixel(y, s)), every channel bit for bit. No ray, no
+// triangle: the coarse levels see exactly the surfaces the full-res image does.
+GBuffer subsampleGBuffer(const GBuffer& full, const LevelConstants& level);
 
 }  // namespace mrr

@@ -37,7 +37,9 @@ class OracleFrame final : public FrameBackend {
   const Scene& sourceScene() const override { return scene_; }
 
   void gbuffer(FrameResult& f, int l) override {
-    f.levels[static_cast<size_t>(l)].gbuffer = renderGBuffer(rays_, f.view, f.constants.levels[static_cast<size_t>(l)]);
+    const LevelConstants& lc = f.constants.levels[static_cast<size_t>(l)];
+    f.levels[static_cast<size_t>(l)].gbuffer =
+        l == 0 ? renderGBuffer(rays_, f.view, lc) : subsampleGBuffer(f.levels[0].gbuffer, lc);
   }
   void shadowMap(FrameResult& f) override {
     f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), f.constants.ssm.shadowMapSize);

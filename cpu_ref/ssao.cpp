@@ -90,7 +90,7 @@ float ssaoEval(const GBuffer& g, const OccluderPlanes& planes, const View& view,
       if constexpr (kDetail) ++d.offscreen;
       continue;
     }
-    const int ix = static_cast<int>(px.x), iy = static_cast<int>(px.y);  // floor: both ≥ 0
+    const int ix = nearestLevelTexel(px.x, invScale), iy = nearestLevelTexel(px.y, invScale);  // SPEC §0
     const size_t texel = static_cast<size_t>(iy) * g.width + ix;
     const OccluderPlane& plane = planes[texel];
     if (plane.offset > 0.0f) {  // background never occludes

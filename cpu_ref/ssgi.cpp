@@ -62,7 +62,7 @@ glm::vec3 ssgiAt(const GBuffer& g, const ImageF& direct, const View& view, const
       ++d.offscreen;
       continue;
     }
-    const int ix = static_cast<int>(px.x), iy = static_cast<int>(px.y);
+    const int ix = nearestLevelTexel(px.x, invScale), iy = nearestLevelTexel(px.y, invScale);  // SPEC §0
     if (!g.hit.at(ix, iy)) {
       ++d.background;
       continue;

@@ -10,10 +10,11 @@ namespace mrr::gpu {
 
 const std::vector<ShaderFault>& shaderFaults() {
   static const std::vector<ShaderFault> faults = {
-      {"compile-error", "gbuffer.frag", "void main() {", "void main() { planted syntax error",
+      {"compile-error", "gbuffer.frag", "if (transparentAt(surfaceTexcoord)) discard;",
+       "if (transparentAt(surfaceTexcoord)) discard; planted syntax error",
        "a syntax error: the driver refuses the G-buffer shader", "compile"},
-      {"half-pixel", "blend.frag", "vec2 u = (vec2(p) + 0.5) / float(scale) - 0.5;",
-       "vec2 u = (vec2(p) + 0.5) / float(scale);", "upsampling taps off by half a level pixel (the −½ dropped)",
+      {"half-pixel", "blend.frag", "vec2 u = vec2(p - scale / 2) / float(scale);",
+       "vec2 u = vec2(p) / float(scale);", "upsampling taps off by half a level pixel (the −⌊s/2⌋ dropped)",
        partName(Part::Upsample)},
       {"blend-weight", "blend.frag", "alpha = min(alphaHat * weight, 1.0);", "alpha = min(alphaHat * weight * 0.5, 1.0);",
        "the blend weight w_ℓ halved", partName(Part::BlendAlpha)},

@@ -403,9 +403,36 @@ void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit) {
   glBindTexture(GL_TEXTURE_2D, mesh.cutout);
 }
 
+void subsampleGBuffer(const GpuScene& scene, const Framebuffer& full, const LevelConstants& level,
+                      const Framebuffer& target) {
+  const unsigned program = scene.program("gbuffer.subsample", "fullscreen.vert", "gbuffer.frag", "#define SUBSAMPLE\n");
+  target.bind();
+  glUseProgram(program);
+  bindTextures(program, {{"fullPositionHit", full.texture(0)}, {"fullNormalDepth", full.texture(1)},
+                         {"fullAlbedo", full.texture(2)}});
+  glUniform1i(uniform(program, "scale"), level.scale);
+  scene.drawFullscreen();
+  checkGl("gbuffer.subsample");
+}
+
+void drawLevelGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target) {
+  if (level.scale == 1) {
+    drawGBuffer(scene, view, level, target);
+    return;
+  }
+  LevelConstants full = level;  // level 0 of the same padded grid
+  full.index = 0;
+  full.scale = 1;
+  full.width = level.width * level.scale;
+  full.height = level.height * level.scale;
+  const Target g0 = scene.target(full.width, full.height, 3, true);
+  drawGBuffer(scene, view, full, *g0);
+  subsampleGBuffer(scene, *g0, level, target);
+}
+
 GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level) {
   const Target target = scene.target(level.width, level.height, 3, true);
-  drawGBuffer(scene, view, level, *target);
+  drawLevelGBuffer(scene, view, level, *target);
   return readGBuffer(*target);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// The port's stage 1 (gpu/shaders/gbuffer.vert, .frag): the scene uploaded once, each level's
-// G-buffer rasterised at its own size and read back into the oracle's GBuffer structure.
+// The port's stage 1 (gpu/shaders/gbuffer.vert, .frag): the scene uploaded once, the full-res
+// G-buffer rasterised, each coarser level's subsampled from it, and either read back into the
+// oracle's GBuffer structure.
 #include <map>
 #include <memory>
 #include <string>
@@ -142,8 +143,14 @@ class GpuScene {
 };
 
 // Renders level `level`'s G-buffer into `target` (level-sized, + depth): position and hit,
-// normal and depth, and albedo when the target has a third colour target.
+// normal and depth, and albedo when the target has a third colour target. The pipeline
+// rasterises level 0 alone.
 void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target);
+
+// Level ℓ's G-buffer from level 0's three targets `full` (SPEC §1; gbuffer.frag SUBSAMPLE):
+// pixel (x, y) of `target` (level-sized) is full-res pixel (x·s + ⌊s/2⌋, y·s + ⌊s/2⌋), copied.
+void subsampleGBuffer(const GpuScene& scene, const Framebuffer& full, const LevelConstants& level,
+                      const Framebuffer& target);
 
 // Sets cutout.glsl's uniforms for one mesh of a geometry pass (its texture on unit `unit`).
 void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit);
@@ -151,7 +158,12 @@ void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit);
 // Reads drawn G-buffer targets back into the oracle's structure.
 GBuffer readGBuffer(const Framebuffer& target);
 
-// Draw and read back in one call.
+// Level `level`'s G-buffer as the pipeline makes it, into `target` (level-sized, three targets):
+// level 0 rasterised, a coarser level subsampled from a level 0 drawn for it (the pipeline
+// draws level 0 once and subsamples it for every coarser level).
+void drawLevelGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target);
+
+// drawLevelGBuffer and read back in one call.
 GBuffer renderGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level);
 
 }  // namespace mrr::gpu

@@ -108,15 +108,19 @@ class PortFrame final : public FrameBackend {
   }
   const Scene& sourceScene() const override { return source_; }
 
-  // G-buffers, rasterised per level. A coarse level's albedo is read only by SSGI's direct
-  // light (and --stages): the resident frame leaves that target out otherwise.
+  // G-buffers: level 0 rasterised, the coarser levels subsampled from it. A coarse level's
+  // albedo is read only by SSGI's direct light (and --stages): the resident frame leaves that
+  // target out otherwise.
   void gbuffer(FrameResult& f, int l) override {
     const Constants& c = f.constants;
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const int targets = keep_ || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
     Target& g = gbuffers_[static_cast<size_t>(l)];
     g = scene_.target(lc.width, lc.height, targets, true);
-    drawGBuffer(scene_, f.view, lc, *g);
+    if (l == 0)
+      drawGBuffer(scene_, f.view, lc, *g);
+    else
+      subsampleGBuffer(scene_, *gbuffers_[0], lc, *g);
     if (keep_) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*g);
   }
   void shadowMap(FrameResult& f) override {

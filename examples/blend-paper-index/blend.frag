@@ -15,10 +15,10 @@
 //               0–2), so no sampler is chosen at run time, and draws the variant without
 //               finer levels over the blocks where no finer α can be > 0 (gpu/blend.cpp).
 
-// 1. u = (p + ½)/s − ½ for full-res pixel p on a level of scale s: tap k's texel (clamped to
-// the level grid) and bilinear weight b.
+// 1. u = (p − ⌊s/2⌋)/s for full-res pixel p on a level of scale s (level pixel x holds full-res
+// pixel x·s + ⌊s/2⌋, SPEC §0): tap k's texel (clamped to the level grid) and bilinear weight b.
 void bilinearTap(int k, ivec2 p, int scale, ivec2 last, out ivec2 q, out float b) {
-  vec2 u = (vec2(p) + 0.5) / float(scale) - 0.5;
+  vec2 u = vec2(p - scale / 2) / float(scale);
   vec2 f = floor(u);
   vec2 t = u - f;
   ivec2 o = ivec2(k & 1, k >> 1);

@@ -22,7 +22,7 @@ bool projectToTexel(vec3 s, out ivec2 texel) {
   float z = -s.z;
   vec2 px = vec2(camera.y + camera.x * s.x / z, camera.z - camera.x * s.y / z) * invScale;
   vec2 size = vec2(textureSize(positionHit, 0));
-  texel = ivec2(px);
+  texel = nearestLevelTexel(px, invScale);  // the texel whose sample is nearest (SPEC §0)
   return z > 0.0 && all(greaterThanEqual(px, vec2(0.0))) && all(lessThan(px, size));
 }
 

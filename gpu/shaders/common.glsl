@@ -23,3 +23,11 @@ void sampleFrame(vec3 n, ivec2 pixel, int level, out vec3 t, out vec3 b) {
   t = normalize(tangent);
   b = cross(n, t);
 }
+
+// SPEC §0, mirrors common/frame.h: nearestLevelTexel. The level texel whose sample is nearest an
+// on-screen point at level coordinates u = q/s: the samples sit at x·s + ⌊s/2⌋ + ½, half a
+// full-res pixel past their blocks' centres above level 0, so floor(u − ½/s) there (clamped at 0).
+ivec2 nearestLevelTexel(vec2 u, float invScale) {
+  vec2 shifted = invScale < 1.0 ? u - 0.5 * invScale : u;
+  return max(ivec2(floor(shifted)), ivec2(0));
+}

@@ -1,14 +1,31 @@
 #version 330 core
-// Stage 1 — G-buffer (SPEC §1), mirrors cpu_ref/gbuffer.cpp.
+// Stage 1 — G-buffer (SPEC §1), mirrors cpu_ref/gbuffer.cpp. Two variants of one file:
+//   (default)  level 0 rasterised (gbuffer.vert): renderGBuffer
+//   SUBSAMPLE  level ℓ ≥ 1, a copy of level 0 at the full-res pixels its pixels sample
+//              (fullscreen.vert): subsampleGBuffer
+layout(location = 0) out vec4 outPositionHit;  // view-space position, hit = 1
+layout(location = 1) out vec4 outNormalDepth;  // view-space normal, linear depth z = −p.z
+layout(location = 2) out vec4 outAlbedo;
+#ifdef SUBSAMPLE
+uniform sampler2D fullPositionHit;  // level 0's targets
+uniform sampler2D fullNormalDepth;
+uniform sampler2D fullAlbedo;
+uniform int scale;  // s_ℓ = 2^ℓ
+void main() {
+  // 1. the full-res pixel this level pixel samples (SPEC §0: x·s + ⌊s/2⌋), clamped to the grid
+  ivec2 p = min(ivec2(gl_FragCoord.xy) * scale + scale / 2, textureSize(fullPositionHit, 0) - 1);
+  // 2. its every channel, copied
+  outPositionHit = texelFetch(fullPositionHit, p, 0);
+  outNormalDepth = texelFetch(fullNormalDepth, p, 0);
+  outAlbedo = texelFetch(fullAlbedo, p, 0);
+}
+#else
 in vec3 viewPosition;
 in vec3 viewNormal;
 in vec2 surfaceTexcoord;
 #include "cutout.glsl"
 uniform vec3 albedo;
 uniform float farDepth;  // the linear depth that maps to 1 in the depth buffer
-layout(location = 0) out vec4 outPositionHit;  // view-space position, hit = 1
-layout(location = 1) out vec4 outNormalDepth;  // view-space normal, linear depth z = −p.z
-layout(location = 2) out vec4 outAlbedo;
 void main() {
   // 0. alpha cutout (docs/spec.md §1.1): a transparent texel is no surface, the ray goes on
   if (transparentAt(surfaceTexcoord)) discard;
@@ -24,3 +41,4 @@ void main() {
   // is too coarse to order a picture and the wall behind it
   gl_FragDepth = -viewPosition.z / farDepth;
 }
+#endif

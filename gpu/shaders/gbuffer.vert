@@ -1,6 +1,7 @@
 #version 330 core
-// Stage 1 — G-buffer (SPEC §1), mirrors cpu_ref/gbuffer.cpp: each level is rasterised at its
-// own size, sampling level pixel centres ((x+½)s, (y+½)s) of the padded full-res grid.
+// Stage 1 — G-buffer (SPEC §1), mirrors cpu_ref/gbuffer.cpp: the full-res level is rasterised,
+// sampling the pixel centres (x+½, y+½) of the padded grid (gbuffer.frag's SUBSAMPLE variant
+// makes the coarser levels from it).
 layout(location = 0) in vec3 worldPosition;
 layout(location = 1) in vec3 worldNormal;
 layout(location = 2) in vec2 texcoord;  // meshes with an alpha cutout only (else (0, 0))

@@ -80,8 +80,8 @@ float jointBilateralWeight(float b, bool hitP, float zp, vec3 np, bool hitQ, flo
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 last = textureSize(sub, 0) - 1;
-  // the 4 bilinear taps of cpu_ref/blend.cpp: bilinearTaps: u = (p + ½)/s − ½, clamped to the grid
-  vec2 u = (vec2(p) + 0.5) / float(scale) - 0.5;
+  // the 4 bilinear taps of cpu_ref/blend.cpp: bilinearTaps: u = (p − ⌊s/2⌋)/s, clamped to the grid
+  vec2 u = vec2(p - scale / 2) / float(scale);
   vec2 f = floor(u);
   vec2 t = u - f;
   ivec2 base = ivec2(f);

@@ -56,7 +56,7 @@ void main() {
     float sampleDepth = -s.z;
     vec2 px = vec2(camera.y + camera.x * s.x / sampleDepth, camera.z - camera.x * s.y / sampleDepth) * invScale;
     if (!(sampleDepth > 0.0 && px.x >= 0.0 && px.y >= 0.0 && px.x < size.x && px.y < size.y)) continue;
-    ivec2 texel = ivec2(px);
+    ivec2 texel = nearestLevelTexel(px, invScale);  // SPEC §0
     vec4 th = texelFetch(positionHit, texel, 0);
     if (th.w < 0.5) continue;  // background never occludes
     vec4 nd = texelFetch(normalDepth, texel, 0);

@@ -162,8 +162,8 @@ TEST(ShadersDir, HalfPixelTapFailsAtUpsample) {
   REQUIRE_GL(dir);
   const std::string shaders = exportShaders(dir, {"blend.frag"});
   const fs::path file = fs::path(shaders) / "blend.frag";
-  writeText(file, edited(test::readFile(file.string()), "vec2 u = (vec2(p) + 0.5) / float(scale) - 0.5;",
-                         "vec2 u = (vec2(p) + 0.5) / float(scale);"));
+  writeText(file, edited(test::readFile(file.string()), "vec2 u = vec2(p - scale / 2) / float(scale);",
+                         "vec2 u = vec2(p) / float(scale);"));
   const Ran r = mrr(compareArgs("ssao", {"--shaders", shaders}), dir);
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out).rfind("FAIL: first failing stage upsample.L", 0), 0u) << r.out;

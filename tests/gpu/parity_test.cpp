@@ -14,6 +14,7 @@
 #include "common/hash.h"
 #include "common/tolerance.h"
 #include "compare/parity.h"
+#include "cpu_ref/gbuffer.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
@@ -92,8 +93,22 @@ TEST_P(GpuParity, StagesMatchTheOracle) {
   // Edges: against the oracle's, and against the oracle's from the port's own G-buffer.
   gpu::Framebuffer g0(f.constants.levels[0].width, f.constants.levels[0].height, 3, true);
   gpu::drawGBuffer(scene, f.view, f.constants.levels[0], g0);
+  const GBuffer g0Read = gpu::readGBuffer(g0);
+  // The coarse G-buffers (SPEC §1): the port's subsample of its own level 0, bit for bit the
+  // oracle's subsampleGBuffer of the same level 0.
+  for (int l = 1; l < kLevelCount; ++l) {
+    const LevelConstants& lc = f.constants.levels[static_cast<size_t>(l)];
+    gpu::Framebuffer gl(lc.width, lc.height, 3, true);
+    gpu::subsampleGBuffer(scene, g0, lc, gl);
+    const GBuffer port = gpu::readGBuffer(gl), oracle = subsampleGBuffer(g0Read, lc);
+    EXPECT_EQ(port.hit.data, oracle.hit.data) << "level " << l;
+    EXPECT_EQ(port.depth.data, oracle.depth.data) << "level " << l;
+    EXPECT_EQ(port.position.data, oracle.position.data) << "level " << l;
+    EXPECT_EQ(port.normal.data, oracle.normal.data) << "level " << l;
+    EXPECT_EQ(port.albedo.data, oracle.albedo.data) << "level " << l;
+  }
   const EdgeImages port = gpu::detectEdges(scene, g0, f.constants.edges);
-  const EdgeImages sameInput = detectEdges(gpu::readGBuffer(g0), f.constants.edges);
+  const EdgeImages sameInput = detectEdges(g0Read, f.constants.edges);
   int64_t vsOracle = 0, vsSameInput = 0;
   for (size_t i = 0; i < port.combined.data.size(); ++i) {
     vsOracle += port.combined.data[i] != f.edges.combined.data[i];
@@ -131,7 +146,7 @@ TEST_P(GpuParity, StagesMatchTheOracle) {
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = f.constants.levels[static_cast<size_t>(l)];
     gpu::Framebuffer gl(lc.width, lc.height, 3, true);
-    gpu::drawGBuffer(scene, f.view, lc, gl);
+    gpu::drawLevelGBuffer(scene, f.view, lc, gl);
     const GBuffer g = gpu::readGBuffer(gl);
     const ImageU8& stencil = f.levels[static_cast<size_t>(l)].masks.stencil;
     const ImageF port = gpu::renderSsao(scene, gl, stencil, f.view, lc, f.constants.ssao);
@@ -366,7 +381,7 @@ TEST_P(GpuShadowParity, SsmStagesMatchTheOracle) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     gpu::Framebuffer gl(lc.width, lc.height, 3, true);
-    gpu::drawGBuffer(scene, f.view, lc, gl);
+    gpu::drawLevelGBuffer(scene, f.view, lc, gl);
     const GBuffer g = gpu::readGBuffer(gl);
     const ImageU8& stencil = f.levels[static_cast<size_t>(l)].masks.stencil;
     const ImageF port = gpu::renderSsm(scene, gl, stencil, map, mapTarget.texture(), f.view, lc, c.ssm);
@@ -403,7 +418,7 @@ TEST_P(GpuShadowParity, SsgiStagesMatchTheOracle) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     gpu::Framebuffer gl(lc.width, lc.height, 3, true);
-    gpu::drawGBuffer(scene, f.view, lc, gl);
+    gpu::drawLevelGBuffer(scene, f.view, lc, gl);
     const GBuffer g = gpu::readGBuffer(gl);
     const std::string L = name + " L" + std::to_string(l);
     // 1. the direct light every pixel sends, against the oracle's on the same G-buffer and map

@@ -136,8 +136,9 @@ TEST(Blend, HandComputedTwoLevelsIncludingErratum) {
 }
 
 TEST(Blend, MaskedBilinearRenormalisesOverRenderedTaps) {
-  // Level 1 (scale 2) of a 4×4 frame is 2×2; only q = (0,0) is rendered. Full-res pixel
-  // (1,1) has u = v = 0.25: weights 0.5625, 0.1875, 0.1875, 0.0625; masked → c(0,0).
+  // Level 1 (scale 2) of an 8×8 frame is 4×4; only q = (0,0) is rendered. Its sample is full-res
+  // pixel (1,1) (SPEC §0: x·s + ⌊s/2⌋), where u = v = 0: weight 1 on q, and the upsampling gives
+  // c(0,0) back exactly. Full-res pixel (2,2) has u = v = 0.5: weights ¼ each; masked → c(0,0).
   Settings s = ssaoSettings(8, 8);
   const Constants c = makeConstants(s, 1.0f);
   const LevelConstants& l1 = c.levels[1];
@@ -146,15 +147,18 @@ TEST(Blend, MaskedBilinearRenormalisesOverRenderedTaps) {
   sub.at(0, 0) = 0.7f;
   st.at(0, 0) = 1;
   alpha.at(0, 0) = 0.01f;
-  const BilinearTaps t = bilinearTaps(1, 1, l1);
-  EXPECT_FLOAT_EQ(t.weight[0], 0.5625f);
-  EXPECT_FLOAT_EQ(t.weight[1], 0.1875f);
-  EXPECT_FLOAT_EQ(t.weight[3], 0.0625f);
-  const Upsampled u = upsampleAt(sub, st, alpha, l1, 1, 1);
+  const BilinearTaps atSample = bilinearTaps(1, 1, l1);
+  EXPECT_EQ(atSample.x[0], 0);
+  EXPECT_EQ(atSample.y[0], 0);
+  EXPECT_EQ(atSample.weight[0], 1.0f);
+  EXPECT_EQ(atSample.weight[1] + atSample.weight[2] + atSample.weight[3], 0.0f);
+  const BilinearTaps t = bilinearTaps(2, 2, l1);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(t.weight[k], 0.25f) << k;
+  const Upsampled u = upsampleAt(sub, st, alpha, l1, 2, 2);
   EXPECT_TRUE(u.covered);
   EXPECT_FLOAT_EQ(u.color[0], 0.7f);
-  EXPECT_FLOAT_EQ(u.alphaHat, 0.5625f * 0.01f);
-  EXPECT_FLOAT_EQ(u.alpha, std::min(0.5625f * 0.01f * 50.0f, 1.0f));
+  EXPECT_FLOAT_EQ(u.alphaHat, 0.25f * 0.01f);
+  EXPECT_FLOAT_EQ(u.alpha, std::min(0.25f * 0.01f * 50.0f, 1.0f));
   // A pixel whose taps are all unrendered contributes nothing.
   const Upsampled none = upsampleAt(sub, st, alpha, l1, 7, 7);
   EXPECT_FALSE(none.covered);

@@ -6,6 +6,14 @@
 
 namespace mrr {
 
+double finerLevelsArea(const Constants& c, const std::array<int64_t, kLevelCount>& n) {
+  double covered = 0.0;
+  for (const LevelConstants& lc : c.levels)
+    if (lc.enabled && lc.index < c.coarsestEnabled)
+      covered += static_cast<double>(n[static_cast<size_t>(lc.index)]) * lc.scale * lc.scale;
+  return covered;
+}
+
 namespace {
 double levelPixels(const LevelConstants& lc) { return static_cast<double>(lc.width) * lc.height; }
 double shadeNs(const EffectCost& e, int samples) { return e.nsPerShadedPixel + e.nsPerSample * samples; }
@@ -21,14 +29,21 @@ double levelPassNs(const EffectCost& e, const LevelConstants& lc, const Constant
   return levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;
 }
 
-// SPEC §11: Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H (β₀ + β), in ns: what the
-// method pays beyond shading whatever its stencils.
-double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+// SPEC §11: Σ_{ℓ<k} n_ℓ s_ℓ² β_f, in ns: the blend's finer levels where they can show, n_ℓ = |S_ℓ|
+// (or, for the floor, the silhouettes B_ℓ ⊆ S_ℓ).
+double fineBlendNs(const CostModel& m, const Constants& c, const std::array<int64_t, kLevelCount>& n) {
+  return finerLevelsArea(c, n) * m.nsPerFineBlendPixel;
+}
+
+// SPEC §11: W·H ρ, in ns: the rule's own counts (and SSM's sample), paid by the method alone.
+double ruleNs(const EffectCost& e, const Constants& c) { return static_cast<double>(c.width) * c.height * e.nsPerRulePixel; }
+
+// SPEC §11: Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β), in ns: what the method pays beyond shading
+// whatever its stencils.
+double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c) {
   double ns = static_cast<double>(c.width) * c.height * (m.nsPerFullBlendPixel + m.nsPerBlendPixel);
   for (const LevelConstants& lc : c.levels)
-    if (lc.enabled && lc.index > 0)
-      ns += levelPixels(lc) * (m.nsPerCoarseGbufferPixel + hitShare(c, n) * m.nsPerCoarseGbufferHit) +
-            static_cast<double>(n.triangles) * m.nsPerTrianglePerLevel;
+    if (lc.enabled && lc.index > 0) ns += levelPixels(lc) * m.nsPerCoarseGbufferPixel;
   return ns;
 }
 }  // namespace
@@ -36,38 +51,34 @@ double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c, const Fr
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
-  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀}.
+  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ}.
   if (path == "gpu") {
-    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24: 320×180 to
-    // 1280×720, relative affine fits, T the triangles in view). Two runs of the same fits agree
-    // within 10%, but for k (SSGI's 4.9 and 3.4 ms) and g and h (traded off against each other).
+    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24: coarse
+    // G-buffers subsampled from level 0, the rule's own work and the blend's finer levels priced).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{209.2, 5.233, 0, 28.66, 0, 1.305, 4.629, 0.2925},
-                EffectCost{159.1, 0, 0, 34.03, 1.656, 1.509, 3.938, 0.3955},
-                EffectCost{29.85, 6.963, 12.41, 21.52, 0, 1.25, 7.179, 1.173}};
-    m.nsPerCoarseGbufferPixel = 14.8;
-    m.nsPerCoarseGbufferHit = 7.498;
-    m.nsPerTrianglePerLevel = 113.1;
-    m.nsPerFullBlendPixel = 5.029;
-    m.nsPerBlendPixel = 4.61;
-    m.nsPerEdgePixel = 14.25;
-    m.nsPerMaskPixel = 6.099;
-    m.edgesMasksFixedMs = 1.067;
+    m.effect = {EffectCost{217.3, 5.25, 0, 25.76, 0, 1.174, 1.952, 0.6654, 3.455},
+                EffectCost{161.1, 0, 0, 32.74, 1.659, 1.287, 2.139, 0.4586, 4.7},
+                EffectCost{29.02, 7.086, 11.58, 18.78, 0, 1.171, 3.899, 1.365, 3.155}};
+    m.nsPerCoarseGbufferPixel = 17.48;
+    m.nsPerFullBlendPixel = 4.765;
+    m.nsPerBlendPixel = 2.265;
+    m.nsPerFineBlendPixel = 14.63;
+    m.nsPerEdgePixel = 14.07;
+    m.nsPerMaskPixel = 5.446;
+    m.edgesMasksFixedMs = 1.106;
   } else {
-    // cpu: one run (--repeats 5; 2026-11-24: 320×180 to 1280×720, relative affine fits). Two
-    // runs of the same fits agree within 10%, but for the small k₀'s.
+    // cpu: one run (--repeats 5, 2026-11-24, the same day and code as the port's).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{201.6, 6.905, 1.081, 3.006, 0, 1.089, 0.5752, 0.02851},
-                EffectCost{77.26, 0, 0, 2.362, 1.542, 1.222, 0.6286, 0.00775},
-                EffectCost{38.19, 8.417, 16.92, 3.255, 0, 1.387, 0.6532, 0.08061}};
-    m.nsPerCoarseGbufferPixel = 12.27;
-    m.nsPerCoarseGbufferHit = 15.45;
-    m.nsPerTrianglePerLevel = 0.0;  // ray cast: nothing per triangle (`--calibrate` fits no t here)
-    m.nsPerFullBlendPixel = 3.685;
-    m.nsPerBlendPixel = 2.256;
-    m.nsPerEdgePixel = 1.289;
-    m.nsPerMaskPixel = 2.516;
-    m.edgesMasksFixedMs = 0.07554;
+    m.effect = {EffectCost{204.3, 8.831, 1.056, 3.246, 0, 1.059, 0.2209, 0.04852, 1.641},
+                EffectCost{75.19, 0, 0, 2.525, 1.559, 1.196, 0.2689, 0.01436, 1.701},
+                EffectCost{33.05, 10.68, 17.22, 3.555, 0, 1.342, 0.3346, 0.07987, 1.457}};
+    m.nsPerCoarseGbufferPixel = 7.535;
+    m.nsPerFullBlendPixel = 3.549;
+    m.nsPerBlendPixel = 2.097;
+    m.nsPerFineBlendPixel = 0.5672;
+    m.nsPerEdgePixel = 1.33;
+    m.nsPerMaskPixel = 2.924;
+    m.edgesMasksFixedMs = 0.0974;
   }
   return m;
 }
@@ -87,12 +98,12 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.sparseFactor = ej.at("sparse_factor").get<double>();
       ec.fixedMs = ej.at("fixed_ms").get<double>();
       ec.fullFixedMs = ej.at("full_fixed_ms").get<double>();
+      ec.nsPerRulePixel = ej.at("ns_per_rule_pixel").get<double>();
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
-    m.nsPerCoarseGbufferHit = j.at("ns_per_coarse_gbuffer_hit").get<double>();
     m.edgesMasksFixedMs = j.at("edges_masks_fixed_ms").get<double>();
-    m.nsPerTrianglePerLevel = j.at("ns_per_triangle_per_level").get<double>();
     m.nsPerBlendPixel = j.at("ns_per_blend_pixel").get<double>();
+    m.nsPerFineBlendPixel = j.at("ns_per_fine_blend_pixel").get<double>();
     m.nsPerFullBlendPixel = j.at("ns_per_full_blend_pixel").get<double>();
     m.nsPerEdgePixel = j.at("ns_per_edge_pixel").get<double>();
     m.nsPerMaskPixel = j.at("ns_per_mask_pixel").get<double>();
@@ -113,14 +124,14 @@ nlohmann::json CostModel::toJson() const {
                             {"ns_per_pcf_sample", ec.nsPerPcfSample},
                             {"sparse_factor", ec.sparseFactor},
                             {"fixed_ms", ec.fixedMs},
-                            {"full_fixed_ms", ec.fullFixedMs}};
+                            {"full_fixed_ms", ec.fullFixedMs},
+                            {"ns_per_rule_pixel", ec.nsPerRulePixel}};
   }
   return {{"source", source},
           {"effects", effects},
           {"ns_per_coarse_gbuffer_pixel", nsPerCoarseGbufferPixel},
-          {"ns_per_coarse_gbuffer_hit", nsPerCoarseGbufferHit},
-          {"ns_per_triangle_per_level", nsPerTrianglePerLevel},
           {"ns_per_blend_pixel", nsPerBlendPixel},
+          {"ns_per_fine_blend_pixel", nsPerFineBlendPixel},
           {"ns_per_full_blend_pixel", nsPerFullBlendPixel},
           {"ns_per_edge_pixel", nsPerEdgePixel},
           {"ns_per_mask_pixel", nsPerMaskPixel},
@@ -140,10 +151,10 @@ double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& 
 }
 
 // SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) + |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c +
-// P_ℓ (H / W·H) d) + the coarse G-buffers and the blend + k, in ms.
+// P_ℓ (H / W·H) d) + the coarse G-buffers and the blend (its finer levels over |S_ℓ|) + k, in ms.
 double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
-  double ns = coarseGbuffersAndBlendNs(m, c, n);
+  double ns = coarseGbuffersAndBlendNs(m, c) + fineBlendNs(m, c, n.shaded) + ruleNs(e, c);
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);
@@ -172,7 +183,8 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
   const double perPixel = averageNs(static_cast<double>(n.searchedPixels) / pixels, static_cast<double>(n.pcfPixels) / pixels);
   const double hits = std::max(1.0, static_cast<double>(n.hitPixels));
   const double perHit = averageNs(static_cast<double>(n.searchedPixels) / hits, static_cast<double>(n.pcfPixels) / hits);
-  double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c, n);
+  double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c) +
+              fineBlendNs(m, c, n.silhouette) + ruleNs(e, c);
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);

@@ -3,15 +3,14 @@
 // frame and the rest of a `full` frame from what it knows of the frame, and shades the frame at
 // full resolution when it predicts no gain. It decides twice:
 //  - early, after the level-0 G-buffer (and the shadow map), from the frame's size, its pixels
-//    on geometry, its silhouettes and the triangles in view: when even the least the method
-//    could pay (edges, masks, coarse G-buffers, blend, its silhouettes at every level, every
-//    pixel at the coarsest level) is no less than full's
-//    rest, the frame falls back before the edges are found;
+//    on geometry and its silhouettes: when even the least the method could pay (edges, masks,
+//    coarse G-buffers, blend, its silhouettes at every level, every pixel at the coarsest
+//    level) is no less than full's rest, the frame falls back before the edges are found;
 //  - then, once the stencils are known and before anything is shaded, from |S_ℓ| and how many
 //    of those pixels lie on geometry.
 // Background pixels cost each mode what they cost (the effects leave them at once), the
-// coarse G-buffers cost rays on geometry and off it (the oracle) or triangles in view per level (the
-// port), and the effect costs per pixel and per sample. The costs are measured, not guessed:
+// coarse G-buffers cost a copy of their pixels (level 0 subsampled, SPEC §1), and the effect
+// costs per pixel and per sample. The costs are measured, not guessed:
 // `mrr bench --calibrate` fits them on the machine at hand, for each path, and writes the JSON
 // `--cost-model` reads; the defaults below are that command's output on this project's CI
 // machine (docs/figures.md). Every input is a count, never a clock: the oracle's decision, and
@@ -39,7 +38,7 @@ struct EffectCost {
   // the method shades finely sit at edges, where samples find occluders and branches
   // mispredict, and a sparse stencil is walked less efficiently: measured in mrr frames.
   double sparseFactor = 1.0;
-  // k: the method's frame beyond what it pays per pixel and per triangle, in ms whatever its
+  // k: the method's frame beyond what it pays per pixel, in ms whatever its
   // size: the set-up of its extra passes (a draw call, a framebuffer switch and a drain of the
   // rasteriser per pass on the port; a parallel loop's start on the oracle). It decides small
   // frames on the port.
@@ -47,19 +46,24 @@ struct EffectCost {
   // k₀: the same for a full frame's shading (its passes' set-up; on llvmpipe SSM's pass alone
   // costs ~10 ms whatever its size).
   double fullFixedMs = 0.0;
+  // ρ: the rule's own work per full-res pixel (its stage "rule": H, H_a, H_p and B_ℓ counted from
+  // the hit flags, which the port reads back, SSM's PCF sample, then the stencils' counts). The
+  // method pays it whichever way the rule decides; full does not.
+  double nsPerRulePixel = 0.0;
 };
 
 struct CostModel {
   std::string source;                  // where the figures came from (shown in the report)
   std::array<EffectCost, 3> effect{};  // by Effect
-  double nsPerCoarseGbufferPixel = 0.0;  // g: one level-ℓ G-buffer pixel, ℓ ≥ 1
-  double nsPerCoarseGbufferHit = 0.0;    // h: more per level-ℓ pixel on geometry (a ray that hits)
-  // t: a rasterised G-buffer (the port) also costs its triangles in view at every level,
-  // whatever the level's size: t per such triangle per coarse level. Ray casting (the oracle)
-  // leaves it near 0.
-  double nsPerTrianglePerLevel = 0.0;
+  // g: one level-ℓ G-buffer pixel, ℓ ≥ 1: a copy of a level-0 pixel (SPEC §1), whatever the
+  // scene (no ray, no triangle).
+  double nsPerCoarseGbufferPixel = 0.0;
   double nsPerFullBlendPixel = 0.0;  // β₀: full's blend (level 0 copied into the result), per pixel
   double nsPerBlendPixel = 0.0;      // β: the method's blend beyond β₀, per full-res pixel
+  // β_f: more per full-res pixel under a finer level's stencil (Σ_{ℓ<k} |S_ℓ| s_ℓ², k the
+  // coarsest enabled level): the blend upsamples a finer level only where it can show, on both
+  // paths, so its cost grows with the area the finer levels cover.
+  double nsPerFineBlendPixel = 0.0;
   double nsPerEdgePixel = 0.0;   // ε: edges, per padded full-res pixel (the early decision's)
   double nsPerMaskPixel = 0.0;   // μ: the masks, per padded full-res pixel (the same)
   double edgesMasksFixedMs = 0.0;  // κ: the edges' and masks' passes per frame, whatever its size
@@ -73,7 +77,6 @@ struct CostModel {
 // What the rule knows of a frame: counts only.
 struct FrameCounts {
   int64_t hitPixels = 0;  // H: level-0 pixels (W×H) on geometry
-  int64_t triangles = 0;  // T: the scene's triangles in view (countTrianglesInView)
   // H_a: of those, the ones paying the effect's per-pixel cost (a, b): all of them but for SSM
   // with e > 0, whose pixels facing away from the light return before any tap. H_p: of those,
   // paying PCF (SSM with e > 0; else 0). Both estimated from one pixel in 8×8 (pcfSample).
@@ -101,14 +104,18 @@ struct FallbackDecision {
   std::string costModel;         // CostModel::source
 };
 
+// Σ_{ℓ<k enabled} n_ℓ s_ℓ², k the coarsest enabled level: the full-res pixels under the finer
+// levels' n_ℓ level pixels (|S_ℓ|: where the blend upsamples a finer level; SPEC §11's β_f).
+double finerLevelsArea(const Constants& constants, const std::array<int64_t, kLevelCount>& perLevel);
+
 // SPEC §11, in ms. Full's rest: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀.
 double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) +
-// |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} (P_ℓ g + P_ℓ (H / W·H) h + T t) + W·H β
-// + k.
+// |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β)
+// + Σ_{ℓ<k} |S_ℓ| s_ℓ² β_f + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The least the method can still pay before its edges: P_0 (ε + μ) + κ + the coarse G-buffers
-// and the blend as above + d over every shaded level + its silhouettes B_ℓ shaded at every
+// and the blend as above (B_ℓ for |S_ℓ|) + d over every shaded level + its silhouettes B_ℓ shaded at every
 // level but the coarsest + every pixel of the coarsest enabled level, paying in proportion to
 // H_a and H_p, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);

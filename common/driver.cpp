@@ -45,18 +45,18 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // SPEC §11, early: when even the least the method could still pay is no gain, the frame
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
-  // T, where triangles cost (a rasterised G-buffer: the port's t > 0; the oracle casts rays, and
-  // counting 122k triangles would cost it a millisecond for nothing)
-  if (c.mode == Mode::Mrr && model.nsPerTrianglePerLevel > 0.0)
-    f.counts.triangles = countTrianglesInView(b.sourceScene(), f.view);
-  // SSM: what PCSS pays (nothing, the search, or the search and PCF), asked of one pixel in 8×8,
-  // when the model prices PCF (e > 0) and the rule will decide (or the caller reads its counts).
-  // Untimed: it is the rule's, in the frame's total.
-  if (c.mode == Mode::Mrr && c.effect == Effect::Ssm && (c.neverSlower || options.sampleWithRuleOff) &&
-      model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
-    b.samplePcf(f);
+  // The rule's own work is its stage, "rule" (twice: these counts, then the stencils'), in the
+  // method's rest of frame (SPEC §11's ρ). SSM: what PCSS pays (nothing, the search, or the search
+  // and PCF), asked of one pixel in 8×8, when the model prices PCF (e > 0) and the rule will
+  // decide (or the caller reads its counts). Then H, H_a, H_p and B_ℓ, once.
   bool fellBackEarly = false;
-  if (c.mode == Mode::Mrr) countHits(f.counts, b.fullResHit(f), f.pcfSample, c);  // H, H_a, H_p: once
+  if (c.mode == Mode::Mrr)
+    stage("rule", [&] {
+      if (c.effect == Effect::Ssm && (c.neverSlower || options.sampleWithRuleOff) &&
+          model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
+        b.samplePcf(f);
+      countHits(f.counts, b.fullResHit(f), f.pcfSample, c);
+    });
   if (c.mode == Mode::Mrr && c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {
@@ -80,7 +80,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
   if (c.mode == Mode::Mrr && !fellBackEarly) {
-    countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample);
+    stage("rule", [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });
     applyNeverSlower(f, masks, model);
   }
   b.useMasks(f, masks, stage);

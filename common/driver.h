@@ -31,7 +31,6 @@ class FrameBackend {
   // H_p (SPEC §11), called when the model prices PCF (e > 0). Each path asks its own PCSS:
   // cpu_ref/ssm.h pcfSample, ssm.frag with PCF_SAMPLE.
   virtual void samplePcf(FrameResult& f) = 0;
-  virtual const Scene& sourceScene() const = 0;  // what the frame draws (SPEC §11's T counts it)
 
   // 1. One level's G-buffer (level 0 first: the masks are made from it alone).
   virtual void gbuffer(FrameResult& f, int level) = 0;

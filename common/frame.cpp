@@ -197,34 +197,6 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
 }
 
 namespace {
-// Which sides of the view's padded frustum a view-space point lies beyond (bit per side): a
-// triangle whose three vertices share a bit is outside it whole. Sides at the padded image's
-// edges (the G-buffers' grid: px ∈ [0, Wp], py ∈ [0, Hp]) and the camera plane (d = −z > 0).
-uint8_t outsideSides(const View& v, const glm::vec3& p) {
-  const float d = -p.z;
-  const float px = p.x * v.focal, py = -p.y * v.focal;  // (pixel − principal point) · d
-  uint8_t sides = 0;
-  if (d <= 0.0f) sides |= 1;
-  if (px < -v.cx * d) sides |= 2;
-  if (px > (static_cast<float>(v.paddedWidth) - v.cx) * d) sides |= 4;
-  if (py < -v.cy * d) sides |= 8;
-  if (py > (static_cast<float>(v.paddedHeight) - v.cy) * d) sides |= 16;
-  return sides;
-}
-}  // namespace
-
-int64_t countTrianglesInView(const Scene& scene, const View& view) {
-  int64_t inView = 0;
-  for (const Mesh& mesh : scene.meshes) {
-    std::vector<uint8_t> sides(mesh.positions.size());
-    for (size_t i = 0; i < sides.size(); ++i) sides[i] = outsideSides(view, view.toView(mesh.positions[i]));
-    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
-      inView += (sides[mesh.indices[t]] & sides[mesh.indices[t + 1]] & sides[mesh.indices[t + 2]]) == 0;
-  }
-  return inView;
-}
-
-namespace {
 // |S_ℓ|, |S_ℓ ∩ hit|, |S_ℓ ∩ hit ∩ searched| and |S_ℓ ∩ hit ∩ pcf| per shaded level (H, H_a and
 // H_p are countHits').
 void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>& stencils, const Constants& c,

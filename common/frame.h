@@ -205,11 +205,6 @@ void countForRule(FrameCounts& counts, const Masks& masks, const Constants& cons
 // H, H_a and H_p: the full-res pixels on geometry, those of them that pay the effect's per-pixel
 // cost (SSM: its blocker search; every one without a sample) and those that pay PCF.
 void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants);
-// T (SPEC §11): the scene's triangles a rasteriser cannot reject whole, those not entirely
-// behind the camera or entirely beyond one side of the view's padded frustum (what the port's
-// coarse G-buffers draw at every level; the rest are clipped before any raster work). Exact for
-// any thread count (integer sums).
-int64_t countTrianglesInView(const Scene& scene, const View& view);
 // The sample's value (kPcfSample…, common/shader_constants.h) for full-res pixel (x, y): that of its kPcfSampleStep² block.
 inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
   return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),

@@ -172,7 +172,8 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // set-up, paid per frame whatever its size; full's go to k₀, the method's to k (fitted below on
   // the rest, which holds them).
   std::array<LeastSquares, 3> levelFit;  // per effect, full frames: P_0 (H / W·H), 1 → d (SSAO's planes, SSGI's direct light)
-  LeastSquares fullBlendFit, blendFit;   // full's and the method's blend: W·H, 1 → β₀, β₀ + β
+  std::array<LeastSquares, 3> ruleFit;   // per effect, the method's frames: W·H, 1 → ρ (the rule's own counts)
+  LeastSquares fullBlendFit, blendFit;   // full's blend: W·H, 1 → β₀; the method's: W·H, Σ|S_ℓ| s_ℓ², 1 → β₀ + β, β_f
   struct MrrRun {  // at 320×180, 640×360 and 1280×720, to tell s (per pixel) from k (per frame)
     Effect effect;
     Constants constants;
@@ -180,8 +181,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     double restMs;
   };
   std::vector<MrrRun> mrrRuns;
-  LeastSquares gbufferFit;  // P_ℓ, P_ℓ·share, T → g, h, t
-  const bool rasterises = path.name != "cpu";  // the oracle's G-buffers are ray cast: t = 0
+  LeastSquares gbufferFit;  // P_ℓ, 1 → g (the pass's set-up goes to k)
   // The method's frames count with a model that prices PCF (e > 0), so that SSM's frames sample
   // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
   CostModel counting = CostModel::defaults(path.name);
@@ -233,21 +233,21 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
         const Measured few = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n1), diagonal),
                                      repeats, &counting);
         mrrRuns.push_back({e, few.last.constants, few.last.counts, restMs(few.ms)});
-        // The method's other stages at every size: the coarse G-buffers, the blend, edges and masks.
+        // The method's other stages at every size: the coarse G-buffers, the rule, the blend, edges and masks.
         for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
           const Constants& mc = m->last.constants;
           const double frame = static_cast<double>(mc.width) * mc.height;
-          const double share = static_cast<double>(m->last.counts.hitPixels) / frame;
-          // T only where the G-buffer is rasterised (the port); the oracle casts rays
-          const double triangles = rasterises ? static_cast<double>(m->last.counts.triangles) : 0.0;
           for (const LevelConstants& lc : mc.levels)
             if (lc.enabled && lc.index > 0) {
               const double p = static_cast<double>(lc.width) * lc.height;
               const double ns = stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6;
-              gbufferFit.addRelative({p, p * share, triangles, 1e6}, ns, ns);
+              gbufferFit.addRelative({p, 1e6}, ns, ns);
             }
+          const double ruleNs = stage(m->ms, "rule") * 1e6;
+          if (ruleNs > 0.0) ruleFit[ei].addRelative({frame, 1e6}, ruleNs, ruleNs);
           const double blendNs = stage(m->ms, "blend") * 1e6;
-          if (blendNs > 0.0) blendFit.addRelative({frame, 1e6}, blendNs, blendNs);
+          const double fine = finerLevelsArea(mc, m->last.counts.shaded);
+          if (blendNs > 0.0) blendFit.addRelative({frame, fine, 1e6}, blendNs, blendNs);
           const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
           const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
           edgesFit.addRelative({padded, 1e6}, edgesNs, edgesNs);
@@ -274,19 +274,20 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     ec.nsPerShadedPixel = ab.size() > 0 ? ab[0] : 0.0;
     ec.nsPerSample = ab.size() > 1 ? ab[1] : 0.0;
     ec.nsPerPcfSample = ab.size() > 2 ? ab[2] : 0.0;
+    const std::vector<double> rho = ruleFit[ei].solve();  // its intercept stays in the rest, where k takes it
+    ec.nsPerRulePixel = rho.empty() ? 0.0 : rho[0];
     const std::vector<double> d = levelFit[ei].solve();
     ec.nsPerLevelPixel = d.empty() ? 0.0 : d[0];
     ec.fullFixedMs += d.size() > 1 ? d[1] : 0.0;  // full's one level pass
   }
-  const std::vector<double> ght = gbufferFit.solve();
-  model.nsPerCoarseGbufferPixel = ght[0];
-  model.nsPerCoarseGbufferHit = ght[1];
-  model.nsPerTrianglePerLevel = ght[2];
+  const std::vector<double> g = gbufferFit.solve();
+  model.nsPerCoarseGbufferPixel = g.empty() ? 0.0 : g[0];
   // β₀: full's blend (its level 0 copied into the result), and β, the method's beyond it
   const std::vector<double> fullBlend = fullBlendFit.solve(), blend = blendFit.solve();
   model.nsPerFullBlendPixel = fullBlend.empty() ? 0.0 : fullBlend[0];
   for (EffectCost& ec : model.effect) ec.fullFixedMs += fullBlend.size() > 1 ? fullBlend[1] : 0.0;
   model.nsPerBlendPixel = std::max(0.0, (blend.empty() ? 0.0 : blend[0]) - model.nsPerFullBlendPixel);
+  model.nsPerFineBlendPixel = blend.size() > 1 ? blend[1] : 0.0;
   // ε, μ and κ: the edges and the masks per padded pixel and per frame, over the three sizes
   const std::vector<double> edgeCost = edgesFit.solve(), maskCost = masksFit.solve();
   model.nsPerEdgePixel = edgeCost[0];
@@ -413,7 +414,6 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"samples", cfg.samples},
                             {"width", cfg.width},
                             {"height", cfg.height},
-                            {"triangles_in_view", n.triangles},
                             {"hit_share", static_cast<double>(n.hitPixels) / (static_cast<double>(cfg.width) * cfg.height)},
                             {"ideal_speedup", mrr.last.idealSpeedup},
                             {"ideal_speedup_hit", mrr.last.idealSpeedupHit},

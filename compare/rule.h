@@ -2,7 +2,7 @@
 // The never-slower rule (SPEC §11, issue 18), fitted and checked:
 //  - `mrr bench --calibrate FILE` fits the cost model's figures on the machine at hand, per
 //    path, from frames that differ in what the model separates (share on geometry, sample
-//    count, triangles): least squares over medians of repeats;
+//    count, size): least squares over medians of repeats;
 //  - `mrr bench --rule-sweep FILE` renders frames nobody tuned the model to (the shared scenes,
 //    the built-ins and the stress scenes; the catalogue camera, the default framing, the sky
 //    and a close-up; 320×180 to 1920×1080; low and high sample counts) in full and in mrr with
@@ -27,9 +27,9 @@ struct RuleView {
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect);
 
 // Fits the model's costs on `path` (SPEC §11's calibration): builtin:demo and builtin:bumpy
-// (9k and 51k triangles) at 640×360 from the catalogue camera, the sky and a close-up; every
+// at 320×180, 640×360 and 1280×720 from the catalogue camera, the sky and a close-up; every
 // effect in mode full at two sample counts (a, b and c by least squares over H, H·N and
-// W·H − H), and in mode mrr with the rule off (s, d, g, h, t, β, ε, μ).
+// W·H − H), and in mode mrr with the rule off (s, d, g, β, ε, μ, k).
 CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads);
 
 struct RuleSweepOptions {

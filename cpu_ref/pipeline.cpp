@@ -34,7 +34,6 @@ class OracleFrame final : public FrameBackend {
       : scene_(scene), rays_(rays), planes_(planes), options_(options) {}
 
   const char* pathName() const override { return "cpu"; }
-  const Scene& sourceScene() const override { return scene_; }
 
   void gbuffer(FrameResult& f, int l) override {
     const LevelConstants& lc = f.constants.levels[static_cast<size_t>(l)];

@@ -106,7 +106,6 @@ class PortFrame final : public FrameBackend {
     }
     return hit_;
   }
-  const Scene& sourceScene() const override { return source_; }
 
   // G-buffers: level 0 rasterised, the coarser levels subsampled from it. A coarse level's
   // albedo is read only by SSGI's direct light (and --stages): the resident frame leaves that
@@ -228,7 +227,7 @@ class PortFrame final : public FrameBackend {
 
  private:
   const GpuScene& scene_;
-  const Scene& source_;  // its light, and the triangles the rule counts
+  const Scene& source_;  // its light
   const bool timerQueries_, keep_;
   ImageU8 hit_;  // the full-res hit flags, read back once (fullResHit)
   std::vector<std::pair<size_t, unsigned>> queries_;

@@ -438,7 +438,6 @@ TEST_F(CliRenderTest, NeverSlowerReportsTheFallback) {
       EXPECT_NE(r.err.find("never slower"), std::string::npos) << describe(r);
       // the counts it decided from (a silhouette pixel is one on geometry, so B ≤ H)
       EXPECT_GT(j["never_slower"]["hit_pixels"].get<int64_t>(), 160 * 90 / 2);
-      EXPECT_FALSE(j["never_slower"].contains("triangles_in_view")) << "the oracle's model prices no triangle";
       EXPECT_LE(j["never_slower"]["silhouette_pixels"].get<int64_t>(), j["never_slower"]["hit_pixels"].get<int64_t>());
     } else {
       EXPECT_FALSE(j.contains("never_slower"));

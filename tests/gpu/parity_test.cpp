@@ -631,7 +631,7 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
       model.source = expensive ? "test: blend 1 s per pixel" : "test: free overhead";
       model.nsPerBlendPixel = expensive ? 1e9 : 0.0;
       if (!expensive) {  // nothing but shading costs, and a stencilled pixel no more than a dense one
-        model.nsPerCoarseGbufferPixel = model.nsPerCoarseGbufferHit = model.nsPerTrianglePerLevel = 0.0;
+        model.nsPerCoarseGbufferPixel = model.nsPerFineBlendPixel = 0.0;
         model.nsPerEdgePixel = model.nsPerMaskPixel = model.edgesMasksFixedMs = 0.0;
         for (EffectCost& e : model.effect) {
           e.sparseFactor = 1.0;
@@ -719,8 +719,8 @@ TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
   MRR_REQUIRE_GL_OR_SKIP();
   CostModel fallsBack = CostModel::defaults("cpu"), staysMultires = fallsBack;
   fallsBack.nsPerBlendPixel = 1e9;
-  staysMultires.nsPerBlendPixel = staysMultires.nsPerCoarseGbufferPixel = staysMultires.nsPerCoarseGbufferHit = 0.0;
-  staysMultires.nsPerTrianglePerLevel = staysMultires.nsPerEdgePixel = staysMultires.nsPerMaskPixel = 0.0;
+  staysMultires.nsPerBlendPixel = staysMultires.nsPerFineBlendPixel = staysMultires.nsPerCoarseGbufferPixel = 0.0;
+  staysMultires.nsPerEdgePixel = staysMultires.nsPerMaskPixel = 0.0;
   staysMultires.edgesMasksFixedMs = 0.0;
   for (EffectCost& e : staysMultires.effect) {
     e.sparseFactor = 1.0;

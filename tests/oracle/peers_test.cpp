@@ -193,8 +193,8 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   // and the silhouettes) stays under full's, the method's stencils do not: it decides on the
   // stencils, late.
   CostModel free = CostModel::defaults("cpu");
-  free.nsPerBlendPixel = free.nsPerCoarseGbufferPixel = free.nsPerCoarseGbufferHit = 0.0;
-  free.nsPerTrianglePerLevel = free.nsPerEdgePixel = free.nsPerMaskPixel = free.edgesMasksFixedMs = 0.0;
+  free.nsPerBlendPixel = free.nsPerFineBlendPixel = free.nsPerCoarseGbufferPixel = 0.0;
+  free.nsPerEdgePixel = free.nsPerMaskPixel = free.edgesMasksFixedMs = 0.0;
   for (EffectCost& e : free.effect) {  // shading alone, at dense cost, nothing per frame
     e.sparseFactor = 1.0;
     e.fixedMs = 0.0;
@@ -224,29 +224,24 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   CostModel m;
   m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
   m.nsPerCoarseGbufferPixel = 3.0;
-  m.nsPerCoarseGbufferHit = 4.0;
-  m.nsPerTrianglePerLevel = 0.0;
   m.nsPerBlendPixel = 5.0;
   m.nsPerEdgePixel = 7.0;
   m.nsPerMaskPixel = 11.0;
   const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   FrameCounts n;
   n.hitPixels = n.searchedPixels = 1024;  // half the frame on geometry, all of it paying the effect
-  n.triangles = 1000;
   // full: 1024 × (10 + 16) on geometry + 1024 × 0.5 off it + 2048 × ½ × 2 (d on geometry)
   EXPECT_NEAR(predictFullMs(m, c, n), (1024.0 * 26 + 1024.0 * 0.5 + 2048.0 * 0.5 * 2) * 1e-6, 1e-12);
   n.shaded = {100, 50, 20, 32};
   n.shadedHit = n.shadedSearched = {60, 25, 10, 16};
-  // on geometry × 26 × 1.5 + off × 0.5 + level pixels × 2 + coarse pixels × (3 + ½ × 4) + blend 2048 × 5
+  // on geometry × 26 × 1.5 + off × 0.5 + level pixels × 2 + coarse pixels × 3 (a copy of level 0's,
+  // on geometry or not) + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
-  const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 0.5 * 2 + coarse * (3 + 0.5 * 4) + 2048.0 * 5;
+  const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 0.5 * 2 + coarse * 3 + 2048.0 * 5;
   EXPECT_NEAR(predictMrrMs(m, c, n), expected * 1e-6, 1e-12);
-  // Triangles cost a rasterised G-buffer at each of the three coarse levels.
-  m.nsPerTrianglePerLevel = 2.0;
-  EXPECT_NEAR(predictMrrMs(m, c, n), (expected + 3 * 1000.0 * 2) * 1e-6, 1e-12);
   // The floor: edges and masks over P_0, the coarse G-buffers and blend, d over every shaded
   // level, and level 3 shaded whole (half its pixels on geometry, on average).
-  const double floorNs = 2048.0 * (7 + 11) + coarse * (3 + 0.5 * 4) + 3 * 1000.0 * 2 + 2048.0 * 5 +
+  const double floorNs = 2048.0 * (7 + 11) + coarse * 3 + 2048.0 * 5 +
                          levelPixels * 0.5 * 2 + 32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5);
   EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorNs * 1e-6, 1e-12);
   // Silhouettes are shaded at every level (B_ℓ): at level 0 each is on geometry (26 at s = 1.5),
@@ -293,6 +288,23 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.shadedSearched = {50, 25, 10, 16};
   EXPECT_NEAR(withAll - predictFullMs(ssm, cs, n), 200.0 * (10 - 0.5) * 1e-6, 1e-12);
   EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), 10.0 * (10 * 1.5 - 0.5) * 1e-6, 1e-12);
+  // β_f: the blend's finer levels, per full-res pixel under their stencils (levels 0–2 below the
+  // coarsest, 3), in the prediction over |S_ℓ| and in the floor over the silhouettes B_ℓ.
+  {
+    CostModel fine = m;
+    fine.nsPerFineBlendPixel = 0.25;
+    EXPECT_NEAR(predictMrrMs(fine, c, n) - predictMrrMs(m, c, n), (100.0 + 50 * 4 + 20 * 16) * 0.25 * 1e-6, 1e-12);
+    EXPECT_NEAR(predictMrrFloorMs(fine, c, n) - predictMrrFloorMs(m, c, n), (40.0 + 20 * 4 + 8 * 16) * 0.25 * 1e-6, 1e-12);
+    EXPECT_EQ(predictFullMs(fine, c, n), predictFullMs(m, c, n));
+  }
+  // ρ, the rule's own counts per full-res pixel, is the method's alone, early and late.
+  {
+    CostModel rule = m;
+    rule.effect[static_cast<size_t>(Effect::Ssao)].nsPerRulePixel = 2.0;
+    EXPECT_NEAR(predictMrrMs(rule, c, n) - predictMrrMs(m, c, n), 2048.0 * 2 * 1e-6, 1e-12);
+    EXPECT_NEAR(predictMrrFloorMs(rule, c, n) - predictMrrFloorMs(m, c, n), 2048.0 * 2 * 1e-6, 1e-12);
+    EXPECT_EQ(predictFullMs(rule, c, n), predictFullMs(m, c, n));
+  }
   // β₀, full's own blend (a copy of level 0), is paid by both modes alike.
   {
     CostModel copy = m;
@@ -357,44 +369,12 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
 }
 
 // T: the triangles a rasteriser cannot reject whole. A camera at the origin looking down −z,
-// 90° vertical field of view on a square frame: the frustum is |x|, |y| ≤ −z.
-TEST(NeverSlower, CountsTheTrianglesInView) {
-  Scene scene;
-  Mesh m;
-  auto add = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    const auto i = static_cast<uint32_t>(m.positions.size());
-    m.positions.insert(m.positions.end(), {a, b, c});
-    m.indices.insert(m.indices.end(), {i, i + 1, i + 2});
-  };
-  add({-0.5f, -0.5f, -5}, {0.5f, -0.5f, -5}, {0, 0.5f, -5});   // 1. in the middle: in view
-  add({-0.5f, -0.5f, 5}, {0.5f, -0.5f, 5}, {0, 0.5f, 5});      // 2. behind the camera
-  add({-20, -0.5f, -5}, {-10, -0.5f, -5}, {-15, 0.5f, -5});    // 3. beyond the left side
-  add({-8, -0.5f, -5}, {1, -0.5f, -5}, {-8, 0.5f, -5});        // 4. across the left side
-  add({-50, -50, -5}, {50, -50, -5}, {0, 80, -5});             // 5. round the whole view
-  add({0, 12, -5}, {-12, 0, -5}, {-12, 12, -5});               // 6. beyond left and top, apart
-  add({-0.5f, 0, 1}, {0.5f, 0, 1}, {0, 0, -5});                // 7. from behind into view
-  m.normals.assign(m.positions.size(), glm::vec3(0, 0, 1));
-  scene.meshes.push_back(m);
-  Camera camera;
-  camera.eye = glm::vec3(0.0f);
-  camera.target = glm::vec3(0, 0, -1);
-  camera.yfov = 1.57079633f;
-  const View view = makeView(camera, 64, 64, 64, 64);
-  // 6 has a vertex beyond the left side and one beyond the top, none beyond both, and the edge
-  // between them passes outside the corner: a rasteriser clips it to nothing, but the test by
-  // sides (as GL's trivial reject) cannot tell, and counts it; so do we.
-  EXPECT_EQ(countTrianglesInView(scene, view), 5) << "1, 4, 5, 6 and 7";
-  camera.target = glm::vec3(0, 0, 1);  // turned round: only 2 and 7 (its two vertices at z = 1)
-  EXPECT_EQ(countTrianglesInView(scene, makeView(camera, 64, 64, 64, 64)), 2);
-}
-
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());
   EXPECT_EQ(back.toJson(), m.toJson());
-  EXPECT_GT(back.nsPerTrianglePerLevel, 0.0) << "the port rasterises: triangles cost every level";
-  for (const char* key : {"ns_per_blend_pixel", "ns_per_full_blend_pixel", "ns_per_coarse_gbuffer_hit", "ns_per_triangle_per_level", "ns_per_edge_pixel",
-                          "edges_masks_fixed_ms"}) {
+  for (const char* key : {"ns_per_blend_pixel", "ns_per_fine_blend_pixel", "ns_per_full_blend_pixel", "ns_per_coarse_gbuffer_pixel",
+                          "ns_per_edge_pixel", "edges_masks_fixed_ms"}) {
     nlohmann::json broken = m.toJson();
     broken.erase(key);
     EXPECT_THROW(CostModel::fromJson(broken), MrrError) << key;
@@ -402,6 +382,9 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   nlohmann::json older = m.toJson();  // a file from before issue 18: no background cost
   older["effects"]["ssao"].erase("ns_per_background_pixel");
   EXPECT_THROW(CostModel::fromJson(older), MrrError);
+  nlohmann::json noRule = m.toJson();  // a file from before the rule's cost was measured
+  noRule["effects"]["ssm"].erase("ns_per_rule_pixel");
+  EXPECT_THROW(CostModel::fromJson(noRule), MrrError);
 }
 
 }  // namespace

@@ -7,11 +7,11 @@
 namespace mrr {
 
 double finerLevelsArea(const Constants& c, const std::array<int64_t, kLevelCount>& n) {
-  double covered = 0.0;
-  for (const LevelConstants& lc : c.levels)
-    if (lc.enabled && lc.index < c.coarsestEnabled)
-      covered += static_cast<double>(n[static_cast<size_t>(lc.index)]) * lc.scale * lc.scale;
-  return covered;
+  for (int l = c.coarsestEnabled - 1; l >= 0; --l) {  // j: the coarsest enabled level below k
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (lc.enabled) return static_cast<double>(n[static_cast<size_t>(l)]) * lc.scale * lc.scale;
+  }
+  return 0.0;
 }
 
 namespace {
@@ -29,8 +29,8 @@ double levelPassNs(const EffectCost& e, const LevelConstants& lc, const Constant
   return levelPixels(lc) * hitShare(c, n) * e.nsPerLevelPixel;
 }
 
-// SPEC §11: Σ_{ℓ<k} n_ℓ s_ℓ² β_f, in ns: the blend's finer levels where they can show, n_ℓ = |S_ℓ|
-// (or, for the floor, the silhouettes B_ℓ ⊆ S_ℓ).
+// SPEC §11: n_j s_j² β_f, in ns: the blend's finer levels where they can show, n_j = |S_j| (or, for
+// the floor, the silhouettes B_j ⊆ S_j).
 double fineBlendNs(const CostModel& m, const Constants& c, const std::array<int64_t, kLevelCount>& n) {
   return finerLevelsArea(c, n) * m.nsPerFineBlendPixel;
 }
@@ -56,29 +56,29 @@ CostModel CostModel::defaults(const std::string& path) {
     // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24: coarse
     // G-buffers subsampled from level 0, the rule's own work and the blend's finer levels priced).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{217.3, 5.25, 0, 25.76, 0, 1.174, 1.952, 0.6654, 3.455},
-                EffectCost{161.1, 0, 0, 32.74, 1.659, 1.287, 2.139, 0.4586, 4.7},
-                EffectCost{29.02, 7.086, 11.58, 18.78, 0, 1.171, 3.899, 1.365, 3.155}};
-    m.nsPerCoarseGbufferPixel = 17.48;
-    m.nsPerFullBlendPixel = 4.765;
-    m.nsPerBlendPixel = 2.265;
-    m.nsPerFineBlendPixel = 14.63;
-    m.nsPerEdgePixel = 14.07;
-    m.nsPerMaskPixel = 5.446;
-    m.edgesMasksFixedMs = 1.106;
+    m.effect = {EffectCost{220.3, 5.373, 0, 33.53, 0, 1.147, 3.088, 0.3369, 3.585},
+                EffectCost{165.4, 0, 0, 36.22, 1.637, 1.264, 2.426, 0.4255, 4.876},
+                EffectCost{43.31, 7.285, 13.45, 28.93, 0, 1.112, 5.175, 1.213, 3.277}};
+    m.nsPerCoarseGbufferPixel = 21.75;
+    m.nsPerFullBlendPixel = 6.345;
+    m.nsPerBlendPixel = 1.882;
+    m.nsPerFineBlendPixel = 34.9;
+    m.nsPerEdgePixel = 14.66;
+    m.nsPerMaskPixel = 8.33;
+    m.edgesMasksFixedMs = 1.072;
   } else {
     // cpu: one run (--repeats 5, 2026-11-24, the same day and code as the port's).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{204.3, 8.831, 1.056, 3.246, 0, 1.059, 0.2209, 0.04852, 1.641},
-                EffectCost{75.19, 0, 0, 2.525, 1.559, 1.196, 0.2689, 0.01436, 1.701},
-                EffectCost{33.05, 10.68, 17.22, 3.555, 0, 1.342, 0.3346, 0.07987, 1.457}};
-    m.nsPerCoarseGbufferPixel = 7.535;
-    m.nsPerFullBlendPixel = 3.549;
-    m.nsPerBlendPixel = 2.097;
-    m.nsPerFineBlendPixel = 0.5672;
-    m.nsPerEdgePixel = 1.33;
-    m.nsPerMaskPixel = 2.924;
-    m.edgesMasksFixedMs = 0.0974;
+    m.effect = {EffectCost{204.3, 8.839, 1.122, 3.696, 0, 1.072, 0.3572, 0.1025, 1.694},
+                EffectCost{76.26, 0, 0, 2.77, 1.535, 1.197, 0.4083, 0.03026, 1.756},
+                EffectCost{35.43, 10.79, 17.38, 4.368, 0, 1.336, 0.3926, 0.118, 1.502}};
+    m.nsPerCoarseGbufferPixel = 7.777;
+    m.nsPerFullBlendPixel = 3.597;
+    m.nsPerBlendPixel = 1.969;
+    m.nsPerFineBlendPixel = 1.71;
+    m.nsPerEdgePixel = 1.51;
+    m.nsPerMaskPixel = 2.766;
+    m.edgesMasksFixedMs = 0.1539;
   }
   return m;
 }

@@ -60,9 +60,9 @@ struct CostModel {
   double nsPerCoarseGbufferPixel = 0.0;
   double nsPerFullBlendPixel = 0.0;  // β₀: full's blend (level 0 copied into the result), per pixel
   double nsPerBlendPixel = 0.0;      // β: the method's blend beyond β₀, per full-res pixel
-  // β_f: more per full-res pixel under a finer level's stencil (Σ_{ℓ<k} |S_ℓ| s_ℓ², k the
-  // coarsest enabled level): the blend upsamples a finer level only where it can show, on both
-  // paths, so its cost grows with the area the finer levels cover.
+  // β_f: more per full-res pixel where a finer level can show (|S_j| s_j², j the coarsest
+  // enabled level below the coarsest k: finerLevelsArea): the blend upsamples a finer level only
+  // there, on both paths, so its cost grows with the area the finer levels cover.
   double nsPerFineBlendPixel = 0.0;
   double nsPerEdgePixel = 0.0;   // ε: edges, per padded full-res pixel (the early decision's)
   double nsPerMaskPixel = 0.0;   // μ: the masks, per padded full-res pixel (the same)
@@ -104,15 +104,18 @@ struct FallbackDecision {
   std::string costModel;         // CostModel::source
 };
 
-// Σ_{ℓ<k enabled} n_ℓ s_ℓ², k the coarsest enabled level: the full-res pixels under the finer
-// levels' n_ℓ level pixels (|S_ℓ|: where the blend upsamples a finer level; SPEC §11's β_f).
+// n_j s_j², j the coarsest enabled level below the coarsest k: the full-res pixels under its n_j
+// level pixels. With n = |S_ℓ| that is where any finer level can show in the blend (the closure
+// puts every finer level's blocks into S_j), and so where the blend does more than copy level k
+// (SPEC §11's β_f; a sum over the levels counted a pixel once per level, where the blend stops at
+// the first level whose α is 1).
 double finerLevelsArea(const Constants& constants, const std::array<int64_t, kLevelCount>& perLevel);
 
 // SPEC §11, in ms. Full's rest: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀.
 double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) +
 // |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β)
-// + Σ_{ℓ<k} |S_ℓ| s_ℓ² β_f + k.
+// + |S_j| s_j² β_f + W·H ρ + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The least the method can still pay before its edges: P_0 (ε + μ) + κ + the coarse G-buffers
 // and the blend as above (B_ℓ for |S_ℓ|) + d over every shaded level + its silhouettes B_ℓ shaded at every

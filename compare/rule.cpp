@@ -173,7 +173,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // the rest, which holds them).
   std::array<LeastSquares, 3> levelFit;  // per effect, full frames: P_0 (H / W·H), 1 → d (SSAO's planes, SSGI's direct light)
   std::array<LeastSquares, 3> ruleFit;   // per effect, the method's frames: W·H, 1 → ρ (the rule's own counts)
-  LeastSquares fullBlendFit, blendFit;   // full's blend: W·H, 1 → β₀; the method's: W·H, Σ|S_ℓ| s_ℓ², 1 → β₀ + β, β_f
+  LeastSquares fullBlendFit, blendFit;   // full's blend: W·H, 1 → β₀; the method's: W·H, |S_j| s_j², 1 → β₀ + β, β_f
   struct MrrRun {  // at 320×180, 640×360 and 1280×720, to tell s (per pixel) from k (per frame)
     Effect effect;
     Constants constants;
@@ -427,7 +427,16 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"mrr_ms", mrrMs},
                             {"rule_ms", ruleMs},
                             {"repeats", nearBreakEven ? 2 * o.repeats : o.repeats},
-                            {"full_stages_ms", full.ms},  // medians per stage: where a prediction went wrong
+                            // the counts the rule priced, and the medians per stage: where a prediction went wrong
+                            {"counts", {{"hit", n.hitPixels},
+                                        {"searched", n.searchedPixels},
+                                        {"pcf", n.pcfPixels},
+                                        {"silhouette", n.silhouette},
+                                        {"shaded", n.shaded},
+                                        {"shaded_hit", n.shadedHit},
+                                        {"shaded_searched", n.shadedSearched},
+                                        {"shaded_pcf", n.shadedPcf}}},
+                            {"full_stages_ms", full.ms},
                             {"mrr_stages_ms", mrr.ms},
                             {"right", right}});
         }

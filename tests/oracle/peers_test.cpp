@@ -288,13 +288,14 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.shadedSearched = {50, 25, 10, 16};
   EXPECT_NEAR(withAll - predictFullMs(ssm, cs, n), 200.0 * (10 - 0.5) * 1e-6, 1e-12);
   EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), 10.0 * (10 * 1.5 - 0.5) * 1e-6, 1e-12);
-  // β_f: the blend's finer levels, per full-res pixel under their stencils (levels 0–2 below the
-  // coarsest, 3), in the prediction over |S_ℓ| and in the floor over the silhouettes B_ℓ.
+  // β_f: the blend's finer levels, per full-res pixel where they can show: under S_2, the
+  // coarsest level below the coarsest (3), which the closure makes hold every finer level's
+  // blocks; in the prediction over |S_2| and in the floor over the silhouettes B_2.
   {
     CostModel fine = m;
     fine.nsPerFineBlendPixel = 0.25;
-    EXPECT_NEAR(predictMrrMs(fine, c, n) - predictMrrMs(m, c, n), (100.0 + 50 * 4 + 20 * 16) * 0.25 * 1e-6, 1e-12);
-    EXPECT_NEAR(predictMrrFloorMs(fine, c, n) - predictMrrFloorMs(m, c, n), (40.0 + 20 * 4 + 8 * 16) * 0.25 * 1e-6, 1e-12);
+    EXPECT_NEAR(predictMrrMs(fine, c, n) - predictMrrMs(m, c, n), 20.0 * 16 * 0.25 * 1e-6, 1e-12);
+    EXPECT_NEAR(predictMrrFloorMs(fine, c, n) - predictMrrFloorMs(m, c, n), 8.0 * 16 * 0.25 * 1e-6, 1e-12);
     EXPECT_EQ(predictFullMs(fine, c, n), predictFullMs(m, c, n));
   }
   // ρ, the rule's own counts per full-res pixel, is the method's alone, early and late.

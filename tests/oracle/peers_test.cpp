@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "compare/report.h"
 #include "cpu_ref/peers.h"
 #include "tests/oracle/render_helpers.h"
 
@@ -369,7 +370,38 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[1], 10 * 16) << "unchanged";
 }
 
-// T: the triangles a rasteriser cannot reject whole. A camera at the origin looking down −z,
+// The rule's own work is the stage `rule` (SPEC §11's ρ): timed in the method's frame, with the
+// rule on or off, early and late (its counts, then the stencils'); full pays none, and a frame
+// that falls back early pays only the early part.
+TEST(NeverSlower, TheRulesOwnWorkIsAStageOfTheMethodAlone) {
+  SceneRequest req;
+  req.scene = "builtin:demo";
+  const ResolvedScene rs = resolveScene(req);
+  const Renderer renderer(rs.scene);
+  Settings s = ssaoSettings(96, 64, 8);
+  auto ruleTimings = [](const FrameResult& f) {
+    int n = 0;
+    for (const StageTiming& t : f.timings) n += t.stage == "rule";
+    return n;
+  };
+  for (const bool on : {false, true}) {
+    s.neverSlower = on;
+    const FrameResult f = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()));
+    EXPECT_EQ(ruleTimings(f), 2) << "rule " << (on ? "on" : "off");
+    EXPECT_GT(f.timing("rule"), 0.0);
+    // the report's timings_ms gives a stage timed twice as the sum of both
+    EXPECT_DOUBLE_EQ(makeReport(f, RunInfo{}, std::nullopt)["timings_ms"]["rule"].get<double>(), f.timing("rule"));
+  }
+  const FrameResult full = renderer.render(rs.camera, makeConstants(method(s, Mode::Full), rs.scene.bounds().diagonal()));
+  EXPECT_EQ(ruleTimings(full), 0);
+  CostModel costly = CostModel::defaults("cpu");
+  costly.nsPerCoarseGbufferPixel = 1e6;
+  s.neverSlower = true;
+  const FrameResult early = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()), {true, {}, &costly});
+  ASSERT_TRUE(early.fallback.early);
+  EXPECT_EQ(ruleTimings(early), 1) << "no stencils to count";
+}
+
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());

@@ -86,6 +86,8 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     }
     const int lx = x / lc.scale, ly = y / lc.scale;
     lj["level_pixel"] = {lx, ly};
+    // the full-res pixel it holds (SPEC §0): its G-buffer is level 0's there
+    lj["sample_pixel"] = {levelSamplePixel(lx, lc.scale), levelSamplePixel(ly, lc.scale)};
     if (!lr.masks.mask.empty()) lj["M"] = lr.masks.mask.at(lx, ly);
     lj["a"] = lr.masks.alpha.at(lx, ly);
     lj["S"] = lr.masks.stencil.at(lx, ly);
@@ -173,6 +175,7 @@ std::string formatProbe(const nlohmann::json& j) {
       continue;
     }
     o << "  level pixel " << fmt(l["level_pixel"]);
+    if (l["scale"].get<int>() > 1) o << " = full-res " << fmt(l["sample_pixel"]);
     if (l.contains("M")) o << "  M " << l["M"];
     o << "  a " << fmt(l["a"]) << "  S " << l["S"] << "  (sigma2 " << fmt(l["sigma2"]) << ", w " << fmt(l["w"]) << ")\n";
     if (l.contains("c")) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cpu_ref/edges.h"
+#include "cpu_ref/probe.h"
 #include "tests/oracle/render_helpers.h"
 
 namespace mrr {
@@ -217,6 +218,22 @@ TEST(SampleGrid, CoarseGBuffersAreLevelZeroAtTheirSamplePixels) {
         }
       }
     EXPECT_GT(hits, 0) << "level " << l;
+  }
+}
+
+// `probe` says which full-res pixel each level pixel holds, and it is the one its G-buffer copied.
+TEST(SampleGrid, ProbeNamesTheFullResPixelEachLevelHolds) {
+  const auto r = test::renderScene("builtin:demo", test::ssaoSettings(96, 64, 4));
+  const nlohmann::json p = probePixel(r.frame, 50, 33);
+  const GBuffer& g0 = r.frame.levels[0].gbuffer;
+  for (int l = 1; l < kLevelCount; ++l) {
+    const nlohmann::json& lj = p["levels"][static_cast<size_t>(l)];
+    const int s = 1 << l, lx = 50 / s, ly = 33 / s;
+    ASSERT_EQ(lj["level_pixel"], nlohmann::json::array({lx, ly}));
+    const int fx = lj["sample_pixel"][0].get<int>(), fy = lj["sample_pixel"][1].get<int>();
+    EXPECT_EQ(fx, lx * s + s / 2);
+    EXPECT_EQ(fy, ly * s + s / 2);
+    EXPECT_EQ(r.frame.levels[static_cast<size_t>(l)].gbuffer.depth.at(lx, ly), g0.depth.at(fx, fy));
   }
 }
 

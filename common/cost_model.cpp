@@ -151,7 +151,8 @@ double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& 
 }
 
 // SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) + |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c +
-// P_ℓ (H / W·H) d) + the coarse G-buffers and the blend (its finer levels over |S_ℓ|) + k, in ms.
+// P_ℓ (H / W·H) d) + the coarse G-buffers and the blend (its finer levels over |S_j|) + W·H ρ + k,
+// in ms.
 double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   double ns = coarseGbuffersAndBlendNs(m, c) + fineBlendNs(m, c, n.shaded) + ruleNs(e, c);
@@ -167,7 +168,7 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
   return ns * 1e-6 + e.fixedMs;
 }
 
-// SPEC §11: P_0 (ε + μ) + κ + the coarse G-buffers and the blend + Σ_ℓ shaded P_ℓ (H / W·H) d
+// SPEC §11: P_0 (ε + μ) + κ + the coarse G-buffers and the blend (B_j for |S_j|) + W·H ρ + Σ_ℓ shaded P_ℓ (H / W·H) d
 // + |B_0| (what a pixel on geometry pays on average) + Σ_{0<ℓ<k} |B_ℓ| (what a pixel pays on
 // average) + P_k (((H_a (a + b N) + H_p e N) / W·H) s + (1 − H_a / W·H) c) for the coarsest
 // enabled level k + k, in ms.

@@ -118,9 +118,9 @@ double predictFullMs(const CostModel& model, const Constants& constants, const F
 // + |S_j| s_j² β_f + W·H ρ + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The least the method can still pay before its edges: P_0 (ε + μ) + κ + the coarse G-buffers
-// and the blend as above (B_ℓ for |S_ℓ|) + d over every shaded level + its silhouettes B_ℓ shaded at every
-// level but the coarsest + every pixel of the coarsest enabled level, paying in proportion to
-// H_a and H_p, + k.
+// and the blend as above (B_j for |S_j|) + W·H ρ + d over every shaded level + its silhouettes B_ℓ
+// shaded at every level but the coarsest + every pixel of the coarsest enabled level, paying in
+// proportion to H_a and H_p, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
 // The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted

@@ -34,7 +34,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   };
 
   // 1. The full-res G-buffer (SPEC §1): the masks are made from it alone.
-  stage(stageName(Part::GBuffer, 0), [&] { b.gbuffer(f, 0); });
+  stage(stageName(Part::GBuffer, 0), [&] { b.gbuffer(f); });
 
   // The light's shadow map, and its one-tap test at full res (SPEC §2 shadow edges, §6).
   if (c.needsShadowMap()) {
@@ -87,9 +87,10 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
   f.countShadedPixels();
 
-  // 1, continued. The coarser levels' G-buffers.
+  // 1, continued. The coarser levels' G-buffers: level 0 at the pixels theirs hold.
   for (int l = 1; l < kLevelCount; ++l)
-    if (c.levels[static_cast<size_t>(l)].enabled) stage(stageName(Part::GBuffer, l), [&] { b.gbuffer(f, l); });
+    if (c.levels[static_cast<size_t>(l)].enabled)
+      stage(stageName(Part::GBuffer, l), [&] { b.subsampleGBuffer(f, l); });
 
   // 4. Sub-images: the effect at stencilled pixels only, then SSAO's bilateral blur (SPEC §4).
   for (int l = 0; l < kLevelCount; ++l)

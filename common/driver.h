@@ -32,8 +32,10 @@ class FrameBackend {
   // cpu_ref/ssm.h pcfSample, ssm.frag with PCF_SAMPLE.
   virtual void samplePcf(FrameResult& f) = 0;
 
-  // 1. One level's G-buffer (level 0 first: the masks are made from it alone).
-  virtual void gbuffer(FrameResult& f, int level) = 0;
+  // 1. The full-res G-buffer (the masks are made from it alone), then, once the stencils are
+  // known, each coarser enabled level's, subsampled from it (SPEC §1).
+  virtual void gbuffer(FrameResult& f) = 0;
+  virtual void subsampleGBuffer(FrameResult& f, int level) = 0;
   // The light's shadow map, and the one-tap test at full res (SSM, SSGI).
   virtual void shadowMap(FrameResult& f) = 0;
   virtual void shadowTest(FrameResult& f) = 0;

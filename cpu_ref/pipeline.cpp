@@ -35,10 +35,10 @@ class OracleFrame final : public FrameBackend {
 
   const char* pathName() const override { return "cpu"; }
 
-  void gbuffer(FrameResult& f, int l) override {
-    const LevelConstants& lc = f.constants.levels[static_cast<size_t>(l)];
+  void gbuffer(FrameResult& f) override { f.levels[0].gbuffer = renderGBuffer(rays_, f.view, f.constants.levels[0]); }
+  void subsampleGBuffer(FrameResult& f, int l) override {
     f.levels[static_cast<size_t>(l)].gbuffer =
-        l == 0 ? renderGBuffer(rays_, f.view, lc) : subsampleGBuffer(f.levels[0].gbuffer, lc);
+        mrr::subsampleGBuffer(f.levels[0].gbuffer, f.constants.levels[static_cast<size_t>(l)]);
   }
   void shadowMap(FrameResult& f) override {
     f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), f.constants.ssm.shadowMapSize);

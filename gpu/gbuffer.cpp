@@ -349,7 +349,7 @@ GpuScene::~GpuScene() {
   }
 }
 
-void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target) {
+void drawGBuffer(const GpuScene& scene, const View& view, const Framebuffer& target) {
   const unsigned program = scene.program("gbuffer", "gbuffer.vert", "gbuffer.frag");
   // World → view, as View::toView: rows are right, up, −forward.
   const glm::vec3 r = view.right, u = view.up, f = view.forward, e = view.eye;
@@ -391,7 +391,6 @@ void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& 
   }
   glBindVertexArray(0);
   glDisable(GL_DEPTH_TEST);
-  (void)level;
   checkGl("gbuffer");
 }
 
@@ -417,16 +416,11 @@ void subsampleGBuffer(const GpuScene& scene, const Framebuffer& full, const Leve
 
 void drawLevelGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target) {
   if (level.scale == 1) {
-    drawGBuffer(scene, view, level, target);
+    drawGBuffer(scene, view, target);
     return;
   }
-  LevelConstants full = level;  // level 0 of the same padded grid
-  full.index = 0;
-  full.scale = 1;
-  full.width = level.width * level.scale;
-  full.height = level.height * level.scale;
-  const Target g0 = scene.target(full.width, full.height, 3, true);
-  drawGBuffer(scene, view, full, *g0);
+  const Target g0 = scene.target(level.width * level.scale, level.height * level.scale, 3, true);  // the padded grid
+  drawGBuffer(scene, view, *g0);
   subsampleGBuffer(scene, *g0, level, target);
 }
 

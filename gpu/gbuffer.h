@@ -142,10 +142,9 @@ class GpuScene {
   mutable std::vector<std::unique_ptr<Framebuffer>> free_;  // the pool, most recently freed last
 };
 
-// Renders level `level`'s G-buffer into `target` (level-sized, + depth): position and hit,
-// normal and depth, and albedo when the target has a third colour target. The pipeline
-// rasterises level 0 alone.
-void drawGBuffer(const GpuScene& scene, const View& view, const LevelConstants& level, const Framebuffer& target);
+// Rasterises the full-res (level 0) G-buffer into `target` (the padded full-res size, + depth):
+// position and hit, normal and depth, and albedo when the target has a third colour target.
+void drawGBuffer(const GpuScene& scene, const View& view, const Framebuffer& target);
 
 // Level ℓ's G-buffer from level 0's three targets `full` (SPEC §1; gbuffer.frag SUBSAMPLE):
 // pixel (x, y) of `target` (level-sized) is full-res pixel (x·s + ⌊s/2⌋, y·s + ⌊s/2⌋), copied.

@@ -107,20 +107,14 @@ class PortFrame final : public FrameBackend {
     return hit_;
   }
 
-  // G-buffers: level 0 rasterised, the coarser levels subsampled from it. A coarse level's
-  // albedo is read only by SSGI's direct light (and --stages): the resident frame leaves that
-  // target out otherwise.
-  void gbuffer(FrameResult& f, int l) override {
-    const Constants& c = f.constants;
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    const int targets = keep_ || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
-    Target& g = gbuffers_[static_cast<size_t>(l)];
-    g = scene_.target(lc.width, lc.height, targets, true);
-    if (l == 0)
-      drawGBuffer(scene_, f.view, lc, *g);
-    else
-      subsampleGBuffer(scene_, *gbuffers_[0], lc, *g);
-    if (keep_) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*g);
+  // G-buffers: level 0 rasterised, the coarser levels subsampled from it.
+  void gbuffer(FrameResult& f) override {
+    drawGBuffer(scene_, f.view, gbufferTarget(f, 0));
+    keepGBuffer(f, 0);
+  }
+  void subsampleGBuffer(FrameResult& f, int l) override {
+    gpu::subsampleGBuffer(scene_, *gbuffers_[0], f.constants.levels[static_cast<size_t>(l)], gbufferTarget(f, l));
+    keepGBuffer(f, l);
   }
   void shadowMap(FrameResult& f) override {
     const int size = f.constants.ssm.shadowMapSize;
@@ -226,6 +220,20 @@ class PortFrame final : public FrameBackend {
   }
 
  private:
+  // Level ℓ's G-buffer targets, fresh from the pool. A coarse level's albedo is read only by
+  // SSGI's direct light (and --stages): the resident frame leaves that target out otherwise.
+  const Framebuffer& gbufferTarget(const FrameResult& f, int l) {
+    const Constants& c = f.constants;
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const int targets = keep_ || l == 0 || c.effect == Effect::Ssgi ? 3 : 2;
+    Target& g = gbuffers_[static_cast<size_t>(l)];
+    g = scene_.target(lc.width, lc.height, targets, true);
+    return *g;
+  }
+  void keepGBuffer(FrameResult& f, int l) {  // --stages, probe, compare: read back
+    if (keep_) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers_[static_cast<size_t>(l)]);
+  }
+
   const GpuScene& scene_;
   const Scene& source_;  // its light
   const bool timerQueries_, keep_;

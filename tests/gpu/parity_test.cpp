@@ -92,7 +92,7 @@ TEST_P(GpuParity, StagesMatchTheOracle) {
   }
   // Edges: against the oracle's, and against the oracle's from the port's own G-buffer.
   gpu::Framebuffer g0(f.constants.levels[0].width, f.constants.levels[0].height, 3, true);
-  gpu::drawGBuffer(scene, f.view, f.constants.levels[0], g0);
+  gpu::drawGBuffer(scene, f.view, g0);
   const GBuffer g0Read = gpu::readGBuffer(g0);
   // The coarse G-buffers (SPEC §1): the port's subsample of its own level 0, bit for bit the
   // oracle's subsampleGBuffer of the same level 0.
@@ -355,7 +355,7 @@ TEST_P(GpuShadowParity, SsmStagesMatchTheOracle) {
   // function on the same inputs, and against the oracle's end to end.
   const LevelConstants& l0 = c.levels[0];
   gpu::Framebuffer g0(l0.width, l0.height, 3, true);
-  gpu::drawGBuffer(scene, f.view, l0, g0);
+  gpu::drawGBuffer(scene, f.view, g0);
   const GBuffer g0Read = gpu::readGBuffer(g0);
   const gpu::Framebuffer litTarget(l0.width, l0.height, 1, false);
   gpu::drawShadowTest(scene, g0, map, mapTarget.texture(), f.view, c.ssm.biasTexels, litTarget);

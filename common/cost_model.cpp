@@ -1,6 +1,7 @@
 #include "common/cost_model.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/error.h"
 
@@ -38,6 +39,13 @@ double fineBlendNs(const CostModel& m, const Constants& c, const std::array<int6
 // SPEC §11: W·H ρ, in ns: the rule's own counts (and SSM's sample), paid by the method alone.
 double ruleNs(const EffectCost& e, const Constants& c) { return static_cast<double>(c.width) * c.height * e.nsPerRulePixel; }
 
+// SPEC §11: P_0 (ε + μ) + H ε_h + A μ_A, in ns: the edges and the masks (A: the edge sample's
+// reach, 0 for the floor).
+double edgesMasksNs(const CostModel& m, const Constants& c, const FrameCounts& n, double reach) {
+  return levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) +
+         static_cast<double>(n.hitPixels) * m.nsPerEdgeHitPixel + reach * m.nsPerMaskReachPixel;
+}
+
 // SPEC §11: Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β), in ns: what the method pays beyond shading
 // whatever its stencils.
 double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c) {
@@ -56,29 +64,37 @@ CostModel CostModel::defaults(const std::string& path) {
     // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24: coarse
     // G-buffers subsampled from level 0, the rule's own work and the blend's finer levels priced).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{220.3, 5.373, 0, 33.53, 0, 1.147, 3.088, 0.3369, 3.585},
-                EffectCost{165.4, 0, 0, 36.22, 1.637, 1.264, 2.426, 0.4255, 4.876},
-                EffectCost{43.31, 7.285, 13.45, 28.93, 0, 1.112, 5.175, 1.213, 3.277}};
-    m.nsPerCoarseGbufferPixel = 21.75;
-    m.nsPerFullBlendPixel = 6.345;
-    m.nsPerBlendPixel = 1.882;
-    m.nsPerFineBlendPixel = 34.9;
-    m.nsPerEdgePixel = 14.66;
-    m.nsPerMaskPixel = 8.33;
-    m.edgesMasksFixedMs = 1.072;
+    m.effect = {EffectCost{217.2, 5.319, 0, 28.42, 0, 1.145, 2.679, 0.3326, 7.968},
+                EffectCost{162.8, 0, 0, 33.74, 1.639, 1.255, 2.322, 0.469, 10.86},
+                EffectCost{36.67, 7.11, 12.55, 21.65, 0, 1.121, 4.663, 1.265, 7.898}};
+    m.nsPerCoarseGbufferPixel = 18.78;
+    m.nsPerFullBlendPixel = 5.572;
+    m.nsPerBlendPixel = 1.684;
+    m.nsPerFineBlendPixel = 35;
+    m.nsPerEdgePixel = 11.27;
+    m.nsPerEdgeHitPixel = 8.321;
+    m.nsPerMaskPixel = 5.222;
+    m.nsPerMaskReachPixel = 32.91;
+    m.stencilFill = {0.7148, 0.8409, 0.9584};
+    m.estimateSpread = 0.315;
+    m.edgesMasksFixedMs = 0.8124;
   } else {
     // cpu: one run (--repeats 5, 2026-11-24, the same day and code as the port's).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{204.3, 8.839, 1.122, 3.696, 0, 1.072, 0.3572, 0.1025, 1.694},
-                EffectCost{76.26, 0, 0, 2.77, 1.535, 1.197, 0.4083, 0.03026, 1.756},
-                EffectCost{35.43, 10.79, 17.38, 4.368, 0, 1.336, 0.3926, 0.118, 1.502}};
-    m.nsPerCoarseGbufferPixel = 7.777;
-    m.nsPerFullBlendPixel = 3.597;
-    m.nsPerBlendPixel = 1.969;
-    m.nsPerFineBlendPixel = 1.71;
-    m.nsPerEdgePixel = 1.51;
-    m.nsPerMaskPixel = 2.766;
-    m.edgesMasksFixedMs = 0.1539;
+    m.effect = {EffectCost{205.2, 8.848, 1.153, 3.38, 0, 1.07, 0.2231, 0.04502, 3.056},
+                EffectCost{76.41, 0, 0, 2.746, 1.561, 1.192, 0.4008, 0.03834, 3.174},
+                EffectCost{34.16, 10.69, 17.14, 4.506, 0, 1.344, 0.3754, 0.101, 2.766}};
+    m.nsPerCoarseGbufferPixel = 7.622;
+    m.nsPerFullBlendPixel = 4.022;
+    m.nsPerBlendPixel = 1.541;
+    m.nsPerFineBlendPixel = 2.164;
+    m.nsPerEdgePixel = 1.174;
+    m.nsPerEdgeHitPixel = 3.841;
+    m.nsPerMaskPixel = 2.58;
+    m.nsPerMaskReachPixel = 0.5542;
+    m.stencilFill = {0.7148, 0.8409, 0.9584};
+    m.estimateSpread = 0.4101;
+    m.edgesMasksFixedMs = 0.1169;
   }
   return m;
 }
@@ -106,7 +122,14 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     m.nsPerFineBlendPixel = j.at("ns_per_fine_blend_pixel").get<double>();
     m.nsPerFullBlendPixel = j.at("ns_per_full_blend_pixel").get<double>();
     m.nsPerEdgePixel = j.at("ns_per_edge_pixel").get<double>();
+    m.nsPerEdgeHitPixel = j.at("ns_per_edge_hit_pixel").get<double>();
     m.nsPerMaskPixel = j.at("ns_per_mask_pixel").get<double>();
+    m.nsPerMaskReachPixel = j.at("ns_per_mask_reach_pixel").get<double>();
+    const nlohmann::json& fill = j.at("stencil_fill");
+    if (!fill.is_array() || fill.size() != m.stencilFill.size())
+      throw MrrError("--cost-model: stencil_fill: expected " + std::to_string(m.stencilFill.size()) + " numbers (levels 0-2)");
+    for (size_t l = 0; l < m.stencilFill.size(); ++l) m.stencilFill[l] = fill.at(l).get<double>();
+    m.estimateSpread = j.at("estimate_spread").get<double>();
   } catch (const nlohmann::json::exception& e) {
     throw MrrError(std::string("--cost-model: ") + e.what());
   }
@@ -134,7 +157,11 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_fine_blend_pixel", nsPerFineBlendPixel},
           {"ns_per_full_blend_pixel", nsPerFullBlendPixel},
           {"ns_per_edge_pixel", nsPerEdgePixel},
+          {"ns_per_edge_hit_pixel", nsPerEdgeHitPixel},
           {"ns_per_mask_pixel", nsPerMaskPixel},
+          {"ns_per_mask_reach_pixel", nsPerMaskReachPixel},
+          {"stencil_fill", stencilFill},
+          {"estimate_spread", estimateSpread},
           {"edges_masks_fixed_ms", edgesMasksFixedMs}};
 }
 
@@ -168,7 +195,7 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
   return ns * 1e-6 + e.fixedMs;
 }
 
-// SPEC §11: P_0 (ε + μ) + κ + the coarse G-buffers and the blend (B_j for |S_j|) + W·H ρ + Σ_ℓ shaded P_ℓ (H / W·H) d
+// SPEC §11: P_0 (ε + μ) + H ε_h + κ + the coarse G-buffers and the blend (B_j for |S_j|) + W·H ρ + Σ_ℓ shaded P_ℓ (H / W·H) d
 // + |B_0| (what a pixel on geometry pays on average) + Σ_{0<ℓ<k} |B_ℓ| (what a pixel pays on
 // average) + P_k (((H_a (a + b N) + H_p e N) / W·H) s + (1 − H_a / W·H) c) for the coarsest
 // enabled level k + k, in ms.
@@ -184,8 +211,7 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
   const double perPixel = averageNs(static_cast<double>(n.searchedPixels) / pixels, static_cast<double>(n.pcfPixels) / pixels);
   const double hits = std::max(1.0, static_cast<double>(n.hitPixels));
   const double perHit = averageNs(static_cast<double>(n.searchedPixels) / hits, static_cast<double>(n.pcfPixels) / hits);
-  double ns = levelPixels(c.levels[0]) * (m.nsPerEdgePixel + m.nsPerMaskPixel) + coarseGbuffersAndBlendNs(m, c) +
-              fineBlendNs(m, c, n.silhouette) + ruleNs(e, c);
+  double ns = edgesMasksNs(m, c, n, 0.0) + coarseGbuffersAndBlendNs(m, c) + fineBlendNs(m, c, n.silhouette) + ruleNs(e, c);
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);
@@ -196,6 +222,55 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
       ns += static_cast<double>(n.silhouette[l]) * (lc.index == 0 ? perHit : perPixel);
   }
   return ns * 1e-6 + m.edgesMasksFixedMs + e.fixedMs;
+}
+
+FrameCounts estimateStencils(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  FrameCounts est = n;
+  const double hits = std::max(1.0, static_cast<double>(n.hitPixels));
+  const double searchedShare = static_cast<double>(n.searchedPixels) / hits, pcfShare = static_cast<double>(n.pcfPixels) / hits;
+  for (const LevelConstants& lc : c.levels) {
+    const auto l = static_cast<size_t>(lc.index);
+    est.shaded[l] = est.shadedHit[l] = est.shadedSearched[l] = est.shadedPcf[l] = 0;
+    if (!lc.enabled || !lc.shaded) continue;
+    double shaded = 0.0, onGeometryShare = 0.0;
+    if (lc.index == c.coarsestEnabled) {  // S_k = 1 everywhere
+      shaded = levelPixels(lc);
+      onGeometryShare = hitShare(c, n);
+    } else {
+      const double reach = static_cast<double>(n.support[l]);
+      shaded = std::max(static_cast<double>(n.silhouette[l]), m.stencilFill[std::min(l, m.stencilFill.size() - 1)] * reach);
+      const double reachFullRes = reach * lc.scale * lc.scale;
+      // silhouettes alone (no reach): half on geometry
+      onGeometryShare = reachFullRes > 0.0 ? static_cast<double>(n.supportHits[l]) / reachFullRes : 0.5;
+    }
+    const double onGeometry = shaded * std::min(1.0, onGeometryShare);
+    est.shaded[l] = std::llround(shaded);
+    est.shadedHit[l] = std::llround(onGeometry);
+    est.shadedSearched[l] = std::llround(onGeometry * searchedShare);
+    est.shadedPcf[l] = std::llround(onGeometry * pcfShare);
+  }
+  return est;
+}
+
+double predictEdgesMasksMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  double reach = 0.0;
+  for (int64_t v : n.support) reach += static_cast<double>(v);
+  return edgesMasksNs(m, c, n, reach) * 1e-6 + m.edgesMasksFixedMs;
+}
+
+double predictMrrEstimateMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  return predictEdgesMasksMs(m, c, n) + predictMrrMs(m, c, estimateStencils(m, c, n));
+}
+
+double predictContinuingMs(const CostModel& m, const Constants& c, const FrameCounts& n, double fullMs) {
+  const double rest = predictMrrMs(m, c, estimateStencils(m, c, n));
+  const double lo = rest * (1.0 - m.estimateSpread), hi = rest * (1.0 + m.estimateSpread);
+  double expectedMin = std::min(rest, fullMs);  // E[min(R, F)], R uniform on [lo, hi]
+  if (hi > lo && fullMs > lo && fullMs < hi)
+    expectedMin = (0.5 * (fullMs * fullMs - lo * lo) + fullMs * (hi - fullMs)) / (hi - lo);
+  else if (hi > lo && fullMs <= lo)
+    expectedMin = fullMs;
+  return predictEdgesMasksMs(m, c, n) + expectedMin;
 }
 
 namespace {
@@ -212,7 +287,8 @@ FallbackDecision decide(const CostModel& m, double fullMs, double mrrMs, bool ea
 }  // namespace
 
 FallbackDecision decideEarly(const CostModel& m, const Constants& c, const FrameCounts& n) {
-  return decide(m, predictFullMs(m, c, n), predictMrrFloorMs(m, c, n), true);
+  const double fullMs = predictFullMs(m, c, n);
+  return decide(m, fullMs, std::max(predictMrrFloorMs(m, c, n), predictContinuingMs(m, c, n, fullMs)), true);
 }
 
 FallbackDecision decideFallback(const CostModel& m, const Constants& c, const FrameCounts& n) {

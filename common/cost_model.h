@@ -64,9 +64,19 @@ struct CostModel {
   // enabled level below the coarsest k: finerLevelsArea): the blend upsamples a finer level only
   // there, on both paths, so its cost grows with the area the finer levels cover.
   double nsPerFineBlendPixel = 0.0;
-  double nsPerEdgePixel = 0.0;   // ε: edges, per padded full-res pixel (the early decision's)
-  double nsPerMaskPixel = 0.0;   // μ: the masks, per padded full-res pixel (the same)
+  double nsPerEdgePixel = 0.0;      // ε: edges, per padded full-res pixel (the early decision's)
+  double nsPerEdgeHitPixel = 0.0;   // ε_h: more per full-res pixel on geometry (a miss leaves at once)
+  double nsPerMaskPixel = 0.0;      // μ: the masks, per padded full-res pixel (the same)
+  // μ_A: more per pixel of the edge sample's reach, A = Σ_{ℓ<k} |R_ℓ| (level-ℓ pixels): the port
+  // draws its blur passes only near edges, so its masks cost what the edges' surroundings cover.
+  double nsPerMaskReachPixel = 0.0;
   double edgesMasksFixedMs = 0.0;  // κ: the edges' and masks' passes per frame, whatever its size
+  // φ_ℓ, ℓ < 3: |S_ℓ| / |R_ℓ|, the share of the edge sample's reach the stencil fills (an edge
+  // crosses a block; S_ℓ is a band r_ℓ wide around it). The early estimate's |S_ℓ| = φ_ℓ |R_ℓ|.
+  std::array<double, kLevelCount - 1> stencilFill{};
+  // w: how far the early estimate of the method's rest, R̂, is from the one its stencils give: R
+  // is taken as uniform on R̂ (1 ± w) (√3 × the calibration frames' RMS relative difference).
+  double estimateSpread = 0.0;
 
   // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu").
   static CostModel defaults(const std::string& path);
@@ -92,6 +102,12 @@ struct FrameCounts {
   std::array<int64_t, kLevelCount> shaded{}, shadedHit{};
   std::array<int64_t, kLevelCount> shadedSearched{};  // |S_ℓ ∩ hit ∩ searched|
   std::array<int64_t, kLevelCount> shadedPcf{};       // |S_ℓ ∩ hit ∩ pcf| (SSM)
+  // The edge sample (countEdgeSample): |Ê|, the 8×8 blocks whose middle row or column holds an
+  // edge; R_ℓ, the level-ℓ pixels of the blocks within r_ℓ of one (or of a finer level's R), for
+  // ℓ below the coarsest; and the full-res pixels on geometry in R_ℓ's blocks. What the early
+  // decision estimates S_ℓ and the masks' cost from.
+  int64_t edgeBlocks = 0;
+  std::array<int64_t, kLevelCount> support{}, supportHits{};
 };
 
 // What the rule decided for one frame (the report's `never_slower`).
@@ -100,7 +116,9 @@ struct FallbackDecision {
   bool fellBack = false;         // the frame was shaded at full resolution
   bool early = false;            // decided before the edges (fellBack then: no edges, no masks)
   double predictedFullMs = 0.0;  // the rest of a `full` frame
-  double predictedMrrMs = 0.0;   // the rest of this frame (early: the least it could be)
+  // the rest of this frame (early: the larger of the least it could be and the edge sample's
+  // estimate, edges and masks included)
+  double predictedMrrMs = 0.0;
   std::string costModel;         // CostModel::source
 };
 
@@ -117,13 +135,29 @@ double predictFullMs(const CostModel& model, const Constants& constants, const F
 // |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β)
 // + |S_j| s_j² β_f + W·H ρ + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
-// The least the method can still pay before its edges: P_0 (ε + μ) + κ + the coarse G-buffers
+// The least the method can still pay before its edges: P_0 (ε + μ) + H ε_h + κ + the coarse G-buffers
 // and the blend as above (B_j for |S_j|) + W·H ρ + d over every shaded level + its silhouettes B_ℓ
 // shaded at every level but the coarsest + every pixel of the coarsest enabled level, paying in
 // proportion to H_a and H_p, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
-// The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted
+// S_ℓ as the edge sample sees it, before the edges (counts.shaded… unknown): for ℓ below the
+// coarsest k, |S_ℓ| = max(B_ℓ, φ_ℓ |R_ℓ|), on geometry in the share R_ℓ's blocks are, paying
+// (H_a, H_p) in the frame's shares of H; all of level k, in the frame's shares.
+FrameCounts estimateStencils(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+// The edges and the masks, from the edge sample's reach A = Σ R_ℓ: P_0 (ε + μ) + H ε_h + A μ_A + κ.
+double predictEdgesMasksMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+// The method's whole frame after the early decision, estimated from the edge sample: the edges
+// and the masks and R̂, predictMrrMs on estimateStencils' counts.
+double predictMrrEstimateMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+// What going on from the early decision costs: the edges and masks, then the cheaper of the
+// method's rest R and full's F, decided on the stencils: E[min(R, F)] with R uniform on
+// R̂ (1 ± w). Where the edges and masks are cheap and R̂ near F, going on to decide on the
+// stencils is worth its price; where they are dear, it is not.
+double predictContinuingMs(const CostModel& model, const Constants& constants, const FrameCounts& counts,
+                           double fullMs);
+
+// The rule, early (counts.shaded unknown: max(floor, continuing)) and with the stencils: falls back when the predicted
 // gain, full − multires, is ≤ 0.
 FallbackDecision decideEarly(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 FallbackDecision decideFallback(const CostModel& model, const Constants& constants, const FrameCounts& counts);

@@ -31,6 +31,10 @@ class FrameBackend {
   // H_p (SPEC §11), called when the model prices PCF (e > 0). Each path asks its own PCSS:
   // cpu_ref/ssm.h pcfSample, ssm.frag with PCF_SAMPLE.
   virtual void samplePcf(FrameResult& f) = 0;
+  // Mode mrr with the rule: the edge sample into f.edgeSample, for the early decision's estimate
+  // of S_ℓ (SPEC §11): cpu_ref/edges.h edgeSample, edges.frag with EDGE_SAMPLE. Runs after the
+  // shadow test (SSM's shadow edges count).
+  virtual void sampleEdges(FrameResult& f) = 0;
 
   // 1. The full-res G-buffer (the masks are made from it alone), then, once the stencils are
   // known, each coarser enabled level's, subsampled from it (SPEC §1).

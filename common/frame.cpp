@@ -1,7 +1,9 @@
 #include "common/frame.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "common/parallel.h"
 
@@ -136,7 +138,7 @@ namespace {
 uint8_t paysAt(const ImageU8& pcf, int x, int y) { return pcf.empty() ? kPcfSampleSearch : pcfSampleValue(pcf, x, y); }
 }  // namespace
 
-void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c) {
+void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c, ImageU8* silhouetteBlocks) {
   n.hitPixels = n.searchedPixels = n.pcfPixels = 0;
   n.silhouette = {};
   const int w = std::min(c.width, hit.width), h = std::min(c.height, hit.height);
@@ -193,6 +195,79 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
     });
     if (c.levels[static_cast<size_t>(l)].enabled)
       for (int64_t v : counts) n.silhouette[static_cast<size_t>(l)] += v;
+  }
+  static_assert(1 << (kLevelCount - 1) == kEdgeSampleStep, "the coarsest level's blocks are the edge sample's");
+  if (silhouetteBlocks) *silhouetteBlocks = std::move(marks[kLevelCount - 1]);
+}
+
+ImageU8 nearBlocks(const ImageU8& blocks, int blockSize, int radius, int radiusY) {
+  // the blocks within ceil(r / B) blocks of a set block, across and down: a separable box max
+  const int d = (radius + blockSize - 1) / blockSize;
+  const int dy = ((radiusY < 0 ? radius : radiusY) + blockSize - 1) / blockSize;
+  const int w = blocks.width, h = blocks.height;
+  ImageU8 rows(w, h), near(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint8_t m = 0;
+      for (int i = std::max(x - d, 0); i <= std::min(x + d, w - 1); ++i) m |= blocks.at(i, y);
+      rows.at(x, y) = m;
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      uint8_t m = 0;
+      for (int j = std::max(y - dy, 0); j <= std::min(y + dy, h - 1); ++j) m |= rows.at(x, j);
+      near.at(x, y) = m;
+    }
+  return near;
+}
+
+void countEdgeSample(FrameCounts& n, const ImageU8& sample, const ImageU8& silhouetteBlocks, const ImageU8& hit,
+                     const Constants& c) {
+  n.edgeBlocks = 0;
+  n.support = n.supportHits = {};
+  if (sample.empty()) return;
+  // 1. The blocks the reach starts from: a sampled edge or a silhouette pixel (the sample's
+  // diagonal can miss a one-pixel silhouette at 45°; the silhouettes are counted exactly).
+  ImageU8 blocks = sample;
+  for (int y = 0; y < std::min(blocks.height, silhouetteBlocks.height); ++y)
+    for (int x = 0; x < std::min(blocks.width, silhouetteBlocks.width); ++x) blocks.at(x, y) |= silhouetteBlocks.at(x, y);
+  for (uint8_t v : blocks.data) n.edgeBlocks += v != 0;
+  // 2. The full-res pixels on geometry in each block, a block's row of 8 flags at a time (each
+  // byte folded to its low bit, so any non-zero flag counts once).
+  static_assert(kEdgeSampleStep == 8, "a block's row is one 64-bit word of flags");
+  std::vector<int64_t> blockHits(blocks.data.size(), 0);
+  const int w = std::min(hit.width, blocks.width * kEdgeSampleStep);
+  parallelFor(0, blocks.height, [&](int by) {
+    int64_t* row = &blockHits[static_cast<size_t>(by) * static_cast<size_t>(blocks.width)];
+    for (int y = by * kEdgeSampleStep; y < std::min(hit.height, (by + 1) * kEdgeSampleStep); ++y) {
+      const uint8_t* h = &hit.at(0, y);
+      int x = 0;
+      for (; x + kEdgeSampleStep <= w; x += kEdgeSampleStep) {
+        uint64_t flags;
+        std::memcpy(&flags, h + x, sizeof flags);
+        flags |= flags >> 4;
+        flags |= flags >> 2;
+        flags |= flags >> 1;
+        row[x / kEdgeSampleStep] += std::popcount(flags & 0x0101010101010101ull);
+      }
+      for (; x < w; ++x) row[x / kEdgeSampleStep] += h[x] != 0;
+    }
+  });
+  // 3. Per shaded level below the coarsest, finest first: the blocks within r_ℓ of a block from
+  // step 1, OR the finer level's (the closure puts every finer S into the coarser ones).
+  ImageU8 reach(blocks.width, blocks.height);
+  for (const LevelConstants& lc : c.levels) {
+    if (lc.index >= c.coarsestEnabled) break;
+    const int blockSize = std::max(1, kEdgeSampleStep / lc.scale);  // level-ℓ pixels per block side
+    const ImageU8 near = nearBlocks(blocks, blockSize, lc.blurRadius);
+    for (size_t i = 0; i < reach.data.size(); ++i) reach.data[i] |= near.data[i];
+    if (!lc.enabled || !lc.shaded) continue;
+    const auto l = static_cast<size_t>(lc.index);
+    for (size_t i = 0; i < reach.data.size(); ++i)
+      if (reach.data[i]) {
+        n.support[l] += static_cast<int64_t>(blockSize) * blockSize;
+        n.supportHits[l] += blockHits[i];
+      }
   }
 }
 

@@ -141,6 +141,7 @@ struct FrameResult {
   ShadowMap shadowMap;     // SSM and SSGI
   ImageU8 shadowLit;       // the one-tap shadow test on the full-res grid (SSM, SSGI)
   ImageU8 pcfSample;       // SSM with the rule: what PCSS pays at each pixel of the 8×8 grid (SPEC §11)
+  ImageU8 edgeSample;      // mode mrr with the rule: whether each 8×8 block's cross holds an edge (SPEC §11)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
@@ -204,7 +205,21 @@ void countForRule(FrameCounts& counts, const Masks& masks, const Constants& cons
                   const ImageU8& pcfSample);
 // H, H_a and H_p: the full-res pixels on geometry, those of them that pay the effect's per-pixel
 // cost (SSM: its blocker search; every one without a sample) and those that pay PCF.
-void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants);
+// `silhouetteBlocks`, if given: the 8×8 blocks (the coarsest level's) that hold a silhouette pixel.
+void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pcfSample, const Constants& constants,
+               ImageU8* silhouetteBlocks = nullptr);
+// SPEC §11's edge sample, counted: the blocks (kEdgeSampleStep² full-res pixels each) of
+// `edgeSample` or of `silhouetteBlocks` (countHits'), |Ê| (counts.edgeBlocks); then for each
+// shaded level ℓ below the coarsest, the blocks within r_ℓ of one, with every finer level's (the
+// masks' closure), as level-ℓ pixels (counts.support) and the full-res pixels on geometry they
+// hold (counts.supportHits).
+void countEdgeSample(FrameCounts& counts, const ImageU8& edgeSample, const ImageU8& silhouetteBlocks,
+                     const ImageU8& fullResHit, const Constants& constants);
+// Blocks of a 0/1 block map, each blockSize² pixels of some level, within `radius` pixels
+// (across; radiusY down) of a set block's pixels: dilated by ceil(radius / blockSize) blocks,
+// a separable box max. Where a blur of radius r of what the set blocks hold can be non-zero
+// (gpu/masks.cpp draws its passes there; the rule's edge sample estimates S_ℓ's reach with it).
+ImageU8 nearBlocks(const ImageU8& blocks, int blockSize, int radius, int radiusY = -1);  // radiusY < 0: radius
 // The sample's value (kPcfSample…, common/shader_constants.h) for full-res pixel (x, y): that of its kPcfSampleStep² block.
 inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
   return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),

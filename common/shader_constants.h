@@ -30,6 +30,11 @@ inline constexpr uint8_t kPcfSampleNone = 0;    // nothing: a surface facing awa
 inline constexpr uint8_t kPcfSampleSearch = 1;  // the blocker search, which finds no blocker (and sky)
 inline constexpr uint8_t kPcfSamplePcf = 2;     // the search and PCF's N taps
 
+// The never-slower rule's edge sample (SPEC §11, cpu_ref/edges.h edgeSample, edges.frag with
+// EDGE_SAMPLE): per kEdgeSampleStep² block of the full-res grid, whether SPEC §2's rule finds an
+// edge on the block's diagonal.
+inline constexpr int kEdgeSampleStep = 8;
+
 struct ShaderConstant {
   const char* name;  // the same identifier in C++ and GLSL
   float value;
@@ -45,6 +50,7 @@ inline constexpr ShaderConstant kShaderConstants[] = {
     {"kPcfSampleNone", kPcfSampleNone},
     {"kPcfSampleSearch", kPcfSampleSearch},
     {"kPcfSamplePcf", kPcfSamplePcf},
+    {"kEdgeSampleStep", static_cast<float>(kEdgeSampleStep)},
 };
 
 }  // namespace mrr

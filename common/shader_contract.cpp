@@ -85,14 +85,16 @@ const std::vector<ShaderContract>& shaderContracts() {
        {},
        "common/scene.cpp cutoutTexel and Cutout::opaqueAt (docs/spec.md 1.1): the texel floor(t n), wrapped; the "
        "oracle refuses hits on transparent texels in an Embree filter function."},
-      {"edges.frag", "fragment", "edges, edges.shadow, edges.E",
-       "SHADOW_EDGES: the shadow kind too (SSM); E_ONLY: E alone in r of an R8 target",
+      {"edges.frag", "fragment", "edges, edges.shadow, edges.E, edgesample, edgesample.shadow",
+       "SHADOW_EDGES: the shadow kind too (SSM); E_ONLY: E alone in r of an R8 target; EDGE_SAMPLE: the never-slower "
+       "rule's edge sample: E at each 8x8 block's diagonal pixels, a block's eight side by side on a (W/8)*8 x H/8 "
+       "target, ORed per block by the host (cpu_ref/edges.cpp edgeSample)",
        {{"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth (0 on sky)"},
         {"shadowLit", "sampler2D R8", "the one-tap shadow test per pixel, 1 lit", -1, "SHADOW_EDGES"}},
        {{"normalThreshold", "float", "tau_n on 1 - N.N' (--tau-n, default 0.1)"},
         {"depthThreshold", "float", "tau_z on |second difference of 1/z| / (1/z) (--tau-z, default 0.02)"}},
-       {{"edges", "vec4 -> RGBA8 (E_ONLY: R8)", "(normal, depth, background, E), 0 or 1 each", 0},
-        {"shadowEdge", "vec4 -> RGBA8", "(shadow edge, 0, 0, 1)", 1, "SHADOW_EDGES"}},
+       {{"edges", "vec4 -> RGBA8 (E_ONLY, EDGE_SAMPLE: R8)", "(normal, depth, background, E), 0 or 1 each; EDGE_SAMPLE: (E at a diagonal pixel, 0, 0, 1)", 0},
+        {"shadowEdge", "vec4 -> RGBA8", "(shadow edge, 0, 0, 1)", 1, "SHADOW_EDGES without EDGE_SAMPLE"}},
        "cpu_ref/edges.cpp detectEdges: normal edges (1 - N.N' > tau_n over the 4-neighbourhood), depth edges (second "
        "difference of 1/z), background edges (hit next to sky), SSM's shadow edges; E is their OR."},
       {"fullscreen.vert", "vertex", "every image-space pass", "",

@@ -36,6 +36,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                          {"decided", f.fallback.early ? "early, before the edges" : "on the stencils"},
                          {"hit_pixels", f.counts.hitPixels},
                          {"silhouette_pixels", f.counts.silhouette[0]},
+                         {"edge_sample_blocks", f.counts.edgeBlocks},  // 8×8 blocks whose cross holds an edge
                          {"predicted_full_ms", f.fallback.predictedFullMs},
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},

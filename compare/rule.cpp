@@ -186,7 +186,8 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
   CostModel counting = CostModel::defaults(path.name);
   counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
-  LeastSquares edgesFit, masksFit;  // P_0, 1 → ε, κ's share (and μ, the rest of κ)
+  LeastSquares edgesFit, masksFit;  // P_0, H, 1 → ε, ε_h, κ's share; P_0, A, 1 → μ, μ_A, the rest of κ
+  std::array<double, kLevelCount - 1> filled{}, reached{};  // Σ|S_ℓ| and Σ|R_ℓ| → φ_ℓ
   for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
     const float diagonal = sc.scene->bounds().diagonal();
@@ -250,8 +251,16 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
           if (blendNs > 0.0) blendFit.addRelative({frame, fine, 1e6}, blendNs, blendNs);
           const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
           const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
-          edgesFit.addRelative({padded, 1e6}, edgesNs, edgesNs);
-          masksFit.addRelative({padded, 1e6}, masksNs, masksNs);
+          const FrameCounts& mn = m->last.counts;
+          double reach = 0.0;
+          for (size_t l = 0; l < filled.size(); ++l) {
+            reach += static_cast<double>(mn.support[l]);
+            if (mn.support[l] == 0) continue;  // a level without reach (SSGI's half level, a frame without edges)
+            filled[l] += static_cast<double>(mn.shaded[l]);
+            reached[l] += static_cast<double>(mn.support[l]);
+          }
+          edgesFit.addRelative({padded, static_cast<double>(mn.hitPixels), 1e6}, edgesNs, edgesNs);
+          masksFit.addRelative({padded, reach, 1e6}, masksNs, masksNs);
         }
       }
     }
@@ -291,8 +300,12 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // ε, μ and κ: the edges and the masks per padded pixel and per frame, over the three sizes
   const std::vector<double> edgeCost = edgesFit.solve(), maskCost = masksFit.solve();
   model.nsPerEdgePixel = edgeCost[0];
+  model.nsPerEdgeHitPixel = edgeCost[1];
   model.nsPerMaskPixel = maskCost[0];
-  model.edgesMasksFixedMs = edgeCost[1] + maskCost[1];
+  model.nsPerMaskReachPixel = maskCost[1];
+  model.edgesMasksFixedMs = edgeCost[2] + maskCost[2];
+  // φ_ℓ: the share of the edge sample's reach the stencils fill, over every frame and size
+  for (size_t l = 0; l < filled.size(); ++l) model.stencilFill[l] = reached[l] > 0.0 ? std::min(1.0, filled[l] / reached[l]) : 1.0;
   // s and k, per effect: the method's rest of frame = s × (its shading on geometry, priced as
   // full's) + k + the rest as priced above, least squares over every size and both sample
   // counts. The small frames tell the per-frame k (pass set-up) from the per-pixel s (a
@@ -322,6 +335,15 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
       ec.fixedMs = xy.empty() ? 0.0 : std::max(0.0, residual / static_cast<double>(xy.size()));
     }
   }
+  // w: the early estimate of the method's rest (from the edge sample) against the one its
+  // stencils give, relative, over every frame of the method: a uniform of that RMS spans ±√3 RMS.
+  double squares = 0.0;
+  for (const MrrRun& r : mrrRuns) {
+    const double late = predictMrrMs(model, r.constants, r.counts);
+    const double early = predictMrrMs(model, r.constants, estimateStencils(model, r.constants, r.counts));
+    squares += (early / std::max(late, 1e-9) - 1.0) * (early / std::max(late, 1e-9) - 1.0);
+  }
+  model.estimateSpread = mrrRuns.empty() ? 0.0 : std::sqrt(3.0 * squares / static_cast<double>(mrrRuns.size()));
   return model;
 }
 
@@ -420,7 +442,11 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"decision", decision},
                             {"predicted_full_rest_ms", late.predictedFullMs},
                             {"predicted_mrr_rest_ms", late.predictedMrrMs},
-                            {"predicted_mrr_floor_ms", early.predictedMrrMs},
+                            {"predicted_mrr_floor_ms", predictMrrFloorMs(model, cm, n)},
+                            // the early decision's: the larger of the floor and what going on costs
+                            {"predicted_mrr_early_ms", early.predictedMrrMs},
+                            // the edge sample's estimate of the method from its edges on (edges, masks, R̂)
+                            {"predicted_mrr_estimate_ms", predictMrrEstimateMs(model, cm, n)},
                             {"measured_full_rest_ms", restMs(full.ms)},
                             {"measured_mrr_rest_ms", restMs(mrr.ms)},
                             {"full_ms", fullMs},
@@ -435,7 +461,10 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                                         {"shaded", n.shaded},
                                         {"shaded_hit", n.shadedHit},
                                         {"shaded_searched", n.shadedSearched},
-                                        {"shaded_pcf", n.shadedPcf}}},
+                                        {"shaded_pcf", n.shadedPcf},
+                                        {"edge_blocks", n.edgeBlocks},
+                                        {"reach", n.support},
+                                        {"reach_hits", n.supportHits}}},
                             {"full_stages_ms", full.ms},
                             {"mrr_stages_ms", mrr.ms},
                             {"right", right}});

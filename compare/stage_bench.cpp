@@ -108,6 +108,25 @@ void registerStages() {
   const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
   add(stageName(Part::Edges), full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(detectEdges(l0.gbuffer, c.edges, shadowEdges)); });
   add("masks", full, [&f, &c] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c)); });
+  // The never-slower rule's own work before its early decision (SPEC §11, its stage `rule`):
+  // the edge sample, and the counts of H, B_ℓ and the sample's reach.
+  add("rule/edge_sample", full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(edgeSample(l0.gbuffer, c.edges, shadowEdges)); });
+  add("rule/count_hits", full, [&l0, &c] {
+    FrameCounts n;
+    countHits(n, l0.gbuffer.hit, ImageU8(), c);
+    benchmark::DoNotOptimize(n);
+  });
+  {
+    auto sample = std::make_shared<ImageU8>(edgeSample(l0.gbuffer, c.edges, shadowEdges));
+    auto silhouettes = std::make_shared<ImageU8>();
+    FrameCounts counted;
+    countHits(counted, l0.gbuffer.hit, ImageU8(), c, silhouettes.get());
+    add("rule/count_edge_sample", full, [&l0, &c, sample, silhouettes] {
+      FrameCounts n;
+      countEdgeSample(n, *sample, *silhouettes, l0.gbuffer.hit, c);
+      benchmark::DoNotOptimize(n);
+    });
+  }
   // The effect (and SSAO's bilateral blur) at each level over its own S_ℓ, and at level 0 over
   // every pixel too ("dense"): pixels per second, side by side.
   // `pixels`: |S_ℓ| as the frame counted it, or every pixel for the dense run.

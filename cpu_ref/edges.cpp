@@ -155,4 +155,22 @@ EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings, const Ima
   return out;
 }
 
+ImageU8 edgeSample(const GBuffer& g, const EdgeSettings& settings, const ImageU8* shadowLit) {
+  constexpr int step = kEdgeSampleStep;
+  ImageU8 out((g.width + step - 1) / step, (g.height + step - 1) / step);
+  parallelFor(0, out.height, [&](int by) {
+    for (int bx = 0; bx < out.width; ++bx) {
+      bool any = false;
+      for (int i = 0; i < step && !any; ++i) {
+        const int x = bx * step + i, y = by * step + i;  // 1. the block's diagonal pixel i, inside the image
+        if (x >= g.width || y >= g.height) continue;
+        const EdgeDecision e = edgeAt(g, settings, x, y, shadowLit);  // 2. E there (SPEC §2), every kind
+        any = e.normal || e.depth || e.background || e.shadow;
+      }
+      out.at(bx, by) = any;  // 3. Ê: any of them
+    }
+  });
+  return out;
+}
+
 }  // namespace mrr

@@ -22,5 +22,9 @@ struct EdgeDecision {
 // `shadowLit` (the one-tap test per pixel) enables the shadow kind; null for SSAO and SSGI.
 EdgeDecision edgeAt(const GBuffer& g, const EdgeSettings& settings, int x, int y, const ImageU8* shadowLit = nullptr);
 EdgeImages detectEdges(const GBuffer& g, const EdgeSettings& settings, const ImageU8* shadowLit = nullptr);
+// The never-slower rule's edge sample (SPEC §11), on the ⌈W/8⌉×⌈H/8⌉ grid of kEdgeSampleStep²
+// blocks: 1 where edgeAt finds an edge of any kind (E) at a pixel of the block's diagonal (8 of
+// its 64 pixels, (8x + i, 8y + i)). The port's twin: edges.frag with EDGE_SAMPLE.
+ImageU8 edgeSample(const GBuffer& g, const EdgeSettings& settings, const ImageU8* shadowLit = nullptr);
 
 }  // namespace mrr

@@ -46,6 +46,10 @@ class OracleFrame final : public FrameBackend {
   void samplePcf(FrameResult& f) override {
     f.pcfSample = pcfSample(f.levels[0].gbuffer, f.shadowMap, f.view, f.constants.ssm);
   }
+  void sampleEdges(FrameResult& f) override {
+    const ImageU8* shadowEdges = f.constants.effect == Effect::Ssm ? &f.shadowLit : nullptr;
+    f.edgeSample = edgeSample(f.levels[0].gbuffer, f.constants.edges, shadowEdges);
+  }
   void shadowTest(FrameResult& f) override {
     f.shadowLit = shadowTestImage(f.levels[0].gbuffer, f.shadowMap, f.view, f.constants.ssm.biasTexels);
   }

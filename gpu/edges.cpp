@@ -32,6 +32,36 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
   return target;
 }
 
+ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                       unsigned shadowLitTexture) {
+  const bool shadowEdges = shadowLitTexture != 0;
+  const unsigned program = scene.program(std::string("edgesample") + (shadowEdges ? ".shadow" : ""), "fullscreen.vert",
+                                         "edges.frag",
+                                         std::string("#define EDGE_SAMPLE\n") + (shadowEdges ? "#define SHADOW_EDGES\n" : ""));
+  // 1–2. E at each block's diagonal pixels, a block's eight side by side in one row
+  const int blocksX = (gbuffer0.width() + kEdgeSampleStep - 1) / kEdgeSampleStep;
+  const int blocksY = (gbuffer0.height() + kEdgeSampleStep - 1) / kEdgeSampleStep;
+  const Target target = scene.target(blocksX * kEdgeSampleStep, blocksY, 1, false, Texel::R8);
+  target->bind();
+  glUseProgram(program);
+  bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
+  glUniform1f(uniform(program, "normalThreshold"), settings.normalThreshold);
+  glUniform1f(uniform(program, "depthThreshold"), settings.depthThreshold);
+  if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 1);
+  scene.drawFullscreen();
+  checkGl("edgesample");
+  const ImageU8 diagonals = target->readBinary(0);
+  // 3. Ê: any of a block's eight
+  ImageU8 sample(blocksX, blocksY);
+  for (int y = 0; y < blocksY; ++y)
+    for (int x = 0; x < blocksX; ++x) {
+      uint8_t any = 0;
+      for (int i = 0; i < kEdgeSampleStep; ++i) any |= diagonals.at(x * kEdgeSampleStep + i, y);
+      sample.at(x, y) = any;
+    }
+  return sample;
+}
+
 EdgeImages readEdges(const Framebuffer& target) {
   const ImageF e = target.read(0, 4);
   EdgeImages out;

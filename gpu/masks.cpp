@@ -74,27 +74,6 @@ Target constantTarget(const GpuScene& scene, int width, int height, Texel format
 
 }  // namespace
 
-ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius, int radiusY) {
-  // the blocks within ceil(r / B) blocks of an edge block, across and down: a separable box max
-  const int d = (radius + blockSize - 1) / blockSize;
-  const int dy = ((radiusY < 0 ? radius : radiusY) + blockSize - 1) / blockSize;
-  const int w = edgeBlocks.width, h = edgeBlocks.height;
-  ImageU8 rows(w, h), near(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      uint8_t m = 0;
-      for (int i = std::max(x - d, 0); i <= std::min(x + d, w - 1); ++i) m |= edgeBlocks.at(i, y);
-      rows.at(x, y) = m;
-    }
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      uint8_t m = 0;
-      for (int j = std::max(y - dy, 0); j <= std::min(y + dy, h - 1); ++j) m |= rows.at(x, j);
-      near.at(x, y) = m;
-    }
-  return near;
-}
-
 namespace {
 // A 0/1 block map max-pooled 2×2 (the 4×4 grid onto the 8×8 one; its sizes are even).
 ImageU8 poolBlocks(const ImageU8& fine) {

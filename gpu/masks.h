@@ -36,13 +36,9 @@ std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Con
 
 // Passes that only have work near edges are drawn over blocks of the coarsest level's grid:
 // `edgeBlocks` is M of the coarsest level (a block holds an edge), each block blockSize² pixels
-// of the pass's level. nearBlocks: the blocks within `radius` (across; radiusY down) of an
-// edge block's pixels (dilated by ceil(radius / blockSize) blocks): the blur of M is 0
-// outside them (the horizontal pass's outside those within `radius` across, down 0). blockRects:
-// the row runs of the blocks set to `value` (1: near, 0: far) as pixel rectangles
-// (x0, y0, x1, y1) clipped to width×height.
-ImageU8 nearBlocks(const ImageU8& edgeBlocks, int blockSize, int radius, int radiusY = -1);  // radiusY < 0: radius
-
+// of the pass's level; nearBlocks (common/frame.h) dilates them to where the blur of M can be
+// non-zero. blockRects: the row runs of the blocks set to `value` (1: near, 0: far) as pixel
+// rectangles (x0, y0, x1, y1) clipped to width×height.
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height);
 
 // Host masks (full, uniform-k, tiles, or a never-slower fallback) as textures for the passes.

@@ -126,6 +126,10 @@ class PortFrame final : public FrameBackend {
   void samplePcf(FrameResult& f) override {
     f.pcfSample = drawPcfSample(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm);
   }
+  void sampleEdges(FrameResult& f) override {
+    const unsigned shadowEdges = f.constants.effect == Effect::Ssm ? shadowTest_->texture(0) : 0;
+    f.edgeSample = drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges);
+  }
   void shadowTest(FrameResult& f) override {
     shadowTest_ = scene_.target(gbuffers_[0]->width(), gbuffers_[0]->height(), 1, false, Texel::R8);
     drawShadowTest(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm.biasTexels,

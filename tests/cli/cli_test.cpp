@@ -439,6 +439,10 @@ TEST_F(CliRenderTest, NeverSlowerReportsTheFallback) {
       // the counts it decided from (a silhouette pixel is one on geometry, so B ≤ H)
       EXPECT_GT(j["never_slower"]["hit_pixels"].get<int64_t>(), 160 * 90 / 2);
       EXPECT_LE(j["never_slower"]["silhouette_pixels"].get<int64_t>(), j["never_slower"]["hit_pixels"].get<int64_t>());
+      // an image of edges samples an edge in (nearly) every one of its 20×12 blocks, and so now
+      // falls back before it pays for its edges
+      EXPECT_GE(j["never_slower"]["edge_sample_blocks"].get<int64_t>(), 20 * 12 * 9 / 10);
+      EXPECT_EQ(j["never_slower"]["decided"], "early, before the edges");
     } else {
       EXPECT_FALSE(j.contains("never_slower"));
       EXPECT_LT(j["ideal_speedup"].get<double>(), 1.0) << "every level shades nearly everything";

@@ -713,6 +713,56 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
   EXPECT_EQ(port.render(b.oracle.camera, on, {false, {}, &portModel}).pcfSample.data, b.port.pcfSample.data);
 }
 
+// The edge sample (SPEC §11): edges.frag with EDGE_SAMPLE against the oracle's edgeSample on the
+// port's own G-buffer (and SSM's shadow test), block for block but for the edge image's own
+// same-input tolerance; and end to end, the port's frame's sample and its counts against the
+// oracle's frame's.
+TEST(GpuNeverSlower, ThePortSamplesEdgesAsTheOracleDoes) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  for (const Effect effect : {Effect::Ssao, Effect::Ssm}) {
+    Settings s = peerSettings(effect, Mode::Mrr, 203, 149);
+    s.neverSlower = false;
+    const BothPaths b = renderBoth("builtin:shadows", s, CostModel::defaults("cpu"));
+    const Constants& c = b.cpu.constants;
+    ASSERT_EQ(b.cpu.edgeSample.width, 26);
+    ASSERT_EQ(b.cpu.edgeSample.height, 19);
+    ASSERT_EQ(b.port.edgeSample.width, b.cpu.edgeSample.width);
+    ASSERT_EQ(b.port.edgeSample.height, b.cpu.edgeSample.height);
+    const double blocks = static_cast<double>(b.cpu.edgeSample.data.size());
+    const gpu::GlContext context;
+    const gpu::GpuScene scene(*b.oracle.scene);
+    gpu::Framebuffer g0(c.levels[0].width, c.levels[0].height, 3, true);
+    gpu::drawGBuffer(scene, b.cpu.view, g0);
+    const GBuffer g0Read = gpu::readGBuffer(g0);
+    ImageU8 lit;
+    std::unique_ptr<gpu::ShadowMapTarget> mapTarget;
+    std::unique_ptr<gpu::Framebuffer> litTarget;
+    if (effect == Effect::Ssm) {
+      mapTarget = std::make_unique<gpu::ShadowMapTarget>(c.ssm.shadowMapSize);
+      const ShadowMap map = drawPortShadowMap(scene, b.oracle.scene->light, c.ssm.shadowMapSize, *mapTarget);
+      litTarget = std::make_unique<gpu::Framebuffer>(c.levels[0].width, c.levels[0].height, 1, false);
+      gpu::drawShadowTest(scene, g0, map, mapTarget->texture(), b.cpu.view, c.ssm.biasTexels, *litTarget);
+      lit = gpu::readShadowTest(*litTarget);
+    }
+    const ImageU8 port = gpu::drawEdgeSample(scene, g0, c.edges, litTarget ? litTarget->texture(0) : 0);
+    const ImageU8 same = edgeSample(g0Read, c.edges, lit.empty() ? nullptr : &lit);
+    int64_t sameDiffer = 0, endToEndDiffer = 0, sampled = 0;
+    for (size_t i = 0; i < same.data.size(); ++i) {
+      sameDiffer += port.data[i] != same.data[i];
+      endToEndDiffer += b.port.edgeSample.data[i] != b.cpu.edgeSample.data[i];
+      sampled += same.data[i];
+    }
+    const std::string name = toString(effect);
+    EXPECT_GT(sampled, 20) << name << ": the slabs' silhouettes and creases are sampled";
+    EXPECT_LT(sampled, static_cast<int64_t>(blocks)) << name << ": and the open ground is not";
+    EXPECT_LE(sameDiffer / blocks, kEdgesSame.shareOver * 8) << name << ", same input";
+    EXPECT_LE(endToEndDiffer / blocks, kEdges.shareOver * 8) << name << ", end to end";
+    EXPECT_NEAR(static_cast<double>(b.port.counts.support[0]), static_cast<double>(b.cpu.counts.support[0]),
+                0.05 * static_cast<double>(b.cpu.counts.support[0]))
+        << name;
+  }
+}
+
 // A decision that differs stops the comparison at the "fallback" row: the frames have
 // different levels from there on.
 TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {

@@ -333,6 +333,55 @@ TEST_P(EveryBuiltinFast, EdgeImagesMatchThePerPixelDecision) {
   }
 }
 
+// The never-slower rule's edge sample (SPEC §11) is E on each 8×8 block's diagonal, and nothing
+// else: the frame's own sample against the edge image at those 8 pixels, at sizes that cut blocks
+// at the border. Its counts: the blocks it starts from are the sampled ones and those holding a
+// silhouette pixel; R_ℓ holds every one of them and grows from fine to coarse (the closure).
+TEST_P(EveryBuiltinFast, EdgeSampleIsTheEdgeImageOnEachBlocksDiagonal) {
+  const auto& [scene, effect] = GetParam();
+  for (const auto& [w, h] : {std::pair{123, 77}, std::pair{64, 36}, std::pair{5, 3}}) {
+    Settings s = test::ssaoSettings(w, h, 4);
+    s.effect = effect;
+    if (effect == Effect::Ssm) s.ssm.samples = 16;
+    if (effect == Effect::Ssgi) s.ssgi.samples = 8;
+    const auto r = test::renderScene("builtin:" + scene, s);
+    // with the rule off, sampled for its counts as `bench --calibrate` asks (the images are the same)
+    const FrameResult f = r.renderer->render(r.camera, r.frame.constants, {true, {}, nullptr, true});
+    ASSERT_FALSE(f.edgeSample.empty()) << "mode mrr samples its edges when its counts are read";
+    EXPECT_TRUE(r.frame.edgeSample.empty()) << "and not for a user who turned the rule off";
+    const EdgeImages& e = f.edges;  // the padded full-res grid
+    ASSERT_EQ(f.edgeSample.width, (e.combined.width + 7) / 8);
+    ASSERT_EQ(f.edgeSample.height, (e.combined.height + 7) / 8);
+    const ImageU8& hit = f.levels[0].gbuffer.hit;
+    int64_t starts = 0;
+    for (int by = 0; by < f.edgeSample.height; ++by)
+      for (int bx = 0; bx < f.edgeSample.width; ++bx) {
+        bool diagonal = false, silhouette = false;
+        for (int i = 0; i < 8; ++i)
+          diagonal = diagonal || (e.combined.contains(8 * bx + i, 8 * by + i) && e.combined.at(8 * bx + i, 8 * by + i) != 0);
+        ASSERT_EQ(f.edgeSample.at(bx, by) != 0, diagonal) << "block " << bx << "," << by << " at " << w << "x" << h;
+        for (int y = 8 * by; y < std::min(8 * by + 8, h); ++y)
+          for (int x = 8 * bx; x < std::min(8 * bx + 8, w); ++x)
+            if (hit.at(x, y))
+              for (const auto& [dx, dy] : {std::pair{-1, 0}, std::pair{1, 0}, std::pair{0, -1}, std::pair{0, 1}})
+                silhouette = silhouette || (hit.contains(x + dx, y + dy) && !hit.at(x + dx, y + dy));
+        starts += diagonal || silhouette;
+      }
+    EXPECT_EQ(f.counts.edgeBlocks, starts);
+    const int k = f.constants.coarsestEnabled;
+    for (int l = 0; l < k; ++l) {
+      if (!f.constants.levels[static_cast<size_t>(l)].shaded) continue;
+      const int64_t blockPixels = (8 >> l) * (8 >> l);
+      EXPECT_GE(f.counts.support[static_cast<size_t>(l)], starts * blockPixels) << "level " << l;
+      if (l > 0 && f.constants.levels[static_cast<size_t>(l - 1)].shaded)
+        EXPECT_GE(f.counts.support[static_cast<size_t>(l)] * 4, f.counts.support[static_cast<size_t>(l - 1)])
+            << "level " << l << "'s reach holds level " << l - 1 << "'s";
+      EXPECT_LE(f.counts.supportHits[static_cast<size_t>(l)], f.counts.support[static_cast<size_t>(l)] << (2 * l));
+    }
+    EXPECT_EQ(f.counts.support[static_cast<size_t>(k)], 0) << "the coarsest level is all shaded: no reach";
+  }
+}
+
 // The blend's fast paths (integer tap coordinates, rows resolved once, the final-only pass that
 // stops at the first opaque level) against the readable reference of cpu_ref/blend.h, which
 // numbers its steps as blend.frag does: bit for bit, every pixel and every per-level image,

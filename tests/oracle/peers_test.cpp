@@ -196,10 +196,12 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   CostModel free = CostModel::defaults("cpu");
   free.nsPerBlendPixel = free.nsPerFineBlendPixel = free.nsPerCoarseGbufferPixel = 0.0;
   free.nsPerEdgePixel = free.nsPerMaskPixel = free.edgesMasksFixedMs = 0.0;
+  free.nsPerEdgeHitPixel = free.nsPerMaskReachPixel = 0.0;
   for (EffectCost& e : free.effect) {  // shading alone, at dense cost, nothing per frame
     e.sparseFactor = 1.0;
     e.fixedMs = 0.0;
   }
+  free.stencilFill = {0.0, 0.0, 0.0};  // the edge sample's estimate no more than the silhouettes'
   CostModel sparse = free;
   for (EffectCost& e : sparse.effect) e.sparseFactor = 5.0;
   const FrameResult late = renderer.render(rs.camera, c, {true, {}, &sparse});
@@ -386,12 +388,122 @@ TEST(NeverSlower, CountsShadedPixelsOnGeometryPerLevel) {
   EXPECT_EQ(n.shadedHit[1], 10 * 16) << "unchanged";
 }
 
+// SPEC §11's edge sample, counted and priced on a hand-made sample: a 64×32 frame (an 8×4 block
+// grid), its left 20 columns on geometry (a silhouette down column 19, in block column 2), one
+// sampled edge block at (5, 1).
+TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
+  const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
+  ImageU8 hit(64, 32, 1, 0);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 20; ++x) hit.at(x, y) = 1;
+  ImageU8 sample(8, 4, 1, 0);
+  sample.at(5, 1) = 1;
+  FrameCounts n;
+  ImageU8 silhouetteBlocks;
+  countHits(n, hit, ImageU8(), c, &silhouetteBlocks);
+  ASSERT_EQ(silhouetteBlocks.width, 8);
+  ASSERT_EQ(silhouetteBlocks.height, 4);
+  for (int by = 0; by < 4; ++by)
+    for (int bx = 0; bx < 8; ++bx) EXPECT_EQ(silhouetteBlocks.at(bx, by), bx == 2) << bx << "," << by;
+  countEdgeSample(n, sample, silhouetteBlocks, hit, c);
+  EXPECT_EQ(n.edgeBlocks, 1 + 4) << "the sampled block and the silhouette's column of blocks";
+  // R_ℓ: the blocks within ceil(r_ℓ / b_ℓ) blocks (b_ℓ = 8 / s_ℓ level pixels a block) of one of
+  // those, and every finer level's: as wide as the widest reach so far
+  int reachBlocks = 0;
+  for (int l = 0; l < 3; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const int b = 8 >> l;
+    reachBlocks = std::max(reachBlocks, (lc.blurRadius + b - 1) / b);
+    int64_t blocks = 0, hits = 0;
+    for (int by = 0; by < 4; ++by)
+      for (int bx = 0; bx < 8; ++bx) {
+        const bool nearSample = std::abs(bx - 5) <= reachBlocks && std::abs(by - 1) <= reachBlocks;
+        const bool nearSilhouette = std::abs(bx - 2) <= reachBlocks;
+        if (!nearSample && !nearSilhouette) continue;
+        ++blocks;
+        hits += 8 * std::clamp(20 - 8 * bx, 0, 8);  // block columns 0 and 1 whole, 2 half
+      }
+    EXPECT_EQ(n.support[static_cast<size_t>(l)], blocks * b * b) << "level " << l;
+    EXPECT_EQ(n.supportHits[static_cast<size_t>(l)], hits) << "level " << l;
+  }
+  EXPECT_EQ(n.support[3], 0);
+  // The estimate: |S_ℓ| = max(B_ℓ, φ_ℓ |R_ℓ|) on geometry in R_ℓ's share, the coarsest level whole.
+  CostModel m;
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 0.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
+  m.stencilFill = {0.5, 0.25, 1.0};
+  const FrameCounts est = estimateStencils(m, c, n);
+  for (int l = 0; l < 3; ++l) {
+    const auto i = static_cast<size_t>(l);
+    const double shaded = std::max(static_cast<double>(n.silhouette[i]), m.stencilFill[i] * static_cast<double>(n.support[i]));
+    EXPECT_EQ(est.shaded[i], std::llround(shaded)) << "level " << l;
+    const double share = static_cast<double>(n.supportHits[i]) / static_cast<double>(n.support[i] << (2 * l));
+    EXPECT_EQ(est.shadedHit[i], std::llround(shaded * share)) << "level " << l;
+    EXPECT_EQ(est.shadedSearched[i], est.shadedHit[i]) << "no PCF sample: every pixel on geometry searches";
+  }
+  EXPECT_EQ(est.shaded[3], 32);
+  EXPECT_EQ(est.shadedHit[3], std::llround(32.0 * 640 / 2048));
+  // Priced: the edges and masks (P_0 (ε + μ) + H ε_h + A μ_A + κ) and the rest on those counts.
+  m.nsPerEdgePixel = 7.0;
+  m.nsPerEdgeHitPixel = 2.0;
+  m.nsPerMaskPixel = 11.0;
+  m.nsPerMaskReachPixel = 3.0;
+  m.edgesMasksFixedMs = 0.5;
+  const double reach = static_cast<double>(n.support[0] + n.support[1] + n.support[2]);
+  EXPECT_NEAR(predictMrrEstimateMs(m, c, n),
+              (2048.0 * 18 + 640.0 * 2 + reach * 3) * 1e-6 + 0.5 + predictMrrMs(m, c, est), 1e-12);
+  // The early decision takes the larger of the floor and what going on costs: the edges and
+  // masks, then the cheaper of R and F. With no spread (w = 0) a full frame priced between the
+  // floor and the estimate falls back early, where the floor alone would have kept the method.
+  const double floorMs = predictMrrFloorMs(m, c, n), estimateMs = predictMrrEstimateMs(m, c, n);
+  const double edgesMasksMs = predictEdgesMasksMs(m, c, n), restMs = estimateMs - edgesMasksMs;
+  EXPECT_NEAR(edgesMasksMs, (2048.0 * 18 + 640.0 * 2 + reach * 3) * 1e-6 + 0.5, 1e-12);
+  ASSERT_LT(floorMs, estimateMs);
+  m.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 0.5 * (floorMs + estimateMs) - predictFullMs(m, c, n);
+  const double fullMs = predictFullMs(m, c, n);
+  const FallbackDecision early = decideEarly(m, c, n);
+  EXPECT_TRUE(early.fellBack);
+  EXPECT_NEAR(early.predictedMrrMs, edgesMasksMs + std::min(restMs, fullMs), 1e-12);
+  // With a spread, R may be cheaper than R̂, and then the stencils would keep the method: going on
+  // is worth E[min(R, F)] over R uniform on R̂ (1 ± w). With free edges and masks and F 2% under
+  // R̂, no spread falls back early; a spread goes on to decide on the stencils; dear edges and
+  // masks (half of R̂) fall back whatever the spread.
+  CostModel free = m;
+  free.nsPerEdgePixel = free.nsPerMaskPixel = free.nsPerEdgeHitPixel = free.nsPerMaskReachPixel = 0.0;
+  free.edgesMasksFixedMs = 0.0;
+  free.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 0.0;
+  const double freeFull = predictFullMs(free, c, n);
+  free.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 0.98 * restMs - freeFull;
+  const double f98 = predictFullMs(free, c, n);
+  ASSERT_NEAR(f98, 0.98 * restMs, 1e-12);
+  ASSERT_LT(predictMrrFloorMs(free, c, n), f98) << "the floor keeps the method";
+  EXPECT_TRUE(decideEarly(free, c, n).fellBack) << "no spread: R̂ is R";
+  free.estimateSpread = 0.5;
+  const double lo = 0.5 * restMs, hi = 1.5 * restMs;
+  const double expectedMin = (0.5 * (f98 * f98 - lo * lo) + f98 * (hi - f98)) / (hi - lo);
+  EXPECT_NEAR(predictContinuingMs(free, c, n, f98), expectedMin, 1e-12);
+  EXPECT_LT(expectedMin, f98);
+  EXPECT_FALSE(decideEarly(free, c, n).fellBack) << "a spread: R may be under F, and deciding later costs nothing";
+  CostModel dear = free;
+  dear.edgesMasksFixedMs = 0.5 * restMs;
+  EXPECT_NEAR(predictContinuingMs(dear, c, n, f98), 0.5 * restMs + expectedMin, 1e-12);
+  EXPECT_TRUE(decideEarly(dear, c, n).fellBack) << "deciding later costs half of R̂";
+  // With nothing to start from (no sampled edge, no silhouette) there is no reach: the estimate
+  // is the coarsest level's alone, and it keeps the method.
+  FrameCounts noEdges = n;
+  countEdgeSample(noEdges, ImageU8(8, 4, 1, 0), ImageU8(8, 4, 1, 0), hit, c);
+  EXPECT_EQ(noEdges.edgeBlocks, 0);
+  EXPECT_EQ(noEdges.support, (std::array<int64_t, kLevelCount>{}));
+  EXPECT_FALSE(decideEarly(m, c, noEdges).fellBack);
+}
+
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());
   EXPECT_EQ(back.toJson(), m.toJson());
   for (const char* key : {"ns_per_blend_pixel", "ns_per_fine_blend_pixel", "ns_per_full_blend_pixel", "ns_per_coarse_gbuffer_pixel",
-                          "ns_per_edge_pixel", "edges_masks_fixed_ms"}) {
+                          "ns_per_edge_pixel", "ns_per_edge_hit_pixel", "ns_per_mask_reach_pixel", "stencil_fill",
+                          "estimate_spread",
+                          "edges_masks_fixed_ms"}) {
     nlohmann::json broken = m.toJson();
     broken.erase(key);
     EXPECT_THROW(CostModel::fromJson(broken), MrrError) << key;
@@ -399,6 +511,9 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   nlohmann::json older = m.toJson();  // a file from before issue 18: no background cost
   older["effects"]["ssao"].erase("ns_per_background_pixel");
   EXPECT_THROW(CostModel::fromJson(older), MrrError);
+  nlohmann::json shortFill = m.toJson();  // φ for every level below the coarsest, no fewer
+  shortFill["stencil_fill"] = {0.5, 0.5};
+  EXPECT_THROW(CostModel::fromJson(shortFill), MrrError);
   nlohmann::json noRule = m.toJson();  // a file from before the rule's cost was measured
   noRule["effects"]["ssm"].erase("ns_per_rule_pixel");
   EXPECT_THROW(CostModel::fromJson(noRule), MrrError);

@@ -9,6 +9,22 @@
 
 namespace mrr::gpu {
 
+namespace {
+// One draw of edges.frag (any variant) into `target`: the level-0 G-buffer, the thresholds and,
+// with a shadow test, the shadow kind's input.
+void drawEdgePass(const GpuScene& scene, unsigned program, const Framebuffer& target, const Framebuffer& gbuffer0,
+                  const EdgeSettings& settings, unsigned shadowLitTexture, const char* name) {
+  target.bind();
+  glUseProgram(program);
+  bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
+  glUniform1f(uniform(program, "normalThreshold"), settings.normalThreshold);
+  glUniform1f(uniform(program, "depthThreshold"), settings.depthThreshold);
+  if (shadowLitTexture != 0) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 1);
+  scene.drawFullscreen();
+  checkGl(name);
+}
+}  // namespace
+
 Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
                  unsigned shadowLitTexture, bool combinedOnly) {
   const bool shadowEdges = shadowLitTexture != 0;
@@ -21,14 +37,7 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
   Target target = combinedOnly ? scene.target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R8)
                                : scene.target(gbuffer0.width(), gbuffer0.height(), shadowEdges ? 2 : 1, false,
                                               Texel::Rgba8);
-  target->bind();
-  glUseProgram(program);
-  bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
-  glUniform1f(uniform(program, "normalThreshold"), settings.normalThreshold);
-  glUniform1f(uniform(program, "depthThreshold"), settings.depthThreshold);
-  if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 1);
-  scene.drawFullscreen();
-  checkGl("edges");
+  drawEdgePass(scene, program, *target, gbuffer0, settings, shadowLitTexture, "edges");
   return target;
 }
 
@@ -42,14 +51,7 @@ ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const
   const int blocksX = (gbuffer0.width() + kEdgeSampleStep - 1) / kEdgeSampleStep;
   const int blocksY = (gbuffer0.height() + kEdgeSampleStep - 1) / kEdgeSampleStep;
   const Target target = scene.target(blocksX * kEdgeSampleStep, blocksY, 1, false, Texel::R8);
-  target->bind();
-  glUseProgram(program);
-  bindTextures(program, {{"normalDepth", gbuffer0.texture(1)}});
-  glUniform1f(uniform(program, "normalThreshold"), settings.normalThreshold);
-  glUniform1f(uniform(program, "depthThreshold"), settings.depthThreshold);
-  if (shadowEdges) bindTextures(program, {{"shadowLit", shadowLitTexture}}, 1);
-  scene.drawFullscreen();
-  checkGl("edgesample");
+  drawEdgePass(scene, program, *target, gbuffer0, settings, shadowLitTexture, "edgesample");
   const ImageU8 diagonals = target->readBinary(0);
   // 3. Ê: any of a block's eight
   ImageU8 sample(blocksX, blocksY);

@@ -237,11 +237,11 @@ FrameCounts estimateStencils(const CostModel& m, const Constants& c, const Frame
       shaded = levelPixels(lc);
       onGeometryShare = hitShare(c, n);
     } else {
-      const double reach = static_cast<double>(n.support[l]);
+      const double reach = static_cast<double>(n.reach[l]);
       shaded = std::max(static_cast<double>(n.silhouette[l]), m.stencilFill[std::min(l, m.stencilFill.size() - 1)] * reach);
       const double reachFullRes = reach * lc.scale * lc.scale;
       // silhouettes alone (no reach): half on geometry
-      onGeometryShare = reachFullRes > 0.0 ? static_cast<double>(n.supportHits[l]) / reachFullRes : 0.5;
+      onGeometryShare = reachFullRes > 0.0 ? static_cast<double>(n.reachHits[l]) / reachFullRes : 0.5;
     }
     const double onGeometry = shaded * std::min(1.0, onGeometryShare);
     est.shaded[l] = std::llround(shaded);
@@ -254,7 +254,7 @@ FrameCounts estimateStencils(const CostModel& m, const Constants& c, const Frame
 
 double predictEdgesMasksMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   double reach = 0.0;
-  for (int64_t v : n.support) reach += static_cast<double>(v);
+  for (int64_t v : n.reach) reach += static_cast<double>(v);
   return edgesMasksNs(m, c, n, reach) * 1e-6 + m.edgesMasksFixedMs;
 }
 

@@ -107,7 +107,7 @@ struct FrameCounts {
   // ℓ below the coarsest; and the full-res pixels on geometry in R_ℓ's blocks. What the early
   // decision estimates S_ℓ and the masks' cost from.
   int64_t edgeBlocks = 0;
-  std::array<int64_t, kLevelCount> support{}, supportHits{};
+  std::array<int64_t, kLevelCount> reach{}, reachHits{};
 };
 
 // What the rule decided for one frame (the report's `never_slower`).

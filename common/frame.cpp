@@ -224,7 +224,7 @@ ImageU8 nearBlocks(const ImageU8& blocks, int blockSize, int radius, int radiusY
 void countEdgeSample(FrameCounts& n, const ImageU8& sample, const ImageU8& silhouetteBlocks, const ImageU8& hit,
                      const Constants& c) {
   n.edgeBlocks = 0;
-  n.support = n.supportHits = {};
+  n.reach = n.reachHits = {};
   if (sample.empty()) return;
   // 1. The blocks the reach starts from: a sampled edge or a silhouette pixel (the sample's
   // diagonal can miss a one-pixel silhouette at 45°; the silhouettes are counted exactly).
@@ -265,8 +265,8 @@ void countEdgeSample(FrameCounts& n, const ImageU8& sample, const ImageU8& silho
     const auto l = static_cast<size_t>(lc.index);
     for (size_t i = 0; i < reach.data.size(); ++i)
       if (reach.data[i]) {
-        n.support[l] += static_cast<int64_t>(blockSize) * blockSize;
-        n.supportHits[l] += blockHits[i];
+        n.reach[l] += static_cast<int64_t>(blockSize) * blockSize;
+        n.reachHits[l] += blockHits[i];
       }
   }
 }

@@ -211,8 +211,8 @@ void countHits(FrameCounts& counts, const ImageU8& fullResHit, const ImageU8& pc
 // SPEC §11's edge sample, counted: the blocks (kEdgeSampleStep² full-res pixels each) of
 // `edgeSample` or of `silhouetteBlocks` (countHits'), |Ê| (counts.edgeBlocks); then for each
 // shaded level ℓ below the coarsest, the blocks within r_ℓ of one, with every finer level's (the
-// masks' closure), as level-ℓ pixels (counts.support) and the full-res pixels on geometry they
-// hold (counts.supportHits).
+// masks' closure), as level-ℓ pixels (counts.reach) and the full-res pixels on geometry they
+// hold (counts.reachHits).
 void countEdgeSample(FrameCounts& counts, const ImageU8& edgeSample, const ImageU8& silhouetteBlocks,
                      const ImageU8& fullResHit, const Constants& constants);
 // Blocks of a 0/1 block map, each blockSize² pixels of some level, within `radius` pixels

@@ -254,10 +254,10 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
           const FrameCounts& mn = m->last.counts;
           double reach = 0.0;
           for (size_t l = 0; l < filled.size(); ++l) {
-            reach += static_cast<double>(mn.support[l]);
-            if (mn.support[l] == 0) continue;  // a level without reach (SSGI's half level, a frame without edges)
+            reach += static_cast<double>(mn.reach[l]);
+            if (mn.reach[l] == 0) continue;  // a level without reach (SSGI's half level, a frame without edges)
             filled[l] += static_cast<double>(mn.shaded[l]);
-            reached[l] += static_cast<double>(mn.support[l]);
+            reached[l] += static_cast<double>(mn.reach[l]);
           }
           edgesFit.addRelative({padded, static_cast<double>(mn.hitPixels), 1e6}, edgesNs, edgesNs);
           masksFit.addRelative({padded, reach, 1e6}, masksNs, masksNs);
@@ -463,8 +463,8 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                                         {"shaded_searched", n.shadedSearched},
                                         {"shaded_pcf", n.shadedPcf},
                                         {"edge_blocks", n.edgeBlocks},
-                                        {"reach", n.support},
-                                        {"reach_hits", n.supportHits}}},
+                                        {"reach", n.reach},
+                                        {"reach_hits", n.reachHits}}},
                             {"full_stages_ms", full.ms},
                             {"mrr_stages_ms", mrr.ms},
                             {"right", right}});

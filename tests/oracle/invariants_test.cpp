@@ -372,13 +372,13 @@ TEST_P(EveryBuiltinFast, EdgeSampleIsTheEdgeImageOnEachBlocksDiagonal) {
     for (int l = 0; l < k; ++l) {
       if (!f.constants.levels[static_cast<size_t>(l)].shaded) continue;
       const int64_t blockPixels = (8 >> l) * (8 >> l);
-      EXPECT_GE(f.counts.support[static_cast<size_t>(l)], starts * blockPixels) << "level " << l;
+      EXPECT_GE(f.counts.reach[static_cast<size_t>(l)], starts * blockPixels) << "level " << l;
       if (l > 0 && f.constants.levels[static_cast<size_t>(l - 1)].shaded)
-        EXPECT_GE(f.counts.support[static_cast<size_t>(l)] * 4, f.counts.support[static_cast<size_t>(l - 1)])
+        EXPECT_GE(f.counts.reach[static_cast<size_t>(l)] * 4, f.counts.reach[static_cast<size_t>(l - 1)])
             << "level " << l << "'s reach holds level " << l - 1 << "'s";
-      EXPECT_LE(f.counts.supportHits[static_cast<size_t>(l)], f.counts.support[static_cast<size_t>(l)] << (2 * l));
+      EXPECT_LE(f.counts.reachHits[static_cast<size_t>(l)], f.counts.reach[static_cast<size_t>(l)] << (2 * l));
     }
-    EXPECT_EQ(f.counts.support[static_cast<size_t>(k)], 0) << "the coarsest level is all shaded: no reach";
+    EXPECT_EQ(f.counts.reach[static_cast<size_t>(k)], 0) << "the coarsest level is all shaded: no reach";
   }
 }
 

@@ -423,10 +423,10 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
         ++blocks;
         hits += 8 * std::clamp(20 - 8 * bx, 0, 8);  // block columns 0 and 1 whole, 2 half
       }
-    EXPECT_EQ(n.support[static_cast<size_t>(l)], blocks * b * b) << "level " << l;
-    EXPECT_EQ(n.supportHits[static_cast<size_t>(l)], hits) << "level " << l;
+    EXPECT_EQ(n.reach[static_cast<size_t>(l)], blocks * b * b) << "level " << l;
+    EXPECT_EQ(n.reachHits[static_cast<size_t>(l)], hits) << "level " << l;
   }
-  EXPECT_EQ(n.support[3], 0);
+  EXPECT_EQ(n.reach[3], 0);
   // The estimate: |S_ℓ| = max(B_ℓ, φ_ℓ |R_ℓ|) on geometry in R_ℓ's share, the coarsest level whole.
   CostModel m;
   m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 0.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
@@ -434,9 +434,9 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
   const FrameCounts est = estimateStencils(m, c, n);
   for (int l = 0; l < 3; ++l) {
     const auto i = static_cast<size_t>(l);
-    const double shaded = std::max(static_cast<double>(n.silhouette[i]), m.stencilFill[i] * static_cast<double>(n.support[i]));
+    const double shaded = std::max(static_cast<double>(n.silhouette[i]), m.stencilFill[i] * static_cast<double>(n.reach[i]));
     EXPECT_EQ(est.shaded[i], std::llround(shaded)) << "level " << l;
-    const double share = static_cast<double>(n.supportHits[i]) / static_cast<double>(n.support[i] << (2 * l));
+    const double share = static_cast<double>(n.reachHits[i]) / static_cast<double>(n.reach[i] << (2 * l));
     EXPECT_EQ(est.shadedHit[i], std::llround(shaded * share)) << "level " << l;
     EXPECT_EQ(est.shadedSearched[i], est.shadedHit[i]) << "no PCF sample: every pixel on geometry searches";
   }
@@ -448,7 +448,7 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
   m.nsPerMaskPixel = 11.0;
   m.nsPerMaskReachPixel = 3.0;
   m.edgesMasksFixedMs = 0.5;
-  const double reach = static_cast<double>(n.support[0] + n.support[1] + n.support[2]);
+  const double reach = static_cast<double>(n.reach[0] + n.reach[1] + n.reach[2]);
   EXPECT_NEAR(predictMrrEstimateMs(m, c, n),
               (2048.0 * 18 + 640.0 * 2 + reach * 3) * 1e-6 + 0.5 + predictMrrMs(m, c, est), 1e-12);
   // The early decision takes the larger of the floor and what going on costs: the edges and
@@ -492,7 +492,7 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
   FrameCounts noEdges = n;
   countEdgeSample(noEdges, ImageU8(8, 4, 1, 0), ImageU8(8, 4, 1, 0), hit, c);
   EXPECT_EQ(noEdges.edgeBlocks, 0);
-  EXPECT_EQ(noEdges.support, (std::array<int64_t, kLevelCount>{}));
+  EXPECT_EQ(noEdges.reach, (std::array<int64_t, kLevelCount>{}));
   EXPECT_FALSE(decideEarly(m, c, noEdges).fellBack);
 }
 

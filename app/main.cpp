@@ -675,7 +675,10 @@ int run(int argc, char** argv) {
               << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total") << " ms\n";
     if (frame.fallback.fellBack)
       std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMrrMs << " ms mrr"
-                << (frame.fallback.early ? " at the least, before the edges," : "") << " against "
+                << (frame.fallback.onFloor ? " at the least, before the edge sample,"
+                    : frame.fallback.early ? " going on, before the edges,"
+                                           : "")
+                << " against "
                 << frame.fallback.predictedFullMs << " ms full; shaded at full resolution\n";
     if (err)
       std::cerr << "[mrr] vs full: RMS " << err->effect.rms << ", SSIM " << err->effect.ssim << " (shaded: RMS "

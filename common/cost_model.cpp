@@ -286,9 +286,17 @@ FallbackDecision decide(const CostModel& m, double fullMs, double mrrMs, bool ea
 }
 }  // namespace
 
+FallbackDecision decideOnFloor(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  FallbackDecision d = decide(m, predictFullMs(m, c, n), predictMrrFloorMs(m, c, n), true);
+  d.onFloor = d.fellBack;
+  return d;
+}
+
 FallbackDecision decideEarly(const CostModel& m, const Constants& c, const FrameCounts& n) {
-  const double fullMs = predictFullMs(m, c, n);
-  return decide(m, fullMs, std::max(predictMrrFloorMs(m, c, n), predictContinuingMs(m, c, n, fullMs)), true);
+  const FallbackDecision floor = decideOnFloor(m, c, n);
+  if (floor.fellBack) return floor;  // whatever the edge sample says: max(floor, ·) ≥ floor ≥ full
+  const double fullMs = floor.predictedFullMs;
+  return decide(m, fullMs, std::max(floor.predictedMrrMs, predictContinuingMs(m, c, n, fullMs)), true);
 }
 
 FallbackDecision decideFallback(const CostModel& m, const Constants& c, const FrameCounts& n) {

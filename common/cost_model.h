@@ -115,6 +115,7 @@ struct FallbackDecision {
   bool evaluated = false;        // mode mrr with the rule on
   bool fellBack = false;         // the frame was shaded at full resolution
   bool early = false;            // decided before the edges (fellBack then: no edges, no masks)
+  bool onFloor = false;          // fell back early on the floor alone, before the edge sample (not taken)
   double predictedFullMs = 0.0;  // the rest of a `full` frame
   // the rest of this frame (early: the larger of the least it could be and the edge sample's
   // estimate, edges and masks included)
@@ -157,8 +158,11 @@ double predictMrrEstimateMs(const CostModel& model, const Constants& constants, 
 double predictContinuingMs(const CostModel& model, const Constants& constants, const FrameCounts& counts,
                            double fullMs);
 
-// The rule, early (counts.shaded unknown: max(floor, continuing)) and with the stencils: falls back when the predicted
-// gain, full − multires, is ≤ 0.
+// The rule, early (counts.shaded unknown) and with the stencils: falls back when the predicted
+// gain, full − multires, is ≤ 0. On the floor alone first (countHits' counts: no edge sample
+// needed), so a frame the floor already rules out skips the sample; decideEarly returns that
+// decision when it falls back, else max(floor, continuing) against full.
+FallbackDecision decideOnFloor(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 FallbackDecision decideEarly(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 FallbackDecision decideFallback(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 

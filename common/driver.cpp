@@ -48,18 +48,22 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // The rule's own work is its stage, "rule" (twice: these counts, then the stencils'), in the
   // method's rest of frame (SPEC §11's ρ). SSM: what PCSS pays (nothing, the search, or the search
   // and PCF), asked of one pixel in 8×8, when the model prices PCF (e > 0) and the rule will
-  // decide (or the caller reads its counts). The edge sample, whenever the rule decides (or the
-  // caller reads its counts). Then H, H_a, H_p and B_ℓ, and the edge sample's reach R_ℓ, once.
+  // decide (or the caller reads its counts). Then H, H_a, H_p and B_ℓ. Then the edge sample and its
+  // reach R_ℓ, whenever the rule decides (or the caller reads its counts), unless the floor,
+  // which needs no sample, already rules the method out.
   bool fellBackEarly = false;
   if (c.mode == Mode::Mrr)
     stage("rule", [&] {
       const bool counted = c.neverSlower || options.sampleWithRuleOff;
       if (c.effect == Effect::Ssm && counted && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
         b.samplePcf(f);
-      if (counted) b.sampleEdges(f);
       ImageU8 silhouetteBlocks;
       countHits(f.counts, b.fullResHit(f), f.pcfSample, c, &silhouetteBlocks);
-      countEdgeSample(f.counts, f.edgeSample, silhouetteBlocks, b.fullResHit(f), c);
+      const bool floorRulesOut = c.neverSlower && decideOnFloor(model, c, f.counts).fellBack;
+      if (counted && (!floorRulesOut || options.sampleWithRuleOff)) {
+        b.sampleEdges(f);
+        countEdgeSample(f.counts, f.edgeSample, silhouetteBlocks, b.fullResHit(f), c);
+      }
     });
   if (c.mode == Mode::Mrr && c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);

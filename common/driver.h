@@ -33,7 +33,7 @@ class FrameBackend {
   virtual void samplePcf(FrameResult& f) = 0;
   // Mode mrr with the rule: the edge sample into f.edgeSample, for the early decision's estimate
   // of S_ℓ (SPEC §11): cpu_ref/edges.h edgeSample, edges.frag with EDGE_SAMPLE. Runs after the
-  // shadow test (SSM's shadow edges count).
+  // shadow test (SSM's shadow edges count), and not at all where the floor rules the method out.
   virtual void sampleEdges(FrameResult& f) = 0;
 
   // 1. The full-res G-buffer (the masks are made from it alone), then, once the stencils are

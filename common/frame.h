@@ -181,9 +181,10 @@ struct RenderOptions {
   ProgressFn progress;
   // The never-slower rule's per-pixel costs (SPEC §11); null: CostModel::defaults of the path.
   const CostModel* costModel = nullptr;
-  // SSM with the rule off: still sample what PCSS pays (pcfSample), so that f.counts and the
+  // Sample what PCSS pays (SSM's pcfSample) and the edges (edgeSample) with the rule off, and
+  // with the rule on where its floor already rules the method out, so that f.counts and the
   // report's predictions are the rule's own. `bench --calibrate` and `--rule-sweep` read them from
-  // frames rendered with the rule off; a user who turned the rule off does not pay for it.
+  // frames rendered with the rule off; a user who turned the rule off does not pay for them.
   bool sampleWithRuleOff = false;
 };
 

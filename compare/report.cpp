@@ -33,14 +33,17 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["method"] = toString(c.mode);
   if (f.fallback.evaluated)
     j["never_slower"] = {{"fell_back_to_full", f.fallback.fellBack},
-                         {"decided", f.fallback.early ? "early, before the edges" : "on the stencils"},
+                         {"decided", f.fallback.onFloor ? "early, on the floor, before the edge sample"
+                                     : f.fallback.early   ? "early, before the edges"
+                                                          : "on the stencils"},
                          {"hit_pixels", f.counts.hitPixels},
                          {"silhouette_pixels", f.counts.silhouette[0]},
-                         {"edge_sample_blocks", f.counts.edgeBlocks},  // 8×8 blocks whose cross holds an edge
                          {"predicted_full_ms", f.fallback.predictedFullMs},
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
                          {"cost_model", f.fallback.costModel}};
+  if (f.fallback.evaluated && !f.edgeSample.empty())  // 8×8 blocks whose diagonal holds an edge (or a silhouette)
+    j["never_slower"]["edge_sample_blocks"] = f.counts.edgeBlocks;
   if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
     j["never_slower"]["searched_pixels"] = f.counts.searchedPixels;
     j["never_slower"]["pcf_pixels"] = f.counts.pcfPixels;

@@ -420,7 +420,11 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           const Constants cm = constantsFor("mrr");
           const FallbackDecision early = decideEarly(model, cm, n);
           const FallbackDecision late = decideFallback(model, cm, n);
-          const std::string decision = early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+          // full-floor: early, on the floor alone, without the edge sample (SPEC §11)
+          const std::string decision = early.onFloor     ? "full-floor"
+                                       : early.fellBack  ? "full-early"
+                                       : late.fellBack   ? "full"
+                                                         : "mrr";
           double ruleMs = frameMs(mrr.ms);
           if (decision != "mrr") {
             const Measured rule = measure(sc.render, view.camera, cm, o.repeats);

@@ -73,7 +73,7 @@ def main():
     fig.savefig(os.path.join(out, "rule-predicted.svg"))
 
     fig, axes = plt.subplots(1, len(paths), figsize=(6 * len(paths), 5), squeeze=False)
-    colours = {"mrr": "tab:blue", "full": "tab:orange", "full-early": "tab:red"}
+    colours = {"mrr": "tab:blue", "full": "tab:orange", "full-early": "tab:red", "full-floor": "tab:purple"}
     for ax, path in zip(axes[0], paths):
         fs = [f for f in frames if f["path"] == path]
         for decision, colour in colours.items():

@@ -450,6 +450,24 @@ TEST_F(CliRenderTest, NeverSlowerReportsTheFallback) {
   }
 }
 
+TEST_F(CliRenderTest, NeverSlowerSkipsTheEdgeSampleWhereTheFloorRulesTheMethodOut) {
+  // A camera looking up at the sky: a few pixels on geometry, so even the least the method could
+  // pay (its coarse G-buffers and blend, every pixel of its coarsest level) is more than full's
+  // rest. The rule decides there, on the floor, and never samples the edges.
+  const RunResult r = runMrr({"render", "--scene", "builtin:demo", "--eye", "0,2,6", "--target", "0,30,-10", "--size",
+                              "160x90", "--samples", "16", "--report", at("sky.json")},
+                             dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const json j = json::parse(readFile(at("sky.json")));
+  ASSERT_TRUE(j.contains("never_slower")) << j.dump(2);
+  EXPECT_TRUE(j["never_slower"]["fell_back_to_full"].get<bool>());
+  EXPECT_EQ(j["never_slower"]["decided"], "early, on the floor, before the edge sample");
+  EXPECT_FALSE(j["never_slower"].contains("edge_sample_blocks")) << "no sample was taken";
+  EXPECT_LT(j["never_slower"]["hit_pixels"].get<int64_t>(), 160 * 90 / 10);
+  EXPECT_GT(j["never_slower"]["predicted_mrr_ms"].get<double>(), j["never_slower"]["predicted_full_ms"].get<double>());
+  EXPECT_NE(r.err.find("before the edge sample"), std::string::npos) << describe(r);
+}
+
 TEST_F(CliRenderTest, EveryMethodRendersAndNamesItself) {
   for (const std::string method : {"full", "uniform-1", "uniform-2", "tiles", "mrr"}) {
     const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--method", method, "--report", at("m.json")}), dir);

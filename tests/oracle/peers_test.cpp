@@ -189,6 +189,19 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   EXPECT_DOUBLE_EQ(early.idealSpeedup, 1.0);
   EXPECT_TRUE(early.edges.combined.empty()) << "no edges were found";
   EXPECT_EQ(early.timing("edges"), 0.0);
+  // The floor needs no edge sample, and it decided: the sample was not taken. Asked for it
+  // anyway (as the sweep and the calibration ask), the rule decides the same, on the same figures.
+  EXPECT_TRUE(early.fallback.onFloor);
+  EXPECT_TRUE(early.edgeSample.empty()) << "the floor ruled the method out before the edge sample";
+  EXPECT_EQ(early.counts.edgeBlocks, 0);
+  EXPECT_EQ(early.counts.reach, (std::array<int64_t, kLevelCount>{}));
+  const FrameResult sampled = renderer.render(rs.camera, c, {true, {}, &costly, true});
+  EXPECT_FALSE(sampled.edgeSample.empty());
+  EXPECT_GT(sampled.counts.edgeBlocks, 0);
+  EXPECT_TRUE(sampled.fallback.fellBack && sampled.fallback.onFloor);
+  EXPECT_EQ(sampled.fallback.predictedMrrMs, early.fallback.predictedMrrMs);
+  EXPECT_EQ(sampled.fallback.predictedFullMs, early.fallback.predictedFullMs);
+  EXPECT_EQ(sampled.final().data, early.final().data);
 
   // Shading alone, and a stencilled pixel five times a dense one: the floor (the coarsest level
   // and the silhouettes) stays under full's, the method's stencils do not: it decides on the
@@ -207,6 +220,8 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   const FrameResult late = renderer.render(rs.camera, c, {true, {}, &sparse});
   EXPECT_TRUE(late.fallback.fellBack);
   EXPECT_FALSE(late.fallback.early);
+  EXPECT_FALSE(late.fallback.onFloor);
+  EXPECT_FALSE(late.edgeSample.empty()) << "past the floor, the rule takes the edge sample";
   EXPECT_EQ(late.final().data, full.final().data);
   EXPECT_FALSE(late.edges.combined.empty()) << "its edges are kept for debugging";
 
@@ -487,6 +502,30 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
   dear.edgesMasksFixedMs = 0.5 * restMs;
   EXPECT_NEAR(predictContinuingMs(dear, c, n, f98), 0.5 * restMs + expectedMin, 1e-12);
   EXPECT_TRUE(decideEarly(dear, c, n).fellBack) << "deciding later costs half of R̂";
+  // The floor first: where it is no less than full's rest, decideEarly is decideOnFloor's
+  // decision, whatever the edge sample found (none, or edges everywhere); under it, the floor
+  // alone keeps the method and decideEarly looks further.
+  {
+    CostModel floorModel = m;
+    floorModel.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = 0.0;
+    floorModel.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs =
+        0.9 * predictMrrFloorMs(floorModel, c, n) - predictFullMs(floorModel, c, n);
+    FrameCounts unsampled = n;
+    unsampled.edgeBlocks = 0;
+    unsampled.reach = unsampled.reachHits = {};
+    for (const FrameCounts* counts : {static_cast<const FrameCounts*>(&n), static_cast<const FrameCounts*>(&unsampled)}) {
+      const FallbackDecision onFloor = decideOnFloor(floorModel, c, *counts);
+      const FallbackDecision early = decideEarly(floorModel, c, *counts);
+      EXPECT_TRUE(onFloor.fellBack && onFloor.onFloor && onFloor.early);
+      EXPECT_TRUE(early.fellBack && early.onFloor);
+      EXPECT_EQ(early.predictedMrrMs, predictMrrFloorMs(floorModel, c, n));
+      EXPECT_NEAR(early.predictedMrrMs, early.predictedFullMs / 0.9, 1e-9);
+    }
+    const FallbackDecision underFloor = decideOnFloor(m, c, n);
+    EXPECT_FALSE(underFloor.fellBack || underFloor.onFloor);
+    EXPECT_EQ(underFloor.predictedMrrMs, predictMrrFloorMs(m, c, n));
+    EXPECT_FALSE(decideEarly(m, c, n).onFloor);
+  }
   // With nothing to start from (no sampled edge, no silhouette) there is no reach: the estimate
   // is the coarsest level's alone, and it keeps the method.
   FrameCounts noEdges = n;

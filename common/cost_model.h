@@ -5,7 +5,9 @@
 //  - early, after the level-0 G-buffer (and the shadow map), from the frame's size, its pixels
 //    on geometry and its silhouettes: when even the least the method could pay (edges, masks,
 //    coarse G-buffers, blend, its silhouettes at every level, every pixel at the coarsest
-//    level) is no less than full's rest, the frame falls back before the edges are found;
+//    level) is no less than full's rest, the frame falls back before the edges are found (and
+//    before the edge sample, which the floor does not need); past the floor, from the edge
+//    sample's estimate of the stencils, when going on costs no less than full's rest;
 //  - then, once the stencils are known and before anything is shaded, from |S_ℓ| and how many
 //    of those pixels lie on geometry.
 // Background pixels cost each mode what they cost (the effects leave them at once), the

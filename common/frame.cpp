@@ -282,21 +282,28 @@ void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>
     if (!c.levels[i].enabled || !c.levels[i].shaded) continue;
     const ImageU8& s = *stencils[i];
     const int scale = 1 << l;
-    int64_t shaded = 0, onGeometry = 0, searched = 0, paysPcf = 0;
-    for (int y = 0; y < s.height; ++y)
+    // per row, in parallel: integer sums, so the totals are the same for any thread count
+    std::vector<std::array<int64_t, 4>> rows(static_cast<size_t>(s.height));  // |S|, ∩ hit, ∩ searched, ∩ pcf
+    parallelFor(0, s.height, [&](int y) {
+      std::array<int64_t, 4> r{};
+      const uint8_t* row = s.width > 0 ? &s.at(0, y) : nullptr;
       for (int x = 0; x < s.width; ++x)
-        if (s.at(x, y)) {
-          ++shaded;
+        if (row[x]) {
+          ++r[0];
           if (!levelPixelHit(hit, x, y, scale)) continue;
-          ++onGeometry;
+          ++r[1];
           const uint8_t pays = paysAt(pcf, levelSamplePixel(x, scale), levelSamplePixel(y, scale));
-          searched += pays != kPcfSampleNone;
-          paysPcf += pays == kPcfSamplePcf;
+          r[2] += pays != kPcfSampleNone;
+          r[3] += pays == kPcfSamplePcf;
         }
-    n.shaded[i] = shaded;
-    n.shadedHit[i] = onGeometry;
-    n.shadedSearched[i] = searched;
-    n.shadedPcf[i] = paysPcf;
+      rows[static_cast<size_t>(y)] = r;
+    });
+    for (const auto& r : rows) {
+      n.shaded[i] += r[0];
+      n.shadedHit[i] += r[1];
+      n.shadedSearched[i] += r[2];
+      n.shadedPcf[i] += r[3];
+    }
   }
 }
 }  // namespace

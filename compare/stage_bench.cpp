@@ -127,6 +127,16 @@ void registerStages() {
       benchmark::DoNotOptimize(n);
     });
   }
+  // ... and its second part, on the stencils: |S_ℓ| and how many of them lie on geometry.
+  {
+    auto masks = std::make_shared<Masks>();
+    for (size_t l = 0; l < masks->size(); ++l) (*masks)[l] = f.levels[l].masks;
+    add("rule/count_stencils", full, [&l0, &c, masks] {
+      FrameCounts n;
+      countForRule(n, *masks, c, l0.gbuffer.hit, ImageU8());
+      benchmark::DoNotOptimize(n);
+    });
+  }
   // The effect (and SSAO's bilateral blur) at each level over its own S_ℓ, and at level 0 over
   // every pixel too ("dense"): pixels per second, side by side.
   // `pixels`: |S_ℓ| as the frame counted it, or every pixel for the dense run.

@@ -151,20 +151,34 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
   std::vector<std::array<int64_t, 4>> rows(static_cast<size_t>(h));  // H, H_a, H_p, B_0
   parallelFor(0, h, [&](int y) {
     const uint8_t* mid = &hit.at(0, y);
-    const uint8_t* up = y > 0 ? &hit.at(0, y - 1) : nullptr;
-    const uint8_t* down = y + 1 < hit.height ? &hit.at(0, y + 1) : nullptr;
+    // a 4-neighbour outside the image is no edge: the pixel itself stands in for it
+    const uint8_t* up = y > 0 ? &hit.at(0, y - 1) : mid;
+    const uint8_t* down = y + 1 < hit.height ? &hit.at(0, y + 1) : mid;
     uint8_t* out = &marks[0].at(0, y);
+    auto silhouetteAt = [&](int x, int left, int right) {
+      return static_cast<uint8_t>((mid[x] != 0) & ((mid[left] == 0) | (mid[right] == 0) | (up[x] == 0) | (down[x] == 0)));
+    };
     std::array<int64_t, 4> r{};
+    // branch-free over the row's inside, so the compiler vectorises it; its two ends clamp
+    const int inner = std::min(w, hit.width - 1);
+    if (w > 0) out[0] = silhouetteAt(0, 0, std::min(1, hit.width - 1));
+    for (int x = 1; x < inner; ++x) out[x] = silhouetteAt(x, x - 1, x + 1);
+    for (int x = std::max(inner, 1); x < w; ++x) out[x] = silhouetteAt(x, x - 1, std::min(x + 1, hit.width - 1));
     for (int x = 0; x < w; ++x) {
-      out[x] = 0;
-      if (!mid[x]) continue;
-      ++r[0];
-      const uint8_t pays = paysAt(pcf, x, y);
-      r[1] += pays != kPcfSampleNone;
-      r[2] += pays == kPcfSamplePcf;
-      const bool edge = (x > 0 && !mid[x - 1]) || (x + 1 < hit.width && !mid[x + 1]) || (up && !up[x]) || (down && !down[x]);
-      out[x] = edge;
-      r[3] += edge;
+      r[0] += mid[x] != 0;
+      r[3] += out[x];
+    }
+    // H_a, H_p: a pixel on geometry pays what its 8×8 block's sample says (the search, without one)
+    if (pcf.empty()) {
+      r[1] = r[0];
+    } else {
+      for (int x0 = 0; x0 < w; x0 += kPcfSampleStep) {
+        int64_t hits = 0;
+        for (int x = x0; x < std::min(x0 + kPcfSampleStep, w); ++x) hits += mid[x] != 0;
+        const uint8_t pays = paysAt(pcf, x0, y);
+        r[1] += pays != kPcfSampleNone ? hits : 0;
+        r[2] += pays == kPcfSamplePcf ? hits : 0;
+      }
     }
     rows[static_cast<size_t>(y)] = r;
   });

@@ -4,6 +4,8 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <random>
+#include <set>
 
 #include "common/error.h"
 #include "compare/report.h"
@@ -352,6 +354,57 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.hitPixels = n.searchedPixels = 0;
   n.pcfPixels = 0;
   EXPECT_NEAR(predictFullMs(m, c, n), 2048.0 * 0.5 * 1e-6, 1e-12) << "and d only on geometry: none";
+}
+
+// countHits against the definitions, pixel by pixel, on random hit images (clumps and speckle,
+// a padded image wider and taller than the frame) with a PCF sample of all three kinds: H, H_a,
+// H_p, B_ℓ at every level and the silhouette blocks, at 1 and 2 threads.
+TEST(NeverSlower, CountHitsIsItsDefinitionOnRandomImages) {
+  std::mt19937 rng(18);
+  for (const auto [w, h, hw, hh] : {std::array{61, 35, 64, 40}, std::array{64, 32, 64, 32}, std::array{1, 9, 1, 9},
+                                    std::array{97, 3, 104, 8}}) {
+    const Constants c = makeConstants(ssaoSettings(w, h, 16), 1.0f);
+    ImageU8 hit(hw, hh, 1, 0);
+    const int density = static_cast<int>(rng() % 100);
+    for (uint8_t& v : hit.data) v = static_cast<uint8_t>(static_cast<int>(rng() % 100) < density);
+    ImageU8 pcf((hw + 7) / 8, (hh + 7) / 8, 1, 0);
+    for (uint8_t& v : pcf.data) v = static_cast<uint8_t>(rng() % 3);  // none, search, PCF
+    int64_t hits = 0, searched = 0, paysPcf = 0;
+    std::array<std::set<std::pair<int, int>>, kLevelCount> blocks;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!hit.at(x, y)) continue;
+        ++hits;
+        const uint8_t pays = pcfSampleValue(pcf, x, y);
+        searched += pays != kPcfSampleNone;
+        paysPcf += pays == kPcfSamplePcf;
+        bool silhouette = false;
+        for (const auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
+          silhouette |= hit.contains(x + dx, y + dy) && !hit.at(x + dx, y + dy);
+        if (silhouette)
+          for (int l = 0; l < kLevelCount; ++l) blocks[static_cast<size_t>(l)].insert({x >> l, y >> l});
+      }
+    for (const int threads : {1, 2}) {
+      tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+      FrameCounts n;
+      ImageU8 silhouetteBlocks;
+      countHits(n, hit, pcf, c, &silhouetteBlocks);
+      const std::string what = std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(threads) + " threads";
+      EXPECT_EQ(n.hitPixels, hits) << what;
+      EXPECT_EQ(n.searchedPixels, searched) << what;
+      EXPECT_EQ(n.pcfPixels, paysPcf) << what;
+      for (int l = 0; l < kLevelCount; ++l)
+        EXPECT_EQ(n.silhouette[static_cast<size_t>(l)], static_cast<int64_t>(blocks[static_cast<size_t>(l)].size()))
+            << what << ", level " << l;
+      for (int by = 0; by < silhouetteBlocks.height; ++by)
+        for (int bx = 0; bx < silhouetteBlocks.width; ++bx)
+          EXPECT_EQ(silhouetteBlocks.at(bx, by) != 0, blocks[3].count({bx, by}) == 1) << what << ", block " << bx << "," << by;
+      FrameCounts unsampled;
+      countHits(unsampled, hit, ImageU8(), c);
+      EXPECT_EQ(unsampled.searchedPixels, hits) << what << ": without a sample every pixel on geometry searches";
+      EXPECT_EQ(unsampled.pcfPixels, 0) << what;
+    }
+  }
 }
 
 // The counts the rule reads: H over W×H and a level pixel on geometry where its full-res

@@ -61,40 +61,40 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
   // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ}.
   if (path == "gpu") {
-    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24: coarse
-    // G-buffers subsampled from level 0, the rule's own work and the blend's finer levels priced).
+    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24, evening: the
+    // rule's counts made faster, the edge sample skipped where the floor decides).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{217.2, 5.319, 0, 28.42, 0, 1.145, 2.679, 0.3326, 7.968},
-                EffectCost{162.8, 0, 0, 33.74, 1.639, 1.255, 2.322, 0.469, 10.86},
-                EffectCost{36.67, 7.11, 12.55, 21.65, 0, 1.121, 4.663, 1.265, 7.898}};
-    m.nsPerCoarseGbufferPixel = 18.78;
-    m.nsPerFullBlendPixel = 5.572;
-    m.nsPerBlendPixel = 1.684;
-    m.nsPerFineBlendPixel = 35;
-    m.nsPerEdgePixel = 11.27;
-    m.nsPerEdgeHitPixel = 8.321;
-    m.nsPerMaskPixel = 5.222;
-    m.nsPerMaskReachPixel = 32.91;
+    m.effect = {EffectCost{209.2, 5.236, 0, 24.63, 0, 1.177, 1.831, 0.4529, 6.96},
+                EffectCost{157.3, 0, 0, 31.59, 1.643, 1.249, 1.726, 0.3848, 9.803},
+                EffectCost{20.55, 6.905, 10.93, 18.07, 0, 1.132, 3.957, 1.041, 6.32}};
+    m.nsPerCoarseGbufferPixel = 14.82;
+    m.nsPerFullBlendPixel = 4.585;
+    m.nsPerBlendPixel = 1.984;
+    m.nsPerFineBlendPixel = 32.67;
+    m.nsPerEdgePixel = 10.6;
+    m.nsPerEdgeHitPixel = 8.6;
+    m.nsPerMaskPixel = 4.038;
+    m.nsPerMaskReachPixel = 28.55;
     m.stencilFill = {0.7148, 0.8409, 0.9584};
-    m.estimateSpread = 0.315;
-    m.edgesMasksFixedMs = 0.8124;
+    m.estimateSpread = 0.327;
+    m.edgesMasksFixedMs = 0.8624;
   } else {
-    // cpu: one run (--repeats 5, 2026-11-24, the same day and code as the port's).
+    // cpu: one run (--repeats 5, the same evening and code as the port's).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{205.2, 8.848, 1.153, 3.38, 0, 1.07, 0.2231, 0.04502, 3.056},
-                EffectCost{76.41, 0, 0, 2.746, 1.561, 1.192, 0.4008, 0.03834, 3.174},
-                EffectCost{34.16, 10.69, 17.14, 4.506, 0, 1.344, 0.3754, 0.101, 2.766}};
-    m.nsPerCoarseGbufferPixel = 7.622;
-    m.nsPerFullBlendPixel = 4.022;
-    m.nsPerBlendPixel = 1.541;
-    m.nsPerFineBlendPixel = 2.164;
-    m.nsPerEdgePixel = 1.174;
-    m.nsPerEdgeHitPixel = 3.841;
-    m.nsPerMaskPixel = 2.58;
-    m.nsPerMaskReachPixel = 0.5542;
+    m.effect = {EffectCost{203, 8.892, 1.104, 3.058, 0, 1.077, 0.1767, 0.02992, 2.581},
+                EffectCost{76.1, 0, 0, 2.486, 1.542, 1.16, 0.2254, 0.01498, 3.145},
+                EffectCost{30.51, 10.8, 16.92, 3.537, 0, 1.317, 0.3556, 0.08116, 2.296}};
+    m.nsPerCoarseGbufferPixel = 7.341;
+    m.nsPerFullBlendPixel = 3.788;
+    m.nsPerBlendPixel = 1.9;
+    m.nsPerFineBlendPixel = 1.471;
+    m.nsPerEdgePixel = 1.162;
+    m.nsPerEdgeHitPixel = 3.88;
+    m.nsPerMaskPixel = 2.633;
+    m.nsPerMaskReachPixel = 0.1937;
     m.stencilFill = {0.7148, 0.8409, 0.9584};
-    m.estimateSpread = 0.4101;
-    m.edgesMasksFixedMs = 0.1169;
+    m.estimateSpread = 0.4118;
+    m.edgesMasksFixedMs = 0.06254;
   }
   return m;
 }

@@ -70,6 +70,7 @@ nlohmann::json sceneInfo(const SceneRequest& request) {
   j["suggested"] = cameraJson(framing.camera);
   j["suggested"]["interior"] = framing.interior;
   j["suggested"]["enclosed_directions"] = framing.enclosedDirections;
+  j["suggested"]["facing_directions"] = framing.facingDirections;
   return j;
 }
 

@@ -208,9 +208,11 @@ bool rayMeetsTriangle(const glm::vec3& o, const glm::vec3& d, const glm::vec3& a
   return t > 0.0f && std::isfinite(t);
 }
 
-// A triangle by its corners.
+// A triangle by its corners, and the way it faces: its vertex normals' sum where the mesh has
+// normals (what shading calls the front; winding can be flipped by mirrored nodes), else the
+// winding's normal.
 struct Triangle {
-  glm::vec3 a, b, c;
+  glm::vec3 a, b, c, n;
 };
 
 // Every triangle, or only the `largest` of them by area (walls and floors, not the furniture).
@@ -218,8 +220,10 @@ std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX) {
   std::vector<std::pair<float, Triangle>> all;
   for (const Mesh& mesh : scene.meshes)
     for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-      const Triangle tri{mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]],
-                         mesh.positions[mesh.indices[t + 2]]};
+      const uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+      Triangle tri{mesh.positions[i0], mesh.positions[i1], mesh.positions[i2], glm::vec3(0.0f)};
+      tri.n = mesh.normals.size() == mesh.positions.size() ? mesh.normals[i0] + mesh.normals[i1] + mesh.normals[i2]
+                                                           : glm::cross(tri.b - tri.a, tri.c - tri.a);
       all.push_back({glm::length(glm::cross(tri.b - tri.a, tri.c - tri.a)), tri});
     }
   if (all.size() > largest) {
@@ -233,15 +237,21 @@ std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX) {
   return out;
 }
 
-// The nearest hit along each of `directions` from `origin` (infinity: none). Brute force over
-// the triangles: a few hundred rays, once per run, where the oracle's BVH is not at hand.
+// The nearest hit along each of `directions` from `origin` (infinity: none), and with `facing`
+// whether any surface the ray meets faces the origin (its front towards it): a room's walls do,
+// wherever the origin is among its furniture; a closed object's one-sided shell, seen from
+// inside, shows only its back. Brute force over the triangles: a few hundred rays, once per run,
+// where the oracle's BVH is not at hand.
 std::vector<float> castFrom(const std::vector<Triangle>& tris, const glm::vec3& origin,
-                            const std::vector<glm::vec3>& directions) {
+                            const std::vector<glm::vec3>& directions, std::vector<uint8_t>* facing = nullptr) {
   std::vector<float> nearest(directions.size(), std::numeric_limits<float>::infinity());
+  if (facing) facing->assign(directions.size(), 0);
   parallelFor(size_t{0}, directions.size(), [&](size_t i) {  // one ray each: the same answer for any thread count
     for (const Triangle& tri : tris) {
       float hit = 0.0f;
-      if (rayMeetsTriangle(origin, directions[i], tri.a, tri.b, tri.c, hit)) nearest[i] = std::min(nearest[i], hit);
+      if (!rayMeetsTriangle(origin, directions[i], tri.a, tri.b, tri.c, hit)) continue;
+      nearest[i] = std::min(nearest[i], hit);
+      if (facing && glm::dot(tri.n, directions[i]) < 0.0f) (*facing)[i] = 1;
     }
   });
   return nearest;
@@ -291,11 +301,18 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
   std::vector<glm::vec3> level;  // the 8 directions with y = 0
   for (const glm::vec3& d : directions)
     if (d.y == 0.0f) level.push_back(d);
-  // 1. is the centre enclosed?
+  // 1. is the centre enclosed, by surfaces that face it? Inside a room the walls, floor and
+  // ceiling turn their fronts to the centre (along a quarter of the directions at least: the
+  // apartment's 15 of 26, the arcade's 26); inside a closed object (a helmet: 2 of 26) the centre
+  // sees only the backs of its shell, and the object is framed from outside.
   const std::vector<Triangle> all = triangles(scene);
-  const std::vector<float> hits = castFrom(all, centre, directions);
-  for (float h : hits) out.enclosedDirections += std::isfinite(h);
-  if (out.enclosedDirections < kEnclosedAt) {
+  std::vector<uint8_t> facing;  // a surface along the ray faces the centre
+  const std::vector<float> hits = castFrom(all, centre, directions, &facing);
+  for (size_t i = 0; i < hits.size(); ++i) {
+    out.enclosedDirections += std::isfinite(hits[i]);
+    out.facingDirections += std::isfinite(hits[i]) && facing[i];
+  }
+  if (out.enclosedDirections < kEnclosedAt || 4 * out.facingDirections < out.enclosedDirections) {
     // 2. an object: from the front-above diagonal, fitted to the frame
     out.camera.eye = fittedEye(scene, centre, glm::normalize(out.camera.eye - centre), out.camera, aspect);
     return out;

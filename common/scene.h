@@ -94,7 +94,8 @@ Camera frameBounds(const Bounds& bounds, float yfovRadians);
 struct Framing {
   Camera camera;
   bool interior = false;
-  int enclosedDirections = 0;  // of 26
+  int enclosedDirections = 0;  // of 26: the rays from the bounds' centre that meet a surface
+  int facingDirections = 0;    // of those, the ones along which a surface faces the centre (a room's walls)
 };
 Framing frameScene(const Scene& scene, float yfovRadians, float aspect);
 

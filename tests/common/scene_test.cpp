@@ -267,8 +267,9 @@ namespace {
 Scene roomScene(const glm::vec3& lo, const glm::vec3& hi, bool openFront) {
   Scene scene;
   auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
-    scene.meshes.push_back(makeTriangle("q", a, b, c));
-    scene.meshes.push_back(makeTriangle("q", a, c, d));
+    // counter-clockwise seen from inside (the quads below are listed clockwise from inside)
+    scene.meshes.push_back(makeTriangle("q", a, c, b));
+    scene.meshes.push_back(makeTriangle("q", a, d, c));
   };
   const glm::vec3 l = lo, h = hi;
   quad({l.x, l.y, l.z}, {h.x, l.y, l.z}, {h.x, l.y, h.z}, {l.x, l.y, h.z});  // floor
@@ -318,6 +319,28 @@ TEST(SceneTest, DefaultFramingOfAClosedRoomIsFromInside) {
   const glm::vec3 d = glm::normalize(framing.camera.target - framing.camera.eye);
   EXPECT_FLOAT_EQ(d.y, 0.0f);
   EXPECT_GT(std::fabs(d.x), 0.7f);  // along the room's long side
+}
+
+TEST(SceneTest, DefaultFramingOfAClosedObjectIsFromOutside) {
+  // The same closed box with its faces turned out (a crate, a helmet's shell): rays from its
+  // centre meet it in every direction, but only its backs, so it is an object, not a room.
+  Scene crate = roomScene({0, 0, 0}, {10, 3, 6}, false);
+  for (Mesh& mesh : crate.meshes) {
+    std::swap(mesh.indices[1], mesh.indices[2]);
+    computeVertexNormals(mesh);
+  }
+  const Framing framing = frameScene(crate, glm::radians(60.0f), 16.0f / 9.0f);
+  EXPECT_EQ(framing.enclosedDirections, 26);
+  EXPECT_EQ(framing.facingDirections, 0);
+  EXPECT_FALSE(framing.interior);
+  const Bounds b = crate.bounds();
+  bool outside = false;
+  for (int a = 0; a < 3; ++a) outside |= framing.camera.eye[a] < b.lo[a] || framing.camera.eye[a] > b.hi[a];
+  EXPECT_TRUE(outside) << "the eye is outside the crate";
+  // Faces turned in, the room's framing: every direction meets a wall that faces the centre.
+  const Framing room = frameScene(roomScene({0, 0, 0}, {10, 3, 6}, false), glm::radians(60.0f), 16.0f / 9.0f);
+  EXPECT_EQ(room.facingDirections, 26);
+  EXPECT_TRUE(room.interior);
 }
 
 TEST(SceneTest, DefaultFramingOfAnOpenBoxLooksInThroughTheOpening) {

@@ -104,8 +104,8 @@ struct FrameCounts {
   std::array<int64_t, kLevelCount> shaded{}, shadedHit{};
   std::array<int64_t, kLevelCount> shadedSearched{};  // |S_ℓ ∩ hit ∩ searched|
   std::array<int64_t, kLevelCount> shadedPcf{};       // |S_ℓ ∩ hit ∩ pcf| (SSM)
-  // The edge sample (countEdgeSample): |Ê|, the 8×8 blocks whose middle row or column holds an
-  // edge; R_ℓ, the level-ℓ pixels of the blocks within r_ℓ of one (or of a finer level's R), for
+  // The edge sample (countEdgeSample): |Ê|, the 8×8 blocks whose diagonal holds an edge (or
+  // that hold a silhouette pixel); R_ℓ, the level-ℓ pixels of the blocks within r_ℓ of one (or of a finer level's R), for
   // ℓ below the coarsest; and the full-res pixels on geometry in R_ℓ's blocks. What the early
   // decision estimates S_ℓ and the masks' cost from.
   int64_t edgeBlocks = 0;

@@ -168,7 +168,9 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
       r[0] += mid[x] != 0;
       r[3] += out[x];
     }
-    // H_a, H_p: a pixel on geometry pays what its 8×8 block's sample says (the search, without one)
+    // H_a, H_p: a pixel on geometry pays what its 8×8 block's sample says. Without a sample every
+    // one searches: H_a = H, at once (one loop over the row's runs for both cases took 0.56 ms at
+    // 720p against 0.38; NeverSlower.CountHitsIsItsDefinitionOnRandomImages checks both).
     if (pcf.empty()) {
       r[1] = r[0];
     } else {

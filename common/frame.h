@@ -141,7 +141,7 @@ struct FrameResult {
   ShadowMap shadowMap;     // SSM and SSGI
   ImageU8 shadowLit;       // the one-tap shadow test on the full-res grid (SSM, SSGI)
   ImageU8 pcfSample;       // SSM with the rule: what PCSS pays at each pixel of the 8×8 grid (SPEC §11)
-  ImageU8 edgeSample;      // mode mrr with the rule: whether each 8×8 block's cross holds an edge (SPEC §11)
+  ImageU8 edgeSample;      // mode mrr with the rule: whether each 8×8 block's diagonal holds an edge (SPEC §11)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)

@@ -39,6 +39,12 @@ inline constexpr ToleranceRule kTolerances[] = {
      "max-pools and stencils of the same edges are exact; S_ℓ outside its guard band (0 < a_ℓ ≤ 1e-4)"},
     {"alpha.same_input", 1e-6, 0.0, kNoRms, "the blur sums the same weights in the same order in float"},
     {"stencil", 0.5, 0.05, kNoRms, "one edge pixel moved upstream dilates by r_ℓ in S_ℓ"},
+    {"rule.pcf_counts", 0.5, 0.02, kNoRms,
+     "H_a and H_p, relative: a PCF sample on the knife's edge of a blocker test flips its 8x8 block's pixels "
+     "(shadows 203x149: at most 2 of 494 samples differ)"},
+    {"rule.reach", 0.5, 0.05, kNoRms,
+     "R_0, relative: an edge sample block that flips (the edges' triangle-edge pixels, each block the OR of 8) moves "
+     "the reach by up to (2 ceil(r_0 / 8) + 1)^2 blocks"},
     {"fallback", 0.5, 0.0, kNoRms,
      "the never-slower decision (SPEC §11): the same cost model on both paths' stencil counts; a different decision "
      "gives the frames different levels, so it must agree (a gain within a few inherited pixels' cost of 0 is the "

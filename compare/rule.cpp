@@ -341,7 +341,8 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   for (const MrrRun& r : mrrRuns) {
     const double late = predictMrrMs(model, r.constants, r.counts);
     const double early = predictMrrMs(model, r.constants, estimateStencils(model, r.constants, r.counts));
-    squares += (early / std::max(late, 1e-9) - 1.0) * (early / std::max(late, 1e-9) - 1.0);
+    const double off = early / std::max(late, 1e-9) - 1.0;
+    squares += off * off;
   }
   model.estimateSpread = mrrRuns.empty() ? 0.0 : std::sqrt(3.0 * squares / static_cast<double>(mrrRuns.size()));
   return model;
@@ -447,7 +448,8 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"predicted_full_rest_ms", late.predictedFullMs},
                             {"predicted_mrr_rest_ms", late.predictedMrrMs},
                             {"predicted_mrr_floor_ms", predictMrrFloorMs(model, cm, n)},
-                            // the early decision's: the larger of the floor and what going on costs
+                            // the early decision's: the floor where it decides, else the larger of the
+                            // floor and what going on costs
                             {"predicted_mrr_early_ms", early.predictedMrrMs},
                             // the edge sample's estimate of the method from its edges on (edges, masks, R̂)
                             {"predicted_mrr_estimate_ms", predictMrrEstimateMs(model, cm, n)},

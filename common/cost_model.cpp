@@ -36,6 +36,19 @@ double fineBlendNs(const CostModel& m, const Constants& c, const std::array<int6
   return finerLevelsArea(c, n) * m.nsPerFineBlendPixel;
 }
 
+// SPEC §11: s_ℓ = 1 + (s − 1)(1 − q_ℓ), q_ℓ = |S_ℓ ∩ searched| s_ℓ² / H_a: the premium of a
+// stencilled pixel over a dense frame's falls with the share of the level's paying pixels the
+// stencil covers. A stencil takes the dearest pixels first (at edges: samples find occluders,
+// branches diverge, the walk is sparse); one that covers the whole level is the dense frame,
+// whose mean the full fit prices (q = 1: factor 1). The pixels taken first cost s times that
+// mean, the ones taken last 2 − s times it, so s ≤ 2 (the calibration clamps it) and a level's
+// cost rises with |S_ℓ| whatever s.
+double sparseFactorAt(const EffectCost& e, const LevelConstants& lc, double shadedSearched, const FrameCounts& n) {
+  const double levelSearched = static_cast<double>(n.searchedPixels) / (static_cast<double>(lc.scale) * lc.scale);
+  const double q = levelSearched > 0.0 ? std::min(1.0, shadedSearched / levelSearched) : 1.0;
+  return 1.0 + (e.sparseFactor - 1.0) * (1.0 - q);
+}
+
 // SPEC §11: W·H ρ, in ns: the rule's own counts (and SSM's sample), paid by the method alone.
 double ruleNs(const EffectCost& e, const Constants& c) { return static_cast<double>(c.width) * c.height * e.nsPerRulePixel; }
 
@@ -61,40 +74,40 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
   // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ}.
   if (path == "gpu") {
-    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-24, evening: the
-    // rule's counts made faster, the edge sample skipped where the floor decides).
+    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: s per level,
+    // falling with the stencil's coverage).
     m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{209.2, 5.236, 0, 24.63, 0, 1.177, 1.831, 0.4529, 6.96},
-                EffectCost{157.3, 0, 0, 31.59, 1.643, 1.249, 1.726, 0.3848, 9.803},
-                EffectCost{20.55, 6.905, 10.93, 18.07, 0, 1.132, 3.957, 1.041, 6.32}};
-    m.nsPerCoarseGbufferPixel = 14.82;
-    m.nsPerFullBlendPixel = 4.585;
-    m.nsPerBlendPixel = 1.984;
-    m.nsPerFineBlendPixel = 32.67;
-    m.nsPerEdgePixel = 10.6;
-    m.nsPerEdgeHitPixel = 8.6;
-    m.nsPerMaskPixel = 4.038;
-    m.nsPerMaskReachPixel = 28.55;
+    m.effect = {EffectCost{207.2, 5.464, 0, 26.18, 0, 1.521, 2.109, 0.2619, 7.306},
+                EffectCost{160.1, 0, 0, 32.37, 1.647, 1.563, 2.114, 0.4057, 10.42},
+                EffectCost{19.52, 7.528, 10.92, 18.19, 0, 1.274, 4.623, 1.305, 6.701}};
+    m.nsPerCoarseGbufferPixel = 16.42;
+    m.nsPerFullBlendPixel = 4.821;
+    m.nsPerBlendPixel = 1.895;
+    m.nsPerFineBlendPixel = 34.55;
+    m.nsPerEdgePixel = 10.93;
+    m.nsPerEdgeHitPixel = 8.744;
+    m.nsPerMaskPixel = 4.373;
+    m.nsPerMaskReachPixel = 29.02;
     m.stencilFill = {0.7148, 0.8409, 0.9584};
-    m.estimateSpread = 0.327;
-    m.edgesMasksFixedMs = 0.8624;
+    m.estimateSpread = 0.3155;
+    m.edgesMasksFixedMs = 0.9212;
   } else {
     // cpu: one run (--repeats 5, the same evening and code as the port's).
     m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{203, 8.892, 1.104, 3.058, 0, 1.077, 0.1767, 0.02992, 2.581},
-                EffectCost{76.1, 0, 0, 2.486, 1.542, 1.16, 0.2254, 0.01498, 3.145},
-                EffectCost{30.51, 10.8, 16.92, 3.537, 0, 1.317, 0.3556, 0.08116, 2.296}};
-    m.nsPerCoarseGbufferPixel = 7.341;
-    m.nsPerFullBlendPixel = 3.788;
-    m.nsPerBlendPixel = 1.9;
-    m.nsPerFineBlendPixel = 1.471;
-    m.nsPerEdgePixel = 1.162;
-    m.nsPerEdgeHitPixel = 3.88;
-    m.nsPerMaskPixel = 2.633;
-    m.nsPerMaskReachPixel = 0.1937;
+    m.effect = {EffectCost{219.8, 9.354, 1.132, 3.324, 0, 1.1, 0.234, 0.05232, 2.683},
+                EffectCost{76.66, 0, 0, 2.53, 1.674, 1.304, 0.3443, 0.01734, 2.891},
+                EffectCost{34.89, 10.64, 16.86, 3.698, 0, 1.371, 0.3621, 0.07322, 2.235}};
+    m.nsPerCoarseGbufferPixel = 7.763;
+    m.nsPerFullBlendPixel = 3.721;
+    m.nsPerBlendPixel = 2.154;
+    m.nsPerFineBlendPixel = 1.429;
+    m.nsPerEdgePixel = 1.139;
+    m.nsPerEdgeHitPixel = 4.042;
+    m.nsPerMaskPixel = 2.607;
+    m.nsPerMaskReachPixel = 0.4174;
     m.stencilFill = {0.7148, 0.8409, 0.9584};
-    m.estimateSpread = 0.4118;
-    m.edgesMasksFixedMs = 0.06254;
+    m.estimateSpread = 0.4029;
+    m.edgesMasksFixedMs = 0.07295;
   }
   return m;
 }
@@ -189,7 +202,7 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
     const double paying = static_cast<double>(n.shadedSearched[l]);
     const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - paying);
     const double pcf = static_cast<double>(n.shadedPcf[l]) * e.nsPerPcfSample * c.samples();
-    ns += (paying * shadeNs(e, c.samples()) + pcf) * e.sparseFactor + off * e.nsPerBackgroundPixel +
+    ns += (paying * shadeNs(e, c.samples()) + pcf) * sparseFactorAt(e, lc, paying, n) + off * e.nsPerBackgroundPixel +
           levelPassNs(e, lc, c, n);
   }
   return ns * 1e-6 + e.fixedMs;
@@ -202,24 +215,27 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
 double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   const double pixels = std::max(1.0, static_cast<double>(c.width) * c.height);
-  // What one shaded pixel pays on average, where a share of the pixels pays the effect (a, b),
-  // another share PCF (e N) at the sparse factor, and the rest leaves at once (c).
-  auto averageNs = [&](double searchedShare, double pcfShare) {
-    return (searchedShare * shadeNs(e, c.samples()) + pcfShare * e.nsPerPcfSample * c.samples()) * e.sparseFactor +
-           (1.0 - searchedShare) * e.nsPerBackgroundPixel;
+  // What `count` shaded pixels of level lc pay, where a share of them pays the effect (a, b),
+  // another share PCF (e N), both at the level's sparse factor, and the rest leaves at once (c).
+  auto shadedNs = [&](const LevelConstants& lc, double count, double searchedShare, double pcfShare) {
+    const double factor = sparseFactorAt(e, lc, count * searchedShare, n);
+    return count * ((searchedShare * shadeNs(e, c.samples()) + pcfShare * e.nsPerPcfSample * c.samples()) * factor +
+                    (1.0 - searchedShare) * e.nsPerBackgroundPixel);
   };
-  const double perPixel = averageNs(static_cast<double>(n.searchedPixels) / pixels, static_cast<double>(n.pcfPixels) / pixels);
+  const double perPixelSearched = static_cast<double>(n.searchedPixels) / pixels, perPixelPcf = static_cast<double>(n.pcfPixels) / pixels;
   const double hits = std::max(1.0, static_cast<double>(n.hitPixels));
-  const double perHit = averageNs(static_cast<double>(n.searchedPixels) / hits, static_cast<double>(n.pcfPixels) / hits);
+  const double perHitSearched = static_cast<double>(n.searchedPixels) / hits, perHitPcf = static_cast<double>(n.pcfPixels) / hits;
   double ns = edgesMasksNs(m, c, n, 0.0) + coarseGbuffersAndBlendNs(m, c) + fineBlendNs(m, c, n.silhouette) + ruleNs(e, c);
   for (const LevelConstants& lc : c.levels) {
     if (!lc.enabled || !lc.shaded) continue;
     const auto l = static_cast<size_t>(lc.index);
     ns += levelPassNs(e, lc, c, n);  // every shaded level pays d
     if (lc.index == c.coarsestEnabled)
-      ns += levelPixels(lc) * perPixel;  // S_k = 1 everywhere
+      ns += shadedNs(lc, levelPixels(lc), perPixelSearched, perPixelPcf);  // S_k = 1 everywhere
+    else if (lc.index == 0)
+      ns += shadedNs(lc, static_cast<double>(n.silhouette[l]), perHitSearched, perHitPcf);
     else
-      ns += static_cast<double>(n.silhouette[l]) * (lc.index == 0 ? perHit : perPixel);
+      ns += shadedNs(lc, static_cast<double>(n.silhouette[l]), perPixelSearched, perPixelPcf);
   }
   return ns * 1e-6 + m.edgesMasksFixedMs + e.fixedMs;
 }

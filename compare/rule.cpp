@@ -306,8 +306,9 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   model.edgesMasksFixedMs = edgeCost[2] + maskCost[2];
   // φ_ℓ: the share of the edge sample's reach the stencils fill, over every frame and size
   for (size_t l = 0; l < filled.size(); ++l) model.stencilFill[l] = reached[l] > 0.0 ? std::min(1.0, filled[l] / reached[l]) : 1.0;
-  // s and k, per effect: the method's rest of frame = s × (its shading on geometry, priced as
-  // full's) + k + the rest as priced above, least squares over every size and both sample
+  // s and k, per effect: the method's rest of frame = Σ_ℓ (q_ℓ + s (1 − q_ℓ)) × (its level-ℓ
+  // shading on geometry, priced as full's) + k + the rest as priced above (affine in s: with s = 0
+  // the prediction holds the q_ℓ part, with s = 1 the whole shading), least squares over every size and both sample
   // counts. The small frames tell the per-frame k (pass set-up) from the per-pixel s (a
   // stencilled pixel's premium).
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
@@ -328,10 +329,13 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     const std::vector<double> sk = fit.solve();
     ec.sparseFactor = sk.empty() ? 1.0 : sk[0];
     ec.fixedMs = sk.size() > 1 ? sk[1] : 0.0;
-    if (ec.sparseFactor < 1.0) {  // a stencilled pixel costs no less than a dense one: k alone
-      ec.sparseFactor = 1.0;
+    // A stencilled pixel costs no less than a dense one, and the dearest no more than twice the
+    // dense mean (SPEC §11: those a stencil takes last then cost 2 − s of it): outside, s at the
+    // bound and k alone.
+    if (ec.sparseFactor < 1.0 || ec.sparseFactor > 2.0) {
+      ec.sparseFactor = std::clamp(ec.sparseFactor, 1.0, 2.0);
       double residual = 0.0;
-      for (const auto& [x, y] : xy) residual += y - x;
+      for (const auto& [x, y] : xy) residual += y - ec.sparseFactor * x;
       ec.fixedMs = xy.empty() ? 0.0 : std::max(0.0, residual / static_cast<double>(xy.size()));
     }
   }

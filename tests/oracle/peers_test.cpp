@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -255,6 +256,28 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   EXPECT_DOUBLE_EQ(makeReport(kept, RunInfo{}, std::nullopt)["timings_ms"]["rule"].get<double>(), kept.timing("rule"));
 }
 
+// SPEC §11's s_ℓ: a stencil over every paying pixel of level 0 is the dense frame, priced as
+// full prices its shading whatever s; a stencil over none pays s; and a level's price rises with
+// |S_ℓ| up to s = 2, the calibration's bound.
+TEST(NeverSlower, TheSparsePremiumFallsToNothingAsTheStencilFillsTheLevel) {
+  const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
+  CostModel m;
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 0.0, 0.0, 0.0, 1.8};  // a, b, d, c, e, s
+  FrameCounts n;
+  n.hitPixels = n.searchedPixels = 1000;
+  auto levelZeroMs = [&](int64_t shaded) {
+    FrameCounts k = n;
+    k.shaded = k.shadedHit = k.shadedSearched = {shaded, 0, 0, 0};
+    return predictMrrMs(m, c, k);
+  };
+  EXPECT_NEAR(levelZeroMs(1000), predictFullMs(m, c, n), 1e-12) << "all of level 0: the dense frame";
+  EXPECT_NEAR(levelZeroMs(1) - levelZeroMs(0), 26.0 * (1.0 + 0.8 * 0.999) * 1e-6, 1e-12) << "the first pixel: about s";
+  for (double s : {1.0, 1.5, 2.0}) {
+    m.effect[static_cast<size_t>(Effect::Ssao)].sparseFactor = s;
+    for (int64_t shaded = 0; shaded < 1000; shaded += 50) EXPECT_LT(levelZeroMs(shaded), levelZeroMs(shaded + 50)) << s;
+  }
+}
+
 // SPEC §11's formulas on hand-made counts (level sizes of a 64×32 frame: 2048, 512, 128, 32).
 TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   CostModel m;
@@ -270,20 +293,31 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   EXPECT_NEAR(predictFullMs(m, c, n), (1024.0 * 26 + 1024.0 * 0.5 + 2048.0 * 0.5 * 2) * 1e-6, 1e-12);
   n.shaded = {100, 50, 20, 32};
   n.shadedHit = n.shadedSearched = {60, 25, 10, 16};
-  // on geometry × 26 × 1.5 + off × 0.5 + level pixels × 2 + coarse pixels × 3 (a copy of level 0's,
-  // on geometry or not) + blend 2048 × 5
+  // s_ℓ = 1 + (s − 1)(1 − q_ℓ), q_ℓ the share of the level's H_a / s_ℓ² paying pixels shaded: 1.5
+  // for a stencil of none, 1 for one of all (level 3: 16 of 1024 / 64).
+  auto sl = [](double paying, double scale) { return 1.0 + 0.5 * (1.0 - paying * scale * scale / 1024.0); };
+  EXPECT_EQ(sl(16, 8), 1.0);
+  // on geometry × 26 × s_ℓ + off × 0.5 + level pixels × 2 + coarse pixels × 3 (a copy of level
+  // 0's, on geometry or not) + blend 2048 × 5
   const double levelPixels = 2048.0 + 512 + 128 + 32, coarse = 512.0 + 128 + 32;
-  const double expected = 111.0 * 26 * 1.5 + 91.0 * 0.5 + levelPixels * 0.5 * 2 + coarse * 3 + 2048.0 * 5;
+  const double stencilled = 60.0 * sl(60, 1) + 25.0 * sl(25, 2) + 10.0 * sl(10, 4) + 16.0 * sl(16, 8);
+  const double expected = stencilled * 26 + 91.0 * 0.5 + levelPixels * 0.5 * 2 + coarse * 3 + 2048.0 * 5;
   EXPECT_NEAR(predictMrrMs(m, c, n), expected * 1e-6, 1e-12);
   // The floor: edges and masks over P_0, the coarse G-buffers and blend, d over every shaded
-  // level, and level 3 shaded whole (half its pixels on geometry, on average).
+  // level, and level 3 shaded whole (half its pixels on geometry, on average: all 16 of its
+  // paying pixels, s_3 = 1).
   const double floorNs = 2048.0 * (7 + 11) + coarse * 3 + 2048.0 * 5 +
-                         levelPixels * 0.5 * 2 + 32.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5);
+                         levelPixels * 0.5 * 2 + 32.0 * (0.5 * 26 * 1.0 + 0.5 * 0.5);
   EXPECT_NEAR(predictMrrFloorMs(m, c, n), floorNs * 1e-6, 1e-12);
-  // Silhouettes are shaded at every level (B_ℓ): at level 0 each is on geometry (26 at s = 1.5),
-  // at levels 1 and 2 they pay what an average pixel does; level 3 is counted whole already.
+  // Silhouettes are shaded at every level (B_ℓ): at level 0 each is on geometry (26 at s_0), at
+  // levels 1 and 2 they pay what an average pixel does (half of them paying); level 3 is counted
+  // whole already.
   n.silhouette = {40, 20, 8, 2};
-  EXPECT_NEAR(predictMrrFloorMs(m, c, n), (floorNs + 40.0 * 26 * 1.5 + 28.0 * (0.5 * 26 * 1.5 + 0.5 * 0.5)) * 1e-6, 1e-12);
+  EXPECT_NEAR(predictMrrFloorMs(m, c, n),
+              (floorNs + 40.0 * 26 * sl(40, 1) + 20.0 * (0.5 * 26 * sl(10, 2) + 0.5 * 0.5) +
+               8.0 * (0.5 * 26 * sl(4, 4) + 0.5 * 0.5)) *
+                  1e-6,
+              1e-12);
   // The floor never exceeds what the method pays from the edges on: ε + μ, then the late prediction.
   EXPECT_LE(predictMrrFloorMs(m, c, n), predictMrrMs(m, c, n) + 2048.0 * (7 + 11) * 1e-6);
   // k, the method's per-frame set-up, adds to its prediction and its floor, never to full's.
@@ -317,13 +351,26 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.pcfPixels = 400;
   n.shadedPcf = {30, 10, 0, 4};
   EXPECT_NEAR(predictFullMs(ssm, cs, n) - ssmFull, 400.0 * 3 * 16 * 1e-6, 1e-12);
-  EXPECT_NEAR(predictMrrMs(ssm, cs, n) - ssmMrr, 44.0 * 3 * 16 * 1.5 * 1e-6, 1e-12);
-  // H_a: SSM's pixels facing away from the light pay c, as background does, not a.
+  EXPECT_NEAR(predictMrrMs(ssm, cs, n) - ssmMrr, (30.0 * sl(60, 1) + 10.0 * sl(25, 2) + 4.0 * sl(16, 8)) * 3 * 16 * 1e-6,
+              1e-12);
+  // H_a: SSM's pixels facing away from the light pay c, as background does, not a; and q_ℓ is a
+  // share of the pixels that pay.
+  auto ssmShadingNs = [&](double searched) {
+    double ns = 0.0;
+    for (size_t l = 0; l < kLevelCount; ++l) {
+      const double scale = static_cast<double>(1 << l), paying = static_cast<double>(n.shadedSearched[l]);
+      const double factor = 1.0 + 0.5 * (1.0 - std::min(1.0, paying * scale * scale / searched));
+      ns += (paying * 10 + static_cast<double>(n.shadedPcf[l]) * 3 * 16) * factor +
+            (static_cast<double>(n.shaded[l]) - paying) * 0.5;
+    }
+    return ns;
+  };
   const double withAll = predictFullMs(ssm, cs, n), mrrWithAll = predictMrrMs(ssm, cs, n);
+  const double shadingWithAll = ssmShadingNs(1024.0);
   n.searchedPixels = 1024 - 200;
   n.shadedSearched = {50, 25, 10, 16};
   EXPECT_NEAR(withAll - predictFullMs(ssm, cs, n), 200.0 * (10 - 0.5) * 1e-6, 1e-12);
-  EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), 10.0 * (10 * 1.5 - 0.5) * 1e-6, 1e-12);
+  EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), (shadingWithAll - ssmShadingNs(824.0)) * 1e-6, 1e-12);
   // β_f: the blend's finer levels, per full-res pixel where they can show: under S_2, the
   // coarsest level below the coarsest (3), which the closure makes hold every finer level's
   // blocks; in the prediction over |S_2| and in the floor over the silhouettes B_2.

@@ -155,6 +155,40 @@ std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, flo
   return views;
 }
 
+void fitSparseFactorAndFixedCost(CostModel& model, Effect e, const std::vector<CalibrationFrame>& frames) {
+  // The method's rest of frame = Σ_ℓ (q_ℓ + s (1 − q_ℓ)) × (its level-ℓ shading on geometry,
+  // priced as full's) + k + the rest as priced by the model's other figures: affine in s (with
+  // s = 0 the prediction holds the q_ℓ part, with s = 1 the whole shading), least squares over
+  // every size and both sample counts. The small frames tell the per-frame k (pass set-up) from
+  // the per-pixel s (a stencilled pixel's premium).
+  EffectCost& ec = model.effect[static_cast<size_t>(e)];
+  LeastSquares fit;
+  std::vector<std::pair<double, double>> xy;  // (shading on geometry, the rest less the others), ms
+  for (const CalibrationFrame& r : frames) {
+    if (r.effect != e) continue;
+    CostModel m = model;
+    m.effect[static_cast<size_t>(e)].fixedMs = 0.0;
+    m.effect[static_cast<size_t>(e)].sparseFactor = 0.0;
+    const double others = predictMrrMs(m, r.constants, r.counts);
+    m.effect[static_cast<size_t>(e)].sparseFactor = 1.0;
+    const double shading = predictMrrMs(m, r.constants, r.counts) - others;
+    fit.addRelative({shading, 1.0}, r.restMs - others, r.restMs);
+    xy.emplace_back(shading, r.restMs - others);
+  }
+  const std::vector<double> sk = fit.solve();
+  ec.sparseFactor = sk.empty() ? 1.0 : sk[0];
+  ec.fixedMs = sk.size() > 1 ? sk[1] : 0.0;
+  // A stencilled pixel costs no less than a dense one, and the dearest no more than twice the
+  // dense mean (SPEC §11: those a stencil takes last then cost 2 − s of it): outside, s at the
+  // bound and k alone.
+  if (ec.sparseFactor < 1.0 || ec.sparseFactor > 2.0) {
+    ec.sparseFactor = std::clamp(ec.sparseFactor, 1.0, 2.0);
+    double residual = 0.0;
+    for (const auto& [x, y] : xy) residual += y - ec.sparseFactor * x;
+    ec.fixedMs = xy.empty() ? 0.0 : std::max(0.0, residual / static_cast<double>(xy.size()));
+  }
+}
+
 CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
   const int w = 640, h = 360;
@@ -174,13 +208,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   std::array<LeastSquares, 3> levelFit;  // per effect, full frames: P_0 (H / W·H), 1 → d (SSAO's planes, SSGI's direct light)
   std::array<LeastSquares, 3> ruleFit;   // per effect, the method's frames: W·H, 1 → ρ (the rule's own counts)
   LeastSquares fullBlendFit, blendFit;   // full's blend: W·H, 1 → β₀; the method's: W·H, |S_j| s_j², 1 → β₀ + β, β_f
-  struct MrrRun {  // at 320×180, 640×360 and 1280×720, to tell s (per pixel) from k (per frame)
-    Effect effect;
-    Constants constants;
-    FrameCounts counts;
-    double restMs;
-  };
-  std::vector<MrrRun> mrrRuns;
+  std::vector<CalibrationFrame> mrrRuns;  // at 320×180, 640×360 and 1280×720: s (per pixel) from k (per frame)
   LeastSquares gbufferFit;  // P_ℓ, 1 → g (the pass's set-up goes to k)
   // The method's frames count with a model that prices PCF (e > 0), so that SSM's frames sample
   // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
@@ -306,43 +334,12 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   model.edgesMasksFixedMs = edgeCost[2] + maskCost[2];
   // φ_ℓ: the share of the edge sample's reach the stencils fill, over every frame and size
   for (size_t l = 0; l < filled.size(); ++l) model.stencilFill[l] = reached[l] > 0.0 ? std::min(1.0, filled[l] / reached[l]) : 1.0;
-  // s and k, per effect: the method's rest of frame = Σ_ℓ (q_ℓ + s (1 − q_ℓ)) × (its level-ℓ
-  // shading on geometry, priced as full's) + k + the rest as priced above (affine in s: with s = 0
-  // the prediction holds the q_ℓ part, with s = 1 the whole shading), least squares over every size and both sample
-  // counts. The small frames tell the per-frame k (pass set-up) from the per-pixel s (a
-  // stencilled pixel's premium).
-  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
-    EffectCost& ec = model.effect[static_cast<size_t>(e)];
-    LeastSquares fit;
-    std::vector<std::pair<double, double>> xy;  // (shading on geometry, the rest less the others), ms
-    for (const MrrRun& r : mrrRuns) {
-      if (r.effect != e) continue;
-      CostModel m = model;
-      m.effect[static_cast<size_t>(e)].fixedMs = 0.0;
-      m.effect[static_cast<size_t>(e)].sparseFactor = 0.0;
-      const double others = predictMrrMs(m, r.constants, r.counts);
-      m.effect[static_cast<size_t>(e)].sparseFactor = 1.0;
-      const double shading = predictMrrMs(m, r.constants, r.counts) - others;
-      fit.addRelative({shading, 1.0}, r.restMs - others, r.restMs);
-      xy.emplace_back(shading, r.restMs - others);
-    }
-    const std::vector<double> sk = fit.solve();
-    ec.sparseFactor = sk.empty() ? 1.0 : sk[0];
-    ec.fixedMs = sk.size() > 1 ? sk[1] : 0.0;
-    // A stencilled pixel costs no less than a dense one, and the dearest no more than twice the
-    // dense mean (SPEC §11: those a stencil takes last then cost 2 − s of it): outside, s at the
-    // bound and k alone.
-    if (ec.sparseFactor < 1.0 || ec.sparseFactor > 2.0) {
-      ec.sparseFactor = std::clamp(ec.sparseFactor, 1.0, 2.0);
-      double residual = 0.0;
-      for (const auto& [x, y] : xy) residual += y - ec.sparseFactor * x;
-      ec.fixedMs = xy.empty() ? 0.0 : std::max(0.0, residual / static_cast<double>(xy.size()));
-    }
-  }
+  // s and k, per effect, over the method's frames at every size and both sample counts
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) fitSparseFactorAndFixedCost(model, e, mrrRuns);
   // w: the early estimate of the method's rest (from the edge sample) against the one its
   // stencils give, relative, over every frame of the method: a uniform of that RMS spans ±√3 RMS.
   double squares = 0.0;
-  for (const MrrRun& r : mrrRuns) {
+  for (const CalibrationFrame& r : mrrRuns) {
     const double late = predictMrrMs(model, r.constants, r.counts);
     const double early = predictMrrMs(model, r.constants, estimateStencils(model, r.constants, r.counts));
     const double off = early / std::max(late, 1e-9) - 1.0;

@@ -32,6 +32,18 @@ std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, flo
 // W·H − H), and in mode mrr with the rule off (s, d, g, β, ε, μ, k).
 CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads);
 
+// One frame of the method (rule off) the calibration measured: what it priced and what it took.
+struct CalibrationFrame {
+  Effect effect;
+  Constants constants;
+  FrameCounts counts;
+  double restMs;  // the frame less what every mode pays alike (the full-res G-buffer, shade, …)
+};
+// s and k for effect e (SPEC §11): least squares over the frames' rests, the model's other
+// figures fixed; s is kept in [1, 2] (a stencilled pixel costs no less than a dense one, and the
+// first a stencil takes no more than twice the dense mean), k then refitted alone.
+void fitSparseFactorAndFixedCost(CostModel& model, Effect e, const std::vector<CalibrationFrame>& frames);
+
 struct RuleSweepOptions {
   std::vector<std::string> scenes = {"arcade",         "apartment",     "cornell",        "builtin:demo",
                                      "builtin:boxes",  "builtin:shadows", "builtin:fence", "builtin:bumpy",

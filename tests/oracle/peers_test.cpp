@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "compare/report.h"
+#include "compare/rule.h"
 #include "cpu_ref/peers.h"
 #include "tests/oracle/render_helpers.h"
 
@@ -276,6 +277,59 @@ TEST(NeverSlower, TheSparsePremiumFallsToNothingAsTheStencilFillsTheLevel) {
     m.effect[static_cast<size_t>(Effect::Ssao)].sparseFactor = s;
     for (int64_t shaded = 0; shaded < 1000; shaded += 50) EXPECT_LT(levelZeroMs(shaded), levelZeroMs(shaded + 50)) << s;
   }
+}
+
+// The calibration's s and k (fitSparseFactorAndFixedCost): frames priced by a known model, at
+// three sizes and several stencil coverages, are fitted back to it; a premium outside [1, 2] is
+// held at the bound and k refitted alone, so the fitted rests are right on average.
+TEST(NeverSlower, TheCalibrationFitsTheSparseFactorAndTheFixedCostBack) {
+  auto framesPricedBy = [](const CostModel& truth) {
+    std::vector<CalibrationFrame> frames;
+    for (const auto& [w, h] : {std::pair{64, 32}, std::pair{128, 64}, std::pair{256, 144}})
+      for (double fill : {0.05, 0.3, 0.8}) {
+        const Constants c = makeConstants(ssaoSettings(w, h, 16), 1.0f);
+        FrameCounts n;
+        n.hitPixels = n.searchedPixels = static_cast<int64_t>(w) * h / 2;
+        for (const LevelConstants& lc : c.levels) {
+          const auto l = static_cast<size_t>(lc.index);
+          const double levelPixels = static_cast<double>(lc.width) * lc.height;
+          n.shaded[l] = std::llround(lc.index == c.coarsestEnabled ? levelPixels : fill * levelPixels);
+          n.shadedHit[l] = n.shadedSearched[l] = std::llround(0.5 * static_cast<double>(n.shaded[l]));
+        }
+        frames.push_back({Effect::Ssao, c, n, predictMrrMs(truth, c, n)});
+      }
+    return frames;
+  };
+  auto fitted = [&](double s, double k) {
+    CostModel truth;
+    truth.nsPerBlendPixel = 2.0;
+    truth.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 0.0, 0.5, 0.0, s, k};  // a, b, d, c, e, s, k
+    CostModel m = truth;
+    m.effect[static_cast<size_t>(Effect::Ssao)].sparseFactor = 1.0;
+    m.effect[static_cast<size_t>(Effect::Ssao)].fixedMs = 0.0;
+    const std::vector<CalibrationFrame> frames = framesPricedBy(truth);
+    fitSparseFactorAndFixedCost(m, Effect::Ssao, frames);
+    double error = 0.0;
+    for (const CalibrationFrame& f : frames) error += predictMrrMs(m, f.constants, f.counts) - f.restMs;
+    return std::pair{m.effect[static_cast<size_t>(Effect::Ssao)], error};
+  };
+  const auto [inside, insideError] = fitted(1.4, 0.3);
+  EXPECT_NEAR(inside.sparseFactor, 1.4, 1e-9);
+  EXPECT_NEAR(inside.fixedMs, 0.3, 1e-9);
+  EXPECT_NEAR(insideError, 0.0, 1e-9);
+  for (const auto& [s, bound] : {std::pair{2.6, 2.0}, std::pair{0.7, 1.0}}) {
+    const auto [held, error] = fitted(s, 0.3);
+    EXPECT_EQ(held.sparseFactor, bound) << s;
+    EXPECT_NEAR(error, 0.0, 1e-9) << s << ": k refitted to the mean residual";
+    if (s > bound) EXPECT_GT(held.fixedMs, 0.3) << "k takes the premium the bound leaves out";
+  }
+  // No frame of the effect: s 1, k 0.
+  CostModel none;
+  none.effect[static_cast<size_t>(Effect::Ssgi)].sparseFactor = 1.7;
+  none.effect[static_cast<size_t>(Effect::Ssgi)].fixedMs = 0.5;
+  fitSparseFactorAndFixedCost(none, Effect::Ssgi, framesPricedBy(none));
+  EXPECT_EQ(none.effect[static_cast<size_t>(Effect::Ssgi)].sparseFactor, 1.0);
+  EXPECT_EQ(none.effect[static_cast<size_t>(Effect::Ssgi)].fixedMs, 0.0);
 }
 
 // SPEC §11's formulas on hand-made counts (level sizes of a 64×32 frame: 2048, 512, 128, 32).

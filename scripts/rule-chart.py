@@ -107,17 +107,30 @@ def main():
         "full and mrr alternating in one process (`mrr bench --rule-sweep`). Times are the frame less what every mode "
         "pays alike before the rule decides: the full-res G-buffer, and SSM's and SSGI's shadow map and one-tap test.",
         "",
-        "| frames | decision right (faster within 5%) | kept mrr | fell back | worst mrr/full where kept | "
-        "worst full/mrr where fallen back | worst with-rule/full |",
-        "|---|---|---|---|---|---|---|",
-        f"| {s['frames']} | {s['right']} ({100.0 * s['right'] / max(s['frames'], 1):.1f}%) | {s['kept_mrr']} | "
+        "| frames | decision right (faster within 5%) | wrong beyond noise | kept mrr | fell back | "
+        "worst mrr/full where kept | worst full/mrr where fallen back | worst with-rule/full |",
+        "|---|---|---|---|---|---|---|---|",
+        f"| {s['frames']} | {s['right']} ({100.0 * s['right'] / max(s['frames'], 1):.1f}%) | "
+        f"{s.get('wrong_beyond_noise', '—')} | {s['kept_mrr']} | "
         f"{s['fell_back']} | {s['worst_kept_mrr_over_full']:.3f} | {s['worst_fell_back_full_over_mrr']:.3f} | "
         f"{s['worst_rule_over_full']:.3f} |",
         "",
         "| path | scene | view | size | effect | on geometry | ideal (px / hit) | decision | predicted mrr/full early | "
-        "on the stencils | full ms | mrr ms | with rule ms | right |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "on the stencils | full ms | mrr ms | with rule ms | mrr/full per pair (quartiles) | right |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    def pair_quartiles(f):
+        r = sorted(f.get("pair_ratios", []))
+        if not r:
+            return "—"
+        q = lambda p: r[round(p * (len(r) - 1))]
+        return f"{q(0.25):.2f}–{q(0.75):.2f}"
+
+    def verdict(f):  # wrong by the medians; "within noise" when the pairs do not agree it is
+        if f["right"]:
+            return "yes"
+        return "**no**" if f.get("wrong_beyond_noise", True) else "no, within noise"
+
     for f in frames:
         early = early_mrr_ms(f) / max(f["predicted_full_rest_ms"], 1e-9)
         ratio = f["predicted_mrr_rest_ms"] / max(f["predicted_full_rest_ms"], 1e-9)
@@ -125,7 +138,7 @@ def main():
             f"| {f['path']} | {f['scene']} | {f['view']} | {f['width']}x{f['height']} | {f['effect']}-{f['samples']} | "
             f"{100 * f['hit_share']:.0f}% | {f['ideal_speedup']:.2f} / {f['ideal_speedup_hit']:.2f} | {f['decision']} | "
             f"{early:.2f} | {ratio:.2f} | {f['full_ms']:.1f} | {f['mrr_ms']:.1f} | {f['rule_ms']:.1f} | "
-            f"{'yes' if f['right'] else '**no**'} |")
+            f"{pair_quartiles(f)} | {verdict(f)} |")
     open(os.path.join(out, "rule-sweep.md"), "w").write("\n".join(lines) + "\n")
 
 

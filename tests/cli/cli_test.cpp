@@ -470,6 +470,50 @@ TEST_F(CliRenderTest, NeverSlowerSkipsTheEdgeSampleWhereTheFloorRulesTheMethodOu
   EXPECT_NE(r.err.find("before the edge sample"), std::string::npos) << describe(r);
 }
 
+TEST_F(CliRenderTest, RuleSweepJudgesEveryFrameByItsOwnTimes) {
+  // One scene's four views, two configurations each, two pairs per frame: the verdicts and the
+  // summary must follow from the times the sweep recorded (docs/figures.md reads them).
+  const RunResult r = runMrr({"bench", "--rule-sweep", at("sweep.json"), "--paths", "cpu", "--scenes", "builtin:plane",
+                              "--repeats", "2", "--threads", "2"},
+                             dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  EXPECT_NE(r.out.find("| frames | right (faster within 5%) | wrong beyond noise |"), std::string::npos) << r.out;
+  const json j = json::parse(readFile(at("sweep.json")));
+  const json& frames = j["frames"];
+  ASSERT_EQ(frames.size(), 8u);
+  int right = 0, wrongBeyondNoise = 0, kept = 0;
+  double worstKept = 0.0;
+  std::set<std::string> views;
+  for (const json& f : frames) {
+    views.insert(f["view"].get<std::string>());
+    const std::string decision = f["decision"];
+    EXPECT_TRUE(decision == "mrr" || decision == "full" || decision == "full-early" || decision == "full-floor") << decision;
+    const double fullMs = f["full_ms"], mrrMs = f["mrr_ms"];
+    EXPECT_GT(fullMs, 0.0);
+    EXPECT_GT(mrrMs, 0.0);
+    const bool keptMrr = decision == "mrr";
+    EXPECT_EQ(f["right"].get<bool>(), keptMrr ? mrrMs <= 1.05 * fullMs : fullMs <= 1.05 * mrrMs) << f.dump();
+    const size_t pairs = f["pair_ratios"].size();
+    EXPECT_EQ(pairs, static_cast<size_t>(f["repeats"].get<int>())) << "one ratio per timed pair";
+    EXPECT_TRUE(pairs == 2 || pairs == 4) << pairs;
+    if (f["wrong_beyond_noise"].get<bool>()) EXPECT_FALSE(f["right"].get<bool>());
+    right += f["right"].get<bool>();
+    wrongBeyondNoise += f["wrong_beyond_noise"].get<bool>();
+    if (keptMrr) {
+      ++kept;
+      worstKept = std::max(worstKept, mrrMs / fullMs);
+    }
+  }
+  EXPECT_EQ(views, (std::set<std::string>{"catalogue", "default", "sky", "close-up"}));
+  const json& summary = j["summary"];
+  EXPECT_EQ(summary["frames"], 8);
+  EXPECT_EQ(summary["right"], right);
+  EXPECT_EQ(summary["wrong_beyond_noise"], wrongBeyondNoise);
+  EXPECT_EQ(summary["kept_mrr"], kept);
+  EXPECT_EQ(summary["fell_back"], 8 - kept);
+  EXPECT_DOUBLE_EQ(summary["worst_kept_mrr_over_full"].get<double>(), worstKept);
+}
+
 TEST_F(CliRenderTest, EveryMethodRendersAndNamesItself) {
   for (const std::string method : {"full", "uniform-1", "uniform-2", "tiles", "mrr"}) {
     const RunResult r = runMrr(tiny({"render", "--scene", "builtin:demo", "--method", method, "--report", at("m.json")}), dir);

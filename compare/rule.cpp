@@ -399,48 +399,53 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           auto constantsFor = [&](const std::string& method) {
             return makeConstants(settingsFor(method, cfg.effect, cfg.width, cfg.height, cfg.samples), diagonal);
           };
-          // full and mrr without the rule, alternating (one warm-up each, then medians). A frame
-          // within 10% of break-even gets as many pairs again: its verdict is the one noise sways.
-          std::map<std::string, std::vector<double>> fullRuns, mrrRuns;
+          // full and mrr without the rule, alternating (one warm-up each, then medians), and where
+          // the rule falls back the frame with it on, in the same rounds (what a user gets, timed
+          // beside full, not apart). The decision is a function of the counts, the same on every
+          // run: it is taken after the warm-up. A frame within 10% of break-even gets as many
+          // rounds again: its verdict is the one noise sways.
+          const Constants cm = constantsFor("mrr");
+          std::map<std::string, std::vector<double>> fullRuns, mrrRuns, ruleRuns;
           std::vector<double> pairRatios;  // mrr / full, pair by pair (the two run back to back)
-          Measured full, mrr;
-          auto runPairs = [&](int pairs, bool warmUp) {
-            for (int i = warmUp ? 0 : 1; i <= pairs; ++i) {
+          Measured full, mrr, rule;
+          FallbackDecision early, late;
+          std::string decision;
+          auto runRounds = [&](int rounds, bool warmUp) {
+            for (int i = warmUp ? 0 : 1; i <= rounds; ++i) {
               FrameResult ff = sc.render(view.camera, constantsFor("full"), {false, {}, nullptr});
               FrameResult fm = sc.render(view.camera, constantsFor("mrr-norule"), {false, {}, nullptr, true});
+              if (i == 0) {
+                // The rule's decision on this frame, as renderFrame takes it: early from H, then
+                // from the stencils (the oracle's decision is a function of the counts alone).
+                early = decideEarly(model, cm, fm.counts);
+                late = decideFallback(model, cm, fm.counts);
+                // full-floor: early, on the floor alone, without the edge sample (SPEC §11)
+                decision = early.onFloor ? "full-floor" : early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+              }
+              FrameResult fr;
+              if (decision != "mrr") fr = sc.render(view.camera, cm, {false, {}, nullptr});
               if (i == 0) continue;
               const std::map<std::string, double> fullStages = stageMs(ff), mrrStages = stageMs(fm);
               for (const auto& [key, v] : fullStages) fullRuns[key].push_back(v);
               for (const auto& [key, v] : mrrStages) mrrRuns[key].push_back(v);
+              if (decision != "mrr")
+                for (const auto& [key, v] : stageMs(fr)) ruleRuns[key].push_back(v);
               pairRatios.push_back(frameMs(mrrStages) / std::max(frameMs(fullStages), 1e-9));
-              if (i == pairs) {
+              if (i == rounds) {
                 full.last = std::move(ff);
                 mrr.last = std::move(fm);
               }
             }
             for (const auto& [key, v] : fullRuns) full.ms[key] = median(v);
             for (const auto& [key, v] : mrrRuns) mrr.ms[key] = median(v);
+            for (const auto& [key, v] : ruleRuns) rule.ms[key] = median(v);
           };
-          runPairs(o.repeats, true);
+          runRounds(o.repeats, true);
           const double nearRatio = frameMs(mrr.ms) / std::max(frameMs(full.ms), 1e-9);
           const bool nearBreakEven = nearRatio > 0.9 && nearRatio < 1.1;
-          if (nearBreakEven) runPairs(o.repeats, false);
-          // The rule's decision on this frame, as renderFrame takes it: early from H, then from
-          // the stencils (the same counts; the oracle's decision is a function of them alone).
+          if (nearBreakEven) runRounds(o.repeats, false);
           const FrameCounts& n = mrr.last.counts;
-          const Constants cm = constantsFor("mrr");
-          const FallbackDecision early = decideEarly(model, cm, n);
-          const FallbackDecision late = decideFallback(model, cm, n);
-          // full-floor: early, on the floor alone, without the edge sample (SPEC §11)
-          const std::string decision = early.onFloor     ? "full-floor"
-                                       : early.fellBack  ? "full-early"
-                                       : late.fellBack   ? "full"
-                                                         : "mrr";
-          double ruleMs = frameMs(mrr.ms);
-          if (decision != "mrr") {
-            const Measured rule = measure(sc.render, view.camera, cm, o.repeats);
-            ruleMs = frameMs(rule.ms);
-          }
+          const double ruleMs = decision == "mrr" ? frameMs(mrr.ms) : frameMs(rule.ms);
           const double fullMs = frameMs(full.ms), mrrMs = frameMs(mrr.ms);
           const bool keptMrr = decision == "mrr";
           const bool right = keptMrr ? mrrMs <= 1.05 * fullMs : fullMs <= 1.05 * mrrMs;

@@ -710,6 +710,15 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   nlohmann::json noRule = m.toJson();  // a file from before the rule's cost was measured
   noRule["effects"]["ssm"].erase("ns_per_rule_pixel");
   EXPECT_THROW(CostModel::fromJson(noRule), MrrError);
+  // s outside [1, 2]: SPEC §11's per-level premium would price a level lower as its stencil grew.
+  for (double s : {0.9, 2.5}) {
+    nlohmann::json premium = m.toJson();
+    premium["effects"]["ssgi"]["sparse_factor"] = s;
+    EXPECT_THROW(CostModel::fromJson(premium), MrrError) << s;
+  }
+  nlohmann::json bound = m.toJson();
+  bound["effects"]["ssgi"]["sparse_factor"] = 2.0;
+  EXPECT_EQ(CostModel::fromJson(bound).effect[static_cast<size_t>(Effect::Ssgi)].sparseFactor, 2.0);
 }
 
 }  // namespace

@@ -85,7 +85,8 @@ def main():
             ax.scatter(xs, ys, s=18, c=colour, alpha=0.8, label=f"rule: {decision} ({len(sel)})")
             for f, x, y in zip(sel, xs, ys):
                 if not f["right"]:
-                    ax.annotate(f"{f['scene']} {f['view']}", (x, y), fontsize=6)
+                    noise = "" if f.get("wrong_beyond_noise", True) else " (within noise)"
+                    ax.annotate(f"{f['scene']} {f['view']}{noise}", (x, y), fontsize=6)
         ax.axhline(1.0, color="k", lw=0.8)
         ax.axhspan(1 / 1.05, 1.05, color="grey", alpha=0.2, label="±5%: either is right")
         ax.axvline(1.0, color="k", lw=0.8, ls=":")
@@ -94,7 +95,8 @@ def main():
         ax.set_xlabel("predicted early: mrr from its edges on / full's rest")
         ax.set_ylabel("measured mrr (rule off) / full (frame less G-buffer L0)")
         right = sum(f["right"] for f in fs)
-        ax.set_title(f"{path}: decision right on {right}/{len(fs)} frames")
+        beyond = sum(f.get("wrong_beyond_noise", not f["right"]) for f in fs)
+        ax.set_title(f"{path}: decision right on {right}/{len(fs)} frames, {beyond} wrong beyond noise")
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "rule-decisions.svg"))

@@ -10,14 +10,8 @@
 # every step with its wall time and the commands run.
 # Exit 77 (ctest: skipped) when no GL context can be made and MRR_REQUIRE_GL is not 1.
 # Any failure: exit 1 with a one-line reason.
-set -uo pipefail
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-mrr="${1:-$here/build/mrr}"
 tool=test-gpu-figures
-fail() { echo "$tool: FAIL: $*" >&2; exit 1; }
-skip() { echo "$tool: SKIP: $*" >&2; exit 77; }
-
-[ -x "$mrr" ] || fail "no mrr binary at $mrr"
+source "$(dirname "${BASH_SOURCE[0]}")/lib-test.sh"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 script="$here/scripts/gpu-figures.sh"

@@ -6,14 +6,8 @@
 # summary row matches sweep.json's summary (frames, right, wrong beyond noise) and it has a row
 # per frame with the pairs' quartiles; the decisions chart's title counts the frames right.
 # Exit 77 (ctest: skipped) when python3 has no matplotlib. Any failure: exit 1 with a reason.
-set -uo pipefail
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-mrr="${1:-$here/build/mrr}"
 tool=test-rule-chart
-fail() { echo "$tool: FAIL: $*" >&2; exit 1; }
-skip() { echo "$tool: SKIP: $*" >&2; exit 77; }
-
-[ -x "$mrr" ] || fail "no mrr binary at $mrr"
+source "$(dirname "${BASH_SOURCE[0]}")/lib-test.sh"
 /usr/bin/python3 -c 'import matplotlib' 2> /dev/null || skip "python3 has no matplotlib"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT

@@ -125,9 +125,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.nsPerBackgroundPixel = ej.at("ns_per_background_pixel").get<double>();
       ec.nsPerPcfSample = ej.at("ns_per_pcf_sample").get<double>();
       ec.sparseFactor = ej.at("sparse_factor").get<double>();
-      // s_ℓ = 1 + (s − 1)(1 − q_ℓ) prices a level by its stencil's coverage only for s in [1, 2]
-      // (SPEC §11: past 2 a level would cost less as its stencil grew); the calibration keeps it there.
-      if (!(ec.sparseFactor >= 1.0 && ec.sparseFactor <= 2.0))
+      if (!(ec.sparseFactor >= kMinSparseFactor && ec.sparseFactor <= kMaxSparseFactor))
         throw MrrError("--cost-model: effects." + toString(e) + ".sparse_factor: " + std::to_string(ec.sparseFactor) +
                        " is outside [1, 2] (SPEC §11)");
       ec.fixedMs = ej.at("fixed_ms").get<double>();

@@ -27,6 +27,11 @@
 
 namespace mrr {
 
+// SPEC §11: s_ℓ = 1 + (s − 1)(1 − q_ℓ) prices a level by its stencil's coverage only for s in
+// [1, 2]: below 1 a stencilled pixel would cost less than a dense one, past 2 a level would cost
+// less as its stencil grew. The calibration holds s there and --cost-model refuses others.
+inline constexpr double kMinSparseFactor = 1.0, kMaxSparseFactor = 2.0;
+
 struct EffectCost {
   double nsPerShadedPixel = 0.0;      // a: per shaded pixel on geometry, whatever the sample count
   double nsPerSample = 0.0;           // b: per shaded pixel on geometry and sample
@@ -36,7 +41,8 @@ struct EffectCost {
   // e: more per sample where the pixel pays PCF (SSM: PCSS filters only where its blocker
   // search finds blockers; any other pixel pays the search alone, or less).
   double nsPerPcfSample = 0.0;
-  // s: a stencilled pixel of the method costs s × a pixel of a dense full frame. The pixels
+  // s: a stencilled pixel of the method costs s × a pixel of a dense full frame, s in
+  // [kMinSparseFactor, kMaxSparseFactor] (SPEC §11's s_ℓ). The pixels
   // the method shades finely sit at edges, where samples find occluders and branches
   // mispredict, and a sparse stencil is walked less efficiently: measured in mrr frames.
   double sparseFactor = 1.0;

@@ -337,7 +337,7 @@ int run(int argc, char** argv) {
 
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
-  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut, ruleSweepOut;
+  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut, ruleSweepOut, ruleReplayIn;
   bool quick = false, noSweeps = false, noStress = false;
   int glDevice = -1;
   std::string benchGpuTiming = "auto";
@@ -388,6 +388,9 @@ int run(int argc, char** argv) {
                     "check the never-slower rule on frames nobody tuned it to (shared, built-in and stress scenes; "
                     "catalogue, default, sky and close-up views; 320x180 to 1920x1080) and write them as JSON "
                     "(scripts/rule-chart.py draws it)");
+  bench->add_option("--rule-replay", ruleReplayIn,
+                    "re-decide every frame of a --rule-sweep JSON with this build's built-in cost models, from the "
+                    "counts it recorded, and judge them by the times it measured (renders nothing)");
   bench->add_flag("--quick", quick,
                   "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 3 repeats, small sweeps, "
                   "8-frame paths at 96x54, stress scenes at 160x90");
@@ -490,6 +493,7 @@ int run(int argc, char** argv) {
     if (!benchOpts.reportDir.empty())
       checkOutputLocation((std::filesystem::path(benchOpts.reportDir) / "index.html").string(), "--report");
     requireDistinct({{"--json", benchOpts.jsonOut}, {"--markdown", benchOpts.markdownOut}, {"--csv", benchOpts.csvOut}});
+    if (!ruleReplayIn.empty()) return replayRuleSweep(ruleReplayIn, benchOpts.jsonOut, std::cout);  // no path, no GL
     // The paths, each behind a RenderFn; the GL context is made once and shared by every scene.
     const int threads = threadCount(benchOpts.threads);
     std::vector<BenchPath> paths;

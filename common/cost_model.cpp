@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/shader_constants.h"
 
 namespace mrr {
 
@@ -74,40 +75,45 @@ CostModel CostModel::defaults(const std::string& path) {
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
   // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ}.
   if (path == "gpu") {
-    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: s per level,
-    // falling with the stencil's coverage).
-    m.source = "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{207.2, 5.464, 0, 26.18, 0, 1.521, 2.109, 0.2619, 7.306},
-                EffectCost{160.1, 0, 0, 32.37, 1.647, 1.563, 2.114, 0.4057, 10.42},
-                EffectCost{19.52, 7.528, 10.92, 18.19, 0, 1.274, 4.623, 1.305, 6.701}};
-    m.nsPerCoarseGbufferPixel = 16.42;
-    m.nsPerFullBlendPixel = 4.821;
-    m.nsPerBlendPixel = 1.895;
-    m.nsPerFineBlendPixel = 34.55;
-    m.nsPerEdgePixel = 10.93;
-    m.nsPerEdgeHitPixel = 8.744;
-    m.nsPerMaskPixel = 4.373;
-    m.nsPerMaskReachPixel = 29.02;
-    m.stencilFill = {0.7148, 0.8409, 0.9584};
-    m.estimateSpread = 0.3155;
-    m.edgesMasksFixedMs = 0.9212;
+    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: builtin:corner
+    // joined the calibration, so its stencils span a few creases to edges everywhere; the early
+    // estimate's edge band η).
+    m.source =
+        "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
+    m.effect = {EffectCost{238.5, 5.612, 0, 31.97, 0, 1.552, 3.942, 0.2757, 9.688},
+                EffectCost{173.1, 0, 0, 42.97, 1.931, 1.723, 2.562, 0.3548, 13.87},
+                EffectCost{34.1, 7.675, 13.98, 23.09, 0, 1.866, 4.455, 1.38, 9.463}};
+    m.nsPerCoarseGbufferPixel = 22.2;
+    m.nsPerFullBlendPixel = 5.474;
+    m.nsPerBlendPixel = 3.059;
+    m.nsPerFineBlendPixel = 39.83;
+    m.nsPerEdgePixel = 14.19;
+    m.nsPerEdgeHitPixel = 8.05;
+    m.nsPerMaskPixel = 5.092;
+    m.nsPerMaskReachPixel = 34.34;
+    m.stencilFill = {0.905, 0.87, 0.89};
+    m.edgeBandFill = {0.9857, 2.788, 6.924};
+    m.estimateSpread = 0.1855;
+    m.edgesMasksFixedMs = 1.145;
   } else {
-    // cpu: one run (--repeats 5, the same evening and code as the port's).
-    m.source = "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM)";
-    m.effect = {EffectCost{219.8, 9.354, 1.132, 3.324, 0, 1.1, 0.234, 0.05232, 2.683},
-                EffectCost{76.66, 0, 0, 2.53, 1.674, 1.304, 0.3443, 0.01734, 2.891},
-                EffectCost{34.89, 10.64, 16.86, 3.698, 0, 1.371, 0.3621, 0.07322, 2.235}};
-    m.nsPerCoarseGbufferPixel = 7.763;
-    m.nsPerFullBlendPixel = 3.721;
-    m.nsPerBlendPixel = 2.154;
-    m.nsPerFineBlendPixel = 1.429;
-    m.nsPerEdgePixel = 1.139;
-    m.nsPerEdgeHitPixel = 4.042;
-    m.nsPerMaskPixel = 2.607;
-    m.nsPerMaskReachPixel = 0.4174;
-    m.stencilFill = {0.7148, 0.8409, 0.9584};
-    m.estimateSpread = 0.4029;
-    m.edgesMasksFixedMs = 0.07295;
+    // cpu: one run (--repeats 5, the same hour and code as the port's).
+    m.source =
+        "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
+    m.effect = {EffectCost{218.9, 8.821, 1.059, 4.022, 0, 1.111, 0.4139, 0.08675, 2.659},
+                EffectCost{82.14, 0, 0, 2.557, 1.652, 1.365, 0.548, 0.02459, 3.465},
+                EffectCost{33.26, 10.6, 18.64, 3.503, 0, 1.474, 0.3484, 0.1068, 2.536}};
+    m.nsPerCoarseGbufferPixel = 7.924;
+    m.nsPerFullBlendPixel = 3.698;
+    m.nsPerBlendPixel = 2.114;
+    m.nsPerFineBlendPixel = 2.264;
+    m.nsPerEdgePixel = 1.273;
+    m.nsPerEdgeHitPixel = 3.647;
+    m.nsPerMaskPixel = 2.871;
+    m.nsPerMaskReachPixel = 0.6619;
+    m.stencilFill = {0.905, 0.87, 0.89};
+    m.edgeBandFill = {0.9857, 2.788, 6.924};
+    m.estimateSpread = 0.255;
+    m.edgesMasksFixedMs = 0.08828;
   }
   return m;
 }
@@ -145,6 +151,14 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     if (!fill.is_array() || fill.size() != m.stencilFill.size())
       throw MrrError("--cost-model: stencil_fill: expected " + std::to_string(m.stencilFill.size()) + " numbers (levels 0-2)");
     for (size_t l = 0; l < m.stencilFill.size(); ++l) m.stencilFill[l] = fill.at(l).get<double>();
+    const nlohmann::json& band = j.at("edge_band_fill");
+    if (!band.is_array() || band.size() != m.edgeBandFill.size())
+      throw MrrError("--cost-model: edge_band_fill: expected " + std::to_string(m.edgeBandFill.size()) + " numbers (levels 0-2)");
+    for (size_t l = 0; l < m.edgeBandFill.size(); ++l) {
+      m.edgeBandFill[l] = band.at(l).get<double>();
+      if (!(m.edgeBandFill[l] > 0.0) || !std::isfinite(m.edgeBandFill[l]))
+        throw MrrError("--cost-model: edge_band_fill: " + std::to_string(m.edgeBandFill[l]) + " is not a positive number (SPEC §11)");
+    }
     m.estimateSpread = j.at("estimate_spread").get<double>();
   } catch (const nlohmann::json::exception& e) {
     throw MrrError(std::string("--cost-model: ") + e.what());
@@ -177,6 +191,7 @@ nlohmann::json CostModel::toJson() const {
           {"ns_per_mask_pixel", nsPerMaskPixel},
           {"ns_per_mask_reach_pixel", nsPerMaskReachPixel},
           {"stencil_fill", stencilFill},
+          {"edge_band_fill", edgeBandFill},
           {"estimate_spread", estimateSpread},
           {"edges_masks_fixed_ms", edgesMasksFixedMs}};
 }
@@ -243,6 +258,13 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
   return ns * 1e-6 + m.edgesMasksFixedMs + e.fixedMs;
 }
 
+double estimateStencilPixels(double fill, double bandFill, const LevelConstants& lc, const FrameCounts& n) {
+  const auto l = static_cast<size_t>(lc.index);
+  const double blockPixels = static_cast<double>(kEdgeSampleStep) * kEdgeSampleStep / (static_cast<double>(lc.scale) * lc.scale);
+  const double band = bandFill * static_cast<double>(n.edgeBlocks) * blockPixels;  // η |Ê| (8 / s_ℓ)²
+  return std::max(static_cast<double>(n.silhouette[l]), std::min(fill * static_cast<double>(n.reach[l]), band));
+}
+
 FrameCounts estimateStencils(const CostModel& m, const Constants& c, const FrameCounts& n) {
   FrameCounts est = n;
   const double hits = std::max(1.0, static_cast<double>(n.hitPixels));
@@ -257,7 +279,8 @@ FrameCounts estimateStencils(const CostModel& m, const Constants& c, const Frame
       onGeometryShare = hitShare(c, n);
     } else {
       const double reach = static_cast<double>(n.reach[l]);
-      shaded = std::max(static_cast<double>(n.silhouette[l]), m.stencilFill[std::min(l, m.stencilFill.size() - 1)] * reach);
+      const size_t fl = std::min(l, m.stencilFill.size() - 1);
+      shaded = estimateStencilPixels(m.stencilFill[fl], m.edgeBandFill[fl], lc, n);
       const double reachFullRes = reach * lc.scale * lc.scale;
       // silhouettes alone (no reach): half on geometry
       onGeometryShare = reachFullRes > 0.0 ? static_cast<double>(n.reachHits[l]) / reachFullRes : 0.5;

@@ -19,6 +19,7 @@
 // so its image, is the same on every run and any thread count.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -31,6 +32,8 @@ namespace mrr {
 // [1, 2]: below 1 a stencilled pixel would cost less than a dense one, past 2 a level would cost
 // less as its stencil grew. The calibration holds s there and --cost-model refuses others.
 inline constexpr double kMinSparseFactor = 1.0, kMaxSparseFactor = 2.0;
+// η_ℓ (CostModel::edgeBandFill) unpriced: the early estimate takes φ_ℓ |R_ℓ| alone.
+inline constexpr double kNoEdgeBand = std::numeric_limits<double>::infinity();
 
 struct EffectCost {
   double nsPerShadedPixel = 0.0;      // a: per shaded pixel on geometry, whatever the sample count
@@ -79,9 +82,15 @@ struct CostModel {
   // draws its blur passes only near edges, so its masks cost what the edges' surroundings cover.
   double nsPerMaskReachPixel = 0.0;
   double edgesMasksFixedMs = 0.0;  // κ: the edges' and masks' passes per frame, whatever its size
-  // φ_ℓ, ℓ < 3: |S_ℓ| / |R_ℓ|, the share of the edge sample's reach the stencil fills (an edge
-  // crosses a block; S_ℓ is a band r_ℓ wide around it). The early estimate's |S_ℓ| = φ_ℓ |R_ℓ|.
+  // φ_ℓ, ℓ < 3: the most of the edge sample's reach the stencil fills, |S_ℓ| / |R_ℓ| where edges
+  // crowd (their bands overlap and fill the blocks between them).
   std::array<double, kLevelCount - 1> stencilFill{};
+  // η_ℓ, ℓ < 3: |S_ℓ| per sampled edge block, in the block's level-ℓ pixels ((8 / s_ℓ)²), where
+  // edges are sparse: an edge crosses a block, and S_ℓ is a band around it whatever the reach
+  // about it (measured: |S_0| ≈ 64 |Ê| on every sweep frame, |S_0| / |R_0| from 0.29 to 1). The early
+  // estimate's |S_ℓ| = min(φ_ℓ |R_ℓ|, η_ℓ |Ê| (8 / s_ℓ)²): estimateStencilPixels. Infinite: no band,
+  // φ_ℓ |R_ℓ| alone.
+  std::array<double, kLevelCount - 1> edgeBandFill{kNoEdgeBand, kNoEdgeBand, kNoEdgeBand};
   // w: how far the early estimate of the method's rest, R̂, is from the one its stencils give: R
   // is taken as uniform on R̂ (1 ± w) (√3 × the calibration frames' RMS relative difference).
   double estimateSpread = 0.0;
@@ -150,8 +159,11 @@ double predictMrrMs(const CostModel& model, const Constants& constants, const Fr
 // proportion to H_a and H_p, + k.
 double predictMrrFloorMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
+// SPEC §11: |Ŝ_ℓ| = max(B_ℓ, min(φ |R_ℓ|, η |Ê| (8 / s_ℓ)²)), level-ℓ pixels, for ℓ below the
+// coarsest: the stencil the edge sample predicts, with fill φ and band η (CostModel's φ_ℓ, η_ℓ).
+double estimateStencilPixels(double fill, double bandFill, const LevelConstants& level, const FrameCounts& counts);
 // S_ℓ as the edge sample sees it, before the edges (counts.shaded… unknown): for ℓ below the
-// coarsest k, |S_ℓ| = max(B_ℓ, φ_ℓ |R_ℓ|), on geometry in the share R_ℓ's blocks are, paying
+// coarsest k, |S_ℓ| = estimateStencilPixels, on geometry in the share R_ℓ's blocks are, paying
 // (H_a, H_p) in the frame's shares of H; all of level k, in the frame's shares.
 FrameCounts estimateStencils(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The edges and the masks, from the edge sample's reach A = Σ R_ℓ: P_0 (ε + μ) + H ε_h + A μ_A + κ.

@@ -8,12 +8,14 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <ostream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "common/error.h"
 #include "common/image_io.h"
 #include "common/stages.h"
 
@@ -195,11 +197,48 @@ void fitSparseFactorAndFixedCost(CostModel& model, Effect e, const std::vector<C
   }
 }
 
+void fitStencilFill(CostModel& model, const std::vector<CalibrationFrame>& frames) {
+  // Per level below the coarsest, (φ_ℓ, η_ℓ) minimising Σ (|Ŝ_ℓ| / |S_ℓ| − 1)² over the frames
+  // whose level ℓ is shaded and reached: a grid, φ in steps of 1/200 on [0, 1] and η on a log scale
+  // from 1/16 to 64 (a fit in closed form would have to split the frames at min's corner). Relative,
+  // as every fit here: the rule's error is relative.
+  constexpr int kFillSteps = 200, kBandSteps = 480;
+  constexpr double kBandLo = 1.0 / 16.0, kBandHi = 64.0;
+  for (size_t l = 0; l < model.stencilFill.size(); ++l) {
+    std::vector<const CalibrationFrame*> use;
+    for (const CalibrationFrame& f : frames) {
+      const LevelConstants& lc = f.constants.levels[l];
+      if (lc.enabled && lc.shaded && lc.index < f.constants.coarsestEnabled && f.counts.reach[l] > 0 && f.counts.shaded[l] > 0)
+        use.push_back(&f);
+    }
+    if (use.empty()) continue;  // the level unseen: the model keeps what it had
+    double best = std::numeric_limits<double>::infinity();
+    for (int bi = 0; bi <= kBandSteps; ++bi) {
+      const double band = kBandLo * std::pow(kBandHi / kBandLo, static_cast<double>(bi) / kBandSteps);
+      for (int fi = 0; fi <= kFillSteps; ++fi) {
+        const double fill = static_cast<double>(fi) / kFillSteps;
+        double squares = 0.0;
+        for (const CalibrationFrame* f : use) {
+          const double off = estimateStencilPixels(fill, band, f->constants.levels[l], f->counts) /
+                                 static_cast<double>(f->counts.shaded[l]) -
+                             1.0;
+          squares += off * off;
+        }
+        if (squares < best) {
+          best = squares;
+          model.stencilFill[l] = fill;
+          model.edgeBandFill[l] = band;
+        }
+      }
+    }
+  }
+}
+
 CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
   const int w = 640, h = 360;
   CostModel model;
-  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:demo and builtin:bumpy 320x180 to 1280x720";
+  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:corner, builtin:demo and builtin:bumpy 320x180 to 1280x720";
   // Per effect, full frames: H_a, H_a·N (, H_p·N), W·H − H_a and 1 against the shading time. c and
   // k₀ come from the frames nearly all background (the sky), where nothing else is paid; a, b
   // (, e) by least squares on the rest with those fixed (fitted together, c traded off against a).
@@ -221,8 +260,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   CostModel counting = CostModel::defaults(path.name);
   counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
   LeastSquares edgesFit, masksFit;  // P_0, H, 1 → ε, ε_h, κ's share; P_0, A, 1 → μ, μ_A, the rest of κ
-  std::array<double, kLevelCount - 1> filled{}, reached{};  // Σ|S_ℓ| and Σ|R_ℓ| → φ_ℓ
-  for (const char* sceneName : {"builtin:demo", "builtin:bumpy"}) {
+  for (const char* sceneName : {"builtin:corner", "builtin:demo", "builtin:bumpy"}) {
     const OpenScene sc = openScene(sceneName, path);
     const float diagonal = sc.scene->bounds().diagonal();
     for (const RuleView& view : ruleViews(*sc.scene, sc.camera, static_cast<float>(w) / h)) {
@@ -287,12 +325,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
           const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
           const FrameCounts& mn = m->last.counts;
           double reach = 0.0;
-          for (size_t l = 0; l < filled.size(); ++l) {
-            reach += static_cast<double>(mn.reach[l]);
-            if (mn.reach[l] == 0) continue;  // a level without reach (SSGI's half level, a frame without edges)
-            filled[l] += static_cast<double>(mn.shaded[l]);
-            reached[l] += static_cast<double>(mn.reach[l]);
-          }
+          for (int64_t r : mn.reach) reach += static_cast<double>(r);
           edgesFit.addRelative({padded, static_cast<double>(mn.hitPixels), 1e6}, edgesNs, edgesNs);
           masksFit.addRelative({padded, reach, 1e6}, masksNs, masksNs);
         }
@@ -338,8 +371,8 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   model.nsPerMaskPixel = maskCost[0];
   model.nsPerMaskReachPixel = maskCost[1];
   model.edgesMasksFixedMs = edgeCost[2] + maskCost[2];
-  // φ_ℓ: the share of the edge sample's reach the stencils fill, over every frame and size
-  for (size_t l = 0; l < filled.size(); ++l) model.stencilFill[l] = reached[l] > 0.0 ? std::min(1.0, filled[l] / reached[l]) : 1.0;
+  // φ_ℓ and η_ℓ: how the stencils fill the edge sample's reach, over every frame and size
+  fitStencilFill(model, mrrRuns);
   // s and k, per effect, over the method's frames at every size and both sample counts
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) fitSparseFactorAndFixedCost(model, e, mrrRuns);
   // w: the early estimate of the method's rest (from the edge sample) against the one its
@@ -356,6 +389,71 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
 }
 
 namespace {
+
+struct Verdict {
+  bool right = false, wrongBeyondNoise = false;
+};
+
+// The rule chose right when the mode it took is the faster within 5% (by the medians); wrong beyond
+// the machine's noise when, besides, three quarters of the pairs are past the 5% bar the wrong way
+// (on llvmpipe a frame all sky, where the method does strictly more work, has measured 1.18×
+// faster than full by its medians).
+Verdict judge(const std::string& decision, double fullMs, double mrrMs, const std::vector<double>& pairRatios) {
+  const bool keptMrr = decision == "mrr";
+  Verdict v;
+  v.right = keptMrr ? mrrMs <= 1.05 * fullMs : fullMs <= 1.05 * mrrMs;
+  v.wrongBeyondNoise = !v.right && (keptMrr ? quantile(pairRatios, 0.25) > 1.05 : quantile(pairRatios, 0.75) * 1.05 < 1.0);
+  return v;
+}
+
+// The summary: how often the rule chose the faster mode (within 5%), and the worst of each way.
+// A frame without a with-rule time (rule_ms null: a replay whose model falls back where the sweep
+// kept the method) is left out of the worst with-rule/full, and counted.
+nlohmann::json summarize(const nlohmann::json& frames) {
+  int right = 0, kept = 0, fell = 0, wrongBeyondNoise = 0, unmeasured = 0;
+  double worstKept = 0.0, worstFell = 0.0, worstRule = 0.0;
+  for (const nlohmann::json& f : frames) {
+    right += f["right"].get<bool>();
+    wrongBeyondNoise += f["wrong_beyond_noise"].get<bool>();
+    const double fullMs = f["full_ms"], mrrMs = f["mrr_ms"];
+    if (f["rule_ms"].is_number())
+      worstRule = std::max(worstRule, f["rule_ms"].get<double>() / fullMs);
+    else
+      ++unmeasured;
+    if (f["decision"] == "mrr") {
+      ++kept;
+      worstKept = std::max(worstKept, mrrMs / fullMs);
+    } else {
+      ++fell;
+      worstFell = std::max(worstFell, fullMs / mrrMs);
+    }
+  }
+  nlohmann::json summary = {{"frames", frames.size()},
+                            {"right", right},
+                            {"wrong_beyond_noise", wrongBeyondNoise},
+                            {"kept_mrr", kept},
+                            {"fell_back", fell},
+                            {"worst_kept_mrr_over_full", worstKept},
+                            {"worst_fell_back_full_over_mrr", worstFell},
+                            {"worst_rule_over_full", worstRule}};
+  if (unmeasured > 0) summary["rule_unmeasured"] = unmeasured;
+  return summary;
+}
+
+void printSummary(const nlohmann::json& s, std::ostream& out) {
+  const size_t frames = s["frames"];
+  const int right = s["right"];
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "| frames | right (faster within 5%%) | wrong beyond noise | kept mrr | fell back | worst mrr/full where kept | "
+                "worst full/mrr where fallen back | worst with-rule/full |\n|---|---|---|---|---|---|---|---|\n| %zu | %d (%.1f%%) | "
+                "%d | %d | %d | %.3f | %.3f | %.3f%s |\n",
+                frames, right, 100.0 * right / static_cast<double>(std::max<size_t>(frames, 1)),
+                s["wrong_beyond_noise"].get<int>(), s["kept_mrr"].get<int>(), s["fell_back"].get<int>(),
+                s["worst_kept_mrr_over_full"].get<double>(), s["worst_fell_back_full_over_mrr"].get<double>(),
+                s["worst_rule_over_full"].get<double>(), s.contains("rule_unmeasured") ? " (some unmeasured)" : "");
+  out << line;
+}
 
 struct SweepConfig {
   Effect effect;
@@ -447,13 +545,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           const FrameCounts& n = mrr.last.counts;
           const double ruleMs = decision == "mrr" ? frameMs(mrr.ms) : frameMs(rule.ms);
           const double fullMs = frameMs(full.ms), mrrMs = frameMs(mrr.ms);
-          const bool keptMrr = decision == "mrr";
-          const bool right = keptMrr ? mrrMs <= 1.05 * fullMs : fullMs <= 1.05 * mrrMs;
-          // Wrong beyond the machine's noise: wrong by the medians, and three quarters of the pairs
-          // past the 5% bar the wrong way too (on llvmpipe a frame all sky, where the method does
-          // strictly more work, has measured 1.18× faster than full by its medians).
-          const bool wrongBeyondNoise =
-              !right && (keptMrr ? quantile(pairRatios, 0.25) > 1.05 : quantile(pairRatios, 0.75) * 1.05 < 1.0);
+          const Verdict verdict = judge(decision, fullMs, mrrMs, pairRatios);
           frames.push_back({{"path", path.name},
                             {"scene", sceneName},
                             {"view", view.name},
@@ -494,46 +586,96 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
                             {"full_stages_ms", full.ms},
                             {"mrr_stages_ms", mrr.ms},
                             {"pair_ratios", pairRatios},
-                            {"right", right},
-                            {"wrong_beyond_noise", wrongBeyondNoise}});
+                            {"right", verdict.right},
+                            {"wrong_beyond_noise", verdict.wrongBeyondNoise}});
         }
     }
   }
-  // The summary: how often the rule chose the faster mode (within 5%), and the worst of each way.
-  int right = 0, kept = 0, fell = 0, wrongBeyondNoise = 0;
-  double worstKept = 0.0, worstFell = 0.0, worstRule = 0.0;
-  for (const nlohmann::json& f : frames) {
-    right += f["right"].get<bool>();
-    wrongBeyondNoise += f["wrong_beyond_noise"].get<bool>();
-    const double fullMs = f["full_ms"], mrrMs = f["mrr_ms"], ruleMs = f["rule_ms"];
-    worstRule = std::max(worstRule, ruleMs / fullMs);
-    if (f["decision"] == "mrr") {
-      ++kept;
-      worstKept = std::max(worstKept, mrrMs / fullMs);
-    } else {
-      ++fell;
-      worstFell = std::max(worstFell, fullMs / mrrMs);
-    }
-  }
-  const nlohmann::json summary = {{"frames", frames.size()},
-                                  {"right", right},
-                                  {"wrong_beyond_noise", wrongBeyondNoise},
-                                  {"kept_mrr", kept},
-                                  {"fell_back", fell},
-                                  {"worst_kept_mrr_over_full", worstKept},
-                                  {"worst_fell_back_full_over_mrr", worstFell},
-                                  {"worst_rule_over_full", worstRule}};
+  const nlohmann::json summary = summarize(frames);
   const nlohmann::json result = {{"machine", o.machine}, {"repeats", o.repeats}, {"threads", threads},
                                  {"summary", summary}, {"frames", frames}};
   if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, result.dump(1) + "\n");
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "| frames | right (faster within 5%%) | wrong beyond noise | kept mrr | fell back | worst mrr/full where kept | "
-                "worst full/mrr where fallen back | worst with-rule/full |\n|---|---|---|---|---|---|---|---|\n| %zu | %d (%.1f%%) | "
-                "%d | %d | %d | %.3f | %.3f | %.3f |\n",
-                frames.size(), right, 100.0 * right / static_cast<double>(std::max<size_t>(frames.size(), 1)), wrongBeyondNoise,
-                kept, fell, worstKept, worstFell, worstRule);
-  out << line;
+  printSummary(summary, out);
+  return 0;
+}
+
+int replayRuleSweep(const std::string& sweepFile, const std::string& jsonOut, std::ostream& out) {
+  std::ifstream in(sweepFile);
+  require(in.good(), "--rule-replay " + sweepFile + ": cannot read the file");
+  const nlohmann::json sweep = nlohmann::json::parse(in, nullptr, false);
+  require(!sweep.is_discarded() && sweep.is_object() && sweep.contains("frames") && sweep["frames"].is_array(),
+          "--rule-replay " + sweepFile + ": not a sweep (a JSON object with \"frames\", as --rule-sweep writes)");
+  nlohmann::json frames = nlohmann::json::array();
+  std::vector<std::string> changed;
+  try {
+    for (const nlohmann::json& f : sweep["frames"]) {
+      const std::string path = f.at("path");
+      const CostModel model = CostModel::defaults(path);
+      const Effect effect = parseEffect(f.at("effect").get<std::string>());
+      const int width = f.at("width"), height = f.at("height"), samples = f.at("samples");
+      // The rule reads the frame's size, its levels and its sample count, never a world-space
+      // constant: the scene's diagonal (the automatic SSAO radius) does not enter it.
+      const Constants c = makeConstants(settingsFor("mrr", effect, width, height, samples), 1.0f);
+      const nlohmann::json& cj = f.at("counts");
+      FrameCounts n;
+      n.hitPixels = cj.at("hit");
+      n.searchedPixels = cj.at("searched");
+      n.pcfPixels = cj.at("pcf");
+      n.silhouette = cj.at("silhouette").get<std::array<int64_t, kLevelCount>>();
+      n.shaded = cj.at("shaded").get<std::array<int64_t, kLevelCount>>();
+      n.shadedHit = cj.at("shaded_hit").get<std::array<int64_t, kLevelCount>>();
+      n.shadedSearched = cj.at("shaded_searched").get<std::array<int64_t, kLevelCount>>();
+      n.shadedPcf = cj.at("shaded_pcf").get<std::array<int64_t, kLevelCount>>();
+      n.edgeBlocks = cj.at("edge_blocks");
+      n.reach = cj.at("reach").get<std::array<int64_t, kLevelCount>>();
+      n.reachHits = cj.at("reach_hits").get<std::array<int64_t, kLevelCount>>();
+      const FallbackDecision early = decideEarly(model, c, n), late = decideFallback(model, c, n);
+      const std::string decision = early.onFloor ? "full-floor" : early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+      const double fullMs = f.at("full_ms"), mrrMs = f.at("mrr_ms");
+      const Verdict verdict = judge(decision, fullMs, mrrMs, f.at("pair_ratios").get<std::vector<double>>());
+      nlohmann::json r = f;
+      r["decision"] = decision;
+      r["predicted_full_rest_ms"] = late.predictedFullMs;
+      r["predicted_mrr_rest_ms"] = late.predictedMrrMs;
+      r["predicted_mrr_floor_ms"] = predictMrrFloorMs(model, c, n);
+      r["predicted_mrr_early_ms"] = early.predictedMrrMs;
+      r["predicted_mrr_estimate_ms"] = predictMrrEstimateMs(model, c, n);
+      r["right"] = verdict.right;
+      r["wrong_beyond_noise"] = verdict.wrongBeyondNoise;
+      // The with-rule time: the method's where it keeps the method, the sweep's where both fall
+      // back; unmeasured where only the replay falls back.
+      const std::string was = f.at("decision");
+      if (decision == "mrr")
+        r["rule_ms"] = mrrMs;
+      else if (was == "mrr")
+        r["rule_ms"] = nullptr;
+      if (decision != was || verdict.right != f.at("right").get<bool>()) {
+        char line[400];
+        std::snprintf(line, sizeof line, "| %s | %s | %s | %dx%d %s-%d | %s → %s | %.3f | %s → %s |\n", path.c_str(),
+                      f.at("scene").get<std::string>().c_str(), f.at("view").get<std::string>().c_str(), width, height,
+                      toString(effect).c_str(), samples, was.c_str(), decision.c_str(), mrrMs / fullMs,
+                      f.at("right").get<bool>() ? "right" : "wrong", verdict.right ? "right" : "wrong");
+        changed.emplace_back(line);
+      }
+      frames.push_back(std::move(r));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw MrrError("--rule-replay " + sweepFile + ": " + e.what());
+  }
+  out << "Replayed " << frames.size() << " frames of " << sweepFile << " with the built-in cost models ("
+      << CostModel::defaults("cpu").source << "; " << CostModel::defaults("gpu").source << "):\n\n";
+  const nlohmann::json summary = summarize(frames);
+  if (!jsonOut.empty()) {
+    nlohmann::json result = sweep;
+    result["summary"] = summary;
+    result["frames"] = frames;
+    result["replayed_with"] = {CostModel::defaults("cpu").source, CostModel::defaults("gpu").source};
+    writeTextFile(jsonOut, result.dump(1) + "\n");
+  }
+  printSummary(summary, out);
+  out << "\n" << changed.size() << (changed.size() == 1 ? " frame" : " frames") << " decided or judged otherwise than the sweep recorded"
+      << (changed.empty() ? ".\n" : ":\n\n| path | scene | view | frame | decision | mrr/full | verdict |\n|---|---|---|---|---|---|---|\n");
+  for (const std::string& line : changed) out << line;
   return 0;
 }
 

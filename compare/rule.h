@@ -26,8 +26,9 @@ struct RuleView {
 // 50° above the horizon; a close-up: a quarter of the way from the target to the eye.
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect);
 
-// Fits the model's costs on `path` (SPEC §11's calibration): builtin:demo and builtin:bumpy
-// at 320×180, 640×360 and 1280×720 from the catalogue camera, the sky and a close-up; every
+// Fits the model's costs on `path` (SPEC §11's calibration): builtin:corner (a few creases:
+// sparse stencils), builtin:demo and builtin:bumpy (edges everywhere) at 320×180, 640×360 and
+// 1280×720 from the catalogue camera, the sky and a close-up; every
 // effect in mode full at two sample counts (a, b and c by least squares over H, H·N and
 // W·H − H), and in mode mrr with the rule off (s, d, g, β, ε, μ, k).
 CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads);
@@ -44,6 +45,11 @@ struct CalibrationFrame {
 // first a stencil takes no more than twice the dense mean), k then refitted alone.
 void fitSparseFactorAndFixedCost(CostModel& model, Effect e, const std::vector<CalibrationFrame>& frames);
 
+// φ_ℓ and η_ℓ (SPEC §11's early estimate of the stencils, estimateStencilPixels): per level
+// below the coarsest, the pair with the least relative squared error against the frames' |S_ℓ|.
+// A level no frame shades keeps the model's.
+void fitStencilFill(CostModel& model, const std::vector<CalibrationFrame>& frames);
+
 struct RuleSweepOptions {
   std::vector<std::string> scenes = {"arcade",         "apartment",     "cornell",        "builtin:demo",
                                      "builtin:boxes",  "builtin:shadows", "builtin:fence", "builtin:bumpy",
@@ -57,5 +63,12 @@ struct RuleSweepOptions {
 
 // Runs the sweep on every path, writes the JSON, prints the summary (Markdown); returns 0.
 int runRuleSweep(const RuleSweepOptions& options, const std::vector<BenchPath>& paths, std::ostream& out);
+// `mrr bench --rule-replay FILE`: re-decides every frame of a sweep's JSON with the built-in cost
+// model of its path, from the counts the sweep recorded, and judges it by the times the sweep
+// measured: what this build's model decides on frames measured before, without rendering again
+// (a decision is a function of the counts). Prints the summary and every frame decided or judged
+// otherwise than recorded; with `jsonOut`, writes the sweep re-decided there (rule_ms null where
+// only the replay falls back: that time was not measured). Throws MrrError on a file that is not a sweep.
+int replayRuleSweep(const std::string& sweepFile, const std::string& jsonOut, std::ostream& out);
 
 }  // namespace mrr

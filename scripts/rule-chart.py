@@ -8,7 +8,9 @@ writes OUT_DIR/rule-predicted.svg (the predicted rest of each frame against the 
 full and mrr, and the early decision's estimate of the method's frame from its edges on against
 the measured one, log-log, with the ideal y = x), OUT_DIR/rule-decisions.svg (each frame's
 measured mrr/full against the early prediction, by the rule's decision, with the ±5% band) and
-OUT_DIR/rule-sweep.md (the summary and every frame, a row each)."""
+OUT_DIR/rule-sweep.md (the summary and every frame, a row each). A replayed sweep (`mrr bench
+--rule-replay F --json OUT`) draws the same, its with-rule time "—" where only the replay falls
+back (the sweep never measured that frame with the rule on)."""
 import json
 import os
 import sys
@@ -102,6 +104,8 @@ def main():
     fig.savefig(os.path.join(out, "rule-decisions.svg"))
 
     s = sweep["summary"]
+    replayed = sweep.get("replayed_with")
+    unmeasured = s.get("rule_unmeasured", 0)
     lines = [
         f"# The never-slower rule on {s['frames']} frames nobody tuned it to",
         "",
@@ -109,13 +113,19 @@ def main():
         "full and mrr alternating in one process (`mrr bench --rule-sweep`). Times are the frame less what every mode "
         "pays alike before the rule decides: the full-res G-buffer, and SSM's and SSGI's shadow map and one-tap test.",
         "",
+    ]
+    if replayed:
+        lines += [f"Re-decided from the recorded counts by `mrr bench --rule-replay` with: {'; '.join(replayed)}. "
+                  "The times are the sweep's; \"—\": a with-rule time the sweep did not measure (only the replay "
+                  "falls back there).", ""]
+    lines += [
         "| frames | decision right (faster within 5%) | wrong beyond noise | kept mrr | fell back | "
         "worst mrr/full where kept | worst full/mrr where fallen back | worst with-rule/full |",
         "|---|---|---|---|---|---|---|---|",
         f"| {s['frames']} | {s['right']} ({100.0 * s['right'] / max(s['frames'], 1):.1f}%) | "
         f"{s.get('wrong_beyond_noise', '—')} | {s['kept_mrr']} | "
         f"{s['fell_back']} | {s['worst_kept_mrr_over_full']:.3f} | {s['worst_fell_back_full_over_mrr']:.3f} | "
-        f"{s['worst_rule_over_full']:.3f} |",
+        f"{s['worst_rule_over_full']:.3f}{f' ({unmeasured} unmeasured)' if unmeasured else ''} |",
         "",
         "| path | scene | view | size | effect | on geometry | ideal (px / hit) | decision | predicted mrr/full early | "
         "on the stencils | full ms | mrr ms | with rule ms | mrr/full per pair (quartiles) | right |",
@@ -135,13 +145,16 @@ def main():
             return "yes"
         return "**no**" if f.get("wrong_beyond_noise", True) else "no, within noise"
 
+    def with_rule(f):  # None: a replay fell back where the sweep kept the method, unmeasured
+        return "—" if f["rule_ms"] is None else f"{f['rule_ms']:.1f}"
+
     for f in frames:
         early = early_mrr_ms(f) / max(f["predicted_full_rest_ms"], 1e-9)
         ratio = f["predicted_mrr_rest_ms"] / max(f["predicted_full_rest_ms"], 1e-9)
         lines.append(
             f"| {f['path']} | {f['scene']} | {f['view']} | {f['width']}x{f['height']} | {f['effect']}-{f['samples']} | "
             f"{100 * f['hit_share']:.0f}% | {f['ideal_speedup']:.2f} / {f['ideal_speedup_hit']:.2f} | {f['decision']} | "
-            f"{early:.2f} | {ratio:.2f} | {f['full_ms']:.1f} | {f['mrr_ms']:.1f} | {f['rule_ms']:.1f} | "
+            f"{early:.2f} | {ratio:.2f} | {f['full_ms']:.1f} | {f['mrr_ms']:.1f} | {with_rule(f)} | "
             f"{pair_quartiles(f)} | {verdict(f)} |")
     open(os.path.join(out, "rule-sweep.md"), "w").write("\n".join(lines) + "\n")
 

@@ -4,7 +4,10 @@
 #   scripts/test-rule-chart.sh [path/to/mrr]
 # Checks: the chart script exits 0 and writes both SVG charts and rule-sweep.md; the Markdown's
 # summary row matches sweep.json's summary (frames, right, wrong beyond noise) and it has a row
-# per frame with the pairs' quartiles; the decisions chart's title counts the frames right.
+# per frame with the pairs' quartiles; the decisions chart's title counts the frames right. Then
+# the same sweep, one kept frame's counts made those of a frame edged everywhere, re-decided by
+# `mrr bench --rule-replay` and drawn: the replay says so, and that frame's with-rule time, never
+# measured, is "—" and counted as unmeasured.
 # Exit 77 (ctest: skipped) when python3 has no matplotlib. Any failure: exit 1 with a reason.
 tool=test-rule-chart
 source "$(dirname "${BASH_SOURCE[0]}")/lib-test.sh"
@@ -40,4 +43,26 @@ svg = open(f"{work}/rule-decisions.svg").read()
 if f"decision right on {s['right']}/{s['frames']} frames" not in svg:
     fail("the decisions chart's title does not count the frames right")
 PY
+/usr/bin/python3 - "$work" << 'PY' || fail "no frame the sweep kept to plant a change in"
+import json, sys
+work = sys.argv[1]
+sweep = json.load(open(f"{work}/sweep.json"))
+f = next(f for f in sweep["frames"] if f["decision"] == "mrr")
+w, h = f["width"], f["height"]
+c = f["counts"]
+for key in ("shaded", "shaded_hit", "shaded_searched", "reach"):
+    c[key] = [((w + (1 << l) - 1) >> l) * ((h + (1 << l) - 1) >> l) for l in range(4)]
+c["hit"] = c["searched"] = w * h
+c["edge_blocks"] = ((w + 7) // 8) * ((h + 7) // 8)
+json.dump(sweep, open(f"{work}/planted.json", "w"))
+PY
+"$mrr" bench --rule-replay "$work/planted.json" --json "$work/replay.json" > "$work/replay.out" 2> "$work/replay.err" ||
+  fail "the replay failed: $(tail -n1 "$work/replay.err")"
+mkdir -p "$work/replay"
+/usr/bin/python3 "$here/scripts/rule-chart.py" "$work/replay.json" "$work/replay" > /dev/null 2> "$work/chart.err" ||
+  fail "rule-chart.py failed on a replay: $(tail -n1 "$work/chart.err")"
+md="$work/replay/rule-sweep.md"
+grep -q 'Re-decided from the recorded counts by `mrr bench --rule-replay`' "$md" || fail "a replay's page does not say it is one"
+grep -q '(1 unmeasured) |$' "$md" || fail "a replay's summary does not count the unmeasured with-rule time"
+[ "$(grep -c '^| cpu | builtin:plane |.* | — | ' "$md")" = 1 ] || fail "the replay's fallen-back frame does not show its with-rule time as unmeasured"
 echo "$tool: ok"

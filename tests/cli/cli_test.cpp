@@ -512,6 +512,52 @@ TEST_F(CliRenderTest, RuleSweepJudgesEveryFrameByItsOwnTimes) {
   EXPECT_EQ(summary["kept_mrr"], kept);
   EXPECT_EQ(summary["fell_back"], 8 - kept);
   EXPECT_DOUBLE_EQ(summary["worst_kept_mrr_over_full"].get<double>(), worstKept);
+
+  // Replayed with the model that decided it, the sweep decides and judges every frame as recorded
+  // (a decision is a function of the counts the sweep keeps)...
+  const RunResult same = runMrr({"bench", "--rule-replay", at("sweep.json"), "--json", at("replay.json")}, dir);
+  ASSERT_EQ(same.status, 0) << describe(same);
+  EXPECT_NE(same.out.find("0 frames decided or judged otherwise than the sweep recorded."), std::string::npos) << same.out;
+  const json replayed = json::parse(readFile(at("replay.json")));
+  EXPECT_EQ(replayed["summary"], summary);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(replayed["frames"][i]["decision"], frames[i]["decision"]) << i;
+    EXPECT_DOUBLE_EQ(replayed["frames"][i]["predicted_mrr_early_ms"].get<double>(),
+                     frames[i]["predicted_mrr_early_ms"].get<double>())
+        << i;
+  }
+  // ...and a frame the method kept, its counts made those of a frame edged everywhere (every
+  // level stencilled whole, every block marked), is decided otherwise, and said so.
+  json planted = j;
+  size_t victim = frames.size();
+  for (size_t i = 0; i < frames.size() && victim == frames.size(); ++i)
+    if (frames[i]["decision"] == "mrr") victim = i;
+  ASSERT_LT(victim, frames.size()) << "the plane's sweep keeps the method on some frame (its close-ups)";
+  json& f = planted["frames"][victim];
+  const int w = f["width"], h = f["height"];
+  json& counts = f["counts"];
+  for (const char* key : {"shaded", "shaded_hit", "shaded_searched", "reach"})
+    for (int l = 0; l < 4; ++l) counts[key][l] = static_cast<int64_t>((w + (1 << l) - 1) >> l) * ((h + (1 << l) - 1) >> l);
+  counts["hit"] = counts["searched"] = static_cast<int64_t>(w) * h;
+  counts["edge_blocks"] = static_cast<int64_t>((w + 7) / 8) * ((h + 7) / 8);
+  writeFile(at("planted.json"), planted.dump());
+  const RunResult other = runMrr({"bench", "--rule-replay", at("planted.json"), "--json", at("replay2.json")}, dir);
+  ASSERT_EQ(other.status, 0) << describe(other);
+  EXPECT_NE(other.out.find("1 frame decided or judged otherwise than the sweep recorded:"), std::string::npos) << other.out;
+  EXPECT_NE(other.out.find("| mrr → full"), std::string::npos) << other.out;
+  const json replayed2 = json::parse(readFile(at("replay2.json")));
+  EXPECT_NE(replayed2["frames"][victim]["decision"], "mrr");
+  EXPECT_TRUE(replayed2["frames"][victim]["rule_ms"].is_null()) << "the with-rule time of a fallback the sweep never ran";
+  EXPECT_EQ(replayed2["summary"]["rule_unmeasured"], 1);
+
+  // Bad input: one line, exit 2.
+  writeFile(at("notasweep.json"), "{\"frames\": 3}");
+  for (const std::string& file : {at("missing.json"), at("notasweep.json")}) {
+    const RunResult bad = runMrr({"bench", "--rule-replay", file}, dir);
+    EXPECT_EQ(bad.status, 2) << describe(bad);
+    EXPECT_EQ(bad.err.rfind("mrr: error: --rule-replay", 0), 0u) << bad.err;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  }
 }
 
 TEST_F(CliRenderTest, EveryMethodRendersAndNamesItself) {

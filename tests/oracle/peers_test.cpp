@@ -260,6 +260,58 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
 // SPEC §11's s_ℓ: a stencil over every paying pixel of level 0 is the dense frame, priced as
 // full prices its shading whatever s; a stencil over none pays s; and a level's price rises with
 // |S_ℓ| up to s = 2, the calibration's bound.
+// SPEC §11's early estimate, fitted: frames whose stencils follow min(φ |R_ℓ|, η |Ê| (8/s_ℓ)²)
+// exactly, sparse edges (the band binds) and crowded ones (the fill binds), give φ_ℓ and η_ℓ back
+// within the grid's step; a level no frame shades keeps the model's.
+TEST(NeverSlower, TheStencilFitFindsTheFillAndTheBandBack) {
+  const std::array<double, 3> fill = {0.96, 0.8, 0.92}, band = {1.1, 2.5, 7.0};
+  std::vector<CalibrationFrame> frames;
+  for (const auto& [w, h] : {std::pair{320, 180}, std::pair{640, 360}, std::pair{1280, 720}})
+    for (double edges : {0.02, 0.05, 0.1, 0.2, 0.4, 0.9, 1.0}) {  // the share of the frame's blocks marked
+      const Constants c = makeConstants(ssaoSettings(w, h, 16), 1.0f);
+      FrameCounts n;
+      n.hitPixels = n.searchedPixels = static_cast<int64_t>(w) * h;
+      n.edgeBlocks = std::llround(edges * (w / 8) * (h / 8));
+      for (size_t l = 0; l < 3; ++l) {
+        // the reach: as wide as three blocks a marked block where edges are sparse, all of the
+        // level where they crowd
+        const double levelPixels = static_cast<double>(c.levels[l].width) * c.levels[l].height;
+        const double blockPixels = 64.0 / static_cast<double>(1 << (2 * l));
+        n.reach[l] = std::llround(std::min(levelPixels, 3.0 * (1 + static_cast<double>(l)) * blockPixels *
+                                                            static_cast<double>(n.edgeBlocks)));
+        n.shaded[l] = std::llround(std::min(fill[l] * static_cast<double>(n.reach[l]),
+                                            band[l] * blockPixels * static_cast<double>(n.edgeBlocks)));
+      }
+      frames.push_back({Effect::Ssao, c, n, 1.0});
+    }
+  // both sides of min's corner are in the frames, at every level
+  for (size_t l = 0; l < 3; ++l) {
+    int bandBinds = 0, fillBinds = 0;
+    for (const CalibrationFrame& f : frames)
+      (band[l] * 64.0 / (1 << (2 * l)) * static_cast<double>(f.counts.edgeBlocks) <
+               fill[l] * static_cast<double>(f.counts.reach[l])
+           ? bandBinds
+           : fillBinds)++;
+    ASSERT_GT(bandBinds, 2) << "level " << l;
+    ASSERT_GT(fillBinds, 2) << "level " << l;
+  }
+  CostModel m;
+  fitStencilFill(m, frames);
+  for (size_t l = 0; l < 3; ++l) {
+    EXPECT_NEAR(m.stencilFill[l], fill[l], 0.01) << "level " << l;
+    EXPECT_NEAR(m.edgeBandFill[l] / band[l], 1.0, 0.02) << "level " << l;
+  }
+  // No frame reaches level 2: it keeps the model's figures.
+  for (CalibrationFrame& f : frames) f.counts.reach[2] = f.counts.shaded[2] = 0;
+  CostModel kept;
+  kept.stencilFill[2] = 0.3;
+  kept.edgeBandFill[2] = 5.0;
+  fitStencilFill(kept, frames);
+  EXPECT_EQ(kept.stencilFill[2], 0.3);
+  EXPECT_EQ(kept.edgeBandFill[2], 5.0);
+  EXPECT_NEAR(kept.stencilFill[0], fill[0], 0.01);
+}
+
 TEST(NeverSlower, TheSparsePremiumFallsToNothingAsTheStencilFillsTheLevel) {
   const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   CostModel m;
@@ -596,14 +648,21 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
     EXPECT_EQ(n.reachHits[static_cast<size_t>(l)], hits) << "level " << l;
   }
   EXPECT_EQ(n.reach[3], 0);
-  // The estimate: |S_ℓ| = max(B_ℓ, φ_ℓ |R_ℓ|) on geometry in R_ℓ's share, the coarsest level whole.
+  // The estimate: |S_ℓ| = max(B_ℓ, min(φ_ℓ |R_ℓ|, η_ℓ |Ê| (8/s_ℓ)²)) on geometry in R_ℓ's share,
+  // the coarsest level whole. Level 0 takes the band (η 0.5: half a block per marked block), levels
+  // 1 and 2 the fill.
   CostModel m;
   m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 0.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
   m.stencilFill = {0.5, 0.25, 1.0};
+  m.edgeBandFill = {0.5, 100.0, 100.0};
   const FrameCounts est = estimateStencils(m, c, n);
+  ASSERT_LT(0.5 * static_cast<double>(n.edgeBlocks) * 64.0, 0.5 * static_cast<double>(n.reach[0]))
+      << "the frame's level 0 must be one where the band binds";
   for (int l = 0; l < 3; ++l) {
     const auto i = static_cast<size_t>(l);
-    const double shaded = std::max(static_cast<double>(n.silhouette[i]), m.stencilFill[i] * static_cast<double>(n.reach[i]));
+    const double band = m.edgeBandFill[i] * static_cast<double>(n.edgeBlocks) * 64.0 / static_cast<double>(1 << (2 * l));
+    const double shaded = std::max(static_cast<double>(n.silhouette[i]),
+                                   std::min(m.stencilFill[i] * static_cast<double>(n.reach[i]), band));
     EXPECT_EQ(est.shaded[i], std::llround(shaded)) << "level " << l;
     const double share = static_cast<double>(n.reachHits[i]) / static_cast<double>(n.reach[i] << (2 * l));
     EXPECT_EQ(est.shadedHit[i], std::llround(shaded * share)) << "level " << l;
@@ -695,7 +754,7 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   EXPECT_EQ(back.toJson(), m.toJson());
   for (const char* key : {"ns_per_blend_pixel", "ns_per_fine_blend_pixel", "ns_per_full_blend_pixel", "ns_per_coarse_gbuffer_pixel",
                           "ns_per_edge_pixel", "ns_per_edge_hit_pixel", "ns_per_mask_reach_pixel", "stencil_fill",
-                          "estimate_spread",
+                          "edge_band_fill", "estimate_spread",
                           "edges_masks_fixed_ms"}) {
     nlohmann::json broken = m.toJson();
     broken.erase(key);
@@ -707,6 +766,14 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   nlohmann::json shortFill = m.toJson();  // φ for every level below the coarsest, no fewer
   shortFill["stencil_fill"] = {0.5, 0.5};
   EXPECT_THROW(CostModel::fromJson(shortFill), MrrError);
+  // η for every level below the coarsest, each a positive number (a band of no pixels, or of
+  // fewer than none, would estimate every stencil at its silhouettes alone)
+  for (const nlohmann::json& band : {nlohmann::json{1.0, 2.0}, nlohmann::json{1.0, 0.0, 8.0}, nlohmann::json{1.0, -2.0, 8.0},
+                                     nlohmann::json{1.0, "2", 8.0}}) {
+    nlohmann::json broken = m.toJson();
+    broken["edge_band_fill"] = band;
+    EXPECT_THROW(CostModel::fromJson(broken), MrrError) << band.dump();
+  }
   nlohmann::json noRule = m.toJson();  // a file from before the rule's cost was measured
   noRule["effects"]["ssm"].erase("ns_per_rule_pixel");
   EXPECT_THROW(CostModel::fromJson(noRule), MrrError);

@@ -133,12 +133,7 @@ Settings FrameOptions::settings() const {
 }
 
 CostModel FrameOptions::costModel(const std::string& forPath) const {
-  if (costModelFile.empty()) return CostModel::defaults(forPath);
-  std::ifstream in(costModelFile);
-  require(in.good(), "--cost-model " + costModelFile + ": cannot read the file");
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  require(!j.is_discarded() && j.is_object(), "--cost-model " + costModelFile + ": not a JSON object");
-  return CostModel::fromJson(j);
+  return costModelFile.empty() ? CostModel::defaults(forPath) : CostModel::fromFile(costModelFile);
 }
 
 SceneRequest FrameOptions::sceneRequest() const {

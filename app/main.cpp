@@ -337,7 +337,8 @@ int run(int argc, char** argv) {
 
   BenchOptions benchOpts;
   std::vector<std::string> benchSizes, benchResolutions, benchPaths = {"cpu"};
-  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut, ruleSweepOut, ruleReplayIn;
+  std::string benchSweepSize, benchStabilitySize, benchStressSize, calibrateOut, ruleSweepOut, ruleReplayIn,
+      ruleCostModelFile;
   bool quick = false, noSweeps = false, noStress = false;
   int glDevice = -1;
   std::string benchGpuTiming = "auto";
@@ -391,6 +392,9 @@ int run(int argc, char** argv) {
   bench->add_option("--rule-replay", ruleReplayIn,
                     "re-decide every frame of a --rule-sweep JSON with this build's built-in cost models, from the "
                     "counts it recorded, and judge them by the times it measured (renders nothing)");
+  bench->add_option("--cost-model", ruleCostModelFile,
+                    "with --rule-sweep or --rule-replay: the rule's costs, a JSON written by --calibrate ({path} is "
+                    "replaced by cpu or gpu; default: built in)");
   bench->add_flag("--quick", quick,
                   "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 3 repeats, small sweeps, "
                   "8-frame paths at 96x54, stress scenes at 160x90");
@@ -493,7 +497,10 @@ int run(int argc, char** argv) {
     if (!benchOpts.reportDir.empty())
       checkOutputLocation((std::filesystem::path(benchOpts.reportDir) / "index.html").string(), "--report");
     requireDistinct({{"--json", benchOpts.jsonOut}, {"--markdown", benchOpts.markdownOut}, {"--csv", benchOpts.csvOut}});
-    if (!ruleReplayIn.empty()) return replayRuleSweep(ruleReplayIn, benchOpts.jsonOut, std::cout);  // no path, no GL
+    require(ruleCostModelFile.empty() || !ruleSweepOut.empty() || !ruleReplayIn.empty(),
+            "--cost-model: only with --rule-sweep or --rule-replay (the bench's methods run with the built-in rule)");
+    if (!ruleReplayIn.empty())  // no path, no GL
+      return replayRuleSweep(ruleReplayIn, ruleCostModelFile, benchOpts.jsonOut, std::cout);
     // The paths, each behind a RenderFn; the GL context is made once and shared by every scene.
     const int threads = threadCount(benchOpts.threads);
     std::vector<BenchPath> paths;
@@ -534,6 +541,8 @@ int run(int argc, char** argv) {
       ro.jsonOut = ruleSweepOut;
       ro.repeats = benchOpts.repeats;
       ro.threads = threads;
+      ro.costModelFile = ruleCostModelFile;
+      for (const BenchPath& p : paths) ruleCostModel(ro.costModelFile, p.name);  // a bad file fails before the sweep
       if (bench->count("--scenes")) ro.scenes = benchOpts.scenes;
       const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
       ro.machine = benchOpts.machine.empty() ? cpuModelName() + ", " + std::to_string(hw) + " hardware threads" : benchOpts.machine;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include "common/error.h"
 #include "common/shader_constants.h"
@@ -164,6 +165,14 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     throw MrrError(std::string("--cost-model: ") + e.what());
   }
   return m;
+}
+
+CostModel CostModel::fromFile(const std::string& file) {
+  std::ifstream in(file);
+  if (!in.good()) throw MrrError("--cost-model " + file + ": cannot read the file");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw MrrError("--cost-model " + file + ": not a JSON object");
+  return fromJson(j);
 }
 
 nlohmann::json CostModel::toJson() const {

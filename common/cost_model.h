@@ -98,6 +98,9 @@ struct CostModel {
   // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu").
   static CostModel defaults(const std::string& path);
   static CostModel fromJson(const nlohmann::json& j);  // throws MrrError naming the missing key
+  // A JSON file `mrr bench --calibrate` wrote (`--cost-model FILE`): throws MrrError on a file it
+  // cannot read, that is not a JSON object, or that fromJson refuses.
+  static CostModel fromFile(const std::string& file);
   nlohmann::json toJson() const;
 };
 

@@ -473,16 +473,25 @@ const std::vector<SweepConfig>& sweepConfigs() {
 
 }  // namespace
 
+CostModel ruleCostModel(const std::string& file, const std::string& path) {
+  if (file.empty()) return CostModel::defaults(path);
+  std::string named = file;
+  if (const auto at = named.find("{path}"); at != std::string::npos) named.replace(at, 6, path);
+  return CostModel::fromFile(named);
+}
+
 int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths, std::ostream& out) {
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int threads = o.threads > 0 ? o.threads : hw;
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   nlohmann::json frames = nlohmann::json::array();
+  nlohmann::json models = nlohmann::json::object();  // path → the cost model that decided its frames
   const size_t total = paths.size() * o.scenes.size() * 4 * static_cast<size_t>(o.configsPerView);
   size_t done = 0, cycle = 0;
   const auto start = std::chrono::steady_clock::now();
   for (const BenchPath& path : paths) {
-    const CostModel model = CostModel::defaults(path.name);
+    const CostModel model = ruleCostModel(o.costModelFile, path.name);
+    models[path.name] = model.source;
     for (const std::string& sceneName : o.scenes) {
       std::cerr << "[rule-sweep] " << path.name << ": loading " << sceneName << "\n";
       const OpenScene sc = openScene(sceneName, path);
@@ -593,13 +602,14 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
   }
   const nlohmann::json summary = summarize(frames);
   const nlohmann::json result = {{"machine", o.machine}, {"repeats", o.repeats}, {"threads", threads},
-                                 {"summary", summary}, {"frames", frames}};
+                                 {"cost_models", models}, {"summary", summary}, {"frames", frames}};
   if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, result.dump(1) + "\n");
   printSummary(summary, out);
   return 0;
 }
 
-int replayRuleSweep(const std::string& sweepFile, const std::string& jsonOut, std::ostream& out) {
+int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFile, const std::string& jsonOut,
+                    std::ostream& out) {
   std::ifstream in(sweepFile);
   require(in.good(), "--rule-replay " + sweepFile + ": cannot read the file");
   const nlohmann::json sweep = nlohmann::json::parse(in, nullptr, false);
@@ -607,10 +617,13 @@ int replayRuleSweep(const std::string& sweepFile, const std::string& jsonOut, st
           "--rule-replay " + sweepFile + ": not a sweep (a JSON object with \"frames\", as --rule-sweep writes)");
   nlohmann::json frames = nlohmann::json::array();
   std::vector<std::string> changed;
+  std::map<std::string, CostModel> models;  // by path, each read once
   try {
     for (const nlohmann::json& f : sweep["frames"]) {
       const std::string path = f.at("path");
-      const CostModel model = CostModel::defaults(path);
+      require(path == "cpu" || path == "gpu", "--rule-replay " + sweepFile + ": a frame of path \"" + path + "\" (expected cpu or gpu)");
+      if (!models.count(path)) models.emplace(path, ruleCostModel(costModelFile, path));
+      const CostModel& model = models.at(path);
       const Effect effect = parseEffect(f.at("effect").get<std::string>());
       const int width = f.at("width"), height = f.at("height"), samples = f.at("samples");
       // The rule reads the frame's size, its levels and its sample count, never a world-space
@@ -662,14 +675,17 @@ int replayRuleSweep(const std::string& sweepFile, const std::string& jsonOut, st
   } catch (const nlohmann::json::exception& e) {
     throw MrrError("--rule-replay " + sweepFile + ": " + e.what());
   }
-  out << "Replayed " << frames.size() << " frames of " << sweepFile << " with the built-in cost models ("
-      << CostModel::defaults("cpu").source << "; " << CostModel::defaults("gpu").source << "):\n\n";
+  std::vector<std::string> sources;
+  for (const auto& [path, model] : models) sources.push_back(path + ": " + model.source);
+  out << "Replayed " << frames.size() << " frames of " << sweepFile << " with the cost models of ";
+  for (size_t i = 0; i < sources.size(); ++i) out << (i ? "; " : "") << sources[i];
+  out << ":\n\n";
   const nlohmann::json summary = summarize(frames);
   if (!jsonOut.empty()) {
     nlohmann::json result = sweep;
     result["summary"] = summary;
     result["frames"] = frames;
-    result["replayed_with"] = {CostModel::defaults("cpu").source, CostModel::defaults("gpu").source};
+    result["replayed_with"] = sources;
     writeTextFile(jsonOut, result.dump(1) + "\n");
   }
   printSummary(summary, out);

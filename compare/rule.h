@@ -59,16 +59,22 @@ struct RuleSweepOptions {
   int threads = 0;
   std::string jsonOut;
   std::string machine;
+  std::string costModelFile;  // empty: the built-in model of each path; "{path}" is replaced by its name
 };
+
+// The cost model the sweep and the replay decide with on `path`: `file` (`--cost-model`, as
+// `--calibrate` wrote it, "{path}" replaced by the path's name) or, empty, the built-in one.
+CostModel ruleCostModel(const std::string& file, const std::string& path);
 
 // Runs the sweep on every path, writes the JSON, prints the summary (Markdown); returns 0.
 int runRuleSweep(const RuleSweepOptions& options, const std::vector<BenchPath>& paths, std::ostream& out);
-// `mrr bench --rule-replay FILE`: re-decides every frame of a sweep's JSON with the built-in cost
-// model of its path, from the counts the sweep recorded, and judges it by the times the sweep
+// `mrr bench --rule-replay FILE`: re-decides every frame of a sweep's JSON with the cost model of
+// its path (ruleCostModel: `costModelFile` or the built-in one), from the counts the sweep recorded, and judges it by the times the sweep
 // measured: what this build's model decides on frames measured before, without rendering again
 // (a decision is a function of the counts). Prints the summary and every frame decided or judged
 // otherwise than recorded; with `jsonOut`, writes the sweep re-decided there (rule_ms null where
 // only the replay falls back: that time was not measured). Throws MrrError on a file that is not a sweep.
-int replayRuleSweep(const std::string& sweepFile, const std::string& jsonOut, std::ostream& out);
+int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFile, const std::string& jsonOut,
+                    std::ostream& out);
 
 }  // namespace mrr

@@ -114,6 +114,8 @@ def main():
         "pays alike before the rule decides: the full-res G-buffer, and SSM's and SSGI's shadow map and one-tap test.",
         "",
     ]
+    if sweep.get("cost_models") and not replayed:
+        lines += ["Decided with: " + "; ".join(f"{p}: {m}" for p, m in sorted(sweep["cost_models"].items())) + ".", ""]
     if replayed:
         lines += [f"Re-decided from the recorded counts by `mrr bench --rule-replay` with: {'; '.join(replayed)}. "
                   "The times are the sweep's; \"—\": a with-rule time the sweep did not measure (only the replay "

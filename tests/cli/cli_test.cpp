@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "common/cost_model.h"
 #include "common/image_io.h"
 #include "tests/test_support.h"
 
@@ -549,6 +550,34 @@ TEST_F(CliRenderTest, RuleSweepJudgesEveryFrameByItsOwnTimes) {
   EXPECT_NE(replayed2["frames"][victim]["decision"], "mrr");
   EXPECT_TRUE(replayed2["frames"][victim]["rule_ms"].is_null()) << "the with-rule time of a fallback the sweep never ran";
   EXPECT_EQ(replayed2["summary"]["rule_unmeasured"], 1);
+
+  // With another model (`--cost-model`, "{path}" replaced): one whose method costs a second more
+  // on every frame falls back from every frame on its floor, before the edge sample, and names itself.
+  CostModel dear = CostModel::defaults("cpu");
+  dear.source = "a model whose method costs a second more";
+  for (EffectCost& e : dear.effect) e.fixedMs += 1000.0;
+  writeFile(at("dear-cpu.json"), dear.toJson().dump());
+  const RunResult third =
+      runMrr({"bench", "--rule-replay", at("sweep.json"), "--cost-model", at("dear-{path}.json"), "--json", at("replay3.json")}, dir);
+  ASSERT_EQ(third.status, 0) << describe(third);
+  const json replayed3 = json::parse(readFile(at("replay3.json")));
+  EXPECT_EQ(replayed3["summary"]["kept_mrr"], 0);
+  EXPECT_EQ(replayed3["summary"]["fell_back"], 8);
+  EXPECT_EQ(replayed3["replayed_with"], json::array({"cpu: a model whose method costs a second more"}));
+  int notOnFloor = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(replayed3["frames"][i]["decision"], "full-floor") << i;
+    notOnFloor += frames[i]["decision"] != "full-floor";
+  }
+  ASSERT_GT(notOnFloor, 0);
+  EXPECT_NE(third.out.find(std::to_string(notOnFloor) + (notOnFloor == 1 ? " frame" : " frames") +
+                           " decided or judged otherwise"),
+            std::string::npos)
+      << third.out;
+  const RunResult noModel =
+      runMrr({"bench", "--rule-replay", at("sweep.json"), "--cost-model", at("absent-{path}.json")}, dir);
+  EXPECT_EQ(noModel.status, 2) << describe(noModel);
+  EXPECT_NE(noModel.err.find("absent-cpu.json: cannot read the file"), std::string::npos) << noModel.err;
 
   // Bad input: one line, exit 2.
   writeFile(at("notasweep.json"), "{\"frames\": 3}");

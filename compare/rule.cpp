@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -437,6 +438,28 @@ nlohmann::json summarize(const nlohmann::json& frames) {
                             {"worst_fell_back_full_over_mrr", worstFell},
                             {"worst_rule_over_full", worstRule}};
   if (unmeasured > 0) summary["rule_unmeasured"] = unmeasured;
+  // How far the model's prices were from the times, relative (predicted / measured − 1), RMS and
+  // median over the frames: full's rest, the method's rest on its stencils, and the early estimate
+  // of the method from its edges on (edges, masks and R̂, against the rest and the edges and masks
+  // measured). What to read before a decision: a model priced low or high on a machine.
+  auto error = [&](const std::function<double(const nlohmann::json&)>& predicted,
+                   const std::function<double(const nlohmann::json&)>& measured) {
+    std::vector<double> off;
+    for (const nlohmann::json& f : frames)
+      if (const double m = measured(f); m > 0.0) off.push_back(predicted(f) / m - 1.0);
+    double squares = 0.0;
+    for (double o : off) squares += o * o;
+    return nlohmann::json{{"rms", off.empty() ? 0.0 : std::sqrt(squares / static_cast<double>(off.size()))},
+                          {"median", median(off)}};
+  };
+  auto field = [](const char* key) { return [key](const nlohmann::json& f) { return f[key].get<double>(); }; };
+  summary["prediction_error"] = {
+      {"full_rest", error(field("predicted_full_rest_ms"), field("measured_full_rest_ms"))},
+      {"mrr_rest", error(field("predicted_mrr_rest_ms"), field("measured_mrr_rest_ms"))},
+      {"mrr_early_estimate", error(field("predicted_mrr_estimate_ms"), [](const nlohmann::json& f) {
+         const nlohmann::json& st = f["mrr_stages_ms"];
+         return f["measured_mrr_rest_ms"].get<double>() + st.value("edges", 0.0) + st.value("masks", 0.0);
+       })}};
   return summary;
 }
 
@@ -453,6 +476,18 @@ void printSummary(const nlohmann::json& s, std::ostream& out) {
                 s["worst_kept_mrr_over_full"].get<double>(), s["worst_fell_back_full_over_mrr"].get<double>(),
                 s["worst_rule_over_full"].get<double>(), s.contains("rule_unmeasured") ? " (some unmeasured)" : "");
   out << line;
+  if (const auto p = s.find("prediction_error"); p != s.end()) {
+    const nlohmann::json& e = *p;
+    auto both = [&](const char* key) {
+      char cell[64];
+      std::snprintf(cell, sizeof cell, "%.1f%% RMS, median %+.1f%%", 100.0 * e[key]["rms"].get<double>(),
+                    100.0 * e[key]["median"].get<double>());
+      return std::string(cell);
+    };
+    out << "\nPredicted against measured: full's rest " << both("full_rest") << "; the method's rest on its stencils "
+        << both("mrr_rest") << "; the early estimate of the method from its edges on " << both("mrr_early_estimate")
+        << ".\n";
+  }
 }
 
 struct SweepConfig {

@@ -129,6 +129,14 @@ def main():
         f"{s['fell_back']} | {s['worst_kept_mrr_over_full']:.3f} | {s['worst_fell_back_full_over_mrr']:.3f} | "
         f"{s['worst_rule_over_full']:.3f}{f' ({unmeasured} unmeasured)' if unmeasured else ''} |",
         "",
+    ]
+    e = s.get("prediction_error")
+    if e:  # sweeps from before it have none
+        cell = lambda k: f"{100 * e[k]['rms']:.1f}% RMS, median {100 * e[k]['median']:+.1f}%"
+        lines += [f"Predicted against measured: full's rest {cell('full_rest')}; the method's rest on its stencils "
+                  f"{cell('mrr_rest')}; the early estimate of the method from its edges on {cell('mrr_early_estimate')}.",
+                  ""]
+    lines += [
         "| path | scene | view | size | effect | on geometry | ideal (px / hit) | decision | predicted mrr/full early | "
         "on the stencils | full ms | mrr ms | with rule ms | mrr/full per pair (quartiles) | right |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",

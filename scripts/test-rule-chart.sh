@@ -3,8 +3,8 @@
 # drawn by scripts/rule-chart.py, its outputs checked (ctest: rule_sweep_chart).
 #   scripts/test-rule-chart.sh [path/to/mrr]
 # Checks: the chart script exits 0 and writes both SVG charts and rule-sweep.md; the Markdown's
-# summary row matches sweep.json's summary (frames, right, wrong beyond noise), it names the cost
-# model that decided, and it has a row per frame with the pairs' quartiles; the decisions chart's title counts the frames right. Then
+# summary row matches sweep.json's summary (frames, right, wrong beyond noise), it gives the
+# prediction error of full's rest and names the cost model that decided, and it has a row per frame with the pairs' quartiles; the decisions chart's title counts the frames right. Then
 # the same sweep, one kept frame's counts made those of a frame edged everywhere, re-decided by
 # `mrr bench --rule-replay` and drawn: the replay says so, and that frame's with-rule time, never
 # measured, is "—" and counted as unmeasured.
@@ -39,6 +39,9 @@ if len(frames) != len(sweep["frames"]):
     fail(f"rule-sweep.md has {len(frames)} frame rows for {len(sweep['frames'])} frames")
 if not all(re.search(r"\| \d+\.\d\d–\d+\.\d\d \|", l) for l in frames):
     fail("a frame row has no pair quartiles")
+e = s["prediction_error"]["full_rest"]
+if f"Predicted against measured: full's rest {100 * e['rms']:.1f}% RMS, median {100 * e['median']:+.1f}%" not in md:
+    fail("rule-sweep.md does not give how far full's rest was priced from its times")
 if f"Decided with: cpu: {sweep['cost_models']['cpu']}." not in md:
     fail("rule-sweep.md does not name the cost model that decided the sweep")
 svg = open(f"{work}/rule-decisions.svg").read()

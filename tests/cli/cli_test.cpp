@@ -513,6 +513,15 @@ TEST_F(CliRenderTest, RuleSweepJudgesEveryFrameByItsOwnTimes) {
   EXPECT_EQ(summary["kept_mrr"], kept);
   EXPECT_EQ(summary["fell_back"], 8 - kept);
   EXPECT_DOUBLE_EQ(summary["worst_kept_mrr_over_full"].get<double>(), worstKept);
+  // How far the prices were from the times: full's rest, RMS of predicted / measured − 1.
+  double squares = 0.0;
+  for (const json& f : frames) {
+    const double off = f["predicted_full_rest_ms"].get<double>() / f["measured_full_rest_ms"].get<double>() - 1.0;
+    squares += off * off;
+  }
+  EXPECT_NEAR(summary["prediction_error"]["full_rest"]["rms"].get<double>(), std::sqrt(squares / 8.0), 1e-12);
+  for (const char* key : {"mrr_rest", "mrr_early_estimate"}) EXPECT_GT(summary["prediction_error"][key]["rms"].get<double>(), 0.0) << key;
+  EXPECT_NE(r.out.find("Predicted against measured: full's rest "), std::string::npos) << r.out;
 
   // Replayed with the model that decided it, the sweep decides and judges every frame as recorded
   // (a decision is a function of the counts the sweep keeps)...

@@ -4,9 +4,9 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include "common/error.h"
+#include "common/image_io.h"
 
 namespace mrr {
 
@@ -131,12 +131,7 @@ std::vector<std::string> frameArgs(const nlohmann::json& frame, const std::strin
 }
 
 nlohmann::json readFrameFile(const std::string& path) {
-  std::ifstream in(path);
-  require(in.good(), "--frame " + path + ": cannot read the file");
-  const nlohmann::json frame = nlohmann::json::parse(in, nullptr, false);
-  require(!frame.is_discarded(), "--frame " + path + ": not JSON");
-  require(frame.is_object(), "--frame " + path + ": a frame file is a JSON object");
-  return frame;
+  return readJsonObjectFile(path, "--frame");
 }
 
 std::vector<std::string> expandFrameFile(const std::vector<std::string>& args) {

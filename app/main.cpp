@@ -526,8 +526,7 @@ int run(int argc, char** argv) {
     }
     if (!calibrateOut.empty()) {
       for (const BenchPath& p : paths) {
-        std::string file = calibrateOut;
-        if (const auto at = file.find("{path}"); at != std::string::npos) file.replace(at, 6, p.name);
+        const std::string file = withPathName(calibrateOut, p.name);
         checkOutput(file, "--calibrate", {".json"});
         const CostModel model = calibrateCostModel(p, benchOpts.repeats, threads);
         writeTextFile(file, model.toJson().dump(2) + "\n");

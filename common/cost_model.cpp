@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 #include "common/error.h"
+#include "common/image_io.h"
 #include "common/shader_constants.h"
 
 namespace mrr {
@@ -148,18 +148,18 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     m.nsPerEdgeHitPixel = j.at("ns_per_edge_hit_pixel").get<double>();
     m.nsPerMaskPixel = j.at("ns_per_mask_pixel").get<double>();
     m.nsPerMaskReachPixel = j.at("ns_per_mask_reach_pixel").get<double>();
-    const nlohmann::json& fill = j.at("stencil_fill");
-    if (!fill.is_array() || fill.size() != m.stencilFill.size())
-      throw MrrError("--cost-model: stencil_fill: expected " + std::to_string(m.stencilFill.size()) + " numbers (levels 0-2)");
-    for (size_t l = 0; l < m.stencilFill.size(); ++l) m.stencilFill[l] = fill.at(l).get<double>();
-    const nlohmann::json& band = j.at("edge_band_fill");
-    if (!band.is_array() || band.size() != m.edgeBandFill.size())
-      throw MrrError("--cost-model: edge_band_fill: expected " + std::to_string(m.edgeBandFill.size()) + " numbers (levels 0-2)");
-    for (size_t l = 0; l < m.edgeBandFill.size(); ++l) {
-      m.edgeBandFill[l] = band.at(l).get<double>();
-      if (!(m.edgeBandFill[l] > 0.0) || !std::isfinite(m.edgeBandFill[l]))
-        throw MrrError("--cost-model: edge_band_fill: " + std::to_string(m.edgeBandFill[l]) + " is not a positive number (SPEC §11)");
-    }
+    // φ_ℓ and η_ℓ: a number for every level below the coarsest; η_ℓ a positive one (SPEC §11)
+    auto perLevel = [&](const char* key, std::array<double, kLevelCount - 1>& into) {
+      const nlohmann::json& v = j.at(key);
+      if (!v.is_array() || v.size() != into.size())
+        throw MrrError(std::string("--cost-model: ") + key + ": expected " + std::to_string(into.size()) + " numbers (levels 0-2)");
+      for (size_t l = 0; l < into.size(); ++l) into[l] = v.at(l).get<double>();
+    };
+    perLevel("stencil_fill", m.stencilFill);
+    perLevel("edge_band_fill", m.edgeBandFill);
+    for (double band : m.edgeBandFill)
+      if (!(band > 0.0) || !std::isfinite(band))
+        throw MrrError("--cost-model: edge_band_fill: " + std::to_string(band) + " is not a positive number (SPEC §11)");
     m.estimateSpread = j.at("estimate_spread").get<double>();
   } catch (const nlohmann::json::exception& e) {
     throw MrrError(std::string("--cost-model: ") + e.what());
@@ -167,13 +167,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
   return m;
 }
 
-CostModel CostModel::fromFile(const std::string& file) {
-  std::ifstream in(file);
-  if (!in.good()) throw MrrError("--cost-model " + file + ": cannot read the file");
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) throw MrrError("--cost-model " + file + ": not a JSON object");
-  return fromJson(j);
-}
+CostModel CostModel::fromFile(const std::string& file) { return fromJson(readJsonObjectFile(file, "--cost-model")); }
 
 nlohmann::json CostModel::toJson() const {
   nlohmann::json effects;

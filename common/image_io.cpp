@@ -359,6 +359,14 @@ std::vector<ExrPart> readParts(const std::string& path) {
 
 ImageF readImage(const std::string& path) { return std::move(readParts(path).front().image); }
 
+nlohmann::json readJsonObjectFile(const std::string& path, const std::string& option) {
+  std::ifstream in(path);
+  if (!in.good()) throw MrrError(option + " " + path + ": cannot read the file");
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw MrrError(option + " " + path + ": not a JSON object");
+  return j;
+}
+
 void writeTextFile(const std::string& path, const std::string& text) {
   checkOutputLocation(path, "output");  // any extension: callers check theirs
   writeAtomically(path, [&](const std::string& temporary) {

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "common/image.h"
 
 namespace mrr {
@@ -41,6 +43,10 @@ ImageF readImage(const std::string& path);
 
 // Writes text (JSON reports) atomically.
 void writeTextFile(const std::string& path, const std::string& text);
+
+// Reads a JSON object from `path` (a frame file, a cost model, a sweep): throws MrrError
+// "OPTION PATH: cannot read the file" or "OPTION PATH: not a JSON object".
+nlohmann::json readJsonObjectFile(const std::string& path, const std::string& option);
 
 // On SIGINT, SIGTERM or SIGHUP: removes the temporary files of the writes in flight, then
 // dies of that signal as usual (a shell sees 128 + n). main() installs it once, so an

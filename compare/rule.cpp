@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -372,7 +371,10 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   model.nsPerMaskPixel = maskCost[0];
   model.nsPerMaskReachPixel = maskCost[1];
   model.edgesMasksFixedMs = edgeCost[2] + maskCost[2];
-  // φ_ℓ and η_ℓ: how the stencils fill the edge sample's reach, over every frame and size
+  // φ_ℓ and η_ℓ: how the stencils fill the edge sample's reach, over every frame and size (a level
+  // no frame reaches keeps the built-in figures)
+  model.stencilFill = counting.stencilFill;
+  model.edgeBandFill = counting.edgeBandFill;
   fitStencilFill(model, mrrRuns);
   // s and k, per effect, over the method's frames at every size and both sample counts
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) fitSparseFactorAndFixedCost(model, e, mrrRuns);
@@ -442,8 +444,7 @@ nlohmann::json summarize(const nlohmann::json& frames) {
   // median over the frames: full's rest, the method's rest on its stencils, and the early estimate
   // of the method from its edges on (edges, masks and R̂, against the rest and the edges and masks
   // measured). What to read before a decision: a model priced low or high on a machine.
-  auto error = [&](const std::function<double(const nlohmann::json&)>& predicted,
-                   const std::function<double(const nlohmann::json&)>& measured) {
+  auto error = [&](auto predicted, auto measured) {
     std::vector<double> off;
     for (const nlohmann::json& f : frames)
       if (const double m = measured(f); m > 0.0) off.push_back(predicted(f) / m - 1.0);
@@ -466,6 +467,8 @@ nlohmann::json summarize(const nlohmann::json& frames) {
 void printSummary(const nlohmann::json& s, std::ostream& out) {
   const size_t frames = s["frames"];
   const int right = s["right"];
+  const std::string unmeasured =
+      s.contains("rule_unmeasured") ? " (" + std::to_string(s["rule_unmeasured"].get<int>()) + " unmeasured)" : "";
   char line[512];
   std::snprintf(line, sizeof line,
                 "| frames | right (faster within 5%%) | wrong beyond noise | kept mrr | fell back | worst mrr/full where kept | "
@@ -474,7 +477,7 @@ void printSummary(const nlohmann::json& s, std::ostream& out) {
                 frames, right, 100.0 * right / static_cast<double>(std::max<size_t>(frames, 1)),
                 s["wrong_beyond_noise"].get<int>(), s["kept_mrr"].get<int>(), s["fell_back"].get<int>(),
                 s["worst_kept_mrr_over_full"].get<double>(), s["worst_fell_back_full_over_mrr"].get<double>(),
-                s["worst_rule_over_full"].get<double>(), s.contains("rule_unmeasured") ? " (some unmeasured)" : "");
+                s["worst_rule_over_full"].get<double>(), unmeasured.c_str());
   out << line;
   if (const auto p = s.find("prediction_error"); p != s.end()) {
     const nlohmann::json& e = *p;
@@ -488,6 +491,58 @@ void printSummary(const nlohmann::json& s, std::ostream& out) {
         << both("mrr_rest") << "; the early estimate of the method from its edges on " << both("mrr_early_estimate")
         << ".\n";
   }
+}
+
+// The rule on a frame's counts, as renderFrame takes it: early from H (on the floor, then with the
+// edge sample), then from the stencils; its decision as the sweep names it, and what it priced.
+struct RuleOnCounts {
+  std::string decision;  // mrr, full (on the stencils), full-early, full-floor (SPEC §11)
+  nlohmann::json prices;
+};
+RuleOnCounts ruleOnCounts(const CostModel& model, const Constants& c, const FrameCounts& n) {
+  const FallbackDecision early = decideEarly(model, c, n), late = decideFallback(model, c, n);
+  RuleOnCounts r;
+  r.decision = early.onFloor ? "full-floor" : early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+  r.prices = {{"predicted_full_rest_ms", late.predictedFullMs},
+              {"predicted_mrr_rest_ms", late.predictedMrrMs},
+              {"predicted_mrr_floor_ms", predictMrrFloorMs(model, c, n)},
+              // the early decision's: the floor where it decides, else the larger of the floor and
+              // what going on costs
+              {"predicted_mrr_early_ms", early.predictedMrrMs},
+              // the edge sample's estimate of the method from its edges on (edges, masks, R̂)
+              {"predicted_mrr_estimate_ms", predictMrrEstimateMs(model, c, n)}};
+  return r;
+}
+
+// The counts the rule priced, as a sweep records them (and a replay reads them back).
+nlohmann::json countsJson(const FrameCounts& n) {
+  return {{"hit", n.hitPixels},
+          {"searched", n.searchedPixels},
+          {"pcf", n.pcfPixels},
+          {"silhouette", n.silhouette},
+          {"shaded", n.shaded},
+          {"shaded_hit", n.shadedHit},
+          {"shaded_searched", n.shadedSearched},
+          {"shaded_pcf", n.shadedPcf},
+          {"edge_blocks", n.edgeBlocks},
+          {"reach", n.reach},
+          {"reach_hits", n.reachHits}};
+}
+FrameCounts countsFromJson(const nlohmann::json& j) {  // throws nlohmann::json::exception on a missing key
+  using PerLevel = std::array<int64_t, kLevelCount>;
+  FrameCounts n;
+  n.hitPixels = j.at("hit");
+  n.searchedPixels = j.at("searched");
+  n.pcfPixels = j.at("pcf");
+  n.silhouette = j.at("silhouette").get<PerLevel>();
+  n.shaded = j.at("shaded").get<PerLevel>();
+  n.shadedHit = j.at("shaded_hit").get<PerLevel>();
+  n.shadedSearched = j.at("shaded_searched").get<PerLevel>();
+  n.shadedPcf = j.at("shaded_pcf").get<PerLevel>();
+  n.edgeBlocks = j.at("edge_blocks");
+  n.reach = j.at("reach").get<PerLevel>();
+  n.reachHits = j.at("reach_hits").get<PerLevel>();
+  return n;
 }
 
 struct SweepConfig {
@@ -508,11 +563,13 @@ const std::vector<SweepConfig>& sweepConfigs() {
 
 }  // namespace
 
+std::string withPathName(std::string file, const std::string& path) {
+  if (const auto at = file.find("{path}"); at != std::string::npos) file.replace(at, 6, path);
+  return file;
+}
+
 CostModel ruleCostModel(const std::string& file, const std::string& path) {
-  if (file.empty()) return CostModel::defaults(path);
-  std::string named = file;
-  if (const auto at = named.find("{path}"); at != std::string::npos) named.replace(at, 6, path);
-  return CostModel::fromFile(named);
+  return file.empty() ? CostModel::defaults(path) : CostModel::fromFile(withPathName(file, path));
 }
 
 int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths, std::ostream& out) {
@@ -547,23 +604,16 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           // run: it is taken after the warm-up. A frame within 10% of break-even gets as many
           // rounds again: its verdict is the one noise sways.
           const Constants cm = constantsFor("mrr");
-          std::map<std::string, std::vector<double>> fullRuns, mrrRuns, ruleRuns;
+          std::map<std::string, std::vector<double>> fullRuns, mrrRuns, withRuleRuns;
           std::vector<double> pairRatios;  // mrr / full, pair by pair (the two run back to back)
-          Measured full, mrr, rule;
-          FallbackDecision early, late;
-          std::string decision;
+          Measured full, mrr, withRule;
+          RuleOnCounts rule;  // taken after the warm-up
           auto runRounds = [&](int rounds, bool warmUp) {
             for (int i = warmUp ? 0 : 1; i <= rounds; ++i) {
               FrameResult ff = sc.render(view.camera, constantsFor("full"), {false, {}, nullptr});
               FrameResult fm = sc.render(view.camera, constantsFor("mrr-norule"), {false, {}, nullptr, true});
-              if (i == 0) {
-                // The rule's decision on this frame, as renderFrame takes it: early from H, then
-                // from the stencils (the oracle's decision is a function of the counts alone).
-                early = decideEarly(model, cm, fm.counts);
-                late = decideFallback(model, cm, fm.counts);
-                // full-floor: early, on the floor alone, without the edge sample (SPEC §11)
-                decision = early.onFloor ? "full-floor" : early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
-              }
+              if (i == 0) rule = ruleOnCounts(model, cm, fm.counts);
+              const std::string& decision = rule.decision;
               FrameResult fr;
               if (decision != "mrr") fr = sc.render(view.camera, cm, {false, {}, nullptr});
               if (i == 0) continue;
@@ -571,7 +621,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
               for (const auto& [key, v] : fullStages) fullRuns[key].push_back(v);
               for (const auto& [key, v] : mrrStages) mrrRuns[key].push_back(v);
               if (decision != "mrr")
-                for (const auto& [key, v] : stageMs(fr)) ruleRuns[key].push_back(v);
+                for (const auto& [key, v] : stageMs(fr)) withRuleRuns[key].push_back(v);
               pairRatios.push_back(frameMs(mrrStages) / std::max(frameMs(fullStages), 1e-9));
               if (i == rounds) {
                 full.last = std::move(ff);
@@ -580,58 +630,44 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
             }
             for (const auto& [key, v] : fullRuns) full.ms[key] = median(v);
             for (const auto& [key, v] : mrrRuns) mrr.ms[key] = median(v);
-            for (const auto& [key, v] : ruleRuns) rule.ms[key] = median(v);
+            for (const auto& [key, v] : withRuleRuns) withRule.ms[key] = median(v);
           };
           runRounds(o.repeats, true);
           const double nearRatio = frameMs(mrr.ms) / std::max(frameMs(full.ms), 1e-9);
           const bool nearBreakEven = nearRatio > 0.9 && nearRatio < 1.1;
           if (nearBreakEven) runRounds(o.repeats, false);
           const FrameCounts& n = mrr.last.counts;
-          const double ruleMs = decision == "mrr" ? frameMs(mrr.ms) : frameMs(rule.ms);
+          const std::string& decision = rule.decision;
+          const double ruleMs = decision == "mrr" ? frameMs(mrr.ms) : frameMs(withRule.ms);
           const double fullMs = frameMs(full.ms), mrrMs = frameMs(mrr.ms);
           const Verdict verdict = judge(decision, fullMs, mrrMs, pairRatios);
-          frames.push_back({{"path", path.name},
-                            {"scene", sceneName},
-                            {"view", view.name},
-                            {"effect", toString(cfg.effect)},
-                            {"samples", cfg.samples},
-                            {"width", cfg.width},
-                            {"height", cfg.height},
-                            {"hit_share", static_cast<double>(n.hitPixels) / (static_cast<double>(cfg.width) * cfg.height)},
-                            {"ideal_speedup", mrr.last.idealSpeedup},
-                            {"ideal_speedup_hit", mrr.last.idealSpeedupHit},
-                            {"decision", decision},
-                            {"predicted_full_rest_ms", late.predictedFullMs},
-                            {"predicted_mrr_rest_ms", late.predictedMrrMs},
-                            {"predicted_mrr_floor_ms", predictMrrFloorMs(model, cm, n)},
-                            // the early decision's: the floor where it decides, else the larger of the
-                            // floor and what going on costs
-                            {"predicted_mrr_early_ms", early.predictedMrrMs},
-                            // the edge sample's estimate of the method from its edges on (edges, masks, R̂)
-                            {"predicted_mrr_estimate_ms", predictMrrEstimateMs(model, cm, n)},
-                            {"measured_full_rest_ms", restMs(full.ms)},
-                            {"measured_mrr_rest_ms", restMs(mrr.ms)},
-                            {"full_ms", fullMs},
-                            {"mrr_ms", mrrMs},
-                            {"rule_ms", ruleMs},
-                            {"repeats", nearBreakEven ? 2 * o.repeats : o.repeats},
-                            // the counts the rule priced, and the medians per stage: where a prediction went wrong
-                            {"counts", {{"hit", n.hitPixels},
-                                        {"searched", n.searchedPixels},
-                                        {"pcf", n.pcfPixels},
-                                        {"silhouette", n.silhouette},
-                                        {"shaded", n.shaded},
-                                        {"shaded_hit", n.shadedHit},
-                                        {"shaded_searched", n.shadedSearched},
-                                        {"shaded_pcf", n.shadedPcf},
-                                        {"edge_blocks", n.edgeBlocks},
-                                        {"reach", n.reach},
-                                        {"reach_hits", n.reachHits}}},
-                            {"full_stages_ms", full.ms},
-                            {"mrr_stages_ms", mrr.ms},
-                            {"pair_ratios", pairRatios},
-                            {"right", verdict.right},
-                            {"wrong_beyond_noise", verdict.wrongBeyondNoise}});
+          nlohmann::json frame = {
+              {"path", path.name},
+              {"scene", sceneName},
+              {"view", view.name},
+              {"effect", toString(cfg.effect)},
+              {"samples", cfg.samples},
+              {"width", cfg.width},
+              {"height", cfg.height},
+              {"hit_share", static_cast<double>(n.hitPixels) / (static_cast<double>(cfg.width) * cfg.height)},
+              {"ideal_speedup", mrr.last.idealSpeedup},
+              {"ideal_speedup_hit", mrr.last.idealSpeedupHit},
+              {"decision", decision},
+              {"measured_full_rest_ms", restMs(full.ms)},
+              {"measured_mrr_rest_ms", restMs(mrr.ms)},
+              {"full_ms", fullMs},
+              {"mrr_ms", mrrMs},
+              {"rule_ms", ruleMs},
+              {"repeats", nearBreakEven ? 2 * o.repeats : o.repeats},
+              // the counts the rule priced, and the medians per stage: where a prediction went wrong
+              {"counts", countsJson(n)},
+              {"full_stages_ms", full.ms},
+              {"mrr_stages_ms", mrr.ms},
+              {"pair_ratios", pairRatios},
+              {"right", verdict.right},
+              {"wrong_beyond_noise", verdict.wrongBeyondNoise}};
+          frame.update(rule.prices);
+          frames.push_back(std::move(frame));
         }
     }
   }
@@ -645,10 +681,8 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
 
 int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFile, const std::string& jsonOut,
                     std::ostream& out) {
-  std::ifstream in(sweepFile);
-  require(in.good(), "--rule-replay " + sweepFile + ": cannot read the file");
-  const nlohmann::json sweep = nlohmann::json::parse(in, nullptr, false);
-  require(!sweep.is_discarded() && sweep.is_object() && sweep.contains("frames") && sweep["frames"].is_array(),
+  const nlohmann::json sweep = readJsonObjectFile(sweepFile, "--rule-replay");
+  require(sweep.contains("frames") && sweep["frames"].is_array(),
           "--rule-replay " + sweepFile + ": not a sweep (a JSON object with \"frames\", as --rule-sweep writes)");
   nlohmann::json frames = nlohmann::json::array();
   std::vector<std::string> changed;
@@ -664,30 +698,14 @@ int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFi
       // The rule reads the frame's size, its levels and its sample count, never a world-space
       // constant: the scene's diagonal (the automatic SSAO radius) does not enter it.
       const Constants c = makeConstants(settingsFor("mrr", effect, width, height, samples), 1.0f);
-      const nlohmann::json& cj = f.at("counts");
-      FrameCounts n;
-      n.hitPixels = cj.at("hit");
-      n.searchedPixels = cj.at("searched");
-      n.pcfPixels = cj.at("pcf");
-      n.silhouette = cj.at("silhouette").get<std::array<int64_t, kLevelCount>>();
-      n.shaded = cj.at("shaded").get<std::array<int64_t, kLevelCount>>();
-      n.shadedHit = cj.at("shaded_hit").get<std::array<int64_t, kLevelCount>>();
-      n.shadedSearched = cj.at("shaded_searched").get<std::array<int64_t, kLevelCount>>();
-      n.shadedPcf = cj.at("shaded_pcf").get<std::array<int64_t, kLevelCount>>();
-      n.edgeBlocks = cj.at("edge_blocks");
-      n.reach = cj.at("reach").get<std::array<int64_t, kLevelCount>>();
-      n.reachHits = cj.at("reach_hits").get<std::array<int64_t, kLevelCount>>();
-      const FallbackDecision early = decideEarly(model, c, n), late = decideFallback(model, c, n);
-      const std::string decision = early.onFloor ? "full-floor" : early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+      const FrameCounts n = countsFromJson(f.at("counts"));
+      const RuleOnCounts rule = ruleOnCounts(model, c, n);
+      const std::string& decision = rule.decision;
       const double fullMs = f.at("full_ms"), mrrMs = f.at("mrr_ms");
       const Verdict verdict = judge(decision, fullMs, mrrMs, f.at("pair_ratios").get<std::vector<double>>());
       nlohmann::json r = f;
       r["decision"] = decision;
-      r["predicted_full_rest_ms"] = late.predictedFullMs;
-      r["predicted_mrr_rest_ms"] = late.predictedMrrMs;
-      r["predicted_mrr_floor_ms"] = predictMrrFloorMs(model, c, n);
-      r["predicted_mrr_early_ms"] = early.predictedMrrMs;
-      r["predicted_mrr_estimate_ms"] = predictMrrEstimateMs(model, c, n);
+      r.update(rule.prices);
       r["right"] = verdict.right;
       r["wrong_beyond_noise"] = verdict.wrongBeyondNoise;
       // The with-rule time: the method's where it keeps the method, the sweep's where both fall

@@ -62,8 +62,11 @@ struct RuleSweepOptions {
   std::string costModelFile;  // empty: the built-in model of each path; "{path}" is replaced by its name
 };
 
+// `file` with its "{path}" (if any) replaced by the path's name: `--calibrate FILE` and
+// `--cost-model FILE` name one file per path so.
+std::string withPathName(std::string file, const std::string& path);
 // The cost model the sweep and the replay decide with on `path`: `file` (`--cost-model`, as
-// `--calibrate` wrote it, "{path}" replaced by the path's name) or, empty, the built-in one.
+// `--calibrate` wrote it, withPathName) or, empty, the built-in one.
 CostModel ruleCostModel(const std::string& file, const std::string& path);
 
 // Runs the sweep on every path, writes the JSON, prints the summary (Markdown); returns 0.

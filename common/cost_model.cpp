@@ -17,9 +17,19 @@ double finerLevelsArea(const Constants& c, const std::array<int64_t, kLevelCount
   return 0.0;
 }
 
+double footprintTexels(const LevelConstants& lc, const FrameCounts& n) {
+  if (n.searchedPixels <= 0) return 0.0;
+  const double mean = static_cast<double>(n.searchedFootprint) / (kFootprintSteps * static_cast<double>(n.searchedPixels));
+  return std::min(static_cast<double>(kMaxFootprintTexels), mean * lc.scale);
+}
+
 namespace {
 double levelPixels(const LevelConstants& lc) { return static_cast<double>(lc.width) * lc.height; }
 double shadeNs(const EffectCost& e, int samples) { return e.nsPerShadedPixel + e.nsPerSample * samples; }
+// SPEC §11: a + b N + ν f_ℓ, in ns: a searching level-ℓ pixel on geometry, before its PCF.
+double searchNs(const EffectCost& e, const Constants& c, const LevelConstants& lc, const FrameCounts& n) {
+  return shadeNs(e, c.samples()) + e.nsPerFootprintTexel * footprintTexels(lc, n);
+}
 const EffectCost& effectCost(const CostModel& m, const Constants& c) { return m.effect[static_cast<size_t>(c.effect)]; }
 // H / W·H: the share of the frame on geometry, taken for every level's.
 double hitShare(const Constants& c, const FrameCounts& n) {
@@ -74,47 +84,47 @@ double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c) {
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
-  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ}.
+  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ, ν}.
   if (path == "gpu") {
-    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: builtin:corner
-    // joined the calibration, so its stencils span a few creases to edges everywhere; the early
-    // estimate's edge band η).
+    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: SSM's searches
+    // priced by their map footprint, ν; builtin:corner in the calibration, the early estimate's
+    // edge band η).
     m.source =
         "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
-    m.effect = {EffectCost{238.5, 5.612, 0, 31.97, 0, 1.552, 3.942, 0.2757, 9.688},
-                EffectCost{173.1, 0, 0, 42.97, 1.931, 1.723, 2.562, 0.3548, 13.87},
-                EffectCost{34.1, 7.675, 13.98, 23.09, 0, 1.866, 4.455, 1.38, 9.463}};
-    m.nsPerCoarseGbufferPixel = 22.2;
-    m.nsPerFullBlendPixel = 5.474;
-    m.nsPerBlendPixel = 3.059;
-    m.nsPerFineBlendPixel = 39.83;
-    m.nsPerEdgePixel = 14.19;
-    m.nsPerEdgeHitPixel = 8.05;
-    m.nsPerMaskPixel = 5.092;
-    m.nsPerMaskReachPixel = 34.34;
+    m.effect = {EffectCost{214, 5.416, 0, 26.82, 0, 1.426, 2.184, 0.4216, 6.811, 0},
+                EffectCost{148.9, 0, 0, 32.72, 1.637, 1.75, 1.825, 0.3498, 10.34, 5.848},
+                EffectCost{27.56, 7.012, 12.09, 19.42, 0, 1.515, 4.065, 1.265, 6.765, 0}};
+    m.nsPerCoarseGbufferPixel = 16.45;
+    m.nsPerFullBlendPixel = 4.978;
+    m.nsPerBlendPixel = 1.995;
+    m.nsPerFineBlendPixel = 37.92;
+    m.nsPerEdgePixel = 10.77;
+    m.nsPerEdgeHitPixel = 8.57;
+    m.nsPerMaskPixel = 4.006;
+    m.nsPerMaskReachPixel = 33.32;
     m.stencilFill = {0.905, 0.87, 0.89};
     m.edgeBandFill = {0.9857, 2.788, 6.924};
-    m.estimateSpread = 0.1855;
-    m.edgesMasksFixedMs = 1.145;
+    m.estimateSpread = 0.1863;
+    m.edgesMasksFixedMs = 0.9804;
   } else {
     // cpu: one run (--repeats 5, the same hour and code as the port's).
     m.source =
         "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
-    m.effect = {EffectCost{218.9, 8.821, 1.059, 4.022, 0, 1.111, 0.4139, 0.08675, 2.659},
-                EffectCost{82.14, 0, 0, 2.557, 1.652, 1.365, 0.548, 0.02459, 3.465},
-                EffectCost{33.26, 10.6, 18.64, 3.503, 0, 1.474, 0.3484, 0.1068, 2.536}};
-    m.nsPerCoarseGbufferPixel = 7.924;
-    m.nsPerFullBlendPixel = 3.698;
-    m.nsPerBlendPixel = 2.114;
-    m.nsPerFineBlendPixel = 2.264;
-    m.nsPerEdgePixel = 1.273;
-    m.nsPerEdgeHitPixel = 3.647;
-    m.nsPerMaskPixel = 2.871;
-    m.nsPerMaskReachPixel = 0.6619;
+    m.effect = {EffectCost{204.3, 8.411, 0.9984, 3.206, 0, 1.104, 0.2277, 0.04672, 2.348, 0},
+                EffectCost{71.5, 0, 0, 2.472, 1.526, 1.26, 0.2452, 0.01562, 3.27, 1.982},
+                EffectCost{30.72, 9.841, 16.93, 3.58, 0, 1.418, 0.4483, 0.079, 2.154, 0}};
+    m.nsPerCoarseGbufferPixel = 7.377;
+    m.nsPerFullBlendPixel = 3.567;
+    m.nsPerBlendPixel = 2.105;
+    m.nsPerFineBlendPixel = 1.62;
+    m.nsPerEdgePixel = 1.2;
+    m.nsPerEdgeHitPixel = 3.506;
+    m.nsPerMaskPixel = 2.6;
+    m.nsPerMaskReachPixel = 0.5162;
     m.stencilFill = {0.905, 0.87, 0.89};
     m.edgeBandFill = {0.9857, 2.788, 6.924};
-    m.estimateSpread = 0.255;
-    m.edgesMasksFixedMs = 0.08828;
+    m.estimateSpread = 0.253;
+    m.edgesMasksFixedMs = 0.07053;
   }
   return m;
 }
@@ -138,6 +148,10 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.fixedMs = ej.at("fixed_ms").get<double>();
       ec.fullFixedMs = ej.at("full_fixed_ms").get<double>();
       ec.nsPerRulePixel = ej.at("ns_per_rule_pixel").get<double>();
+      ec.nsPerFootprintTexel = ej.at("ns_per_footprint_texel").get<double>();
+      if (!(ec.nsPerFootprintTexel >= 0.0) || !std::isfinite(ec.nsPerFootprintTexel))
+        throw MrrError("--cost-model: effects." + toString(e) + ".ns_per_footprint_texel: " +
+                       std::to_string(ec.nsPerFootprintTexel) + " is not a number >= 0 (SPEC §11)");
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
     m.edgesMasksFixedMs = j.at("edges_masks_fixed_ms").get<double>();
@@ -181,7 +195,8 @@ nlohmann::json CostModel::toJson() const {
                             {"sparse_factor", ec.sparseFactor},
                             {"fixed_ms", ec.fixedMs},
                             {"full_fixed_ms", ec.fullFixedMs},
-                            {"ns_per_rule_pixel", ec.nsPerRulePixel}};
+                            {"ns_per_rule_pixel", ec.nsPerRulePixel},
+                            {"ns_per_footprint_texel", ec.nsPerFootprintTexel}};
   }
   return {{"source", source},
           {"effects", effects},
@@ -199,19 +214,19 @@ nlohmann::json CostModel::toJson() const {
           {"edges_masks_fixed_ms", edgesMasksFixedMs}};
 }
 
-// SPEC §11: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 (H / W·H) d + W·H β₀ + k₀, in ms.
+// SPEC §11: H_a (a + b N + ν f_0) + H_p e N + (W·H − H_a) c + P_0 (H / W·H) d + W·H β₀ + k₀, in ms.
 double predictFullMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
   const EffectCost& e = effectCost(m, c);
   const double paying = static_cast<double>(n.searchedPixels);
   const double rest = std::max(0.0, static_cast<double>(c.width) * c.height - paying);
-  return (paying * shadeNs(e, c.samples()) + static_cast<double>(n.pcfPixels) * e.nsPerPcfSample * c.samples() +
+  return (paying * searchNs(e, c, c.levels[0], n) + static_cast<double>(n.pcfPixels) * e.nsPerPcfSample * c.samples() +
           rest * e.nsPerBackgroundPixel + levelPassNs(e, c.levels[0], c, n) +
           static_cast<double>(c.width) * c.height * m.nsPerFullBlendPixel) *
              1e-6 +
          e.fullFixedMs;
 }
 
-// SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) + |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c +
+// SPEC §11: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N + ν f_ℓ) + |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c +
 // P_ℓ (H / W·H) d) + the coarse G-buffers and the blend (its finer levels over |S_j|) + W·H ρ + k,
 // in ms.
 double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n) {
@@ -223,7 +238,7 @@ double predictMrrMs(const CostModel& m, const Constants& c, const FrameCounts& n
     const double paying = static_cast<double>(n.shadedSearched[l]);
     const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - paying);
     const double pcf = static_cast<double>(n.shadedPcf[l]) * e.nsPerPcfSample * c.samples();
-    ns += (paying * shadeNs(e, c.samples()) + pcf) * sparseFactorAt(e, lc, paying, n) + off * e.nsPerBackgroundPixel +
+    ns += (paying * searchNs(e, c, lc, n) + pcf) * sparseFactorAt(e, lc, paying, n) + off * e.nsPerBackgroundPixel +
           levelPassNs(e, lc, c, n);
   }
   return ns * 1e-6 + e.fixedMs;
@@ -240,7 +255,7 @@ double predictMrrFloorMs(const CostModel& m, const Constants& c, const FrameCoun
   // another share PCF (e N), both at the level's sparse factor, and the rest leaves at once (c).
   auto shadedNs = [&](const LevelConstants& lc, double count, double searchedShare, double pcfShare) {
     const double factor = sparseFactorAt(e, lc, count * searchedShare, n);
-    return count * ((searchedShare * shadeNs(e, c.samples()) + pcfShare * e.nsPerPcfSample * c.samples()) * factor +
+    return count * ((searchedShare * searchNs(e, c, lc, n) + pcfShare * e.nsPerPcfSample * c.samples()) * factor +
                     (1.0 - searchedShare) * e.nsPerBackgroundPixel);
   };
   const double perPixelSearched = static_cast<double>(n.searchedPixels) / pixels, perPixelPcf = static_cast<double>(n.pcfPixels) / pixels;

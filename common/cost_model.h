@@ -61,6 +61,11 @@ struct EffectCost {
   // the hit flags, which the port reads back, SSM's PCF sample, then the stencils' counts). The
   // method pays it whichever way the rule decides; full does not.
   double nsPerRulePixel = 0.0;
+  // ν: more per searching pixel and texel of its map footprint (SSM: neighbouring searches that
+  // land f texels apart share fewer of the map's cache lines; measured on the plane, the memory
+  // part of a search halves as the frame's side doubles, docs/figures.md). A level-ℓ pixel's
+  // footprint is s_ℓ f̄, at most kMaxFootprintTexels: footprintTexels.
+  double nsPerFootprintTexel = 0.0;
 };
 
 struct CostModel {
@@ -112,6 +117,9 @@ struct FrameCounts {
   // paying PCF (SSM with e > 0; else 0). Both estimated from one pixel in 8×8 (pcfSample).
   int64_t searchedPixels = 0;
   int64_t pcfPixels = 0;
+  // F: Σ over H_a of the map footprint (SSM; the sample's, in steps of 1/kFootprintSteps texel; 0
+  // without a sample): F / (kFootprintSteps H_a) is the frame's mean footprint f̄ in texels.
+  int64_t searchedFootprint = 0;
   // B_ℓ: level-ℓ pixels whose block holds a silhouette pixel (a full-res pixel on geometry with a
   // background 4-neighbour: a background edge, SPEC §2). B_0 ⊆ E ⊆ S_0, and the masks' closure
   // puts maxpool(B_0) into every coarser enabled S_ℓ, so the method shades at least B_ℓ at every
@@ -150,9 +158,12 @@ struct FallbackDecision {
 // the first level whose α is 1).
 double finerLevelsArea(const Constants& constants, const std::array<int64_t, kLevelCount>& perLevel);
 
-// SPEC §11, in ms. Full's rest: H_a (a + b N) + H_p e N + (W·H − H_a) c + P_0 d + k₀.
+// SPEC §11: f_ℓ = min(s_ℓ f̄, kMaxFootprintTexels), f̄ = F / (kFootprintSteps H_a): the map
+// footprint of a searching level-ℓ pixel, in texels (0 without a sample).
+double footprintTexels(const LevelConstants& level, const FrameCounts& counts);
+// SPEC §11, in ms. Full's rest: H_a (a + b N + ν f_0) + H_p e N + (W·H − H_a) c + P_0 d + k₀.
 double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
-// The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N) +
+// The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N + ν f_ℓ) +
 // |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β)
 // + |S_j| s_j² β_f + W·H ρ + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);

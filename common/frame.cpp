@@ -139,7 +139,7 @@ uint8_t paysAt(const ImageU8& pcf, int x, int y) { return pcf.empty() ? kPcfSamp
 }  // namespace
 
 void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Constants& c, ImageU8* silhouetteBlocks) {
-  n.hitPixels = n.searchedPixels = n.pcfPixels = 0;
+  n.hitPixels = n.searchedPixels = n.pcfPixels = n.searchedFootprint = 0;
   n.silhouette = {};
   const int w = std::min(c.width, hit.width), h = std::min(c.height, hit.height);
   if (w <= 0 || h <= 0) return;
@@ -148,7 +148,7 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
   // 4-neighbour inside the image off it) into `marks[0]`.
   std::array<ImageU8, kLevelCount> marks;
   marks[0] = ImageU8::uninitialised(w, h);
-  std::vector<std::array<int64_t, 4>> rows(static_cast<size_t>(h));  // H, H_a, H_p, B_0
+  std::vector<std::array<int64_t, 5>> rows(static_cast<size_t>(h));  // H, H_a, H_p, B_0, F
   parallelFor(0, h, [&](int y) {
     const uint8_t* mid = &hit.at(0, y);
     // a 4-neighbour outside the image is no edge: the pixel itself stands in for it
@@ -158,7 +158,7 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
     auto silhouetteAt = [&](int x, int left, int right) {
       return static_cast<uint8_t>((mid[x] != 0) & ((mid[left] == 0) | (mid[right] == 0) | (up[x] == 0) | (down[x] == 0)));
     };
-    std::array<int64_t, 4> r{};
+    std::array<int64_t, 5> r{};
     // branch-free over the row's inside, so the compiler vectorises it; its two ends clamp
     const int inner = std::min(w, hit.width - 1);
     if (w > 0) out[0] = silhouetteAt(0, 0, std::min(1, hit.width - 1));
@@ -177,9 +177,10 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
       for (int x0 = 0; x0 < w; x0 += kPcfSampleStep) {
         int64_t hits = 0;
         for (int x = x0; x < std::min(x0 + kPcfSampleStep, w); ++x) hits += mid[x] != 0;
-        const uint8_t pays = paysAt(pcf, x0, y);
-        r[1] += pays != kPcfSampleNone ? hits : 0;
-        r[2] += pays == kPcfSamplePcf ? hits : 0;
+        const uint8_t pays = paysAt(pcf, x0, y), paid = pcfSampleClass(pays);
+        r[1] += paid != kPcfSampleNone ? hits : 0;
+        r[2] += paid == kPcfSamplePcf ? hits : 0;
+        r[4] += paid != kPcfSampleNone ? hits * pcfSampleFootprintSteps(pays) : 0;  // F: the block's pixels at its sample's
       }
     }
     rows[static_cast<size_t>(y)] = r;
@@ -189,6 +190,7 @@ void countHits(FrameCounts& n, const ImageU8& hit, const ImageU8& pcf, const Con
     n.searchedPixels += r[1];
     n.pcfPixels += r[2];
     n.silhouette[0] += r[3];
+    n.searchedFootprint += r[4];
   }
   // 2. B_ℓ: level ℓ's marks are the 2×2 OR of level ℓ−1's (a level-ℓ pixel whose 2^ℓ block holds a
   // silhouette pixel), counted at every enabled level.
@@ -308,9 +310,9 @@ void countStencils(FrameCounts& n, const std::array<const ImageU8*, kLevelCount>
           ++r[0];
           if (!levelPixelHit(hit, x, y, scale)) continue;
           ++r[1];
-          const uint8_t pays = paysAt(pcf, levelSamplePixel(x, scale), levelSamplePixel(y, scale));
-          r[2] += pays != kPcfSampleNone;
-          r[3] += pays == kPcfSamplePcf;
+          const uint8_t paid = pcfSampleClass(paysAt(pcf, levelSamplePixel(x, scale), levelSamplePixel(y, scale)));
+          r[2] += paid != kPcfSampleNone;
+          r[3] += paid == kPcfSamplePcf;
         }
       rows[static_cast<size_t>(y)] = r;
     });

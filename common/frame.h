@@ -221,7 +221,8 @@ void countEdgeSample(FrameCounts& counts, const ImageU8& edgeSample, const Image
 // a separable box max. Where a blur of radius r of what the set blocks hold can be non-zero
 // (gpu/masks.cpp draws its passes there; the rule's edge sample estimates S_ℓ's reach with it).
 ImageU8 nearBlocks(const ImageU8& blocks, int blockSize, int radius, int radiusY = -1);  // radiusY < 0: radius
-// The sample's value (kPcfSample…, common/shader_constants.h) for full-res pixel (x, y): that of its kPcfSampleStep² block.
+// The sample's byte (its class kPcfSample… and footprint, common/shader_constants.h) for full-res
+// pixel (x, y): that of its kPcfSampleStep² block.
 inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
   return pcfSample.at(std::min(x / kPcfSampleStep, pcfSample.width - 1),
                       std::min(y / kPcfSampleStep, pcfSample.height - 1));

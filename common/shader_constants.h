@@ -29,6 +29,15 @@ inline constexpr int kPcfSampleStep = 8;
 inline constexpr uint8_t kPcfSampleNone = 0;    // nothing: a surface facing away from the light
 inline constexpr uint8_t kPcfSampleSearch = 1;  // the blocker search, which finds no blocker (and sky)
 inline constexpr uint8_t kPcfSamplePcf = 2;     // the search and PCF's N taps
+// The byte holds the class above in its low 2 bits and, where the pixel searches on geometry, its
+// map footprint in its high 6 (SPEC §11): how far its neighbours' receivers lie from its own on
+// the shadow map, in quarter texels, rounded, at most 63 (15.75 texels: past a 64-byte line of
+// 16 texels no neighbour shares a line anyway). A search's memory cost grows with it.
+inline constexpr int kPcfSampleClassBits = 2;
+inline constexpr float kFootprintSteps = 4.0f;        // steps a texel
+inline constexpr float kMaxFootprintTexels = 15.75f;  // 63 steps
+inline constexpr uint8_t pcfSampleClass(uint8_t value) { return static_cast<uint8_t>(value & 3u); }
+inline constexpr int pcfSampleFootprintSteps(uint8_t value) { return value >> kPcfSampleClassBits; }
 
 // The never-slower rule's edge sample (SPEC §11, cpu_ref/edges.h edgeSample, edges.frag with
 // EDGE_SAMPLE): per kEdgeSampleStep² block of the full-res grid, whether SPEC §2's rule finds an
@@ -50,6 +59,9 @@ inline constexpr ShaderConstant kShaderConstants[] = {
     {"kPcfSampleNone", kPcfSampleNone},
     {"kPcfSampleSearch", kPcfSampleSearch},
     {"kPcfSamplePcf", kPcfSamplePcf},
+    {"kPcfSampleClassBits", static_cast<float>(kPcfSampleClassBits)},
+    {"kFootprintSteps", kFootprintSteps},
+    {"kMaxFootprintTexels", kMaxFootprintTexels},
     {"kEdgeSampleStep", static_cast<float>(kEdgeSampleStep)},
 };
 

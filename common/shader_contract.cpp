@@ -255,7 +255,9 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"blockerFactors", "float[16]", "tap i of the blocker grid sits at factor_i h (cpu_ref/ssm.h gridTapFactor)"},
         {"pcfFactors", "float[32]", "tap i of the PCF grid sits at factor_i h"}},
        {{"visibility", "vec4 -> R32F", "V in [0, 1] in r (1 = lit); PCF_SAMPLE: what the pixel pays, a byte of an R8 "
-         "target: 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF", 0}},
+         "target: 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF; where it "
+         "searches on geometry, plus 4 x its map footprint in quarter texels, at most 63 (cpu_ref/ssm.cpp "
+         "mapFootprintAt: how far its neighbours' receivers lie on the map)", 0}},
        "cpu_ref/ssm.cpp ssmAt: PCSS (Fernando 2005), a blocker search then an n x n PCF over the filter width. Drawn "
        "with the stencil test. PCF_SAMPLE: cpu_ref/ssm.cpp pcfSample."},
       {"stencil.frag", "fragment", "stencil", "", {kStencilMask}, {}, {},

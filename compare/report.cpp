@@ -47,6 +47,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
     j["never_slower"]["searched_pixels"] = f.counts.searchedPixels;
     j["never_slower"]["pcf_pixels"] = f.counts.pcfPixels;
+    j["never_slower"]["map_footprint_texels"] = footprintTexels(c.levels[0], f.counts);  // f̄
   }
   if (c.mode == Mode::Tiles) {
     std::array<int, 3> tiles{};

@@ -243,7 +243,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
   // k₀ come from the frames nearly all background (the sky), where nothing else is paid; a, b
   // (, e) by least squares on the rest with those fixed (fitted together, c traded off against a).
   struct FullRun {
-    std::vector<double> onGeometry;  // H_a, H_a·N (, H_p·N)
+    std::vector<double> onGeometry;  // H_a, H_a·N (, H_p·N, Σ f over H_a)
     double pixels, background, ns;   // W·H, W·H − H_a, the shading's time
   };
   std::array<std::vector<FullRun>, 3> fullRuns;
@@ -291,7 +291,10 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
               sc.render, view.camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
           const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
           std::vector<double> row = {onGeometry, onGeometry * fc.samples};
-          if (e == Effect::Ssm) row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
+          if (e == Effect::Ssm) {
+            row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
+            row.push_back(static_cast<double>(fc.counts->searchedFootprint) / kFootprintSteps);  // Σ f over H_a
+          }
           fullRuns[ei].push_back({row, p, p - onGeometry, shadingMs(full.ms) * 1e6});
           const double levelNs = levelPixelMs(full.ms) * 1e6, blendNs = stage(full.ms, "blend") * 1e6;
           const double hits = static_cast<double>(fc.counts->hitPixels);  // P_0 (H / W·H) = H
@@ -350,6 +353,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
     ec.nsPerShadedPixel = ab.size() > 0 ? ab[0] : 0.0;
     ec.nsPerSample = ab.size() > 1 ? ab[1] : 0.0;
     ec.nsPerPcfSample = ab.size() > 2 ? ab[2] : 0.0;
+    ec.nsPerFootprintTexel = ab.size() > 3 ? ab[3] : 0.0;
     const std::vector<double> rho = ruleFit[ei].solve();  // its intercept stays in the rest, where k takes it
     ec.nsPerRulePixel = rho.empty() ? 0.0 : rho[0];
     const std::vector<double> d = levelFit[ei].solve();
@@ -519,6 +523,7 @@ nlohmann::json countsJson(const FrameCounts& n) {
   return {{"hit", n.hitPixels},
           {"searched", n.searchedPixels},
           {"pcf", n.pcfPixels},
+          {"searched_footprint", n.searchedFootprint},
           {"silhouette", n.silhouette},
           {"shaded", n.shaded},
           {"shaded_hit", n.shadedHit},
@@ -534,6 +539,7 @@ FrameCounts countsFromJson(const nlohmann::json& j) {  // throws nlohmann::json:
   n.hitPixels = j.at("hit");
   n.searchedPixels = j.at("searched");
   n.pcfPixels = j.at("pcf");
+  n.searchedFootprint = j.value("searched_footprint", int64_t{0});  // a sweep from before the footprint: none
   n.silhouette = j.at("silhouette").get<PerLevel>();
   n.shaded = j.at("shaded").get<PerLevel>();
   n.shadedHit = j.at("shaded_hit").get<PerLevel>();

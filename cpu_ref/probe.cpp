@@ -111,6 +111,11 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
                        {"blockers", d.blockers}, {"search_taps", d.searchTaps}, {"blocker_depth", d.blockerDepth},
                        {"penumbra_width", d.penumbraWorld}, {"filter_texels", d.filterTexels},
                        {"lit_taps", d.litTaps}, {"pcf_taps", d.pcfTaps}};
+          if (d.facesLight && lr.gbuffer.hit.at(lx, ly)) {  // SPEC §11: how far its neighbours search, on the map
+            const Receiver r = receiverAt(f.shadowMap, f.view.toWorld(lr.gbuffer.positionAt(lx, ly)),
+                                          f.view.directionToWorld(lr.gbuffer.normalAt(lx, ly)), c.ssm.biasTexels);
+            lj["ssm"]["map_footprint_texels"] = mapFootprintAt(lr.gbuffer, f.shadowMap, f.view, c.ssm.biasTexels, lx, ly, r);
+          }
           break;
         }
         case Effect::Ssgi: {
@@ -192,7 +197,9 @@ std::string formatProbe(const nlohmann::json& j) {
           o << "(receiver depth " << fmt(s["receiver_depth"]) << "; blocker search +-" << fmt(s["search_texels"])
           << " texels: " << s["blockers"] << "/" << s["search_taps"] << " blockers, mean depth " << fmt(s["blocker_depth"])
           << "; penumbra " << fmt(s["penumbra_width"]) << " -> PCF +-" << fmt(s["filter_texels"]) << " texels, "
-          << s["lit_taps"] << "/" << s["pcf_taps"] << " taps lit)\n";
+          << s["lit_taps"] << "/" << s["pcf_taps"] << " taps lit"
+          << (s.contains("map_footprint_texels") ? "; neighbours " + fmt(s["map_footprint_texels"]) + " texels away on the map" : "")
+          << ")\n";
       } else if (l.contains("ssgi")) {
         const auto& s = l["ssgi"];
         o << "(" << s["senders"] << "/" << s["samples"] << " samples are senders; " << s["offscreen"] << " off-screen, "

@@ -2,6 +2,7 @@
 
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/parallel.h"
 #include "cpu_ref/stencil.h"
@@ -43,7 +44,8 @@ float blockerSearch(const ShadowMap& map, const Receiver& r, const Constants::Ss
 // What pixel (x, y) pays (common/shader_constants.h): kPcfSampleNone facing away from the light (V = 0 at
 // once), kPcfSampleSearch facing it with no blocker found (the search alone; also off geometry,
 // where the block's pixels on geometry are assumed to search), kPcfSamplePcf where the search
-// finds a blocker (SsmDetail's pcfTaps > 0, without the PCF).
+// finds a blocker (SsmDetail's pcfTaps > 0, without the PCF); where it searches on geometry, with
+// its map footprint in the high bits.
 uint8_t pcfSampleAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y) {
   if (!g.hit.at(x, y)) return kPcfSampleSearch;
   const Receiver r = receiverAt(map, view.toWorld(g.positionAt(x, y)), view.directionToWorld(g.normalAt(x, y)),
@@ -51,9 +53,33 @@ uint8_t pcfSampleAt(const GBuffer& g, const ShadowMap& map, const View& view, co
   if (!r.facesLight) return kPcfSampleNone;
   SsmDetail d;
   blockerSearch(map, r, ssm, d);
-  return d.blockers > 0 ? kPcfSamplePcf : kPcfSampleSearch;
+  const uint8_t paid = d.blockers > 0 ? kPcfSamplePcf : kPcfSampleSearch;
+  return static_cast<uint8_t>(paid | (footprintSteps(mapFootprintAt(g, map, view, ssm.biasTexels, x, y, r)) << kPcfSampleClassBits));
 }
 }  // namespace
+
+float mapFootprintAt(const GBuffer& g, const ShadowMap& map, const View& view, float biasTexels, int x, int y,
+                     const Receiver& r) {
+  float sum = 0.0f;
+  int axes = 0;
+  for (const glm::ivec2 axis : {glm::ivec2(1, 0), glm::ivec2(0, 1)})
+    for (const int sign : {1, -1}) {  // 1. the next pixel along the axis, else the previous
+      const glm::ivec2 q = glm::ivec2(x, y) + sign * axis;
+      if (q.x < 0 || q.y < 0 || q.x >= g.width || q.y >= g.height || !g.hit.at(q.x, q.y)) continue;
+      // 2. how far its receiver lies from this one on the map, in texels
+      const Receiver n = receiverAt(map, view.toWorld(g.positionAt(q.x, q.y)), view.directionToWorld(g.normalAt(q.x, q.y)),
+                                    biasTexels);
+      const float du = n.u - r.u, dv = n.v - r.v;
+      sum += std::sqrt(du * du + dv * dv);
+      ++axes;
+      break;
+    }
+  return axes > 0 ? sum / static_cast<float>(axes) : 0.0f;  // 3. the mean over the axes found
+}
+
+int footprintSteps(float texels) {
+  return static_cast<int>(std::min(kMaxFootprintTexels, texels) * kFootprintSteps + 0.5f);
+}
 
 float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y,
             SsmDetail* detail) {

@@ -27,13 +27,24 @@ struct SsmDetail {
 float ssmAt(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm, int x, int y,
             SsmDetail* detail = nullptr);
 
+// SPEC §11: the map footprint of pixel (x, y) on geometry, whose receiver is r: how far its
+// neighbours' receivers lie from r on the shadow map, in texels, the mean over the two axes (along
+// each, the next pixel on geometry, else the previous; an axis with neither is left out, and with
+// none the footprint is 0). Neighbouring searches share the map's cache lines less the farther
+// apart they land, so a search costs more the larger it is (docs/figures.md).
+float mapFootprintAt(const GBuffer& g, const ShadowMap& map, const View& view, float biasTexels, int x, int y,
+                     const Receiver& r);
+// The footprint in the sample's steps (kFootprintSteps a texel), rounded, at most kMaxFootprintTexels.
+int footprintSteps(float texels);
+
 // The never-slower rule's view of PCSS's cost (SPEC §11): PCF is paid only where the blocker
 // search finds a blocker, which the one-tap test cannot tell (the search reaches up to 64 texels
 // around a lit pixel). One pixel in kPcfSampleStep² is asked, (x·8 + 4, y·8 + 4) on the
 // full-res G-buffer, the level-3 grid: kPcfSamplePcf where ssmAt would filter, kPcfSampleSearch
 // where it searches and finds no blocker (and on sky, where a block's pixels on geometry are
 // assumed to search), kPcfSampleNone where it returns at once (a surface facing away from the
-// light). The searches cost about 1/64 of a full frame's.
+// light). Where it searches on geometry, the byte's high bits hold its map footprint
+// (footprintSteps; common/shader_constants.h). The searches cost about 1/64 of a full frame's.
 ImageU8 pcfSample(const GBuffer& g, const ShadowMap& map, const View& view, const Constants::Ssm& ssm);
 
 ImageF renderSsm(const GBuffer& g, const ShadowMap& map, const ImageU8& stencil, const View& view,

@@ -5,7 +5,8 @@
 // With PCF_SAMPLE (cpu_ref/ssm.cpp: pcfSample, SPEC §11): the never-slower rule's sample of
 // where PCF is paid, drawn on a ⌈W/8⌉×⌈H/8⌉ R8 target over the level-0 G-buffer; fragment
 // (x, y) asks pixel (8x + 4, 8y + 4) what it pays and writes the byte common/shader_constants.h names:
-// 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF.
+// 0 facing away from the light, 1 the blocker search alone (and sky), 2 the search and PCF; where
+// it searches on geometry, plus its map footprint (cpu_ref/ssm.cpp: mapFootprintAt) in the high bits.
 #include "shadowmap.glsl"
 uniform sampler2D positionHit;  // level G-buffer: view position, hit
 uniform sampler2D normalDepth;  // level G-buffer: view normal, depth
@@ -22,7 +23,8 @@ const float kMaxSearchTexels = 64.0;  // caps the blocker search (and so the pen
 
 // Ends the fragment with V = v, or under PCF_SAMPLE with what the pixel paid (the byte `paid`).
 #ifdef PCF_SAMPLE
-#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4(paid / 255.0); return; }
+float footprintBits = 0.0;  // the byte's high bits: the footprint's steps, once the pixel searches
+#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4((paid + footprintBits) / 255.0); return; }
 #else
 #define RETURN_WITHOUT_PCF(v, paid) { visibility = v; return; }
 #endif
@@ -35,6 +37,31 @@ float gridOffset(float factor, float halfWidth) { return factor * halfWidth; }
 float penumbraWidth(float receiverDepth, float blockerDepth) {
   return (receiverDepth - blockerDepth) * 2.0 * tanHalfAngle;
 }
+
+#ifdef PCF_SAMPLE
+// SPEC §11: the map footprint of `pixel`, whose receiver is r: how far its neighbours' receivers
+// lie from r on the map, in texels, the mean over the two axes (cpu_ref/ssm.cpp: mapFootprintAt).
+float mapFootprintAt(ivec2 pixel, Receiver r) {
+  ivec2 size = textureSize(positionHit, 0);
+  float sum = 0.0;
+  int axes = 0;
+  for (int a = 0; a < 2; ++a)
+    for (int k = 0; k < 2; ++k) {  // 1. the next pixel along the axis, else the previous
+      int sign = k == 0 ? 1 : -1;
+      ivec2 q = pixel + sign * (a == 0 ? ivec2(1, 0) : ivec2(0, 1));
+      if (q.x < 0 || q.y < 0 || q.x >= size.x || q.y >= size.y) continue;
+      vec4 qh = texelFetch(positionHit, q, 0);
+      if (qh.w < 0.5) continue;
+      // 2. how far its receiver lies from this one on the map, in texels
+      Receiver n = receiverAt(viewToWorld(qh.xyz), viewDirectionToWorld(texelFetch(normalDepth, q, 0).xyz));
+      float du = n.u - r.u, dv = n.v - r.v;
+      sum += sqrt(du * du + dv * dv);
+      ++axes;
+      break;
+    }
+  return axes > 0 ? sum / float(axes) : 0.0;  // 3. the mean over the axes found
+}
+#endif
 
 void main() {
 #ifdef PCF_SAMPLE
@@ -50,6 +77,10 @@ void main() {
   Receiver r = receiverAt(viewToWorld(ph.xyz), viewDirectionToWorld(n));
   if (!r.facesLight)  // the visible side faces away from the light: in its own shadow
     RETURN_WITHOUT_PCF(vec4(0.0, 0.0, 0.0, 1.0), kPcfSampleNone);
+#ifdef PCF_SAMPLE
+  footprintBits = floor(min(kMaxFootprintTexels, mapFootprintAt(pixel, r)) * kFootprintSteps + 0.5) *
+                  exp2(kPcfSampleClassBits);
+#endif
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
   float searchTexels = clamp(r.depth * tanHalfAngle / mapTexel, 0.5, kMaxSearchTexels);
   float blockerSum = 0.0;
@@ -66,7 +97,7 @@ void main() {
   if (blockers == 0)  // nothing in front anywhere in the search region: fully lit
     RETURN_WITHOUT_PCF(vec4(1.0), kPcfSampleSearch);
 #ifdef PCF_SAMPLE
-  visibility = vec4(kPcfSamplePcf / 255.0);  // PCF runs here
+  visibility = vec4((kPcfSamplePcf + footprintBits) / 255.0);  // PCF runs here
   return;
 #endif
   float blockerDepth = blockerSum / float(blockers);

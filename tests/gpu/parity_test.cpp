@@ -678,21 +678,30 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
   ASSERT_EQ(b.cpu.pcfSample.height, 19);
   ASSERT_EQ(b.port.pcfSample.width, b.cpu.pcfSample.width);
   ASSERT_EQ(b.port.pcfSample.height, b.cpu.pcfSample.height);
-  int pays = 0, searchOnly = 0, differ = 0;
+  int pays = 0, searchOnly = 0, differ = 0, footprintOff = 0, withFootprint = 0;
   for (size_t i = 0; i < b.cpu.pcfSample.data.size(); ++i) {
-    pays += b.cpu.pcfSample.data[i] == kPcfSamplePcf;
-    searchOnly += b.cpu.pcfSample.data[i] == kPcfSampleSearch;
-    differ += b.cpu.pcfSample.data[i] != b.port.pcfSample.data[i];
+    const uint8_t cpu = b.cpu.pcfSample.data[i], port = b.port.pcfSample.data[i];
+    pays += pcfSampleClass(cpu) == kPcfSamplePcf;
+    searchOnly += pcfSampleClass(cpu) == kPcfSampleSearch;
+    differ += pcfSampleClass(cpu) != pcfSampleClass(port);
+    // the footprint (SPEC §11), from each path's own G-buffer: the same steps but where it rounds
+    footprintOff += std::abs(pcfSampleFootprintSteps(cpu) - pcfSampleFootprintSteps(port)) > 1;
+    withFootprint += pcfSampleFootprintSteps(cpu) > 0;
   }
   EXPECT_GT(pays, 10) << "the scene's slabs cast shadows the search finds";
   EXPECT_GT(searchOnly, 10) << "and open ground it does not";
+  EXPECT_GT(withFootprint, 100) << "every searching sample on geometry has neighbours some texels apart";
   EXPECT_LE(differ, 2) << "of " << b.cpu.pcfSample.data.size() << " samples";
+  EXPECT_LE(footprintOff, 2) << "of " << b.cpu.pcfSample.data.size() << " samples";
   EXPECT_GT(b.port.counts.pcfPixels, 0);
   const double counts = tolerance("rule.pcf_counts").shareOver;
   EXPECT_NEAR(static_cast<double>(b.port.counts.pcfPixels), static_cast<double>(b.cpu.counts.pcfPixels),
               counts * static_cast<double>(b.cpu.counts.pcfPixels));
   EXPECT_NEAR(static_cast<double>(b.port.counts.searchedPixels), static_cast<double>(b.cpu.counts.searchedPixels),
               counts * static_cast<double>(b.cpu.counts.searchedPixels));
+  ASSERT_GT(b.cpu.counts.searchedFootprint, 0);
+  EXPECT_NEAR(static_cast<double>(b.port.counts.searchedFootprint), static_cast<double>(b.cpu.counts.searchedFootprint),
+              counts * static_cast<double>(b.cpu.counts.searchedFootprint));
   // The port's own model prices PCF as well; a model that does not (e = 0) never draws the sample.
   const gpu::GpuRenderer port(*b.oracle.scene);
   const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());

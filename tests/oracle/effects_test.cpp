@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "cpu_ref/masks.h"
+#include "cpu_ref/probe.h"
 #include "cpu_ref/ssm.h"
 #include "tests/oracle/render_helpers.h"
 #include "tests/test_support.h"
@@ -102,7 +103,8 @@ TEST(Ssm, PcfSampleSaysWhatSsmAtPays) {
                                  : !d.facesLight   ? kPcfSampleNone
                                  : d.pcfTaps > 0   ? kPcfSamplePcf
                                                    : kPcfSampleSearch;
-        ASSERT_EQ(sample.at(x, y), expected) << x << "," << y;
+        ASSERT_EQ(pcfSampleClass(sample.at(x, y)), expected) << x << "," << y;
+        if (expected == kPcfSampleNone || !g.hit.at(px, py)) EXPECT_EQ(pcfSampleFootprintSteps(sample.at(x, y)), 0);
         pays += expected == kPcfSamplePcf;
         searchOnly += g.hit.at(px, py) && expected == kPcfSampleSearch;
         facesAway += expected == kPcfSampleNone;
@@ -117,6 +119,49 @@ TEST(Ssm, PcfSampleSaysWhatSsmAtPays) {
   r.scene->light.direction = glm::normalize(glm::vec3(0.3f, 1.0f, -0.4f));  // from below: the ground faces away
   check(r.renderer->render(r.camera, r.frame.constants));
   EXPECT_GT(facesAway, 100);
+}
+
+TEST(Ssm, TheSampledFootprintIsTheMapDistanceBetweenNeighbours) {
+  // SPEC §11's map footprint, analytically: on the fronto-parallel plane the camera at z = 5 steps
+  // h = 2 · 5 tan(30°) / H world units a pixel, along x across and y down; the map sees a step d
+  // at |d − (d·l) l| (l: the light's forward), so f = (h / texel) · (√(1 − l_x²) + √(1 − l_y²)) / 2
+  // at every pixel, in steps of a quarter texel. Halving the frame's side doubles it.
+  for (const int width : {160, 320}) {
+    const int height = width * 9 / 16;
+    const auto r = test::renderScene("builtin:plane", effectSettings(Effect::Ssm, width, height, 49, Mode::Full));
+    const FrameResult& f = r.frame;
+    const ShadowMap& map = f.shadowMap;
+    const float step = 2.0f * 5.0f * std::tan(glm::radians(30.0f)) / static_cast<float>(height);
+    const glm::vec3 l = map.forward;
+    const float expected =
+        step / map.texel * 0.5f * (std::sqrt(1.0f - l.x * l.x) + std::sqrt(1.0f - l.y * l.y));
+    ASSERT_GT(expected, 1.0f);
+    ASSERT_LT(expected, kMaxFootprintTexels);
+    const ImageU8 sample = pcfSample(f.levels[0].gbuffer, map, f.view, f.constants.ssm);
+    int checked = 0;
+    for (int y = 0; y < sample.height; ++y)
+      for (int x = 0; x < sample.width; ++x) {
+        const uint8_t v = sample.at(x, y);
+        if (!f.levels[0].gbuffer.hit.at(std::min(x * 8 + 4, width - 1), std::min(y * 8 + 4, height - 1))) {
+          EXPECT_EQ(v, kPcfSampleSearch) << "sky: the search assumed, no footprint";
+          continue;
+        }
+        ASSERT_EQ(pcfSampleClass(v), kPcfSampleSearch) << "nothing blocks the plane";
+        EXPECT_NEAR(pcfSampleFootprintSteps(v) / kFootprintSteps, expected, 0.5f / kFootprintSteps + 1e-3f) << x << "," << y;
+        ++checked;
+      }
+    EXPECT_GT(checked, static_cast<int>(sample.data.size()) / 2) << "the plane fills most of the view";
+    // `mrr probe` says the same of any pixel, unrounded
+    const nlohmann::json p = probePixel(f, width / 2, height / 2);
+    EXPECT_NEAR(p["levels"][0]["ssm"]["map_footprint_texels"].get<double>(), expected, 1e-3 * expected);
+    // and the rule's count: every searching pixel at its block's sample's footprint
+    FrameCounts n;
+    countHits(n, f.levels[0].gbuffer.hit, sample, f.constants, nullptr);
+    ASSERT_GT(n.searchedPixels, 0);
+    EXPECT_NEAR(footprintTexels(f.constants.levels[0], n), expected, 0.5 / kFootprintSteps + 1e-3);
+    EXPECT_NEAR(footprintTexels(f.constants.levels[1], n), std::min(2.0 * expected, double{kMaxFootprintTexels}),
+                1.0 / kFootprintSteps + 2e-3) << "a level-1 pixel's neighbours lie twice as far, at most a line";
+  }
 }
 
 TEST(Ssm, ShadowEdgesPutTheFullResStencilAlongShadowBoundaries) {

@@ -477,6 +477,26 @@ TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
   n.shadedSearched = {50, 25, 10, 16};
   EXPECT_NEAR(withAll - predictFullMs(ssm, cs, n), 200.0 * (10 - 0.5) * 1e-6, 1e-12);
   EXPECT_NEAR(mrrWithAll - predictMrrMs(ssm, cs, n), (shadingWithAll - ssmShadingNs(824.0)) * 1e-6, 1e-12);
+  // ν: SSM's searching pixels pay ν f_ℓ more, f_0 = f̄ = F / (4 H_a) texels, f_ℓ = min(s_ℓ f̄, 15.75),
+  // at the sparse factor in the method; nothing without a footprint.
+  {
+    CostModel memory = ssm;
+    memory.effect[static_cast<size_t>(Effect::Ssm)].nsPerFootprintTexel = 2.0;
+    EXPECT_EQ(predictFullMs(memory, cs, n), predictFullMs(ssm, cs, n));
+    EXPECT_EQ(predictMrrMs(memory, cs, n), predictMrrMs(ssm, cs, n));
+    FrameCounts wide = n;
+    wide.searchedFootprint = 3 * 4 * wide.searchedPixels;  // f̄ = 3 texels
+    EXPECT_NEAR(footprintTexels(cs.levels[2], wide), 12.0, 1e-12);
+    EXPECT_NEAR(footprintTexels(cs.levels[3], wide), 15.75, 1e-12) << "at most a line's 16 texels, less a step";
+    EXPECT_NEAR(predictFullMs(memory, cs, wide) - predictFullMs(ssm, cs, wide), 824.0 * 2 * 3 * 1e-6, 1e-12);
+    auto slSearched = [&](double paying, double scale) {
+      return 1.0 + 0.5 * (1.0 - std::min(1.0, paying * scale * scale / 824.0));  // level 3: all 16 of 824 / 64, 1
+    };
+    const double levels = 50.0 * 3 * slSearched(50, 1) + 25.0 * 6 * slSearched(25, 2) + 10.0 * 12 * slSearched(10, 4) +
+                          16.0 * 15.75 * slSearched(16, 8);
+    EXPECT_NEAR(predictMrrMs(memory, cs, wide) - predictMrrMs(ssm, cs, wide), levels * 2 * 1e-6, 1e-12);
+    EXPECT_GT(predictMrrFloorMs(memory, cs, wide), predictMrrFloorMs(ssm, cs, wide)) << "the floor's searches pay it too";
+  }
   // β_f: the blend's finer levels, per full-res pixel where they can show: under S_2, the
   // coarsest level below the coarsest (3), which the closure makes hold every finer level's
   // blocks; in the prediction over |S_2| and in the floor over the silhouettes B_2.
@@ -521,16 +541,18 @@ TEST(NeverSlower, CountHitsIsItsDefinitionOnRandomImages) {
     const int density = static_cast<int>(rng() % 100);
     for (uint8_t& v : hit.data) v = static_cast<uint8_t>(static_cast<int>(rng() % 100) < density);
     ImageU8 pcf((hw + 7) / 8, (hh + 7) / 8, 1, 0);
-    for (uint8_t& v : pcf.data) v = static_cast<uint8_t>(rng() % 3);  // none, search, PCF
-    int64_t hits = 0, searched = 0, paysPcf = 0;
+    for (uint8_t& v : pcf.data)  // none, search, PCF, with a footprint of 0 to 63 steps above
+      v = static_cast<uint8_t>(rng() % 3 | (rng() % 64) << kPcfSampleClassBits);
+    int64_t hits = 0, searched = 0, paysPcf = 0, footprint = 0;
     std::array<std::set<std::pair<int, int>>, kLevelCount> blocks;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         if (!hit.at(x, y)) continue;
         ++hits;
         const uint8_t pays = pcfSampleValue(pcf, x, y);
-        searched += pays != kPcfSampleNone;
-        paysPcf += pays == kPcfSamplePcf;
+        searched += pcfSampleClass(pays) != kPcfSampleNone;
+        paysPcf += pcfSampleClass(pays) == kPcfSamplePcf;
+        footprint += pcfSampleClass(pays) != kPcfSampleNone ? pcfSampleFootprintSteps(pays) : 0;
         bool silhouette = false;
         for (const auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}})
           silhouette |= hit.contains(x + dx, y + dy) && !hit.at(x + dx, y + dy);
@@ -546,6 +568,7 @@ TEST(NeverSlower, CountHitsIsItsDefinitionOnRandomImages) {
       EXPECT_EQ(n.hitPixels, hits) << what;
       EXPECT_EQ(n.searchedPixels, searched) << what;
       EXPECT_EQ(n.pcfPixels, paysPcf) << what;
+      EXPECT_EQ(n.searchedFootprint, footprint) << what;
       for (int l = 0; l < kLevelCount; ++l)
         EXPECT_EQ(n.silhouette[static_cast<size_t>(l)], static_cast<int64_t>(blocks[static_cast<size_t>(l)].size()))
             << what << ", level " << l;
@@ -556,6 +579,7 @@ TEST(NeverSlower, CountHitsIsItsDefinitionOnRandomImages) {
       countHits(unsampled, hit, ImageU8(), c);
       EXPECT_EQ(unsampled.searchedPixels, hits) << what << ": without a sample every pixel on geometry searches";
       EXPECT_EQ(unsampled.pcfPixels, 0) << what;
+      EXPECT_EQ(unsampled.searchedFootprint, 0) << what << ": nor a footprint";
     }
   }
 }
@@ -777,6 +801,14 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   nlohmann::json noRule = m.toJson();  // a file from before the rule's cost was measured
   noRule["effects"]["ssm"].erase("ns_per_rule_pixel");
   EXPECT_THROW(CostModel::fromJson(noRule), MrrError);
+  nlohmann::json noFootprint = m.toJson();  // a file from before the map footprint was priced
+  noFootprint["effects"]["ssm"].erase("ns_per_footprint_texel");
+  EXPECT_THROW(CostModel::fromJson(noFootprint), MrrError);
+  for (const nlohmann::json& nu : {nlohmann::json(-1.0), nlohmann::json("3")}) {  // ν: a number, no cheaper for a wider footprint
+    nlohmann::json broken = m.toJson();
+    broken["effects"]["ssm"]["ns_per_footprint_texel"] = nu;
+    EXPECT_THROW(CostModel::fromJson(broken), MrrError) << nu.dump();
+  }
   // s outside [1, 2]: SPEC §11's per-level premium would price a level lower as its stencil grew.
   for (double s : {0.9, 2.5}) {
     nlohmann::json premium = m.toJson();

@@ -551,11 +551,6 @@ FrameCounts countsFromJson(const nlohmann::json& j) {  // throws nlohmann::json:
   return n;
 }
 
-struct SweepConfig {
-  Effect effect;
-  int samples, width, height;
-};
-
 // Sizes, effects and sample counts, cycled over the scenes' views: low and high counts, 320×180
 // to 1920×1080 (the dearest effects at the smaller sizes, to keep the sweep in minutes).
 const std::vector<SweepConfig>& sweepConfigs() {
@@ -568,6 +563,14 @@ const std::vector<SweepConfig>& sweepConfigs() {
 }
 
 }  // namespace
+
+SweepConfig ruleSweepConfig(const std::string& path, size_t frame, size_t framesPerPath) {
+  // The oracle's frames take the cycle from its start, the port's from where the oracle's end, as
+  // when one run sweeps both: a path's frames are the same whichever --paths the run names.
+  const size_t pathOffset = path == "gpu" ? framesPerPath : 0;
+  const std::vector<SweepConfig>& configs = sweepConfigs();
+  return configs[(pathOffset + frame) % configs.size()];
+}
 
 std::string withPathName(std::string file, const std::string& path) {
   if (const auto at = file.find("{path}"); at != std::string::npos) file.replace(at, 6, path);
@@ -584,19 +587,21 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   nlohmann::json frames = nlohmann::json::array();
   nlohmann::json models = nlohmann::json::object();  // path → the cost model that decided its frames
-  const size_t total = paths.size() * o.scenes.size() * 4 * static_cast<size_t>(o.configsPerView);
-  size_t done = 0, cycle = 0;
+  const size_t framesPerPath = o.scenes.size() * 4 * static_cast<size_t>(o.configsPerView);
+  const size_t total = paths.size() * framesPerPath;
+  size_t done = 0;
   const auto start = std::chrono::steady_clock::now();
   for (const BenchPath& path : paths) {
     const CostModel model = ruleCostModel(o.costModelFile, path.name);
     models[path.name] = model.source;
+    size_t frameIndex = 0;  // the path's own count: its frames do not depend on the other paths swept
     for (const std::string& sceneName : o.scenes) {
       std::cerr << "[rule-sweep] " << path.name << ": loading " << sceneName << "\n";
       const OpenScene sc = openScene(sceneName, path);
       const float diagonal = sc.scene->bounds().diagonal();
       for (const RuleView& view : ruleViews(*sc.scene, sc.camera, 16.0f / 9.0f))
         for (int k = 0; k < o.configsPerView; ++k) {
-          const SweepConfig& cfg = sweepConfigs()[cycle++ % sweepConfigs().size()];
+          const SweepConfig cfg = ruleSweepConfig(path.name, frameIndex++, framesPerPath);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           std::cerr << "[rule-sweep] " << ++done << "/" << total << "  " << path.name << " " << sceneName << " " << view.name
                     << " " << cfg.width << "x" << cfg.height << " " << toString(cfg.effect) << "-" << cfg.samples << "  ("

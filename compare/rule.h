@@ -69,6 +69,17 @@ std::string withPathName(std::string file, const std::string& path);
 // `--calibrate` wrote it, withPathName) or, empty, the built-in one.
 CostModel ruleCostModel(const std::string& file, const std::string& path);
 
+// One frame of the sweep: its effect, samples and size.
+struct SweepConfig {
+  Effect effect;
+  int samples, width, height;
+};
+// The configuration of the `frame`-th frame (scenes × views × configsPerView, in that order) of
+// `path`'s sweep of `framesPerPath` frames: a cycle through the sweep's sizes, effects and sample
+// counts, the oracle's frames from its start and the port's on from where the oracle's end, so a
+// path sweeps the same frames whether or not the run also sweeps the other path.
+SweepConfig ruleSweepConfig(const std::string& path, size_t frame, size_t framesPerPath);
+
 // Runs the sweep on every path, writes the JSON, prints the summary (Markdown); returns 0.
 int runRuleSweep(const RuleSweepOptions& options, const std::vector<BenchPath>& paths, std::ostream& out);
 // `mrr bench --rule-replay FILE`: re-decides every frame of a sweep's JSON with the cost model of

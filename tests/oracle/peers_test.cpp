@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <string>
+#include <tuple>
 
 #include "common/error.h"
 #include "compare/report.h"
@@ -328,6 +330,36 @@ TEST(NeverSlower, TheSparsePremiumFallsToNothingAsTheStencilFillsTheLevel) {
   for (double s : {1.0, 1.5, 2.0}) {
     m.effect[static_cast<size_t>(Effect::Ssao)].sparseFactor = s;
     for (int64_t shaded = 0; shaded < 1000; shaded += 50) EXPECT_LT(levelZeroMs(shaded), levelZeroMs(shaded + 50)) << s;
+  }
+}
+
+// The rule sweep's frames (ruleSweepConfig): a path sweeps the same frames whether the run names
+// it alone or beside the other. The port's 88 frames continue the oracle's cycle (as when one run
+// swept both, which the committed port sweeps did: its first frame, the arcade's catalogue camera,
+// is 640×360 SSM-49), and each path's frames reach every size, effect and sample count.
+TEST(NeverSlower, ARuleSweepPathSweepsTheSameFramesWhateverElseTheRunSweeps) {
+  auto same = [](const SweepConfig& a, const SweepConfig& b) {
+    return a.effect == b.effect && a.samples == b.samples && a.width == b.width && a.height == b.height;
+  };
+  const size_t perPath = 88;
+  const SweepConfig first = ruleSweepConfig("gpu", 0, perPath);
+  EXPECT_EQ(first.effect, Effect::Ssm);
+  EXPECT_EQ(first.samples, 49);
+  EXPECT_EQ(first.width, 640);
+  EXPECT_EQ(first.height, 360);
+  const SweepConfig oracleFirst = ruleSweepConfig("cpu", 0, perPath);
+  EXPECT_EQ(oracleFirst.effect, Effect::Ssao);
+  EXPECT_EQ(oracleFirst.samples, 16);
+  EXPECT_EQ(oracleFirst.width, 320);
+  for (const char* path : {"cpu", "gpu"}) {
+    std::set<std::tuple<int, int, int, int>> seen;
+    for (size_t i = 0; i < perPath; ++i) {
+      const SweepConfig c = ruleSweepConfig(path, i, perPath);
+      seen.insert({static_cast<int>(c.effect), c.samples, c.width, c.height});
+      // the port's i-th frame is the (88 + i)-th of the one cycle through both paths
+      if (std::string(path) == "gpu") EXPECT_TRUE(same(c, ruleSweepConfig("cpu", perPath + i, perPath))) << i;
+    }
+    EXPECT_EQ(seen.size(), 12u) << path << ": every size, effect and sample count";
   }
 }
 

@@ -95,8 +95,8 @@ void addDiffCommand(CLI::App& app, DiffOptions& o) {
 }
 
 int runDiff(const DiffOptions& o) {
-  const double ppd = o.ppd == 0.0 ? kFlipDefaultPpd : o.ppd;
-  require(std::isfinite(ppd) && ppd > 0.0 && ppd <= 1000.0, "--ppd " + number(o.ppd, 2) + ": must be in (0, 1000]");
+  const double ppd = o.ppd.value_or(kFlipDefaultPpd);
+  require(std::isfinite(ppd) && ppd > 0.0 && ppd <= 1000.0, "--ppd: must be in (0, 1000]");
   require(o.tonemap == "clamp" || o.tonemap == "reinhard", "--tonemap " + o.tonemap + ": expected clamp or reinhard");
   require(!o.failAbove || (std::isfinite(*o.failAbove) && *o.failAbove >= 0.0), "--fail-above: must be a number >= 0");
   // Outputs are checked before any work, each with its option's name.

@@ -12,7 +12,7 @@ namespace mrr {
 struct DiffOptions {
   CLI::App* command = nullptr;  // set by addDiffCommand: `if (opts.command->parsed())`
   std::string reference, test;
-  double ppd = 0.0;             // 0: compare/flip.h's kFlipDefaultPpd
+  std::optional<double> ppd;    // absent: compare/flip.h's kFlipDefaultPpd
   std::string tonemap = "clamp";  // EXR with colour: clamp or reinhard, then sRGB-encoded
   std::string mapOut, jsonOut;
   bool legend = false;

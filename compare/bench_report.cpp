@@ -335,7 +335,7 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"cold_effect_ms", r.coldEffectMs}, {"cold_speedup", r.coldSpeedup},
                     {"rms", r.error.rms}, {"psnr", std::isfinite(r.error.psnr) ? nlohmann::json(r.error.psnr) : nlohmann::json(nullptr)},
                     {"ssim", r.error.ssim}, {"max_abs", r.error.maxAbs}, {"edge_band_rms", r.error.edgeBandRms},
-                    {"shaded_rms", r.shadedRms}});
+                    {"shaded_rms", r.shadedRms}, {"flip", r.flip}, {"shaded_flip", r.shadedFlip}});
   for (const StabilityRecord& s : res.stability)
     stab.push_back({{"path", s.path}, {"scene", s.scene}, {"effect", s.effect}, {"samples", s.samples}, {"camera_path", s.kind},
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},
@@ -348,13 +348,14 @@ std::string benchCsv(const BenchResults& res) {
   std::ostringstream o;
   o << "path,scene,group,camera,method,effect,width,height,samples,effect_ms,total_ms,shaded_pixels,ideal_speedup,"
        "ideal_speedup_hit,measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms,cold_effect_ms,"
-       "cold_speedup\n";
+       "cold_speedup,flip,shaded_flip\n";
   for (const BenchRecord& r : res.records)
     o << r.path << "," << r.scene << "," << r.group << "," << r.camera << "," << r.method << "," << r.effect << "," << r.width
       << "," << r.height << "," << r.samples << "," << r.effectMs << "," << r.totalMs << "," << r.shadedPixels << ","
       << r.idealSpeedup << "," << r.idealSpeedupHit << "," << r.measuredSpeedup << "," << (r.fellBack ? 1 : 0) << "," << r.error.rms << ","
       << (std::isfinite(r.error.psnr) ? std::to_string(r.error.psnr) : "inf") << "," << r.error.ssim << "," << r.error.maxAbs
-      << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "\n";
+      << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "," << r.flip << ","
+      << r.shadedFlip << "\n";
   return o.str();
 }
 

@@ -265,6 +265,13 @@ TEST(Flip, AgreesWithTheReferenceOnSyntheticPairs) {
   }
 }
 
+// Other viewing conditions: the reference tool with -ppd 30 and -ppd 120 (as above).
+TEST(Flip, AgreesWithTheReferenceAtOtherViewingConditions) {
+  const std::vector<Pair> pairs = syntheticPairs();
+  EXPECT_NEAR(flip(pairs[0].reference, pairs[0].test, 30.0).stats.mean, 0.241757, allowedDifference(0.241757));  // noise
+  EXPECT_NEAR(flip(pairs[2].reference, pairs[2].test, 120.0).stats.mean, 0.079050, allowedDifference(0.079050));  // blur
+}
+
 TEST(Flip, AgreesWithTheReferenceOnMrrFrames) {
   const std::vector<Pair> pairs = framePairs();
   writePairsFor(pairs);

@@ -280,14 +280,16 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
                               sizeName(r.width, r.height) + " " + r.effect + "-" + std::to_string(r.samples) + " " + r.method;
     const double pixels = static_cast<double>(r.width) * r.height;
     if (r.method == "full") {
-      if (r.error.rms != 0.0 || r.error.maxAbs != 0.0)
-        fails.push_back(where + ": full differs from its own warm-up frame (RMS " + sci(r.error.rms) + ")");
+      if (r.error.rms != 0.0 || r.error.maxAbs != 0.0 || r.flip != 0.0 || r.shadedFlip != 0.0)
+        fails.push_back(where + ": full differs from its own warm-up frame (RMS " + sci(r.error.rms) + ", FLIP " +
+                        sci(r.flip) + ")");
       if (static_cast<double>(r.shadedPixels) != pixels || r.idealSpeedup != 1.0)
         fails.push_back(where + ": full shades " + std::to_string(r.shadedPixels) + " pixels, not W·H");
       continue;
     }
-    if (!std::isfinite(r.error.rms) || !std::isfinite(r.error.ssim) || r.error.ssim > 1.0 + 1e-9)
-      fails.push_back(where + ": error figures not finite or SSIM above 1");
+    if (!std::isfinite(r.error.rms) || !std::isfinite(r.error.ssim) || r.error.ssim > 1.0 + 1e-9 ||
+        !(r.flip >= 0.0 && r.flip <= 1.0) || !(r.shadedFlip >= 0.0 && r.shadedFlip <= 1.0))
+      fails.push_back(where + ": error figures not finite, SSIM above 1 or FLIP outside [0,1]");
     // Timing noise: the method's time may fall short of what the ideal allows (full's time /
     // ideal) by 25% and, on top, by kJitterMs before it is called wrong, and only where full's
     // effect takes long enough (10 ms) for one timing to mean something. (CI measured a bumpy

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "app/byo.h"
+#include "app/diff.h"
 #include "app/frame_file.h"
 #include "app/frame_options.h"
 #include "app/info.h"
@@ -404,6 +405,8 @@ int run(int argc, char** argv) {
   for (CLI::App* c : {render, probe, compare, bench}) addShadersOption(*c, shaderDir);
   ShadersCommand shadersCommand;
   addShadersCommand(app, shadersCommand);
+  DiffOptions diffOptions;  // issue 36: `mrr diff REF TEST` (app/diff.h)
+  addDiffCommand(app, diffOptions);
 
   // --frame F.json stands for the options it holds (app/frame_file.h), inserted before the
   // command line's own, which win.
@@ -418,6 +421,7 @@ int run(int argc, char** argv) {
   }
 
   if (shadersCommand.command->parsed()) return runShadersCommand(shadersCommand);
+  if (diffOptions.command->parsed()) return runDiff(diffOptions);
   if (!shaderDir.empty()) {
     const FrameOptions& f = *render ? renderOpts : *probe ? probeOpts : compareOpts;
     const bool port = *compare || (*bench && std::count(benchPaths.begin(), benchPaths.end(), "gpu") > 0) ||

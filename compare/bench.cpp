@@ -158,6 +158,8 @@ class Sweep {
       const FrameErrors e = errorVsFull(f, m == "full" ? firstFull : full);
       r.error = e.effect;
       r.shadedRms = e.shaded.rms;
+      r.flip = e.effectFlip.mean;
+      r.shadedFlip = e.shadedFlip.mean;
       records_.push_back(r);
     }
     return last;

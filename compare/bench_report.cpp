@@ -280,14 +280,16 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
                               sizeName(r.width, r.height) + " " + r.effect + "-" + std::to_string(r.samples) + " " + r.method;
     const double pixels = static_cast<double>(r.width) * r.height;
     if (r.method == "full") {
-      if (r.error.rms != 0.0 || r.error.maxAbs != 0.0)
-        fails.push_back(where + ": full differs from its own warm-up frame (RMS " + sci(r.error.rms) + ")");
+      if (r.error.rms != 0.0 || r.error.maxAbs != 0.0 || r.flip != 0.0 || r.shadedFlip != 0.0)
+        fails.push_back(where + ": full differs from its own warm-up frame (RMS " + sci(r.error.rms) + ", FLIP " +
+                        sci(r.flip) + ")");
       if (static_cast<double>(r.shadedPixels) != pixels || r.idealSpeedup != 1.0)
         fails.push_back(where + ": full shades " + std::to_string(r.shadedPixels) + " pixels, not W·H");
       continue;
     }
-    if (!std::isfinite(r.error.rms) || !std::isfinite(r.error.ssim) || r.error.ssim > 1.0 + 1e-9)
-      fails.push_back(where + ": error figures not finite or SSIM above 1");
+    if (!std::isfinite(r.error.rms) || !std::isfinite(r.error.ssim) || r.error.ssim > 1.0 + 1e-9 ||
+        !(r.flip >= 0.0 && r.flip <= 1.0) || !(r.shadedFlip >= 0.0 && r.shadedFlip <= 1.0))
+      fails.push_back(where + ": error figures not finite, SSIM above 1 or FLIP outside [0,1]");
     // Timing noise: the method's time may fall short of what the ideal allows (full's time /
     // ideal) by 25% and, on top, by kJitterMs before it is called wrong, and only where full's
     // effect takes long enough (10 ms) for one timing to mean something. (CI measured a bumpy
@@ -335,7 +337,7 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"cold_effect_ms", r.coldEffectMs}, {"cold_speedup", r.coldSpeedup},
                     {"rms", r.error.rms}, {"psnr", std::isfinite(r.error.psnr) ? nlohmann::json(r.error.psnr) : nlohmann::json(nullptr)},
                     {"ssim", r.error.ssim}, {"max_abs", r.error.maxAbs}, {"edge_band_rms", r.error.edgeBandRms},
-                    {"shaded_rms", r.shadedRms}});
+                    {"shaded_rms", r.shadedRms}, {"flip", r.flip}, {"shaded_flip", r.shadedFlip}});
   for (const StabilityRecord& s : res.stability)
     stab.push_back({{"path", s.path}, {"scene", s.scene}, {"effect", s.effect}, {"samples", s.samples}, {"camera_path", s.kind},
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},
@@ -348,13 +350,14 @@ std::string benchCsv(const BenchResults& res) {
   std::ostringstream o;
   o << "path,scene,group,camera,method,effect,width,height,samples,effect_ms,total_ms,shaded_pixels,ideal_speedup,"
        "ideal_speedup_hit,measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms,cold_effect_ms,"
-       "cold_speedup\n";
+       "cold_speedup,flip,shaded_flip\n";
   for (const BenchRecord& r : res.records)
     o << r.path << "," << r.scene << "," << r.group << "," << r.camera << "," << r.method << "," << r.effect << "," << r.width
       << "," << r.height << "," << r.samples << "," << r.effectMs << "," << r.totalMs << "," << r.shadedPixels << ","
       << r.idealSpeedup << "," << r.idealSpeedupHit << "," << r.measuredSpeedup << "," << (r.fellBack ? 1 : 0) << "," << r.error.rms << ","
       << (std::isfinite(r.error.psnr) ? std::to_string(r.error.psnr) : "inf") << "," << r.error.ssim << "," << r.error.maxAbs
-      << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "\n";
+      << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "," << r.flip << ","
+      << r.shadedFlip << "\n";
   return o.str();
 }
 

@@ -31,6 +31,8 @@ struct BenchRecord {
   bool fellBack = false;         // mrr: the never-slower rule shaded this frame at full res
   ErrorFigures error;            // SPEC §10, the effect buffer against full
   double shadedRms = 0.0;        // RMS of the shaded image against full's
+  double flip = 0.0;             // mean LDR-FLIP of the effect buffer (as grey) against full's
+  double shadedFlip = 0.0;       // mean LDR-FLIP of the shaded image against full's
 };
 
 // One method along one camera path.

@@ -8,7 +8,13 @@ namespace mrr {
 
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
   return {compareToReference(frame.final(), reference.final(), frame.blend.levelMap),
-          compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap)};
+          compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap),
+          flip(reference.final(), frame.final()).stats,  // flip() clamps: the PNG preview's values
+          flip(linearToDisplay(reference.shaded), linearToDisplay(frame.shaded)).stats};
+}
+
+nlohmann::json flipJson(const FlipStats& s) {
+  return {{"mean", s.mean}, {"median", s.median}, {"q1", s.q1}, {"q3", s.q3}, {"max", s.max}};
 }
 
 namespace {
@@ -109,7 +115,9 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   }
   if (err) {
     j["error_vs_full"] = figuresJson(err->effect);  // psnr null = identical images
+    j["error_vs_full"]["flip"] = flipJson(err->effectFlip);
     j["error_vs_full_shaded"] = figuresJson(err->shaded);
+    j["error_vs_full_shaded"]["flip"] = flipJson(err->shadedFlip);
   }
   return j;
 }

@@ -9,6 +9,7 @@
 
 #include "common/image_io.h"
 #include "common/metrics.h"
+#include "compare/flip.h"
 #include "cpu_ref/pipeline.h"
 
 namespace mrr {
@@ -25,12 +26,18 @@ struct RunInfo {
 };
 
 // SPEC §10 figures of `frame` against `reference` (a Mode::Full frame, same samples), on the
-// effect buffer and on the shaded image.
+// effect buffer and on the shaded image, and their LDR-FLIP (compare/flip.h, default viewing
+// conditions) as a viewer sees them: the effect buffer as grey, as `--out x.png` shows it,
+// the shaded image sRGB-encoded, as `--shaded x.png` (issue 36).
 struct FrameErrors {
   ErrorFigures effect;
   ErrorFigures shaded;
+  FlipStats effectFlip;
+  FlipStats shadedFlip;
 };
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference);
+// {"mean", "median", "q1", "q3", "max"}: how every report writes FLIP's figures.
+nlohmann::json flipJson(const FlipStats& s);
 
 nlohmann::json makeReport(const FrameResult& frame, const RunInfo& info, const std::optional<FrameErrors>& errors);
 

@@ -108,27 +108,34 @@ def plot_method(ax, method, xs, ys, label=None, line=True, ideal=False):
             markerfacecolor="white" if ideal else None, markersize=6)
 
 
-def speed_vs_rms(path, effect, runs, device):
-    """Chart 1: measured speedup against RMS, one point per method and setting, the Pareto front."""
-    c = Chart("speed-vs-rms-%s-%s" % (path, effect), "Speed against accuracy, %s (%s path)" % (effect, path), device,
-              "Chart 1 (%s, %s): one point per method × scene × camera × setting; up and left is better. The dashed "
-              "line joins the points no other point beats on both axes. Frames with RMS 0 (mrr falling back to "
-              "full) sit at the left end of the axis." % (path, effect),
-              "RMS against full (log)", "measured speedup over full (x)")
+def speed_vs_rms(path, effect, runs, device, key="rms"):
+    """Chart 1: measured speedup against RMS (or, key "flip", against mean FLIP: issue 36), one
+    point per method and setting, the Pareto front."""
+    flip = key == "flip"
+    figure = "FLIP" if flip else "RMS"
+    c = Chart("speed-vs-%s-%s-%s" % (key, path, effect),
+              "Speed against %s, %s (%s path)" % ("perceived error (FLIP)" if flip else "accuracy", effect, path), device,
+              "Chart 1%s (%s, %s): one point per method × scene × camera × setting; up and left is better. The dashed "
+              "line joins the points no other point beats on both axes. Frames with %s 0 (mrr falling back to "
+              "full) sit at the left end of the axis.%s" % (
+                  "b" if flip else "", path, effect, figure,
+                  " FLIP: the mean LDR-FLIP of the effect buffer shown as grey, at 67 pixels per degree: the error "
+                  "a viewer sees, where RMS weighs every pixel alike." if flip else ""),
+              "%s against full (log)" % ("mean FLIP" if flip else "RMS"), "measured speedup over full (x)")
     others = [r for r in runs if r["method"] != "full"]
-    # A log axis cannot show RMS 0 (frames the never-slower rule shaded at full res): they are
-    # drawn at a third of the smallest non-zero RMS, which the caption says.
-    floor = min([r["rms"] / 3 for r in others if r["rms"] and r["rms"] > 0] or [1.0])
+    # A log axis cannot show an error of 0 (frames the never-slower rule shaded at full res):
+    # they are drawn at a third of the smallest non-zero error, which the caption says.
+    floor = min([r[key] / 3 for r in others if r.get(key) and r[key] > 0] or [1.0])
     points = []
     for m in method_order(r["method"] for r in others):
-        mine = [(r["rms"] if r["rms"] and r["rms"] > 0 else floor, r["measured_speedup"])
-                for r in others if r["method"] == m and r["rms"] is not None]
+        mine = [(r[key] if r[key] and r[key] > 0 else floor, r["measured_speedup"])
+                for r in others if r["method"] == m and r.get(key) is not None]
         plot_method(c.ax, m, [p[0] for p in mine], [p[1] for p in mine], line=False)
         points += mine
     front = [points[i] for i in pareto_front(points)]
     c.ax.plot([p[0] for p in front], [p[1] for p in front], "k--", linewidth=1, label="Pareto front")
     c.ax.set_xscale("log")
-    c.guide(1.0, "full (RMS 0)")
+    c.guide(1.0, "full (%s 0)" % figure)
     return c
 
 
@@ -213,6 +220,8 @@ def bench_charts(results, paper):
             group = lambda g: [r for r in of_path if r["group"] == g and r["effect"] == effect]  # noqa: E731
             if group("main"):
                 out.append(speed_vs_rms(path, effect, group("main"), device))
+                if all("flip" in r for r in group("main")):  # bench JSON from before issue 36 has none
+                    out.append(speed_vs_rms(path, effect, group("main"), device, key="flip"))
             if group("samples"):
                 out.append(sweep("fig6", path, effect, group("samples"), paper, device))
             if group("resolution"):

@@ -414,6 +414,17 @@ TEST_F(CliRenderTest, RenderWritesEveryOutputAndAFullReport) {
     EXPECT_TRUE(e.contains(key)) << "error_vs_full lacks " << key << ": " << e.dump();
   EXPECT_GE(e.value("rms", -1.0), 0.0);
   EXPECT_LE(e.value("ssim", 2.0), 1.0);
+  // Issue 36: LDR-FLIP of the effect buffer and of the shaded image.
+  for (const char* part : {"error_vs_full", "error_vs_full_shaded"}) {
+    ASSERT_TRUE(j[part].contains("flip")) << part << ": " << j[part].dump();
+    const json& f = j[part]["flip"];
+    for (const char* key : {"mean", "median", "q1", "q3", "max"}) {
+      ASSERT_TRUE(f.contains(key)) << part << ".flip lacks " << key << ": " << f.dump();
+      EXPECT_GE(f[key].get<double>(), 0.0);
+      EXPECT_LE(f[key].get<double>(), 1.0);
+    }
+    EXPECT_LE(f["q1"].get<double>(), f["q3"].get<double>());
+  }
 }
 
 // The part names every multires run writes, for all four levels where they apply.
@@ -1366,6 +1377,99 @@ TEST(CliOutputTest, BenchReportMakesItsFolder) {
                              dir);
   EXPECT_EQ(r.status, 0) << describe(r);
   EXPECT_TRUE(fs::exists(fs::path(report) / "index.html")) << describe(r);
+}
+
+// ---- mrr diff (issue 36) ------------------------------------------------------------------
+
+// Two small PNGs that differ (a bright square moved by two pixels), and a third of another size.
+class CliDiffTest : public CliRenderTest {
+ protected:
+  void SetUp() override {
+    CliRenderTest::SetUp();
+    ImageF a(64, 48, 3, 0.2f), b(64, 48, 3, 0.2f);
+    for (int y = 16; y < 32; ++y)
+      for (int x = 20; x < 36; ++x)
+        for (int c = 0; c < 3; ++c) {
+          a.at(x, y, c) = 0.9f;
+          b.at(x + 2, y, c) = 0.9f;
+        }
+    writeImage(at("a.png"), a);
+    writeImage(at("b.png"), b);
+    writeImage(at("small.png"), ImageF(32, 48, 3, 0.2f));
+  }
+};
+
+TEST_F(CliDiffTest, PrintsAndWritesTheFigures) {
+  const RunResult r = runMrr({"diff", at("a.png"), at("b.png"), "--json", at("d.json"), "--map", at("map.png")}, dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  for (const char* word : {"RMS", "PSNR", "SSIM", "max |Δ|", "FLIP", "median", "q1", "q3", "sRGB values as stored"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word << "\n" << r.out;
+  const json j = json::parse(readFile(at("d.json")));
+  std::set<std::string> keys;
+  for (const auto& [k, v] : j.items()) keys.insert(k);
+  EXPECT_EQ(keys, (std::set<std::string>{"rms", "psnr", "ssim", "max_abs", "flip"})) << j.dump();
+  std::set<std::string> flipKeys;
+  for (const auto& [k, v] : j["flip"].items()) flipKeys.insert(k);
+  EXPECT_EQ(flipKeys, (std::set<std::string>{"mean", "median", "q1", "q3", "max"})) << j.dump();
+  EXPECT_GT(j["flip"]["mean"].get<double>(), 0.0);
+  EXPECT_GT(j["rms"].get<double>(), 0.0);
+  EXPECT_NEAR(j["max_abs"].get<double>(), 0.7, 1.0 / 255.0);  // 0.9 against 0.2, as bytes
+  const ImageF map = readImage(at("map.png"));
+  EXPECT_EQ(map.width, 64);
+  EXPECT_EQ(map.height, 48);
+  EXPECT_EQ(map.channels, 3);
+  // --legend adds the colour bar below the map.
+  const RunResult legend = runMrr({"diff", at("a.png"), at("b.png"), "--map", at("legend.png"), "--legend"}, dir);
+  ASSERT_EQ(legend.status, 0) << describe(legend);
+  EXPECT_GT(readImage(at("legend.png")).height, 48);
+}
+
+TEST_F(CliDiffTest, IdenticalImagesGiveZero) {
+  const RunResult r = runMrr({"diff", at("a.png"), at("a.png"), "--json", at("same.json")}, dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  const json j = json::parse(readFile(at("same.json")));
+  EXPECT_EQ(j["rms"].get<double>(), 0.0);
+  EXPECT_TRUE(j["psnr"].is_null()) << "infinite PSNR is written as null";
+  EXPECT_EQ(j["flip"]["mean"].get<double>(), 0.0);
+  EXPECT_EQ(j["flip"]["max"].get<double>(), 0.0);
+}
+
+TEST_F(CliDiffTest, FailAboveExitsOneWhenTheMeanIsAbove) {
+  const RunResult above = runMrr({"diff", at("a.png"), at("b.png"), "--fail-above", "0.0001"}, dir);
+  EXPECT_EQ(above.status, 1) << describe(above);
+  EXPECT_NE(above.err.find("--fail-above"), std::string::npos) << above.err;
+  const RunResult below = runMrr({"diff", at("a.png"), at("b.png"), "--fail-above", "0.9"}, dir);
+  EXPECT_EQ(below.status, 0) << describe(below);
+}
+
+TEST_F(CliDiffTest, BadInputIsOneLineAndExitTwo) {
+  const std::vector<std::vector<std::string>> cases = {
+      {"diff", at("a.png"), at("small.png")},                        // different sizes
+      {"diff", at("a.png"), at("absent.png")},                       // missing file
+      {"diff", at("a.png"), at("b.png"), "--map", at("no/dir/m.png")},  // unwritable output
+      {"diff", at("a.png"), at("b.png"), "--json", at("d.txt")},       // wrong extension
+      {"diff", at("a.png")},                                         // usage: TEST missing
+  };
+  for (const auto& args : cases) {
+    const RunResult r = runMrr(args, dir);
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_EQ(r.err.rfind("mrr: error: ", 0), 0u) << describe(r);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
+  }
+  const RunResult sizes = runMrr({"diff", at("a.png"), at("small.png")}, dir);
+  EXPECT_NE(sizes.err.find("differ in size"), std::string::npos) << sizes.err;
+}
+
+// An EXR says how it was shown: colour is clamped (or tone-mapped) and sRGB-encoded.
+TEST_F(CliDiffTest, ExrSaysHowItWasShown) {
+  writeImage(at("a.exr"), ImageF(16, 16, 3, 2.0f));
+  writeImage(at("b.exr"), ImageF(16, 16, 3, 0.5f));
+  const RunResult clamp = runMrr({"diff", at("a.exr"), at("b.exr")}, dir);
+  ASSERT_EQ(clamp.status, 0) << describe(clamp);
+  EXPECT_NE(clamp.out.find("clamped to [0,1], then sRGB-encoded"), std::string::npos) << clamp.out;
+  const RunResult tone = runMrr({"diff", at("a.exr"), at("b.exr"), "--tonemap", "reinhard"}, dir);
+  ASSERT_EQ(tone.status, 0) << describe(tone);
+  EXPECT_NE(tone.out.find("Reinhard"), std::string::npos) << tone.out;
 }
 
 }  // namespace

@@ -63,6 +63,21 @@ class ChartTest(unittest.TestCase):
         self.assertEqual(labels, ["mrr measured", "mrr ideal (pixels)", "mrr ideal (pixels on geometry)"])
         self.assertEqual(list(chart.ax.get_lines()[2].get_ydata()), [2.7, 2.7])
 
+    def test_speed_against_flip_is_charted_beside_speed_against_rms(self):
+        runs = [{"path": "cpu", "scene": "builtin:demo", "group": "main", "method": m, "effect": "ssao",
+                 "samples": 64, "width": 320, "height": 180, "rms": r, "flip": f, "measured_speedup": s}
+                for m, r, f, s in (("full", 0.0, 0.0, 1.0), ("mrr", 0.004, 0.009, 1.8), ("uniform-2", 0.02, 0.08, 3.0))]
+        names = [c.name for c in report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])]
+        self.assertEqual(names, ["speed-vs-rms-cpu-ssao", "speed-vs-flip-cpu-ssao"])
+        flip = report.speed_vs_rms("cpu", "ssao", runs, "a test machine", key="flip")
+        xs = sorted(x for line in flip.ax.get_lines()[:2] for x in line.get_xdata())
+        self.assertEqual(xs, [0.009, 0.08])  # the FLIP means, full left out
+        # Bench JSON written before FLIP: the RMS chart alone.
+        for r in runs:
+            del r["flip"]
+        names = [c.name for c in report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])]
+        self.assertEqual(names, ["speed-vs-rms-cpu-ssao"])
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -3,7 +3,13 @@
 #include <glm/glm.hpp>
 
 #include <cstdio>
+#include <iostream>
 #include <string>
+
+#include "app/commands.h"
+#include "common/error.h"
+#include "common/frame_params.h"
+#include "frontend/options.h"
 
 namespace mrr {
 
@@ -25,7 +31,8 @@ nlohmann::json cameraJson(const Camera& c) {
 std::string cameraText(const nlohmann::json& c) {
   char fov[32];
   std::snprintf(fov, sizeof fov, "%.4g", c["yfov_degrees"].get<double>());
-  return "--eye " + triple(c["eye"]) + " --target " + triple(c["target"]) + " --fov " + fov;
+  return optionName(Param::Eye) + " " + triple(c["eye"]) + " " + optionName(Param::Target) + " " + triple(c["target"]) +
+         " " + optionName(Param::Fov) + " " + fov;
 }
 
 std::string joined(const nlohmann::json& list) {
@@ -98,6 +105,39 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
       << (j["suggested"]["interior"].get<bool>() ? "inside: the scene encloses its centre"
                                                  : "from outside, fitted to the frame")
       << ")\n";
+}
+
+void addInfoCommand(CLI::App& app, InfoCommand& c) {
+  c.command = app.add_subcommand(
+      "info", "what a scene holds: bounds, triangles, cameras, light, extensions, materials, and a suggested view");
+  c.command->add_option("scene", c.request.scene, std::string(paramInfo(Param::Scene).help))->required();
+  c.command->add_option(optionName(Param::Size), c.size, "WxH of the image the suggested view is fitted to")
+      ->capture_default_str();
+  c.command->add_option(optionName(Param::Fov), c.fov, paramHelp(Param::Fov));
+  c.command->add_flag(optionName(Param::FlipUp), c.flipUp, paramHelp(Param::FlipUp));
+  c.command->add_flag(optionName(Param::NoFlipUp), c.noFlipUp, paramHelp(Param::NoFlipUp));
+  c.command->add_option(optionName(Param::BlendMaterials), c.blendMaterials, "opaque or skip, as render takes it")
+      ->capture_default_str();
+  c.command->add_flag("--json", c.json, "print JSON instead of text");
+}
+
+int runInfoCommand(InfoCommand& c) {
+  const auto [w, h] = parseSize(c.size);
+  require(w >= 1 && h >= 1 && w <= kMaxImageSize && h <= kMaxImageSize,
+          optionName(Param::Size) + " " + c.size + ": each side must be in [1, " + std::to_string(kMaxImageSize) + "]");
+  c.request.aspect = static_cast<float>(w) / static_cast<float>(h);
+  c.request.fovDegrees = c.fov;
+  if (c.flipUp) c.request.flipUp = true;
+  if (c.noFlipUp) c.request.flipUp = false;
+  require(c.blendMaterials == "opaque" || c.blendMaterials == "skip",
+          optionName(Param::BlendMaterials) + " " + c.blendMaterials + ": expected opaque or skip");
+  c.request.skipBlendMaterials = c.blendMaterials == "skip";
+  const nlohmann::json facts = sceneInfo(c.request);
+  if (c.json)
+    std::cout << facts.dump(2) << "\n";
+  else
+    printSceneInfo(facts, std::cout);
+  return 0;
 }
 
 }  // namespace mrr

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/frame_params.h"
 #include "common/kernels.h"
 
 namespace mrr {
@@ -33,14 +34,14 @@ Effect parseEffect(const std::string& name) {
   if (name == "ssao") return Effect::Ssao;
   if (name == "ssm") return Effect::Ssm;
   if (name == "ssgi") return Effect::Ssgi;
-  throw MrrError("--effect " + name + ": unknown effect (expected ssao, ssm or ssgi)");
+  throw MrrError(optionName(Param::Effect) + " " + name + ": unknown effect (expected ssao, ssm or ssgi)");
 }
 
 Mode parseMode(const std::string& name) {
   if (name == "multires") return Mode::Mrr;  // the old spelling, still accepted from scripts
   for (Mode m : kAllModes)
     if (name == toString(m)) return m;
-  throw MrrError("--method " + name + ": unknown method (expected mrr, full, uniform-1, uniform-2 or tiles)");
+  throw MrrError(optionName(Param::Method) + " " + name + ": unknown method (expected mrr, full, uniform-1, uniform-2 or tiles)");
 }
 
 // Table 1 of the paper (SPEC §3). i = ℓ + 1; the coarsest level covers everything.
@@ -99,32 +100,32 @@ int squareRoot(int n) {
 void validateSettings(const Settings& s) {
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
   require(sizeOk(s.width) && sizeOk(s.height),
-          "--size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+          optionName(Param::Size) + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
               ": each side must be in [1, " + std::to_string(kMaxImageSize) + "]");
   require(s.ssao.samples >= 1 && s.ssao.samples <= kMaxSsaoSamples,
-          "--samples " + std::to_string(s.ssao.samples) + ": must be in [1, " +
+          optionName(Param::Samples) + " " + std::to_string(s.ssao.samples) + ": must be in [1, " +
               std::to_string(kMaxSsaoSamples) + "] for ssao");
   require(s.ssm.samples >= 1 && s.ssm.samples <= kMaxSsmSamples && squareRoot(s.ssm.samples) > 0,
-          "--samples " + std::to_string(s.ssm.samples) + ": must be a square n*n in [1, " +
+          optionName(Param::Samples) + " " + std::to_string(s.ssm.samples) + ": must be a square n*n in [1, " +
               std::to_string(kMaxSsmSamples) + "] for ssm (PCF over an n x n grid, e.g. 196 = 14*14)");
   require(s.ssgi.samples >= 1 && s.ssgi.samples <= kMaxSsgiSamples,
-          "--samples " + std::to_string(s.ssgi.samples) + ": must be in [1, " +
+          optionName(Param::Samples) + " " + std::to_string(s.ssgi.samples) + ": must be in [1, " +
               std::to_string(kMaxSsgiSamples) + "] for ssgi");
   require(s.ssm.shadowMapSize >= 16 && s.ssm.shadowMapSize <= kMaxShadowMapSize,
-          "--shadow-map-size " + std::to_string(s.ssm.shadowMapSize) + ": must be in [16, " +
+          optionName(Param::ShadowMapSize) + " " + std::to_string(s.ssm.shadowMapSize) + ": must be in [16, " +
               std::to_string(kMaxShadowMapSize) + "]");
-  require(s.ssm.lightAngle > 0.0f && s.ssm.lightAngle <= 0.5f, "--light-angle: must be in (0, 0.5] radians");
+  require(s.ssm.lightAngle > 0.0f && s.ssm.lightAngle <= 0.5f, optionName(Param::LightAngle) + ": must be in " + paramRange(Param::LightAngle) + " radians");
   require(s.ssm.blockerGrid >= 1 && s.ssm.blockerGrid <= 16, "blocker grid: must be in [1, 16]");
   require(s.ssm.biasTexels >= 0.0f && s.ssm.biasTexels <= 16.0f, "shadow bias: must be in [0, 16] texels");
-  require(std::isfinite(s.ssgi.radius) && s.ssgi.radius >= 0.0f, "--gi-radius: must be a finite value >= 0");
+  require(std::isfinite(s.ssgi.radius) && s.ssgi.radius >= 0.0f, optionName(Param::GiRadius) + ": must be a finite value >= 0");
   require(std::isfinite(s.ssao.radius) && s.ssao.radius >= 0.0f,
-          "--ao-radius: must be a finite value >= 0 (0 = automatic)");
+          optionName(Param::AoRadius) + ": must be a finite value >= 0 (0 = automatic)");
   require(s.ssao.biasFraction >= 0.0f && s.ssao.biasFraction <= 1.0f,
           "--ao-bias: must be in [0, 1] (a fraction of the radius)");
   require(s.edges.normalThreshold >= 0.0f && s.edges.normalThreshold <= 2.0f,
-          "--tau-n: must be in [0, 2]");
+          optionName(Param::TauN) + ": must be in " + paramRange(Param::TauN));
   require(std::isfinite(s.edges.depthThreshold) && s.edges.depthThreshold >= 0.0f,
-          "--tau-z: must be a finite value >= 0");
+          optionName(Param::TauZ) + ": must be a finite value >= 0");
   require(s.bilateral.radius >= 0 && s.bilateral.radius <= 8, "--blur-radius: must be in [0, 8]");
   require(s.bilateral.sigmaSpatial > 0.0f && s.bilateral.sigmaDepth > 0.0f,
           "bilateral sigmas must be > 0");
@@ -137,7 +138,7 @@ void validateSettings(const Settings& s) {
             "level " + std::to_string(l) + ": weight must be a finite value >= 0");
     any = any || ls.enabled;
   }
-  require(s.levels[0].enabled, "--disable-level 0: the full-resolution level cannot be disabled");
+  require(s.levels[0].enabled, optionName(Param::DisableLevel) + " 0: the full-resolution level cannot be disabled");
   require(any, "every level is disabled");
 }
 

@@ -91,11 +91,11 @@ const std::vector<ShaderContract>& shaderContracts() {
        "target, ORed per block by the host (cpu_ref/edges.cpp edgeSample)",
        {{"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth (0 on sky)"},
         {"shadowLit", "sampler2D R8", "the one-tap shadow test per pixel, 1 lit", -1, "SHADOW_EDGES"}},
-       {{"normalThreshold", "float", "tau_n on 1 - N.N' (--tau-n, default 0.1)"},
-        {"depthThreshold", "float", "tau_z on |second difference of 1/z| / (1/z) (--tau-z, default 0.02)"}},
+       {{"normalThreshold", "float", "the normal-edge threshold on 1 - N.N' (Settings::edges, common/params.h)"},
+        {"depthThreshold", "float", "the depth-edge threshold on |second difference of 1/z| / (1/z) (Settings::edges)"}},
        {{"edges", "vec4 -> RGBA8 (E_ONLY, EDGE_SAMPLE: R8)", "(normal, depth, background, E), 0 or 1 each; EDGE_SAMPLE: (E at a diagonal pixel, 0, 0, 1)", 0},
         {"shadowEdge", "vec4 -> RGBA8", "(shadow edge, 0, 0, 1)", 1, "SHADOW_EDGES without EDGE_SAMPLE"}},
-       "cpu_ref/edges.cpp detectEdges: normal edges (1 - N.N' > tau_n over the 4-neighbourhood), depth edges (second "
+       "cpu_ref/edges.cpp detectEdges: normal edges (1 - N.N' > the normal threshold over the 4-neighbourhood), depth edges (second "
        "difference of 1/z), background edges (hit next to sky), SSM's shadow edges; E is their OR."},
       {"fullscreen.vert", "vertex", "every image-space pass", "",
        {{"corner", "vec2", "useRects: a rectangle corner in target pixels", 0}},

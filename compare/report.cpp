@@ -1,5 +1,7 @@
 #include "compare/report.h"
 
+#include "common/frame_params.h"
+
 #include <cmath>
 
 #include "common/stages.h"
@@ -89,7 +91,8 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
       j["ssgi"] = {{"radius", c.ssgi.radius}, {"patch_area", c.ssgi.patchArea}, {"shadow_map_size", c.ssm.shadowMapSize}};
       break;
   }
-  j["edges"] = {{"tau_n", c.edges.normalThreshold}, {"tau_z", c.edges.depthThreshold}};
+  j["edges"] = {{std::string(paramInfo(Param::TauN).key), c.edges.normalThreshold},
+                {std::string(paramInfo(Param::TauZ).key), c.edges.depthThreshold}};
   nlohmann::json levels = nlohmann::json::array();
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];

@@ -13,6 +13,7 @@
 #include "common/cost_model.h"
 #include "common/frame.h"
 #include "common/params.h"
+#include "common/renderer.h"
 #include "common/scene.h"
 #include "cpu_ref/blend.h"
 #include "cpu_ref/edges.h"
@@ -23,10 +24,13 @@
 
 namespace mrr {
 
-class Renderer {
+class Renderer final : public FrameRenderer {
  public:
   explicit Renderer(const Scene& scene);  // builds the BVH
-  FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const;
+  FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const override;
+  const char* path() const override { return "cpu"; }
+  std::string device() const override { return "cpu_ref (oracle)"; }
+  std::string timingMethod() const override { return ""; }
   const Scene& scene() const { return scene_; }
   double bvhBuildMs() const { return bvhBuildMs_; }
 

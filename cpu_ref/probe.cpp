@@ -1,5 +1,7 @@
 #include "cpu_ref/probe.h"
 
+#include "common/frame_params.h"
+
 #include "common/stages.h"
 
 #include <cstdio>
@@ -54,12 +56,12 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
 
   if (!f.edges.combined.empty()) {  // modes mrr and tiles
     const EdgeDecision e = edgeAt(g0, c.edges, x, y, c.effect == Effect::Ssm ? &f.shadowLit : nullptr);
-    j[partName(Part::Edges)] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {"tau_n", c.edges.normalThreshold}}},
+    j[partName(Part::Edges)] = {{"normal", {{"edge", e.normal}, {"max_1_minus_dot", e.normalMax}, {std::string(paramInfo(Param::TauN).key), c.edges.normalThreshold}}},
                   {"depth",
                    {{"edge", e.depth},
                     {"second_diff_x", e.takenX ? nlohmann::json(e.depthSecondX) : nlohmann::json("n/a")},
                     {"second_diff_y", e.takenY ? nlohmann::json(e.depthSecondY) : nlohmann::json("n/a")},
-                    {"tau_z", c.edges.depthThreshold}}},
+                    {std::string(paramInfo(Param::TauZ).key), c.edges.depthThreshold}}},
                   {"background", {{"edge", e.background}, {"background_neighbour", e.backgroundNeighbour}}},
                   {"E", e.normal || e.depth || e.background || e.shadow}};
     if (e.lit >= 0)
@@ -165,9 +167,9 @@ std::string formatProbe(const nlohmann::json& j) {
       o << "shadow test   lit " << e["shadow"]["lit"] << "  (a 4-neighbour differs: " << e["shadow"]["neighbour_differs"]
         << ") -> shadow edge " << e["shadow"]["edge"] << "\n";
     o << "edges         normal " << e["normal"]["edge"] << "  (max 1-N.N " << fmt(e["normal"]["max_1_minus_dot"])
-      << " vs tau_n " << fmt(e["normal"]["tau_n"]) << ")\n"
+      << " vs " << paramInfo(Param::TauN).key << " " << fmt(e["normal"][std::string(paramInfo(Param::TauN).key)]) << ")\n"
       << "              depth  " << e["depth"]["edge"] << "  (|d2(1/z)|/(1/z) x " << fmt(e["depth"]["second_diff_x"])
-      << ", y " << fmt(e["depth"]["second_diff_y"]) << " vs tau_z " << fmt(e["depth"]["tau_z"]) << ")\n"
+      << ", y " << fmt(e["depth"]["second_diff_y"]) << " vs " << paramInfo(Param::TauZ).key << " " << fmt(e["depth"][std::string(paramInfo(Param::TauZ).key)]) << ")\n"
       << "              background " << e["background"]["edge"] << "  (background 4-neighbour: "
       << e["background"]["background_neighbour"] << ")\n"
       << "              E = " << e["E"] << "\n";

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "app/options.h"
+#include "frontend/options.h"
 #include "common/error.h"
 #include "common/stages.h"
 #include "compare/false_colour.h"

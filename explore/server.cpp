@@ -25,6 +25,7 @@
 #include <sys/socket.h>
 
 #include "common/error.h"
+#include "common/frame_params.h"
 #include "common/memory.h"
 #include "common/paths.h"
 #include "common/stages.h"
@@ -32,12 +33,11 @@
 #include "compare/false_colour.h"
 #include "compare/probe_both.h"
 #include "compare/report.h"
-#include "cpu_ref/pipeline.h"
 #include "cpu_ref/probe.h"
 #include "explore/explore_files.h"
 #include "explore/layers.h"
 #include "gpu/context.h"
-#include "gpu/pipeline.h"
+#include "frontend/renderers.h"
 #include "scenes/builtin.h"
 #include "scenes/catalog.h"
 
@@ -54,15 +54,16 @@ struct ApiError {
   std::string parameter;  // empty: none in particular
 };
 
-// The frame parameters the page may send: the command line's frame options, '-' as '_'.
-// Options that name files (--cost-model) or the machine (--threads, --gl-device,
-// --memory-limit) stay on the command line. Flags take 1/true or 0/false.
-const std::set<std::string> kValueParameters = {
-    "scene",      "effect",      "method",      "mode",           "never_slower", "size",
-    "samples",    "camera",      "eye",         "target",         "up",           "fov",          "light_dir",
-    "ao_radius",  "gi_radius",   "light_angle", "shadow_map_size", "tau_n",        "tau_z",
-    "sigma2",     "weights",     "disable_level", "blend_materials"};
-const std::set<std::string> kFlagParameters = {"flip_up", "no_flip_up", "ao_texel_depth"};
+// The frame parameters the page may send are the frame-parameter table's rows marked for
+// explore (common/frame_params.h): the command line's frame options, '-' as '_'. Options that
+// name files (--cost-model) or the machine (--threads, --gl-device, --memory-limit) stay on the
+// command line. Flags take 1/true or 0/false.
+const FrameParamInfo* pageParameter(const std::string& key) {
+  std::string option = "--" + key;
+  std::replace(option.begin(), option.end(), '_', '-');
+  const FrameParamInfo* p = findParam(option);  // the option or an alias: "mode" is --method's
+  return p && p->explore ? p : nullptr;
+}
 
 // "--tau-n 3: must be in [0, 2]" → "tau_n": the first option an error message names.
 std::string parameterNamed(const std::string& message) {
@@ -73,6 +74,19 @@ std::string parameterNamed(const std::string& message) {
   std::string name = message.substr(at + 2, end - at - 2);
   std::replace(name.begin(), name.end(), '-', '_');
   return name;
+}
+
+const char* kindName(ParamKind kind) {
+  switch (kind) {
+    case ParamKind::Text: return "text";
+    case ParamKind::Int: return "int";
+    case ParamKind::Number: return "number";
+    case ParamKind::Triple: return "triple";
+    case ParamKind::Flag: return "flag";
+    case ParamKind::Levels: return "levels";
+    case ParamKind::PerLevel: return "per_level";
+  }
+  return "text";
 }
 
 json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
@@ -92,14 +106,12 @@ std::string frameKey(const Settings& s, const SceneRequest& r) {
   for (const LevelSettings& l : s.levels) levels.push_back({l.enabled, l.sigma2, l.weight});
   auto opt = [](const auto& o) { return o ? json(*o) : json(nullptr); };
   auto optVec = [](const std::optional<glm::vec3>& v) { return v ? vec3Json(*v) : json(nullptr); };
-  const json k = {{"scene", r.scene},        {"flip", opt(r.flipUp)},        {"camera", opt(r.cameraIndex)},
-                  {"eye", optVec(r.eye)},    {"target", optVec(r.target)},    {"fov", opt(r.fovDegrees)},
-                  {"light", optVec(r.lightToward)}, {"skip_blend", r.skipBlendMaterials},
-                  {"effect", toString(s.effect)}, {"mode", toString(s.mode)}, {"never_slower", s.neverSlower},
-                  {"size", {s.width, s.height}}, {"samples", s.samples()}, {"ao_radius", s.ssao.radius},
-                  {"ao_tangent", s.ssao.tangentPlaneDepth}, {"gi_radius", s.ssgi.radius},
-                  {"shadow_map", s.ssm.shadowMapSize}, {"light_angle", s.ssm.lightAngle},
-                  {"tau", {s.edges.normalThreshold, s.edges.depthThreshold}}, {"levels", levels}};
+  // Positional: a cache key, not a frame file (that is FrameOptions::frame).
+  const json k = json::array({r.scene, opt(r.flipUp), opt(r.cameraIndex), optVec(r.eye), optVec(r.target),
+                              opt(r.fovDegrees), optVec(r.lightToward), r.skipBlendMaterials, toString(s.effect),
+                              toString(s.mode), s.neverSlower, s.width, s.height, s.samples(), s.ssao.radius,
+                              s.ssao.tangentPlaneDepth, s.ssgi.radius, s.ssm.shadowMapSize, s.ssm.lightAngle,
+                              s.edges.normalThreshold, s.edges.depthThreshold, levels});
   return k.dump();
 }
 
@@ -132,8 +144,7 @@ using RenderedPtr = std::shared_ptr<const Rendered>;
 struct SceneState {
   std::string key;
   std::unique_ptr<Scene> scene;
-  std::unique_ptr<Renderer> oracle;
-  std::unique_ptr<gpu::GpuRenderer> port;  // made on first use
+  std::map<std::string, std::unique_ptr<FrameRenderer>> renderers;  // by path; the port's made on first use
   std::set<std::string> warm;              // the paths that have rendered here (shaders compiled, scratch paged in)
 };
 
@@ -172,20 +183,16 @@ class Explorer {
     std::vector<std::string> args;
     for (const auto& [key, value] : req.params) {
       if (endpoint.count(key)) continue;
-      if (kFlagParameters.count(key)) {
+      const FrameParamInfo* p = pageParameter(key);
+      if (!p) throw ApiError{400, "unknown parameter " + key, key};
+      if (p->kind == ParamKind::Flag) {
         if (value == "0" || value == "false") continue;
         if (!(value.empty() || value == "1" || value == "true"))
           throw ApiError{400, key + "=" + value + ": a flag takes 1, true, 0 or false", key};
-        std::string option = "--" + key;
-        std::replace(option.begin(), option.end(), '_', '-');
-        args.push_back(option);
+        args.push_back(optionName(p->param));
         continue;
       }
-      if (!kValueParameters.count(key)) throw ApiError{400, "unknown parameter " + key, key};
-      std::string option = "--" + key;
-      std::replace(option.begin(), option.end(), '_', '-');
-      if (key == "method") option = "--method";
-      args.push_back(option + "=" + value);
+      args.push_back(optionName(p->param) + "=" + value);
     }
     FrameRequest r;
     r.options = options_.frame;
@@ -213,8 +220,7 @@ class Explorer {
     } catch (const MrrError& e) {
       // the page cannot raise the memory limit: a frame too large is its size's fault
       const bool memory = std::string(e.what()).find("over the memory limit") != std::string::npos;
-      std::string parameter = memory ? "size" : parameterNamed(e.what());
-      if (parameter.empty() && std::string(e.what()).find("level ") == 0) parameter = "sigma2";
+      std::string parameter = memory ? std::string(paramInfo(Param::Size).key) : parameterNamed(e.what());
       throw ApiError{400, e.what(), parameter};
     }
     SceneRequest sceneOnly = r.scene;
@@ -254,18 +260,26 @@ class Explorer {
     json parts = json::array();
     for (const PartInfo& p : kParts)
       parts.push_back({{"name", p.name}, {"per_level", p.perLevel}, {"step", p.step}, {"what", p.what}});
-    json defaults = {{"scene", options_.frame.scene},
-                     {"effect", options_.frame.effect},
-                     {"method", options_.frame.mode},
-                     {"size", options_.frame.size}};
-    if (options_.frame.samples) defaults["samples"] = *options_.frame.samples;
+    const auto key = [](Param p) { return std::string(paramInfo(p).key); };
+    json defaults = {{key(Param::Scene), options_.frame.scene},
+                     {key(Param::Effect), options_.frame.effect},
+                     {key(Param::Method), options_.frame.mode},
+                     {key(Param::Size), options_.frame.size}};
+    if (options_.frame.samples) defaults[key(Param::Samples)] = *options_.frame.samples;
     const Settings s = options_.frame.settings();
-    defaults["tau_n"] = s.edges.normalThreshold;
-    defaults["tau_z"] = s.edges.depthThreshold;
-    defaults["never_slower"] = s.neverSlower ? "on" : "off";
+    defaults[key(Param::TauN)] = s.edges.normalThreshold;
+    defaults[key(Param::TauZ)] = s.edges.depthThreshold;
+    defaults[key(Param::NeverSlower)] = s.neverSlower ? "on" : "off";
+    // The page's knobs and their help: the table's rows the page may send.
+    json params = json::array();
+    for (const FrameParamInfo& p : frameParams())
+      if (p.explore)
+        params.push_back({{"key", p.key}, {"option", optionName(p.param)}, {"kind", kindName(p.kind)},
+                          {"unit", p.unit}, {"help", paramHelp(p.param)}});
     return {{"scenes", scenes_},
             {"port", {{"available", portAvailable_}, {"status", portStatus_}, {"renderer", portRenderer()}}},
             {"defaults", defaults},
+            {"params", params},
             {"parts", parts},
             {"probe_relative_difference", kProbeRelativeDifference},
             {"teach", teachSteps()}};
@@ -362,7 +376,7 @@ class Explorer {
     SceneRequest load = r.scene;
     state_.scene = std::make_unique<Scene>(loadRequestedScene(load));
     setProgress("", "building the BVH");
-    state_.oracle = std::make_unique<Renderer>(*state_.scene);
+    state_.renderers["cpu"] = makeRenderer("cpu", *state_.scene);
     state_.key = r.sceneKey;
     return state_;
   }
@@ -385,12 +399,12 @@ class Explorer {
       }
     } notBusy{this};
     SceneState& state = sceneFor(r);
-    if (path == "gpu" && !state.port) {
+    std::unique_ptr<FrameRenderer>& renderer = state.renderers[path];
+    if (!renderer) {
       setProgress("", "making the GL context");
-      state.port = std::make_unique<gpu::GpuRenderer>(*state.scene, options_.frame.glDevice,
-                                                      gpu::parseGpuTiming(options_.frame.gpuTiming));
+      renderer = makeRenderer(path, *state.scene, options_.frame.pathOptions());
       std::lock_guard lock(progressMutex_);
-      portRenderer_ = state.port->renderer();
+      portRenderer_ = renderer->device();
     }
     const Camera camera = requestedCamera(r.scene, *state.scene);
     const float diagonal = state.scene->bounds().diagonal();
@@ -400,8 +414,7 @@ class Explorer {
     auto render = [&](const Constants& k, bool keepStages, const std::string& what) {
       const ProgressFn progress = [this](const std::string& stage) { setProgress("", stage); };
       setProgress(who + ": " + what, "");
-      return path == "cpu" ? state.oracle->render(camera, k, {keepStages, progress, &costs})
-                           : state.port->render(camera, k, {keepStages, progress, &costs});
+      return renderer->render(camera, k, {keepStages, progress, &costs});
     };
     // A renderer's first frames pay for compiling shaders and paging in scratch: one throwaway
     // frame of each kind first, so the measured speedup compares warm frames.
@@ -427,8 +440,8 @@ class Explorer {
     out->bytes = estimateFrameBytes(constants, true);
     RunInfo info{state.scene->name, state.scene->credit, path, tbb::this_task_arena::max_concurrency(), {}, {}};
     if (path == "gpu") {
-      info.renderer = state.port->renderer();
-      info.timingMethod = state.port->timingMethod();
+      info.renderer = renderer->device();
+      info.timingMethod = renderer->timingMethod();
     }
     info.memoryEstimateBytes = estimateFrameBytes(constants, true);
     info.peakResidentBytes = peakResidentBytes();
@@ -580,7 +593,7 @@ int serve(const ServerOptions& options) {
                               static_cast<size_t>(options.frame.threads > 0 ? options.frame.threads
                                                                             : tbb::info::default_concurrency()));
   require(options.port >= 0 && options.port <= 65535, "--port " + std::to_string(options.port) + ": must be in [0, 65535]");
-  require(options.frame.threads >= 0 && options.frame.threads <= 1024, "--threads: must be in [0, 1024]");
+  require(options.frame.threads >= 0 && options.frame.threads <= 1024, optionName(Param::Threads) + ": must be in " + paramRange(Param::Threads));
   options.frame.checkPath();
   options.frame.settings();        // a bad option is one line and exit 2, before anything serves
   options.frame.sceneRequest();

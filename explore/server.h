@@ -13,7 +13,7 @@
 // Renders run one at a time on one thread, which owns the GL context; the frames are cached.
 #include <string>
 
-#include "app/frame_options.h"
+#include "frontend/frame_options.h"
 
 namespace mrr::explore {
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "common/frame.h"
+#include "common/renderer.h"
 #include "gpu/context.h"
 #include "gpu/gbuffer.h"
 
@@ -29,14 +30,16 @@ GpuTiming parseGpuTiming(const std::string& name);  // auto | wall | query; thro
 // Whether `timing` means timer queries on the GL renderer named `renderer` (GL_RENDERER).
 bool usesTimerQueries(GpuTiming timing, const std::string& renderer);
 
-class GpuRenderer {
+class GpuRenderer final : public FrameRenderer {
  public:
   explicit GpuRenderer(const Scene& scene, int deviceIndex = -1, GpuTiming timing = GpuTiming::Auto);
   // SSAO, SSM and SSGI, in multires and full mode.
-  FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const;
+  FrameResult render(const Camera& camera, const Constants& constants, const RenderOptions& options = {}) const override;
+  const char* path() const override { return "gpu"; }
+  std::string device() const override { return context_.renderer(); }
   const std::string& renderer() const { return context_.renderer(); }
   bool timerQueries() const { return timerQueries_; }
-  std::string timingMethod() const;  // for the report's timing_method
+  std::string timingMethod() const override;  // for the report's timing_method
 
  private:
   const Scene& scene_;

@@ -1,4 +1,4 @@
-#include "app/frame_file.h"
+#include "frontend/frame_file.h"
 
 #include <glm/glm.hpp>
 
@@ -6,37 +6,12 @@
 #include <cstdio>
 
 #include "common/error.h"
+#include "common/frame_params.h"
 #include "common/image_io.h"
 
 namespace mrr {
 
 namespace {
-
-enum class Kind { Text, Int, Number, Triple, Flag, Levels };
-
-struct Key {
-  const char* name;  // the JSON key; the option is "--" + name with '_' → '-'
-  Kind kind;
-};
-
-// In the order the words are emitted.
-const Key kKeys[] = {
-    {"scene", Kind::Text},           {"effect", Kind::Text},          {"method", Kind::Text},
-    {"size", Kind::Text},            {"samples", Kind::Int},          {"eye", Kind::Triple},
-    {"target", Kind::Triple},        {"up", Kind::Triple},            {"fov", Kind::Number},
-    {"light_dir", Kind::Triple},     {"light_angle", Kind::Number},   {"shadow_map_size", Kind::Int},
-    {"ao_radius", Kind::Number},     {"gi_radius", Kind::Number},     {"ao_texel_depth", Kind::Flag},
-    {"tau_n", Kind::Number},         {"tau_z", Kind::Number},         {"sigma2", Kind::Text},
-    {"weights", Kind::Text},         {"disable_level", Kind::Levels},
-    {"never_slower", Kind::Text},    {"blend_materials", Kind::Text}, {"flip_up", Kind::Flag},
-};
-
-std::string optionOf(const std::string& key) {
-  std::string option = "--" + key;
-  for (char& c : option)
-    if (c == '_') c = '-';
-  return option;
-}
 
 glm::vec3 tripleOf(const nlohmann::json& v, const std::string& where) {
   require(v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number(),
@@ -65,49 +40,53 @@ float exactDegrees(float radians) {
 
 std::vector<std::string> frameArgs(const nlohmann::json& frame, const std::string& source) {
   require(frame.is_object(), source + ": a frame is a JSON object");
+  std::string names;  // the keys a frame has, for the message
+  for (const FrameParamInfo& p : frameParams())
+    if (p.frameFile) names += std::string(names.empty() ? "" : ", ") + std::string(p.key);
   for (const auto& [key, value] : frame.items()) {
-    bool known = key == "mrr_frame";
-    for (const Key& k : kKeys) known = known || key == k.name;
-    std::string names;
-    for (const Key& k : kKeys) names += std::string(names.empty() ? "" : ", ") + k.name;
-    require(known, source + ": unknown key \"" + key + "\" (a frame has: " + names + ")");
+    const FrameParamInfo* p = key == "mrr_frame" ? nullptr : findParam(key);
+    require(key == "mrr_frame" || (p && p->frameFile && p->key == key),
+            source + ": unknown key \"" + key + "\" (a frame has: " + names + ")");
   }
   if (frame.contains("mrr_frame"))
     require(frame["mrr_frame"] == 1, source + ": mrr_frame " + frame["mrr_frame"].dump() + ": this mrr reads version 1");
   std::vector<std::string> words;  // one "--option=value" (or "--flag") each
-  for (const Key& k : kKeys) {
-    if (!frame.contains(k.name)) continue;
-    const nlohmann::json& v = frame[k.name];
-    const std::string where = source + ": \"" + k.name + "\"";
-    const std::string option = optionOf(k.name);
+  for (const FrameParamInfo& k : frameParams()) {
+    const std::string key(k.key);
+    if (!k.frameFile || !frame.contains(key)) continue;
+    const nlohmann::json& v = frame[key];
+    const std::string where = source + ": \"" + key + "\"";
+    const std::string option = optionName(k.param);
     switch (k.kind) {
-      case Kind::Text:
+      case ParamKind::Text:
+      case ParamKind::PerLevel:  // "v0,v1,v2,v3", as the command line takes it
         require(v.is_string(), where + ": expected a string");
         words.push_back(option + "=" + v.get<std::string>());
         break;
-      case Kind::Int:
+      case ParamKind::Int:
         require(v.is_number_integer() && v.get<int64_t>() > 0 && v.get<int64_t>() <= 1 << 20,
                 where + ": expected a positive whole number");
         words.push_back(option + "=" + std::to_string(v.get<int64_t>()));
         break;
-      case Kind::Number:
+      case ParamKind::Number:
         require(v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0.0,
                 where + ": expected a number >= 0");
         words.push_back(option + "=" + exactFloat(v.get<float>()));
         break;
-      case Kind::Triple: {
+      case ParamKind::Triple: {
         const glm::vec3 t = tripleOf(v, where);
-        if (k.name == std::string("up") || k.name == std::string("light_dir"))
+        if (k.param == Param::Up || k.param == Param::LightDir)
           require(glm::length(t) > 0.0f, where + ": a direction of length zero");
         words.push_back(option + "=" + exactTriple(t.x, t.y, t.z));
         break;
       }
-      case Kind::Flag:
+      case ParamKind::Flag:
         require(v.is_boolean(), where + ": expected true or false");
-        if (k.name == std::string("flip_up")) words.push_back(v.get<bool>() ? "--flip-up" : "--no-flip-up");
+        // flip_up: false is a choice too (--no-flip-up), not the absence of one.
+        if (k.param == Param::FlipUp) words.push_back(v.get<bool>() ? option : optionName(Param::NoFlipUp));
         else if (v.get<bool>()) words.push_back(option);
         break;
-      case Kind::Levels:
+      case ParamKind::Levels:
         require(v.is_array(), where + ": expected a list of levels");
         for (const auto& l : v) {
           require(l.is_number_integer(), where + ": expected whole numbers");
@@ -117,11 +96,12 @@ std::vector<std::string> frameArgs(const nlohmann::json& frame, const std::strin
     }
   }
   // The view direction: eye and target must differ (a zero-length view direction has no frame).
-  if (frame.contains("eye") && frame.contains("target"))
-    require(glm::length(tripleOf(frame["target"], source) - tripleOf(frame["eye"], source)) > 0.0f,
+  const std::string eye(paramInfo(Param::Eye).key), target(paramInfo(Param::Target).key);
+  if (frame.contains(eye) && frame.contains(target))
+    require(glm::length(tripleOf(frame[target], source) - tripleOf(frame[eye], source)) > 0.0f,
             source + ": \"eye\" and \"target\" coincide: a zero-length view direction");
-  if (frame.contains("size")) {
-    const std::string size = frame["size"].get<std::string>();
+  if (const std::string key(paramInfo(Param::Size).key); frame.contains(key)) {
+    const std::string size = frame[key].get<std::string>();
     int w = 0, h = 0;
     char x = 0, rest = 0;
     require(std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &rest) == 3 && x == 'x' && w > 0 && h > 0,
@@ -131,18 +111,19 @@ std::vector<std::string> frameArgs(const nlohmann::json& frame, const std::strin
 }
 
 nlohmann::json readFrameFile(const std::string& path) {
-  return readJsonObjectFile(path, "--frame");
+  return readJsonObjectFile(path, optionName(Param::Frame));
 }
 
 std::vector<std::string> expandFrameFile(const std::vector<std::string>& args) {
+  const std::string frameOption = optionName(Param::Frame);
   std::string file;
   std::vector<std::string> rest;
   for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--frame") {
-      require(i + 1 < args.size(), "--frame: needs a value");
+    if (args[i] == frameOption) {
+      require(i + 1 < args.size(), frameOption + ": needs a value");
       file = args[++i];
-    } else if (args[i].rfind("--frame=", 0) == 0) {
-      file = args[i].substr(8);
+    } else if (args[i].rfind(frameOption + "=", 0) == 0) {
+      file = args[i].substr(frameOption.size() + 1);
     } else {
       rest.push_back(args[i]);
     }
@@ -152,10 +133,11 @@ std::vector<std::string> expandFrameFile(const std::vector<std::string>& args) {
   for (const std::string& a : rest)
     if (a.rfind("--", 0) == 0) given.insert(a.substr(0, a.find('=')));
   // --flip-up and --no-flip-up are one choice; --camera I and --eye/--target are another.
-  if (given.count("--flip-up") || given.count("--no-flip-up")) given.insert({"--flip-up", "--no-flip-up"});
-  if (given.count("--camera") || given.count("--eye") || given.count("--target"))
-    given.insert({"--eye", "--target", "--up"});
-  const std::vector<std::string> words = frameArgs(readFrameFile(file), "--frame " + file);
+  const auto o = [](Param p) { return optionName(p); };
+  if (given.count(o(Param::FlipUp)) || given.count(o(Param::NoFlipUp))) given.insert({o(Param::FlipUp), o(Param::NoFlipUp)});
+  if (given.count(o(Param::Camera)) || given.count(o(Param::Eye)) || given.count(o(Param::Target)))
+    given.insert({o(Param::Eye), o(Param::Target), o(Param::Up)});
+  const std::vector<std::string> words = frameArgs(readFrameFile(file), frameOption + " " + file);
   std::vector<std::string> out = {rest[0]};  // the command
   for (const std::string& w : words)
     if (!given.count(w.substr(0, w.find('=')))) out.push_back(w);

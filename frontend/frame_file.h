@@ -1,6 +1,7 @@
 #pragma once
 // Frame files (issue 17): everything that makes one frame, so that it reproduces. A frame file
-// is JSON whose keys are the command line's option names without "--", with `_` for `-`:
+// is JSON whose keys are the frame-parameter table's keys (common/frame_params.h: the rows
+// marked for frame files), the command line's option names without "--", with `_` for `-`:
 //   {"mrr_frame": 1, "scene": "builtin:demo", "effect": "ssao", "method": "mrr",
 //    "size": "1280x720", "samples": 64, "eye": [x, y, z], "target": [x, y, z], "up": [x, y, z],
 //    "fov": 60, "light_dir": [x, y, z], "light_angle": 0.05, "shadow_map_size": 2048,

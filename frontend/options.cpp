@@ -1,4 +1,4 @@
-#include "app/options.h"
+#include "frontend/options.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,7 +1,8 @@
 #pragma once
 // The options that say which frame to render, shared by render, probe, compare and explore:
-// one list of options (their names are also `mrr explore`'s frame parameters, docs/explore.md)
-// and one way from them to Settings, the scene request and the cost model.
+// the fields the frame-parameter table's rows set (common/frame_params.h: names, kinds, help,
+// defaults, which go in frame files and which the explore page may send) and one way from them
+// to Settings, the scene request and the cost model.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -10,7 +11,9 @@
 #include <vector>
 
 #include "common/cost_model.h"
+#include "common/frame_params.h"
 #include "common/params.h"
+#include "common/renderer.h"
 #include "scenes/catalog.h"
 
 namespace mrr {
@@ -33,18 +36,18 @@ struct FrameOptions {
   std::string blendMaterials = "opaque";
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
-  float aoRadius = 0.0f;
+  std::optional<float> aoRadius;
   bool texelDepth = false;
   std::optional<int> shadowMapSize;
   std::optional<float> lightAngle;
-  float giRadius = 0.0f;
+  std::optional<float> giRadius;
   std::optional<float> tauN, tauZ;
   std::vector<int> disabledLevels;
   std::optional<double> memoryLimitGiB;
   bool quiet = false;
-  std::string sigma2, weights;  // per level, "s0,s1,s2,s3" (empty: the effect's defaults, Table 1)
+  std::vector<float> sigma2, weights;  // per level (empty: the effect's defaults, Table 1)
 
-  // Registers every option on `app` (a subcommand).
+  // Registers every row of the frame-parameter table on `app` (a subcommand) as an option.
   void add(CLI::App& app);
   // The frame's Settings; throws MrrError naming the option for a bad value.
   Settings settings() const;
@@ -56,6 +59,7 @@ struct FrameOptions {
   // reading it back renders the same bits; the parameters as the settings hold them.
   nlohmann::json frame(const ResolvedScene& rs, const Settings& s) const;
   void checkPath(bool bothAllowed = false) const;
+  PathOptions pathOptions() const { return {glDevice, gpuTiming}; }
 };
 
 }  // namespace mrr

@@ -1,0 +1,132 @@
+// `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
+// Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input. With
+// `--against FILE` (issue 17): the oracle against another renderer's stages (compare/against.h);
+// the port does not run.
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "app/byo.h"
+#include "app/commands.h"
+#include "common/error.h"
+#include "common/memory.h"
+#include "compare/against.h"
+#include "compare/html_report.h"
+#include "compare/parity.h"
+#include "compare/report_python.h"
+#include "frontend/renderers.h"
+
+namespace mrr {
+
+void addCompareCommand(CLI::App& app, CompareCommand& c) {
+  c.command = app.add_subcommand("compare", "run the oracle and the GL port on one frame and compare every stage");
+  c.frame.add(*c.command);
+  c.command->add_option("--report", c.reportDir, "also write a self-contained HTML report into this folder");
+  addAgainstOption(*c.command, c.against);
+}
+
+namespace {
+
+// The settings of each effect compared: --effect all is the three, each at its own default
+// sample count unless --samples gives one.
+std::vector<Settings> comparedSettings(const FrameOptions& fo) {
+  std::vector<std::string> effects = {fo.effect};
+  if (fo.effect == "all") effects = {"ssao", "ssm", "ssgi"};
+  std::vector<Settings> settings;
+  for (const std::string& e : effects) {
+    FrameOptions one = fo;
+    one.effect = e;
+    settings.push_back(one.settings());
+  }
+  return settings;
+}
+
+// The report's page: every effect's two frames, and the command that reproduces them exactly
+// (the camera and light as resolved).
+void writeReport(const CompareCommand& c, const ResolvedScene& rs, const std::vector<Settings>& settings,
+                 const std::string& subjectName, const std::vector<ComparedFrame>& compared) {
+  const FrameOptions& fo = c.frame;
+  nlohmann::json frame = fo.frame(rs, settings.front());
+  if (settings.size() > 1) {  // one command for every effect, each at its own sample count unless given
+    frame["effect"] = "all";
+    if (!fo.samples) frame.erase("samples");
+  }
+  std::string command = "mrr compare " + frameCommandLine(frame);
+  const std::string label = fo.scene == rs.scene.name
+                                ? rs.scene.name
+                                : fo.scene + " (" + std::filesystem::path(rs.scene.name).filename().string() + ")";
+  if (!c.against.empty()) command += " --against " + c.against;
+  CompareReportInfo info{label, rs.scene.credit, subjectName, command};
+  if (!c.against.empty()) info.subject = c.against + " (another renderer's stages)";
+  writeCompareReport(c.reportDir, info, compared);
+  if (!fo.quiet) std::cerr << "[mrr] wrote " << (std::filesystem::path(c.reportDir) / "index.html").string() << "\n";
+}
+
+}  // namespace
+
+int runCompareCommand(CompareCommand& c) {
+  FrameOptions& fo = c.frame;
+  fo.checkPath();
+  if (!c.against.empty()) checkForeignStagesFile(c.against, fo.effect);
+  fo.neverSlowerDefault = false;
+  const std::vector<Settings> settings = comparedSettings(fo);
+  require(fo.threads >= 0 && fo.threads <= 1024, optionName(Param::Threads) + ": must be in " + paramRange(Param::Threads));
+  if (!c.reportDir.empty()) {
+    requireReportPython();  // before the folder is made: a missing package writes nothing
+    makeReportDir(c.reportDir);
+  }
+  int64_t memory = 0;
+  for (const Settings& s : settings) memory = std::max(memory, 2 * estimateFrameBytes(makeConstants(s, 1.0f), true));
+  requireMemory(memory, memoryLimit(fo.memoryLimitGiB), "comparing a " + fo.size + " frame on both paths");
+
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threadCount(fo.threads)));
+  if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
+  const ResolvedScene rs = resolveScene(fo.sceneRequest());
+  const std::unique_ptr<FrameRenderer> oracle = makeRenderer("cpu", rs.scene);
+  std::unique_ptr<FrameRenderer> port;  // none with --against: the file's stages instead
+  if (c.against.empty()) port = makeRenderer("gpu", rs.scene, fo.pathOptions());
+  const std::string subjectName = port ? port->device() : c.against;
+  if (!fo.quiet && port) std::cerr << "[mrr] GL renderer: " << port->device() << "\n";
+  bool pass = true;
+  // Frames are kept for the HTML report (two frames with every stage per effect).
+  std::vector<std::unique_ptr<FrameResult>> kept;
+  std::vector<ComparedFrame> compared;
+  const CostModel costs = fo.costModel("cpu");
+  for (const Settings& s : settings) {
+    const Constants k = makeConstants(s, rs.scene.bounds().diagonal());
+    auto reference = std::make_unique<FrameResult>(oracle->render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle"), &costs}));
+    std::unique_ptr<FrameResult> subject;
+    ParityResult result;
+    std::string notChecked;
+    if (port) {
+      subject = std::make_unique<FrameResult>(port->render(rs.camera, k, {true, progressPrinter(fo.quiet, "port"), &costs}));
+      result = compareFrames(*reference, *subject, rs.scene.light);
+    } else {
+      ForeignStages foreign = readForeignStages(c.against, *reference);
+      for (const std::string& n : foreign.ignored)
+        std::cerr << "mrr: warning: --against " << c.against << ": part " << n << " names no stage; not checked\n";
+      result = compareForeign(*reference, foreign, rs.scene.light);
+      notChecked = formatNotChecked(foreign);
+      subject = std::make_unique<FrameResult>(std::move(foreign.frame));
+    }
+    if (&s != &settings.front()) std::cout << "\n";  // the last line is the verdict
+    std::cout << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
+              << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs "
+              << (port ? "port (" + port->device() + ")" : c.against) << "\n"
+              << notChecked << formatParityTable(result, port ? "the port's" : "the file's");
+    pass = pass && result.pass();
+    if (!c.reportDir.empty()) {
+      std::string probe = "mrr probe --path both " + (c.against.empty() ? "" : "--against " + c.against + " ") +
+                          frameCommandLine(fo.frame(rs, s));
+      compared.push_back({toString(s.effect), reference.get(), subject.get(), std::move(result), probe});
+      kept.push_back(std::move(reference));
+      kept.push_back(std::move(subject));
+    }
+  }
+  if (!c.reportDir.empty()) writeReport(c, rs, settings, subjectName, compared);
+  return pass ? 0 : 1;
+}
+
+}  // namespace mrr

@@ -1,0 +1,196 @@
+#include "common/frame_params.h"
+
+#include <array>
+#include <cstdio>
+
+#include "common/error.h"
+#include "common/params.h"
+
+namespace mrr {
+
+namespace {
+
+using K = ParamKind;
+constexpr bool kFile = true, kNoFile = false, kPage = true, kNoPage = false;
+
+// One row a parameter: Param, key, alias, kind, unit, help, frame file, explore.
+const std::vector<FrameParamInfo> kFrameParams = {
+    {Param::Scene, "scene", "", K::Text, "",
+     "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path", kFile, kPage},
+    {Param::Effect, "effect", "", K::Text, "", "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)", kFile, kPage},
+    {Param::Method, "method", "--mode", K::Text, "",
+     "mrr (= multires, the method), full (the reference), or a peer: uniform-1, uniform-2 (one coarse level, "
+     "joint bilateral upsampling), tiles (16x16 VRS-style rates)",
+     kFile, kPage},
+    {Param::NeverSlower, "never_slower", "", K::Text, "",
+     "mrr: shade the frame at full res when the cost model predicts no gain: on|off (compare: off by default, it "
+     "validates every stage)",
+     kFile, kPage},
+    {Param::CostModel, "cost_model", "", K::Text, "",
+     "the never-slower rule's costs, a JSON written by `mrr bench --calibrate` (default: built in)", kNoFile, kNoPage},
+    {Param::Path, "path", "", K::Text, "", "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both",
+     kNoFile, kNoPage},
+    {Param::GlDevice, "gl_device", "", K::Int, "",
+     "gpu: the EGL device index (default: the first that gives GL 3.3 core)", kNoFile, kNoPage},
+    {Param::GpuTiming, "gpu_timing", "", K::Text, "",
+     "gpu: stage timings by glFinish + wall clock (wall), GL_TIME_ELAPSED queries (query), or auto: wall on "
+     "llvmpipe, whose queries are wrong, query elsewhere",
+     kNoFile, kNoPage},
+    {Param::Size, "size", "", K::Text, "", "WIDTHxHEIGHT", kFile, kPage},
+    {Param::Samples, "samples", "", K::Int, "", "samples per pixel (ssm: PCF taps)", kFile, kPage},
+    {Param::Threads, "threads", "", K::Int, "", "worker threads (0 = all cores); results are identical for any count",
+     kNoFile, kNoPage},
+    {Param::Camera, "camera", "", K::Int, "", "index into the scene's cameras", kNoFile, kPage},
+    {Param::Eye, "eye", "", K::Triple, "", "camera position x,y,z (with --target)", kFile, kPage},
+    {Param::Target, "target", "", K::Triple, "", "camera target x,y,z (with --eye)", kFile, kPage},
+    {Param::Up, "up", "", K::Triple, "", "camera up x,y,z (with --eye and --target; default 0,1,0)", kFile, kPage},
+    {Param::Fov, "fov", "", K::Number, "degrees", "vertical field of view", kFile, kPage},
+    {Param::Frame, "frame", "", K::Text, "",
+     "a frame file (JSON, as render --frame-out writes it): scene, camera, light, size, effect, samples and every "
+     "parameter; options given here win",
+     kNoFile, kNoPage},
+    {Param::BlendMaterials, "blend_materials", "", K::Text, "",
+     "glTF materials with alphaMode BLEND: opaque (drawn as solid) or skip (left out)", kFile, kPage},
+    {Param::LightDir, "light_dir", "", K::Triple, "",
+     "x,y,z: the direction toward the directional light, world space (default: the scene's light, or for a scene "
+     "without one the built-in default)",
+     kFile, kPage},
+    {Param::FlipUp, "flip_up", "", K::Flag, "", "rotate the scene 180 degrees about X (files authored Y-down)", kFile,
+     kPage},
+    {Param::NoFlipUp, "no_flip_up", "", K::Flag, "", "do not flip, even where the scene catalogue would", kNoFile,
+     kPage},
+    {Param::AoRadius, "ao_radius", "", K::Number, "world units", "ssao: the sample radius R (0 = automatic)", kFile,
+     kPage},
+    {Param::ShadowMapSize, "shadow_map_size", "", K::Int, "texels", "ssm/ssgi: shadow map texels per side", kFile,
+     kPage},
+    {Param::LightAngle, "light_angle", "", K::Number, "radians", "ssm: the light's angular diameter", kFile, kPage},
+    {Param::GiRadius, "gi_radius", "", K::Number, "world units", "ssgi: the sample radius R (0 = automatic)", kFile,
+     kPage},
+    {Param::AoTexelDepth, "ao_texel_depth", "", K::Flag, "",
+     "ssao: compare against the texel-centre depth instead of the tangent plane (the classic test)", kFile, kPage},
+    {Param::TauN, "tau_n", "", K::Number, "", "normal-edge threshold on 1 - N.N", kFile, kPage},
+    {Param::TauZ, "tau_z", "", K::Number, "", "depth-edge threshold on |second difference of 1/z| / (1/z)", kFile,
+     kPage},
+    {Param::DisableLevel, "disable_level", "", K::Levels, "", "disable level 1, 2 or 3 (repeatable)", kFile, kPage},
+    {Param::Sigma2, "sigma2", "", K::PerLevel, "level pixels",
+     "the mask blur's variance per level, s0,s1,s2,s3, each in [0, 64]", kFile, kPage},
+    {Param::Weights, "weights", "", K::PerLevel, "",
+     "the blend weight w per level, w0,w1,w2,w3, each >= 0: alpha = min(a w, 1)", kFile, kPage},
+    {Param::MemoryLimit, "memory_limit", "", K::Number, "GiB",
+     "what the run may plan to use; unset: MRR_MEMORY_LIMIT, else 3/4 of physical memory", kNoFile, kNoPage},
+    {Param::Quiet, "quiet", "-q", K::Flag, "", "no progress lines on stderr", kNoFile, kNoPage},
+};
+
+bool rowsInEnumOrder() {
+  for (size_t i = 0; i < kFrameParams.size(); ++i)
+    if (static_cast<size_t>(kFrameParams[i].param) != i) return false;
+  return kFrameParams.back().param == Param::Quiet;
+}
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// "v0,v1,v2,v3" of one effect's per-level defaults.
+template <typename Get>
+std::string perLevelText(Effect effect, Get get) {
+  const Settings s = defaultSettings(effect);
+  std::string text;
+  for (size_t l = 0; l < s.levels.size(); ++l) {
+    if (l) text += ',';
+    text += number(get(s.levels[l]));
+  }
+  return text;
+}
+
+// The algorithm's default, from defaultSettings; per effect where Table 1 differs by effect.
+std::string settingsDefault(Param param) {
+  const Settings s = defaultSettings(Effect::Ssao);
+  const std::array effects = {Effect::Ssao, Effect::Ssm, Effect::Ssgi};
+  auto perEffect = [&](auto text) {
+    std::string out;
+    for (Effect e : effects) {
+      if (!out.empty()) out += ", ";
+      out += toString(e) + " " + text(e);
+    }
+    return out;
+  };
+  switch (param) {
+    case Param::Samples: return perEffect([](Effect e) { return std::to_string(defaultSettings(e).samples()); });
+    case Param::ShadowMapSize: return std::to_string(s.ssm.shadowMapSize);
+    case Param::LightAngle: return number(s.ssm.lightAngle);
+    case Param::TauN: return number(s.edges.normalThreshold);
+    case Param::TauZ: return number(s.edges.depthThreshold);
+    case Param::AoRadius:
+      return number(s.ssao.radius) + ": " + number(100.0 * SsaoSettings::kAutoRadiusFraction) + "% of the scene diagonal";
+    case Param::GiRadius:
+      return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the scene diagonal";
+    case Param::NeverSlower: return s.neverSlower ? "on" : "off";
+    case Param::Sigma2:
+      return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });
+    case Param::Weights:
+      return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.weight; }); });
+    default: return "";
+  }
+}
+
+}  // namespace
+
+const std::vector<FrameParamInfo>& frameParams() {
+  static const bool ordered = rowsInEnumOrder();
+  require(ordered, "internal: kFrameParams must list every Param in enum order");
+  return kFrameParams;
+}
+
+const FrameParamInfo& paramInfo(Param param) { return frameParams()[static_cast<size_t>(param)]; }
+
+std::string optionName(Param param) {
+  std::string option = "--" + std::string(paramInfo(param).key);
+  for (char& c : option)
+    if (c == '_') c = '-';
+  return option;
+}
+
+const FrameParamInfo* findParam(std::string_view name) {
+  for (const FrameParamInfo& p : frameParams()) {
+    if (name == p.key || name == optionName(p.param)) return &p;
+    for (std::string_view rest = p.alias; !rest.empty();) {
+      const size_t comma = rest.find(',');
+      if (name == rest.substr(0, comma)) return &p;
+      rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+    }
+  }
+  return nullptr;
+}
+
+std::string paramRange(Param param) {
+  switch (param) {
+    case Param::Size: return "each side in [1, " + std::to_string(kMaxImageSize) + "]";
+    case Param::Samples:
+      return "ssao [1, " + std::to_string(kMaxSsaoSamples) + "], ssm a square n*n up to " +
+             std::to_string(kMaxSsmSamples) + ", ssgi [1, " + std::to_string(kMaxSsgiSamples) + "]";
+    case Param::ShadowMapSize: return "[16, " + std::to_string(kMaxShadowMapSize) + "]";
+    case Param::LightAngle: return "(0, 0.5]";
+    case Param::TauN: return "[0, 2]";
+    case Param::TauZ:
+    case Param::AoRadius:
+    case Param::GiRadius: return ">= 0";
+    case Param::Threads: return "[0, 1024]";
+    default: return "";
+  }
+}
+
+std::string paramHelp(Param param, const std::string& frontEndDefault) {
+  const FrameParamInfo& p = paramInfo(param);
+  std::string help(p.help);
+  if (!p.unit.empty()) help += ", " + std::string(p.unit);
+  if (const std::string range = paramRange(param); !range.empty()) help += "; range " + range;
+  const std::string fromSettings = settingsDefault(param);
+  const std::string shown = fromSettings.empty() ? frontEndDefault : fromSettings;
+  if (!shown.empty()) help += "; default " + shown;
+  return help;
+}
+
+}  // namespace mrr

@@ -1,0 +1,22 @@
+#pragma once
+// The path, chosen in one place (issue 33): `--path cpu` is the oracle, `--path gpu` the port.
+// render, probe, compare, bench and explore all make their renderers here and use them through
+// common/renderer.h's interface.
+#include <memory>
+#include <string>
+
+#include "common/renderer.h"
+#include "common/scene.h"
+#include "compare/bench.h"
+
+namespace mrr {
+
+// "cpu" or "gpu"; anything else is MrrError naming --path. `scene` must outlive the renderer.
+std::unique_ptr<FrameRenderer> makeRenderer(const std::string& path, const Scene& scene, const PathOptions& options = {});
+
+// The bench's view of a path: its name, the device in words (threads and CPU for the oracle, the
+// GL renderer and how stages are timed for the port) and a way to open a renderer per scene. The
+// port's context is probed here, so a missing EGL device is one line before any work.
+BenchPath benchPath(const std::string& path, int threads, const PathOptions& options = {});
+
+}  // namespace mrr

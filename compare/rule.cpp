@@ -25,33 +25,28 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double stage(const std::map<std::string, double>& ms, const std::string& name) {
-  const auto it = ms.find(name);
+// A stage's median by its row in the stage list (0 where the frame did not run it: SSAO draws no
+// shadow map, full no edges).
+double timedMs(const std::map<std::string, double>& ms, Timed t, int level = -1) {
+  const auto it = ms.find(timedName(t, level));
   return it != ms.end() ? it->second : 0.0;
 }
-double sumWithPrefix(const std::map<std::string, double>& ms, std::initializer_list<const char*> prefixes) {
-  double sum = 0.0;
-  for (const auto& [k, v] : ms)
-    for (const char* p : prefixes)
-      if (k.rfind(p, 0) == 0) sum += v;
-  return sum;
-}
 // The effect's shading stages (per shaded pixel: a, b, c, s) and its per-level-pixel ones (d).
-double shadingMs(const std::map<std::string, double>& ms) { return sumWithPrefix(ms, {"effect.", "bilateral."}); }
-double levelPixelMs(const std::map<std::string, double>& ms) { return sumWithPrefix(ms, {"planes.", "direct."}); }
+double shadingMs(const std::map<std::string, double>& ms) { return costClassMs(ms, CostClass::Shading); }
+double levelPixelMs(const std::map<std::string, double>& ms) { return costClassMs(ms, CostClass::LevelPixel); }
 // What SPEC §11 predicts: the frame after its decision point (the full-res G-buffer, the shadow
 // map and test, the edges and masks, and the shaded image for viewing are paid before or by both).
 double restMs(const std::map<std::string, double>& ms) {
   double paid = 0.0;
-  for (const char* s : {"gbuffer.L0", "shadowmap", "shadowtest", "edges", "masks", "shade"}) paid += stage(ms, s);
-  return stage(ms, "total") - paid;
+  for (CostClass c : {CostClass::Shared, CostClass::Detection, CostClass::Viewing}) paid += costClassMs(ms, c);
+  return timedMs(ms, Timed::Total) - paid;
 }
 // The frame less what every mode pays alike, before the rule decides anything: the full-res
 // G-buffer, and for SSM and SSGI the shadow map and its one-tap test (the same work on the same
 // inputs in both modes; SSM's 2048² map is 30 ms of a 40 ms small frame, and its run-to-run
 // noise would decide which mode looks faster).
 double frameMs(const std::map<std::string, double>& ms) {
-  return stage(ms, "total") - stage(ms, "gbuffer.L0") - stage(ms, "shadowmap") - stage(ms, "shadowtest");
+  return timedMs(ms, Timed::Total) - costClassMs(ms, CostClass::Shared);
 }
 // The p-quantile of v by nearest rank (p in [0, 1]; 0 for none).
 double quantile(std::vector<double> v, double p) {
@@ -144,6 +139,13 @@ struct LeastSquares {
 };
 
 }  // namespace
+
+double costClassMs(const std::map<std::string, double>& ms, CostClass cost) {
+  double sum = 0.0;
+  for (const auto& [name, v] : ms)
+    if (parseTimed(name).cost() == cost) sum += v;
+  return sum;
+}
 
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect) {
   std::vector<RuleView> views;
@@ -296,7 +298,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
             row.push_back(static_cast<double>(fc.counts->searchedFootprint) / kFootprintSteps);  // Σ f over H_a
           }
           fullRuns[ei].push_back({row, p, p - onGeometry, shadingMs(full.ms) * 1e6});
-          const double levelNs = levelPixelMs(full.ms) * 1e6, blendNs = stage(full.ms, "blend") * 1e6;
+          const double levelNs = levelPixelMs(full.ms) * 1e6, blendNs = timedMs(full.ms, Timed::Blend) * 1e6;
           const double hits = static_cast<double>(fc.counts->hitPixels);  // P_0 (H / W·H) = H
           if (levelNs > 0.0) levelFit[ei].addRelative({hits, 1e6}, levelNs, levelNs);
           if (blendNs > 0.0) fullBlendFit.addRelative({p, 1e6}, blendNs, blendNs);
@@ -316,16 +318,16 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
           for (const LevelConstants& lc : mc.levels)
             if (lc.enabled && lc.index > 0) {
               const double p = static_cast<double>(lc.width) * lc.height;
-              const double ns = stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6;
+              const double ns = timedMs(m->ms, Timed::GBuffer, lc.index) * 1e6;
               gbufferFit.addRelative({p, 1e6}, ns, ns);
             }
-          const double ruleNs = stage(m->ms, "rule") * 1e6;
+          const double ruleNs = timedMs(m->ms, Timed::Rule) * 1e6;
           if (ruleNs > 0.0) ruleFit[ei].addRelative({frame, 1e6}, ruleNs, ruleNs);
-          const double blendNs = stage(m->ms, "blend") * 1e6;
+          const double blendNs = timedMs(m->ms, Timed::Blend) * 1e6;
           const double fine = finerLevelsArea(mc, m->last.counts.shaded);
           if (blendNs > 0.0) blendFit.addRelative({frame, fine, 1e6}, blendNs, blendNs);
           const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
-          const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
+          const double edgesNs = timedMs(m->ms, Timed::Edges) * 1e6, masksNs = timedMs(m->ms, Timed::Masks) * 1e6;
           const FrameCounts& mn = m->last.counts;
           double reach = 0.0;
           for (int64_t r : mn.reach) reach += static_cast<double>(r);
@@ -462,8 +464,8 @@ nlohmann::json summarize(const nlohmann::json& frames) {
       {"full_rest", error(field("predicted_full_rest_ms"), field("measured_full_rest_ms"))},
       {"mrr_rest", error(field("predicted_mrr_rest_ms"), field("measured_mrr_rest_ms"))},
       {"mrr_early_estimate", error(field("predicted_mrr_estimate_ms"), [](const nlohmann::json& f) {
-         const nlohmann::json& st = f["mrr_stages_ms"];
-         return f["measured_mrr_rest_ms"].get<double>() + st.value("edges", 0.0) + st.value("masks", 0.0);
+         const auto stages = f["mrr_stages_ms"].get<std::map<std::string, double>>();
+         return f["measured_mrr_rest_ms"].get<double>() + costClassMs(stages, CostClass::Detection);
        })}};
   return summary;
 }

@@ -9,14 +9,22 @@
 //    the rule off, and where the rule falls back also with it on, and counts how often the rule
 //    chose the faster mode, and what it cost where it did not. scripts/rule-chart.py draws it.
 #include <iosfwd>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "common/camera.h"
 #include "common/cost_model.h"
+#include "common/stages.h"
 #include "compare/bench.h"
 
 namespace mrr {
+
+// The time a frame's stages (timing name → ms, as stageMs gives them) spend in stages of class
+// `cost` (common/stages.h, kTimed): what the sweep's frame and rests and the calibration's fits
+// sum. A name the stage list does not know throws MrrError: renamed, a stage would otherwise drop
+// out of its sum and zero a term of the never-slower fits.
+double costClassMs(const std::map<std::string, double>& ms, CostClass cost);
 
 struct RuleView {
   std::string name;  // catalogue, default, sky, close-up

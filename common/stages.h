@@ -33,7 +33,7 @@ enum class Timed {
   ShadowTest,  // shadowtest
   Rule,        // rule (twice a frame: the early counts, then the stencils')
   Edges,       // edges
-  Masks,       // masks (the method's M, a, S; the tiles' rates and masks)
+  Masking,     // masks (the method's M, a, S; the tiles' rates and masks)
   Stencils,    // stencils (the port: host-made stencils uploaded)
   Planes,      // planes.L<ℓ> (the oracle's SSAO occluder planes)
   Direct,      // direct.L<ℓ> (SSGI's direct light)
@@ -86,13 +86,13 @@ inline constexpr PartInfo kParts[] = {
      "shadowtest.same_input", "the one-tap shadow test at full res (1 = lit)"},
     {Part::Edges, "edges", false, 2, Timed::Edges, "edges.frag", "normal depth background E shadow", "edges",
      "edges.same_input", "each edge kind (SSM adds shadow) and E, their OR"},
-    {Part::TileRates, "tilerates", false, 3, Timed::Masks, "peers.frag", "rate", "stencil", "masks.same_input",
+    {Part::TileRates, "tilerates", false, 3, Timed::Masking, "peers.frag", "rate", "stencil", "masks.same_input",
      "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)"},
-    {Part::Mask, "mask", true, 3, Timed::Masks, "masks.frag", "M", "", "masks.same_input",
+    {Part::Mask, "mask", true, 3, Timed::Masking, "masks.frag", "M", "", "masks.same_input",
      "the max-pooled edge mask M_l"},
-    {Part::Alpha, "alpha", true, 3, Timed::Masks, "masks.frag", "a", "", "alpha.same_input",
+    {Part::Alpha, "alpha", true, 3, Timed::Masking, "masks.frag", "a", "", "alpha.same_input",
      "the blurred mask a_l (1 at the coarsest level)"},
-    {Part::Stencil, "stencil", true, 3, Timed::Masks, "masks.frag", "S", "stencil", "masks.same_input",
+    {Part::Stencil, "stencil", true, 3, Timed::Masking, "masks.frag", "S", "stencil", "masks.same_input",
      "S_l = [a_l > 0] after the coverage closure"},
     {Part::Raw, "raw", true, 4, Timed::Effect, "ssao.frag ssm.frag ssgi.frag", "effect:c_raw", "<effect>",
      "<effect>.same_input", "the effect where S_l = 1 (0 elsewhere: never evaluated)"},
@@ -205,7 +205,7 @@ inline constexpr TimedInfo kTimed[] = {
      "the never-slower rule's own counts (rho), twice a frame: H, H_a, H_p, B_l and the edge sample, then the stencils'"},
     {Timed::Edges, "edges", false, CostClass::Detection, CostClass::Detection, TimedOn::Both,
      "the edge kinds and E at full res (epsilon)"},
-    {Timed::Masks, "masks", false, CostClass::Detection, CostClass::Detection, TimedOn::Both,
+    {Timed::Masking, "masks", false, CostClass::Detection, CostClass::Detection, TimedOn::Both,
      "the method's M_l, a_l and S_l, or the tiles' rates and masks (mu)"},
     {Timed::Stencils, "stencils", false, CostClass::Rest, CostClass::Rest, TimedOn::Port,
      "the port: stencils made on the host (full, uniform-k, tiles, a fallback) uploaded for the stencil test"},
@@ -236,7 +236,7 @@ static_assert([] {
 inline std::string timedName(Timed t, int level = -1) {
   const TimedInfo& info = timedInfo(t);
   std::string name(info.name);
-  if (info.perLevel && level >= 0) name += ".L" + std::to_string(level);
+  if (info.perLevel && level >= 0) name.append(".L").append(std::to_string(level));
   return name;
 }
 

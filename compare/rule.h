@@ -32,6 +32,7 @@ struct RuleView {
 };
 // The catalogue's camera; the default framing (frameScene); the sky: from the catalogue's eye,
 // 50° above the horizon; a close-up: a quarter of the way from the target to the eye.
+inline constexpr size_t kRuleViewCount = 4;
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect);
 
 // Fits the model's costs on `path` (SPEC §11's calibration): builtin:corner (a few creases:

@@ -199,5 +199,17 @@ TEST(TimedStages, EveryNameAnOracleFrameRecordsIsInTheStageList) {
     EXPECT_EQ(seen.count(std::string(t.name)), t.on == TimedOn::Port ? 0u : 1u) << t.name;
 }
 
+// The rule sweep counts its frames per path as scenes × kRuleViewCount × configurations per view.
+TEST(RuleViews, AreTheCountTheSweepPlansFor) {
+  SceneRequest req;
+  req.scene = "builtin:demo";
+  const ResolvedScene rs = resolveScene(req);
+  const std::vector<RuleView> views = ruleViews(rs.scene, rs.camera, 16.0f / 9.0f);
+  ASSERT_EQ(views.size(), kRuleViewCount);
+  std::set<std::string> names;
+  for (const RuleView& v : views) names.insert(v.name);
+  EXPECT_EQ(names, (std::set<std::string>{"catalogue", "default", "sky", "close-up"}));
+}
+
 }  // namespace
 }  // namespace mrr

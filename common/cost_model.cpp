@@ -84,16 +84,24 @@ double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c) {
 CostModel CostModel::defaults(const std::string& path) {
   CostModel m;
   // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
-  // port on llvmpipe, LLVM 15): docs/figures.md. Order: ssao, ssm, ssgi; {a, b, d, c, e, s, k, k₀, ρ, ν}.
+  // port on llvmpipe, LLVM 15): docs/figures.md. By Effect (ssao, ssm, ssgi), each figure by name
+  // (cost_model.h: a, b, d, c, e, s, k, k₀, ρ, ν).
   if (path == "gpu") {
     // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: SSM's searches
     // priced by their map footprint, ν; builtin:corner in the calibration, the early estimate's
     // edge band η).
     m.source =
         "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
-    m.effect = {EffectCost{214, 5.416, 0, 26.82, 0, 1.426, 2.184, 0.4216, 6.811, 0},
-                EffectCost{148.9, 0, 0, 32.72, 1.637, 1.75, 1.825, 0.3498, 10.34, 5.848},
-                EffectCost{27.56, 7.012, 12.09, 19.42, 0, 1.515, 4.065, 1.265, 6.765, 0}};
+    m.effect = {
+        EffectCost{.nsPerShadedPixel = 214, .nsPerSample = 5.416, .nsPerLevelPixel = 0, .nsPerBackgroundPixel = 26.82,
+                   .nsPerPcfSample = 0, .sparseFactor = 1.426, .fixedMs = 2.184, .fullFixedMs = 0.4216,
+                   .nsPerRulePixel = 6.811, .nsPerFootprintTexel = 0},  // ssao
+        EffectCost{.nsPerShadedPixel = 148.9, .nsPerSample = 0, .nsPerLevelPixel = 0, .nsPerBackgroundPixel = 32.72,
+                   .nsPerPcfSample = 1.637, .sparseFactor = 1.75, .fixedMs = 1.825, .fullFixedMs = 0.3498,
+                   .nsPerRulePixel = 10.34, .nsPerFootprintTexel = 5.848},  // ssm
+        EffectCost{.nsPerShadedPixel = 27.56, .nsPerSample = 7.012, .nsPerLevelPixel = 12.09, .nsPerBackgroundPixel = 19.42,
+                   .nsPerPcfSample = 0, .sparseFactor = 1.515, .fixedMs = 4.065, .fullFixedMs = 1.265,
+                   .nsPerRulePixel = 6.765, .nsPerFootprintTexel = 0}};  // ssgi
     m.nsPerCoarseGbufferPixel = 16.45;
     m.nsPerFullBlendPixel = 4.978;
     m.nsPerBlendPixel = 1.995;
@@ -110,9 +118,16 @@ CostModel CostModel::defaults(const std::string& path) {
     // cpu: one run (--repeats 5, the same hour and code as the port's).
     m.source =
         "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
-    m.effect = {EffectCost{204.3, 8.411, 0.9984, 3.206, 0, 1.104, 0.2277, 0.04672, 2.348, 0},
-                EffectCost{71.5, 0, 0, 2.472, 1.526, 1.26, 0.2452, 0.01562, 3.27, 1.982},
-                EffectCost{30.72, 9.841, 16.93, 3.58, 0, 1.418, 0.4483, 0.079, 2.154, 0}};
+    m.effect = {
+        EffectCost{.nsPerShadedPixel = 204.3, .nsPerSample = 8.411, .nsPerLevelPixel = 0.9984, .nsPerBackgroundPixel = 3.206,
+                   .nsPerPcfSample = 0, .sparseFactor = 1.104, .fixedMs = 0.2277, .fullFixedMs = 0.04672,
+                   .nsPerRulePixel = 2.348, .nsPerFootprintTexel = 0},  // ssao
+        EffectCost{.nsPerShadedPixel = 71.5, .nsPerSample = 0, .nsPerLevelPixel = 0, .nsPerBackgroundPixel = 2.472,
+                   .nsPerPcfSample = 1.526, .sparseFactor = 1.26, .fixedMs = 0.2452, .fullFixedMs = 0.01562,
+                   .nsPerRulePixel = 3.27, .nsPerFootprintTexel = 1.982},  // ssm
+        EffectCost{.nsPerShadedPixel = 30.72, .nsPerSample = 9.841, .nsPerLevelPixel = 16.93, .nsPerBackgroundPixel = 3.58,
+                   .nsPerPcfSample = 0, .sparseFactor = 1.418, .fixedMs = 0.4483, .fullFixedMs = 0.079,
+                   .nsPerRulePixel = 2.154, .nsPerFootprintTexel = 0}};  // ssgi
     m.nsPerCoarseGbufferPixel = 7.377;
     m.nsPerFullBlendPixel = 3.567;
     m.nsPerBlendPixel = 2.105;

@@ -45,7 +45,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // SPEC §11, early: when even the least the method could still pay is no gain, the frame
   // falls back before its edges and masks.
   const CostModel model = options.costModel ? *options.costModel : CostModel::defaults(b.pathName());
-  // The rule's own work is its stage, "rule" (twice: these counts, then the stencils'), in the
+  // The rule's own work is its stage, Timed::Rule (twice: these counts, then the stencils'), in the
   // method's rest of frame (SPEC §11's ρ). SSM: what PCSS pays (nothing, the search, or the search
   // and PCF), asked of one pixel in 8×8, when the model prices PCF (e > 0) and the rule will
   // decide (or the caller reads its counts). Then H, H_a, H_p and B_ℓ. Then the edge sample and its
@@ -53,7 +53,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // which needs no sample, already rules the method out.
   bool fellBackEarly = false;
   if (c.mode == Mode::Mrr)
-    stage("rule", [&] {
+    stage(timedName(Timed::Rule), [&] {
       const bool counted = c.neverSlower || options.sampleWithRuleOff;
       if (c.effect == Effect::Ssm && counted && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
         b.samplePcf(f);
@@ -88,7 +88,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
   if (c.mode == Mode::Mrr && !fellBackEarly) {
-    stage("rule", [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });
+    stage(timedName(Timed::Rule), [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });
     applyNeverSlower(f, masks, model);
   }
   b.useMasks(f, masks, stage);
@@ -109,7 +109,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // 6. The shaded image for viewing (SPEC §6).
   stage(stageName(Part::Shaded), [&] { b.shade(f); });
   b.endFrame(f);
-  f.timings.push_back({"total", msSince(frameStart)});
+  f.timings.push_back({timedName(Timed::Total), msSince(frameStart)});
   f.countHitPixels(b.fullResHit(f));  // a figure for reports, after the clock stopped
   return f;
 }

@@ -262,6 +262,13 @@ class Loader {
     if (!quiet_) std::cerr << "mrr: warning: " << path_ << ": " << message << "\n";
   }
 
+  // Whether the file declares extension `ext` (in extensionsUsed, or only in extensionsRequired).
+  bool declares(const std::string& ext) const {
+    for (const std::vector<std::string>* list : {&model_.extensionsUsed, &model_.extensionsRequired})
+      if (std::find(list->begin(), list->end(), ext) != list->end()) return true;
+    return false;
+  }
+
   // prepareJson already refused these before any buffer was read; this covers JSON that
   // only tinygltf could parse.
   void checkRequiredExtensions() const {
@@ -600,6 +607,10 @@ class Loader {
   // SHORT VEC3 (VEC2 for texture coordinates); the node transform then scales positions as
   // usual. Non-finite values are an error, but for normals (exporters write NaN for the normal
   // of a degenerate face), which are allowed here and repaired from the geometry later.
+  // An integer type in a file that does not declare KHR_mesh_quantization is an error (read,
+  // it would be garbage geometry): but for texture coordinates, which glTF 2.0 itself allows as
+  // normalized UNSIGNED_BYTE and UNSIGNED_SHORT (§3.7.2.1). Files EXT_meshopt_compression
+  // quantizes declare the extension too (its spec requires it).
   template <int N>
   std::vector<glm::vec<N, float>> readVec(int accessorIndex, const std::string& what, bool allowNonFinite = false) const {
     const tinygltf::Accessor* accessor =
@@ -619,6 +630,12 @@ class Loader {
         fail(what + " (accessor " + std::to_string(accessorIndex) + ") must be FLOAT " + type + ", or BYTE or SHORT " +
              type + " (KHR_mesh_quantization), not " + componentName(accessor->componentType) + " " +
              typeName(accessor->type));
+      const bool coreTexcoord =
+          N == 2 && normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+      if (ct != TINYGLTF_COMPONENT_TYPE_FLOAT && !coreTexcoord && !declares("KHR_mesh_quantization"))
+        fail(what + " accessor " + std::to_string(accessorIndex) + " has componentType " + componentName(ct) +
+             (normalized ? " (normalized)" : "") +
+             ", which needs KHR_mesh_quantization (not declared in extensionsUsed or extensionsRequired)");
     }
     const std::vector<const unsigned char*> at = elements(accessorIndex, what);
     const size_t size = componentSize(ct);

@@ -7,13 +7,42 @@
 // comparison (compare/parity.cpp), its HTML page, the golden digests and the planted-fault
 // catalogue (gpu/faults.cpp) all name parts through this list: adding a stage is one row here,
 // one CPU function and one shader.
+//
+// Below it, the timed stages (issue 33): every name a frame's timings carry (FrameResult::timings,
+// the reports' timings_ms, progress lines, the benchmark's and the rule sweep's stage medians),
+// each with its cost class, the account it falls in for SPEC §11's never-slower fits
+// (compare/rule.cpp). Both paths and renderFrame (common/driver.cpp) take every timing name from
+// it; a name it does not know is an error where the fits read it: adding a timed sub-stage is
+// one row there.
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "common/error.h"
+#include "common/params.h"
+
 namespace mrr {
+
+// The timed stages, in pipeline order (kTimed below describes each).
+enum class Timed {
+  GBuffer,     // gbuffer.L<ℓ>
+  ShadowMap,   // shadowmap
+  ShadowTest,  // shadowtest
+  Rule,        // rule (twice a frame: the early counts, then the stencils')
+  Edges,       // edges
+  Masking,     // masks (the method's M, a, S; the tiles' rates and masks)
+  Stencils,    // stencils (the port: host-made stencils uploaded)
+  Planes,      // planes.L<ℓ> (the oracle's SSAO occluder planes)
+  Direct,      // direct.L<ℓ> (SSGI's direct light)
+  Effect,      // effect.L<ℓ>
+  Bilateral,   // bilateral.L<ℓ>
+  Blend,       // blend
+  Shade,       // shade
+  Total,       // total: the frame's wall clock
+};
 
 enum class Part {
   GBuffer,     // 1. G-buffer per level
@@ -39,7 +68,7 @@ struct PartInfo {
   std::string_view name;      // EXR part and compare row; per-level parts add ".L<ℓ>"
   bool perLevel;
   int step;                   // the pipeline step that makes it (SPEC's numbering, README)
-  std::string_view stage;     // that step's stage: cpu_ref/<stage>.cpp, its timing name
+  Timed stage;                // that step's timed stage (kTimed): cpu_ref/<its name>.cpp
   std::string_view shader;    // the port's shader file for it (gpu/shaders/)
   std::string_view channels;  // EXR channels; "effect:X" = X, or X.R/G/B for SSGI's RGB
   std::string_view endToEnd;  // tolerance rule against the oracle's stage ("" : none)
@@ -48,38 +77,38 @@ struct PartInfo {
 };
 
 inline constexpr PartInfo kParts[] = {
-    {Part::GBuffer, "gbuffer", true, 1, "gbuffer", "gbuffer.frag",
+    {Part::GBuffer, "gbuffer", true, 1, Timed::GBuffer, "gbuffer.frag",
      "depth P.x P.y P.z N.x N.y N.z albedo.R albedo.G albedo.B hit", "gbuffer.*", "",
      "the level's G-buffer: view depth, position, normal, albedo, hit"},
-    {Part::ShadowMap, "shadowmap", false, 1, "shadowmap", "shadowmap.frag", "depth", "shadowmap.depth", "",
+    {Part::ShadowMap, "shadowmap", false, 1, Timed::ShadowMap, "shadowmap.frag", "depth", "shadowmap.depth", "",
      "the light's shadow map: distance from the light plane (-1: no blocker)"},
-    {Part::ShadowTest, "shadowtest", false, 1, "shadowtest", "shadowmap.frag", "lit", "shadowtest",
+    {Part::ShadowTest, "shadowtest", false, 1, Timed::ShadowTest, "shadowmap.frag", "lit", "shadowtest",
      "shadowtest.same_input", "the one-tap shadow test at full res (1 = lit)"},
-    {Part::Edges, "edges", false, 2, "edges", "edges.frag", "normal depth background E shadow", "edges",
+    {Part::Edges, "edges", false, 2, Timed::Edges, "edges.frag", "normal depth background E shadow", "edges",
      "edges.same_input", "each edge kind (SSM adds shadow) and E, their OR"},
-    {Part::TileRates, "tilerates", false, 3, "masks", "peers.frag", "rate", "stencil", "masks.same_input",
+    {Part::TileRates, "tilerates", false, 3, Timed::Masking, "peers.frag", "rate", "stencil", "masks.same_input",
      "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)"},
-    {Part::Mask, "mask", true, 3, "masks", "masks.frag", "M", "", "masks.same_input",
+    {Part::Mask, "mask", true, 3, Timed::Masking, "masks.frag", "M", "", "masks.same_input",
      "the max-pooled edge mask M_l"},
-    {Part::Alpha, "alpha", true, 3, "masks", "masks.frag", "a", "", "alpha.same_input",
+    {Part::Alpha, "alpha", true, 3, Timed::Masking, "masks.frag", "a", "", "alpha.same_input",
      "the blurred mask a_l (1 at the coarsest level)"},
-    {Part::Stencil, "stencil", true, 3, "masks", "masks.frag", "S", "stencil", "masks.same_input",
+    {Part::Stencil, "stencil", true, 3, Timed::Masking, "masks.frag", "S", "stencil", "masks.same_input",
      "S_l = [a_l > 0] after the coverage closure"},
-    {Part::Raw, "raw", true, 4, "effect", "ssao.frag ssm.frag ssgi.frag", "effect:c_raw", "<effect>",
+    {Part::Raw, "raw", true, 4, Timed::Effect, "ssao.frag ssm.frag ssgi.frag", "effect:c_raw", "<effect>",
      "<effect>.same_input", "the effect where S_l = 1 (0 elsewhere: never evaluated)"},
-    {Part::Sub, "sub", true, 4, "bilateral", "bilateral.frag", "effect:c", "", "bilateral.same_input",
+    {Part::Sub, "sub", true, 4, Timed::Bilateral, "bilateral.frag", "effect:c", "", "bilateral.same_input",
      "the sub-image c_l (SSAO: after the mask-aware bilateral blur)"},
-    {Part::Upsample, "upsample", true, 5, "blend", "blend.frag", "effect:c_hat", "", "blend.same_input",
+    {Part::Upsample, "upsample", true, 5, Timed::Blend, "blend.frag", "effect:c_hat", "", "blend.same_input",
      "masked-bilinear c^_l at full res"},
-    {Part::BlendAlpha, "blendalpha", true, 5, "blend", "blend.frag", "alpha", "", "blend.same_input",
+    {Part::BlendAlpha, "blendalpha", true, 5, Timed::Blend, "blend.frag", "alpha", "", "blend.same_input",
      "alpha_l = min(a^_l w_l, 1)"},
-    {Part::Composite, "composite", true, 5, "blend", "blend.frag", "effect:c_prime", "", "blend.same_input",
+    {Part::Composite, "composite", true, 5, Timed::Blend, "blend.frag", "effect:c_prime", "", "blend.same_input",
      "the composite c'_l after blending level l"},
-    {Part::LevelMap, "levelmap", false, 5, "blend", "blend.frag", "level", "", "",
+    {Part::LevelMap, "levelmap", false, 5, Timed::Blend, "blend.frag", "level", "", "",
      "the finest level with alpha > 0 at each pixel"},
-    {Part::Final, "final", false, 5, "blend", "blend.frag", "effect:Y", "final", "blend.same_input",
+    {Part::Final, "final", false, 5, Timed::Blend, "blend.frag", "effect:Y", "final", "blend.same_input",
      "the effect buffer (= --out)"},
-    {Part::Shaded, "shaded", false, 6, "shade", "shade.frag", "R G B", "shaded", "",
+    {Part::Shaded, "shaded", false, 6, Timed::Shade, "shade.frag", "R G B", "shaded", "",
      "the shaded image for viewing (= --shaded)"},
 };
 
@@ -100,12 +129,7 @@ inline std::string partName(Part part, int level = -1) {
 
 // The timing and progress name of the step that makes `part` ("gbuffer.L2", "effect.L1", "masks",
 // "blend"): its `stage`, with ".L<ℓ>" for the per-level steps.
-inline std::string stageName(Part part, int level = -1) {
-  const PartInfo& p = partInfo(part);
-  std::string name(p.stage);
-  if (p.perLevel && level >= 0) name += ".L" + std::to_string(level);
-  return name;
-}
+inline std::string stageName(Part part, int level = -1);  // defined with kTimed, below
 
 // The part's EXR channels, from its `channels` column: "effect:X" is X for a one-channel effect
 // and X.R, X.G, X.B for SSGI's RGB (`effectChannels` 3).
@@ -137,6 +161,120 @@ inline bool partOf(std::string_view name, Part& out) {
       return true;
     }
   return false;
+}
+
+// ---- The timed stages ----------------------------------------------------------------------
+
+// Where a timed stage's time goes in SPEC §11's accounts: the sums and fits of compare/rule.cpp
+// (the rule sweep's frame and rests, the calibration's fits) read the classes, never the names.
+enum class CostClass {
+  Shared,      // paid alike by every mode before the rule decides (the full-res G-buffer, the shadow
+               // map and its one-tap test): out of the frame the sweep compares modes by, and out of
+               // both rests (SSM's 2048² map is 30 ms of a 40 ms small frame: its noise would decide)
+  Detection,   // the method's own work before its decision: the edges (ε) and the masks (μ); in the
+               // frame, out of the rest, in the early estimate's "from the edges on"
+  Viewing,     // the shaded image for viewing: paid alike after the decision; in the frame, out of the rest
+  Shading,     // the effect at its shaded pixels, and SSAO's blur: a, b, c, e per pixel, s, k₀ and k
+  LevelPixel,  // per level pixel, shaded or not (d): SSAO's occluder planes, SSGI's direct light
+  Rest,        // the rest of the frame after the decision, each priced by a figure of its own (the
+               // coarse G-buffers g, the rule ρ, the blend β) or by the per-frame k₀ and k
+  Total,       // the frame's wall clock, from the first stage to the last
+};
+
+// Which path times a stage (a stage of both is timed in the same order on both: parity tests).
+enum class TimedOn { Both, Oracle, Port };
+
+struct TimedInfo {
+  Timed timed;
+  std::string_view name;     // the timing name; per-level stages add ".L<ℓ>"
+  bool perLevel;
+  CostClass cost;            // its class (at a level above 0 for a per-level stage)
+  CostClass costAtLevel0;    // its class at level 0 (the full-res G-buffer is paid before the decision)
+  TimedOn on;
+  std::string_view what;     // one line, for docs
+};
+
+inline constexpr TimedInfo kTimed[] = {
+    {Timed::GBuffer, "gbuffer", true, CostClass::Rest, CostClass::Shared, TimedOn::Both,
+     "level l's G-buffer: level 0 rasterised first, the coarser levels subsampled once the stencils are known (g)"},
+    {Timed::ShadowMap, "shadowmap", false, CostClass::Shared, CostClass::Shared, TimedOn::Both,
+     "the light's shadow map (SSM, SSGI)"},
+    {Timed::ShadowTest, "shadowtest", false, CostClass::Shared, CostClass::Shared, TimedOn::Both,
+     "the one-tap shadow test at full res (SSM, SSGI)"},
+    {Timed::Rule, "rule", false, CostClass::Rest, CostClass::Rest, TimedOn::Both,
+     "the never-slower rule's own counts (rho), twice a frame: H, H_a, H_p, B_l and the edge sample, then the stencils'"},
+    {Timed::Edges, "edges", false, CostClass::Detection, CostClass::Detection, TimedOn::Both,
+     "the edge kinds and E at full res (epsilon)"},
+    {Timed::Masking, "masks", false, CostClass::Detection, CostClass::Detection, TimedOn::Both,
+     "the method's M_l, a_l and S_l, or the tiles' rates and masks (mu)"},
+    {Timed::Stencils, "stencils", false, CostClass::Rest, CostClass::Rest, TimedOn::Port,
+     "the port: stencils made on the host (full, uniform-k, tiles, a fallback) uploaded for the stencil test"},
+    {Timed::Planes, "planes", true, CostClass::LevelPixel, CostClass::LevelPixel, TimedOn::Oracle,
+     "the oracle's SSAO occluder planes at every pixel of level l (d)"},
+    {Timed::Direct, "direct", true, CostClass::LevelPixel, CostClass::LevelPixel, TimedOn::Both,
+     "SSGI's direct light at every pixel of level l (d)"},
+    {Timed::Effect, "effect", true, CostClass::Shading, CostClass::Shading, TimedOn::Both,
+     "the effect at level l's stencilled pixels"},
+    {Timed::Bilateral, "bilateral", true, CostClass::Shading, CostClass::Shading, TimedOn::Both,
+     "SSAO's mask-aware bilateral blur of level l"},
+    {Timed::Blend, "blend", false, CostClass::Rest, CostClass::Rest, TimedOn::Both,
+     "upsample and blend, coarse to fine; the peers' composition (beta)"},
+    {Timed::Shade, "shade", false, CostClass::Viewing, CostClass::Viewing, TimedOn::Both,
+     "the shaded image for viewing"},
+    {Timed::Total, "total", false, CostClass::Total, CostClass::Total, TimedOn::Both,
+     "the whole frame, first stage to last (the wall clock, also where stages use timer queries)"},
+};
+
+inline constexpr const TimedInfo& timedInfo(Timed t) { return kTimed[static_cast<int>(t)]; }
+static_assert([] {
+  for (int i = 0; i < static_cast<int>(std::size(kTimed)); ++i)
+    if (static_cast<int>(kTimed[i].timed) != i) return false;
+  return true;
+}(), "kTimed must list every Timed in enum order");
+
+// The timing name of `t` ("gbuffer.L2", "rule"); `level` is ignored for a stage not per level.
+inline std::string timedName(Timed t, int level = -1) {
+  const TimedInfo& info = timedInfo(t);
+  std::string name(info.name);
+  if (info.perLevel && level >= 0) name.append(".L").append(std::to_string(level));
+  return name;
+}
+
+inline std::string stageName(Part part, int level) { return timedName(partInfo(part).stage, level); }
+
+// A timing name read back: its stage and level (-1 for a stage not per level).
+struct TimedStage {
+  Timed timed;
+  int level = -1;
+  const TimedInfo& info() const { return timedInfo(timed); }
+  CostClass cost() const { return level == 0 ? info().costAtLevel0 : info().cost; }
+};
+
+// The stage a timing name names ("effect.L1" → Effect at level 1), or none: a per-level stage
+// wants ".L<ℓ>" with ℓ < kLevelCount, the others their bare name.
+inline std::optional<TimedStage> findTimed(std::string_view name) {
+  const size_t dot = name.find('.');
+  const std::string_view head = name.substr(0, dot);
+  for (const TimedInfo& t : kTimed) {
+    if (t.name != head) continue;
+    if (!t.perLevel) return dot == std::string_view::npos ? std::optional<TimedStage>(TimedStage{t.timed}) : std::nullopt;
+    const std::string_view rest = dot == std::string_view::npos ? std::string_view() : name.substr(dot);
+    if (rest.size() != 3 || rest[1] != 'L' || rest[2] < '0' || rest[2] >= '0' + kLevelCount) return std::nullopt;
+    return TimedStage{t.timed, rest[2] - '0'};
+  }
+  return std::nullopt;
+}
+
+// findTimed, where a name the list does not know is an error: a timed stage renamed on one side
+// must not drop silently out of a sum (a term of the never-slower fits would read 0).
+inline TimedStage parseTimed(std::string_view name) {
+  const std::optional<TimedStage> t = findTimed(name);
+  if (!t) {
+    std::string known;
+    for (const TimedInfo& i : kTimed) known += (known.empty() ? "" : ", ") + std::string(i.name) + (i.perLevel ? ".L<l>" : "");
+    throw MrrError("timed stage '" + std::string(name) + "' is not in the stage list (common/stages.h kTimed: " + known + ")");
+  }
+  return *t;
 }
 
 }  // namespace mrr

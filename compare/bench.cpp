@@ -19,6 +19,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/process.h"
+#include "common/stages.h"
 #include "compare/bench_report.h"
 #include "compare/report.h"
 #include "scenes/cameras.h"
@@ -68,11 +69,11 @@ namespace {
 // The method's own time: the frame less the stage every method pays alike and that is not
 // the effect: the full-res G-buffer.
 double effectMs(const std::map<std::string, double>& ms) {
-  auto at = [&](const char* k) {
-    const auto it = ms.find(k);
+  auto at = [&](Timed t, int level = -1) {
+    const auto it = ms.find(timedName(t, level));
     return it != ms.end() ? it->second : 0.0;
   };
-  return at("total") - at("gbuffer.L0");
+  return at(Timed::Total) - at(Timed::GBuffer, 0);
 }
 
 std::string fixed(double v, int digits) {
@@ -142,7 +143,7 @@ class Sweep {
       r.samples = samples;
       for (const auto& [k, v] : stageRuns[m]) r.stageMs[k] = median(v);
       r.effectMs = effectMs(r.stageMs);
-      r.totalMs = r.stageMs["total"];
+      r.totalMs = r.stageMs[timedName(Timed::Total)];
       const FrameResult& f = last.at(m);
       r.shadedPixels = f.shadedPixelsTotal;
       r.idealSpeedup = f.idealSpeedup;
@@ -191,7 +192,7 @@ class Sweep {
         std::ifstream in(report);
         const nlohmann::json j = nlohmann::json::parse(in);
         const nlohmann::json& t = j.at("timings_ms");
-        runs[m].push_back(t.at("total").get<double>() - t.value("gbuffer.L0", 0.0));
+        runs[m].push_back(t.at(timedName(Timed::Total)).get<double>() - t.value(timedName(Timed::GBuffer, 0), 0.0));
       }
     std::filesystem::remove_all(dir);
     std::map<std::string, double> out;

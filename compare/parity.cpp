@@ -152,70 +152,84 @@ std::string ParityResult::firstFailing() const {
   return {};
 }
 
-ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const DirectionalLight& light) {
-  const Constants& c = o.constants;
-  ParityResult result;
-  auto add = [&](StageRow row) { result.rows.push_back(std::move(row)); };
+namespace {
 
-  // 1. A level's G-buffer: hit, relative depth, 1 − N·N' where both hit. In pipeline order:
-  // level 0 first (the masks are made from it), the coarser levels once the masks are known.
-  auto gbufferRows = [&](int l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) return;
-    const GBuffer& a = p.levels[static_cast<size_t>(l)].gbuffer;
-    const GBuffer& b = o.levels[static_cast<size_t>(l)].gbuffer;
-    const std::string L = partName(Part::GBuffer, l);
-    add({L + ".hit", l, lc.scale, check("gbuffer.hit", diffImages(a.hit, b.hit)), {}});
-    const auto bothHit = [&](size_t i) { return a.hit.data.size() == b.hit.data.size() && a.hit.data[i] && b.hit.data[i]; };
-    ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero, albedoOff = zero,
-        positionOff = zero;
-    if (a.depth.data.size() == b.depth.data.size())
-      for (size_t i = 0; i < relDepth.data.size(); ++i) {
-        if (!bothHit(i)) continue;
-        relDepth.data[i] = std::fabs(a.depth.data[i] - b.depth.data[i]) / std::max(b.depth.data[i], 1e-30f);
-        const glm::vec3 na(a.normal.data[3 * i], a.normal.data[3 * i + 1], a.normal.data[3 * i + 2]);
-        const glm::vec3 nb(b.normal.data[3 * i], b.normal.data[3 * i + 1], b.normal.data[3 * i + 2]);
-        normalOff.data[i] = 1.0f - glm::dot(na, nb);
-        float albedo = 0.0f, position = 0.0f;
-        for (size_t k = 0; k < 3; ++k) {
-          albedo = std::max(albedo, std::fabs(a.albedo.data[3 * i + k] - b.albedo.data[3 * i + k]));
-          position = std::max(position, std::fabs(a.position.data[3 * i + k] - b.position.data[3 * i + k]));
-        }
-        albedoOff.data[i] = albedo;
-        positionOff.data[i] = position / std::max(b.depth.data[i], 1e-30f);  // relative to the depth, like depth
+// The rows of one comparison, in pipeline order (compareFrames): the oracle's frame o, the
+// port's p, and the result the steps add their rows to.
+struct Rows {
+  const FrameResult& o;
+  const FrameResult& p;
+  const Constants& c;
+  ParityResult& result;
+  void add(StageRow row) { result.rows.push_back(std::move(row)); }
+
+  void gbufferRows(int l);
+  void shadowRows();
+  void edgeRows();
+  bool decisionAndMaskRows();  // false where the paths decided differently
+  void effectRows(const DirectionalLight& light);
+  std::optional<StageCheck> blendRows();  // the final image's same-input check
+};
+
+// 1. A level's G-buffer: hit, relative depth, 1 − N·N' where both hit. In pipeline order:
+// level 0 first (the masks are made from it), the coarser levels once the masks are known.
+void Rows::gbufferRows(int l) {
+  const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+  if (!lc.enabled) return;
+  const GBuffer& a = p.levels[static_cast<size_t>(l)].gbuffer;
+  const GBuffer& b = o.levels[static_cast<size_t>(l)].gbuffer;
+  const std::string L = partName(Part::GBuffer, l);
+  add({L + ".hit", l, lc.scale, check("gbuffer.hit", diffImages(a.hit, b.hit)), {}});
+  const auto bothHit = [&](size_t i) { return a.hit.data.size() == b.hit.data.size() && a.hit.data[i] && b.hit.data[i]; };
+  ImageF relDepth(a.width, a.height, 1, 0.0f), zero(a.width, a.height, 1, 0.0f), normalOff = zero, albedoOff = zero,
+      positionOff = zero;
+  if (a.depth.data.size() == b.depth.data.size())
+    for (size_t i = 0; i < relDepth.data.size(); ++i) {
+      if (!bothHit(i)) continue;
+      relDepth.data[i] = std::fabs(a.depth.data[i] - b.depth.data[i]) / std::max(b.depth.data[i], 1e-30f);
+      const glm::vec3 na(a.normal.data[3 * i], a.normal.data[3 * i + 1], a.normal.data[3 * i + 2]);
+      const glm::vec3 nb(b.normal.data[3 * i], b.normal.data[3 * i + 1], b.normal.data[3 * i + 2]);
+      normalOff.data[i] = 1.0f - glm::dot(na, nb);
+      float albedo = 0.0f, position = 0.0f;
+      for (size_t k = 0; k < 3; ++k) {
+        albedo = std::max(albedo, std::fabs(a.albedo.data[3 * i + k] - b.albedo.data[3 * i + k]));
+        position = std::max(position, std::fabs(a.position.data[3 * i + k] - b.position.data[3 * i + k]));
       }
-    add({L + ".depth", l, lc.scale,
-         check("gbuffer.depth", diffImages(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
-    add({L + ".position", l, lc.scale,
-         check("gbuffer.depth", diffImages(positionOff, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
-    // The crease band: where the oracle's normal turns by more than kCreaseTurn to a 4-neighbour,
-    // a triangle edge runs between the pixel centres, and the rasteriser's sub-pixel snapping
-    // (1/256 of a level pixel on llvmpipe) may pick the other facet than the ray does. A
-    // faceted stress scene has such pixels everywhere at a coarse level (builtin:alledges at
-    // 320x180: 6% of L3); differences there are allowed and counted apart, as in the edges' band.
-    std::vector<char> creases(b.normal.data.size() / 3, 0);
-    if (a.normal.data.size() == b.normal.data.size())
-      for (int y = 0; y < b.height; ++y)
-        for (int x = 0; x < b.width; ++x) {
-          if (!b.hit.at(x, y)) continue;
-          const glm::vec3 n = b.normalAt(x, y);
-          for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-            const int qx = x + dx, qy = y + dy;
-            if (qx < 0 || qy < 0 || qx >= b.width || qy >= b.height || !b.hit.at(qx, qy)) continue;
-            if (1.0f - glm::dot(n, b.normalAt(qx, qy)) > kCreaseTurn)
-              creases[static_cast<size_t>(y) * static_cast<size_t>(b.width) + static_cast<size_t>(x)] = 1;
-          }
+      albedoOff.data[i] = albedo;
+      positionOff.data[i] = position / std::max(b.depth.data[i], 1e-30f);  // relative to the depth, like depth
+    }
+  add({L + ".depth", l, lc.scale,
+       check("gbuffer.depth", diffImages(relDepth, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
+  add({L + ".position", l, lc.scale,
+       check("gbuffer.depth", diffImages(positionOff, zero, tolerance("gbuffer.depth").pixelThreshold, bothHit)), {}});
+  // The crease band: where the oracle's normal turns by more than kCreaseTurn to a 4-neighbour,
+  // a triangle edge runs between the pixel centres, and the rasteriser's sub-pixel snapping
+  // (1/256 of a level pixel on llvmpipe) may pick the other facet than the ray does. A
+  // faceted stress scene has such pixels everywhere at a coarse level (builtin:alledges at
+  // 320x180: 6% of L3); differences there are allowed and counted apart, as in the edges' band.
+  std::vector<char> creases(b.normal.data.size() / 3, 0);
+  if (a.normal.data.size() == b.normal.data.size())
+    for (int y = 0; y < b.height; ++y)
+      for (int x = 0; x < b.width; ++x) {
+        if (!b.hit.at(x, y)) continue;
+        const glm::vec3 n = b.normalAt(x, y);
+        for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= b.width || qy >= b.height || !b.hit.at(qx, qy)) continue;
+          if (1.0f - glm::dot(n, b.normalAt(qx, qy)) > kCreaseTurn)
+            creases[static_cast<size_t>(y) * static_cast<size_t>(b.width) + static_cast<size_t>(x)] = 1;
         }
-    add({L + ".normal", l, lc.scale,
-         check("gbuffer.normal",
-               diffImages(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit, &creases)),
-         {}});
-    add({L + ".albedo", l, lc.scale,
-         check("gbuffer.albedo", diffImages(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
-  };
-  gbufferRows(0);
+      }
+  add({L + ".normal", l, lc.scale,
+       check("gbuffer.normal",
+             diffImages(normalOff, zero, tolerance("gbuffer.normal").pixelThreshold, bothHit, &creases)),
+       {}});
+  add({L + ".albedo", l, lc.scale,
+       check("gbuffer.albedo", diffImages(albedoOff, zero, tolerance("gbuffer.albedo").pixelThreshold, bothHit)), {}});
+}
 
-  // 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
+// 2. The shadow map (in texels, over texels either path covers) and the one-tap test.
+void Rows::shadowRows() {
   if (c.needsShadowMap()) {
     add({partName(Part::ShadowMap), -1, 0,
          check("shadowmap.depth", diffShadowMaps(p.shadowMap, o.shadowMap, tolerance("shadowmap.depth").pixelThreshold)),
@@ -224,10 +238,12 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     add({partName(Part::ShadowTest), -1, 1, check(endToEndRule(Part::ShadowTest), diffImages(p.shadowLit, o.shadowLit)),
          check("shadowtest.same_input", diffImages(p.shadowLit, same))});
   }
+}
 
-  // 3. Which pixels of which level are shaded: the edges (modes mrr and tiles), the
-  // never-slower decision (SPEC §11), then the stencils the frame was shaded with.
-  // A frame that fell back early (SPEC §11) found no edges: compared only where both did.
+// 3. Which pixels of which level are shaded: the edges (modes mrr and tiles), the
+// never-slower decision (SPEC §11), then the stencils the frame was shaded with.
+// A frame that fell back early (SPEC §11) found no edges: compared only where both did.
+void Rows::edgeRows() {
   const bool bothFoundEdges = !p.edges.combined.empty() && !o.edges.combined.empty();
   if ((c.mode == Mode::Mrr || c.mode == Mode::Tiles) && bothFoundEdges) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
@@ -245,15 +261,18 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     add({edgesPart, -1, 1, check(endToEndRule(Part::Edges), diffImages(p.edges.combined, o.edges.combined)),
          check("edges.same_input", diffImages(p.edges.combined, same.combined, &edgeBand))});
   }
-  // The decision comes right after the masks in the pipeline, but it chooses the stencils the
-  // frame keeps: when the paths decide differently, their frames differ in kind from here on
-  // and nothing later can be compared.
+}
+
+// The decision comes right after the masks in the pipeline, but it chooses the stencils the
+// frame keeps: when the paths decide differently, their frames differ in kind from here on
+// and nothing later can be compared.
+bool Rows::decisionAndMaskRows() {
   if (o.fallback.evaluated || p.fallback.evaluated) {
     // one "pixel" each, 0 or 1 (float: GCC 12 warns falsely on a 1×1 byte image, PR 106199)
     const ImageF portDecision(1, 1, 1, p.fallback.fellBack ? 1.0f : 0.0f),
         oracleDecision(1, 1, 1, o.fallback.fellBack ? 1.0f : 0.0f);
     add({"fallback", -1, 1, check("fallback", diffImages(portDecision, oracleDecision, 0.5)), {}});
-    if (p.fallback.fellBack != o.fallback.fellBack) return result;
+    if (p.fallback.fellBack != o.fallback.fellBack) return false;
   }
   // The oracle's stage-3 function of the frame's mode, on the port's own inputs.
   const bool multires = c.mode == Mode::Mrr && !o.fallback.fellBack;
@@ -284,11 +303,11 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
     add({partName(Part::Stencil, l), l, lc.scale, check(endToEndRule(Part::Stencil), diffImages(pm.stencil, om.stencil)),
          check("masks.same_input", diffImages(pm.stencil, sm.stencil, multires ? &stencilBand : nullptr))});
   }
+  return true;
+}
 
-  // 1, continued. The coarser levels' G-buffers.
-  for (int l = 1; l < kLevelCount; ++l) gbufferRows(l);
-
-  // 4. The effect per level, on the port's own inputs, and the bilateral blur (SSAO).
+// 4. The effect per level, on the port's own inputs, and the bilateral blur (SSAO).
+void Rows::effectRows(const DirectionalLight& light) {
   const std::string effect = toString(c.effect);
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -321,11 +340,13 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
                  diffImages(pl.sub, blurred, tolerance("bilateral.same_input").pixelThreshold, portShaded))});
     }
   }
+}
 
-  // 5. Upsample and blend, coarse to fine. Each step on the port's own inputs: ĉ_ℓ and α_ℓ
-  // from the port's c_ℓ, S_ℓ and a_ℓ; c'_ℓ from the port's ĉ_ℓ, α_ℓ and c'_coarser. The peers
-  // compose their own way (SPEC §9): the oracle's composePeer on the port's sub-images,
-  // G-buffers and tile rates gives every ĉ_ℓ, α_ℓ, c'_ℓ and the final image at once.
+// 5. Upsample and blend, coarse to fine. Each step on the port's own inputs: ĉ_ℓ and α_ℓ
+// from the port's c_ℓ, S_ℓ and a_ℓ; c'_ℓ from the port's ĉ_ℓ, α_ℓ and c'_coarser. The peers
+// compose their own way (SPEC §9): the oracle's composePeer on the port's sub-images,
+// G-buffers and tile rates gives every ĉ_ℓ, α_ℓ, c'_ℓ and the final image at once.
+std::optional<StageCheck> Rows::blendRows() {
   const double blendThreshold = tolerance("blend.same_input").pixelThreshold;
   const int w = c.width, h = c.height;
   std::optional<StageCheck> finalSame;
@@ -385,15 +406,35 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
       finalSame = check("blend.same_input",
                         diffImages(p.final(), p.blend.composite[static_cast<size_t>(coarser)], blendThreshold, {}));
   }
+  return finalSame;
+}
+
+}  // namespace
+
+ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const DirectionalLight& light) {
+  const Constants& c = o.constants;
+  ParityResult result;
+  Rows rows{o, p, c, result};
+  // 1. The full-res G-buffer (the masks are made from it); 2. the shadow map and test; 3. the
+  // edges, the never-slower decision and the stencils (when the paths decide differently,
+  // nothing later can be compared); 1, continued: the coarser levels' G-buffers; 4. the
+  // effect; 5. upsample and blend.
+  rows.gbufferRows(0);
+  rows.shadowRows();
+  rows.edgeRows();
+  if (!rows.decisionAndMaskRows()) return result;
+  for (int l = 1; l < kLevelCount; ++l) rows.gbufferRows(l);
+  rows.effectRows(light);
+  const std::optional<StageCheck> finalSame = rows.blendRows();
   // The final image is the finest composite; end to end it carries everything above.
-  add({partName(Part::Final), -1, 1,
+  rows.add({partName(Part::Final), -1, 1,
        check(endToEndRule(Part::Final), diffImages(p.final(), o.final(), tolerance(endToEndRule(Part::Final)).pixelThreshold, {})), finalSame});
 
   // 6. The shaded image: end to end, and the oracle's shadeFinal on the port's own level-0
   // G-buffer, final image and one-tap test (shade.frag's arithmetic alone).
   if (!p.shaded.empty() && !o.shaded.empty() && !p.levels[0].gbuffer.depth.empty()) {
     const ImageF same = shadeFinal(p.levels[0].gbuffer, p.final(), p.shadowLit, p.view, light, c.effect);
-    add({partName(Part::Shaded), -1, 1,
+    rows.add({partName(Part::Shaded), -1, 1,
          check(endToEndRule(Part::Shaded), diffImages(p.shaded, o.shaded, tolerance(endToEndRule(Part::Shaded)).pixelThreshold, {})),
          check("shaded.same_input",
                diffImages(p.shaded, same, tolerance("shaded.same_input").pixelThreshold, {}))});

@@ -24,34 +24,42 @@ namespace mrr {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// The fits price in ns (per pixel, per sample), the stages are timed in ms.
+constexpr double kNsPerMs = 1e6;
+double msToNs(double ms) { return ms * kNsPerMs; }
+// The sweep's verdict: a mode is the faster when its median frame is within 5% of the other's,
+// and a pair of runs is past the bar the wrong way when its ratio is beyond it (judge).
+constexpr double kFasterWithin = 1.05;
+// A frame whose medians put the method within ±10% of full (mrr/full in this band) gets as many
+// rounds again: its verdict is the one noise sways.
+constexpr double kNearBreakEvenLow = 0.9, kNearBreakEvenHigh = 1.1;
+// ruleViews: the sky looks 50° above the horizon; the close-up is a quarter of the way from the
+// target to the eye.
+constexpr double kSkyElevationDegrees = 50.0;
+constexpr float kCloseUpDistance = 0.25f;
 
-double stage(const std::map<std::string, double>& ms, const std::string& name) {
-  const auto it = ms.find(name);
+// A stage's median by its row in the stage list (0 where the frame did not run it: SSAO draws no
+// shadow map, full no edges).
+double timedMs(const std::map<std::string, double>& ms, Timed t, int level = -1) {
+  const auto it = ms.find(timedName(t, level));
   return it != ms.end() ? it->second : 0.0;
 }
-double sumWithPrefix(const std::map<std::string, double>& ms, std::initializer_list<const char*> prefixes) {
-  double sum = 0.0;
-  for (const auto& [k, v] : ms)
-    for (const char* p : prefixes)
-      if (k.rfind(p, 0) == 0) sum += v;
-  return sum;
-}
 // The effect's shading stages (per shaded pixel: a, b, c, s) and its per-level-pixel ones (d).
-double shadingMs(const std::map<std::string, double>& ms) { return sumWithPrefix(ms, {"effect.", "bilateral."}); }
-double levelPixelMs(const std::map<std::string, double>& ms) { return sumWithPrefix(ms, {"planes.", "direct."}); }
+double shadingMs(const std::map<std::string, double>& ms) { return costClassMs(ms, CostClass::Shading); }
+double levelPixelMs(const std::map<std::string, double>& ms) { return costClassMs(ms, CostClass::LevelPixel); }
 // What SPEC §11 predicts: the frame after its decision point (the full-res G-buffer, the shadow
 // map and test, the edges and masks, and the shaded image for viewing are paid before or by both).
 double restMs(const std::map<std::string, double>& ms) {
   double paid = 0.0;
-  for (const char* s : {"gbuffer.L0", "shadowmap", "shadowtest", "edges", "masks", "shade"}) paid += stage(ms, s);
-  return stage(ms, "total") - paid;
+  for (CostClass c : {CostClass::Shared, CostClass::Detection, CostClass::Viewing}) paid += costClassMs(ms, c);
+  return timedMs(ms, Timed::Total) - paid;
 }
 // The frame less what every mode pays alike, before the rule decides anything: the full-res
 // G-buffer, and for SSM and SSGI the shadow map and its one-tap test (the same work on the same
 // inputs in both modes; SSM's 2048² map is 30 ms of a 40 ms small frame, and its run-to-run
 // noise would decide which mode looks faster).
 double frameMs(const std::map<std::string, double>& ms) {
-  return stage(ms, "total") - stage(ms, "gbuffer.L0") - stage(ms, "shadowmap") - stage(ms, "shadowtest");
+  return timedMs(ms, Timed::Total) - costClassMs(ms, CostClass::Shared);
 }
 // The p-quantile of v by nearest rank (p in [0, 1]; 0 for none).
 double quantile(std::vector<double> v, double p) {
@@ -145,6 +153,13 @@ struct LeastSquares {
 
 }  // namespace
 
+double costClassMs(const std::map<std::string, double>& ms, CostClass cost) {
+  double sum = 0.0;
+  for (const auto& [name, v] : ms)
+    if (parseTimed(name).cost() == cost) sum += v;
+  return sum;
+}
+
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect) {
   std::vector<RuleView> views;
   views.push_back({"catalogue", catalogue});
@@ -153,12 +168,12 @@ std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, flo
   const glm::vec3 forward = glm::normalize(catalogue.target - catalogue.eye);
   glm::vec3 level = forward - glm::dot(forward, up) * up;
   level = glm::length(level) > 1e-4f ? glm::normalize(level) : glm::vec3(std::abs(up.x) < 0.9f ? 1 : 0, 0, std::abs(up.x) < 0.9f ? 0 : 1);
-  const float elevation = static_cast<float>(50.0 * kPi / 180.0);
+  const float elevation = static_cast<float>(kSkyElevationDegrees * kPi / 180.0);
   Camera sky = catalogue;
   sky.target = catalogue.eye + (level * std::cos(elevation) + up * std::sin(elevation)) * glm::length(catalogue.target - catalogue.eye);
   views.push_back({"sky", sky});
   Camera close = catalogue;
-  close.eye = catalogue.target + (catalogue.eye - catalogue.target) * 0.25f;
+  close.eye = catalogue.target + (catalogue.eye - catalogue.target) * kCloseUpDistance;
   views.push_back({"close-up", close});
   return views;
 }
@@ -234,164 +249,212 @@ void fitStencilFill(CostModel& model, const std::vector<CalibrationFrame>& frame
   }
 }
 
-CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
-  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
-  const int w = 640, h = 360;
-  CostModel model;
-  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:corner, builtin:demo and builtin:bumpy 320x180 to 1280x720";
-  // Per effect, full frames: H_a, H_a·N (, H_p·N), W·H − H_a and 1 against the shading time. c and
-  // k₀ come from the frames nearly all background (the sky), where nothing else is paid; a, b
-  // (, e) by least squares on the rest with those fixed (fitted together, c traded off against a).
-  struct FullRun {
-    std::vector<double> onGeometry;  // H_a, H_a·N (, H_p·N, Σ f over H_a)
-    double pixels, background, ns;   // W·H, W·H − H_a, the shading's time
-  };
-  std::array<std::vector<FullRun>, 3> fullRuns;
+namespace {
+
+// The calibration's frames: the method and full at the middle size, at half and at twice it
+// (320×180 to 1280×720: the sizes tell the per-frame costs from the per-pixel ones), from three
+// views (the default framing is left out: three are enough to separate H from W·H − H).
+constexpr int kCalibrationWidth = 640, kCalibrationHeight = 360;
+// Per effect, a low and a high sample count: where a pixel's fixed part (a; SSM's blocker search)
+// is most of its cost, and where the samples are.
+int fewSamples(Effect e) { return e == Effect::Ssm ? 16 : 8; }
+int manySamples(Effect e) { return e == Effect::Ssm ? 256 : 128; }
+// A full frame with less than this share of its pixels on geometry is "the sky": c and k₀ are
+// fitted on those alone, where nothing else is paid.
+constexpr double kSkyShare = 0.05;
+
+// A full frame's shading against what it shades: H_a, H_a·N (, H_p·N, Σ f over H_a), W·H, W·H − H_a.
+struct FullRun {
+  std::vector<double> onGeometry;  // H_a, H_a·N (, H_p·N, Σ f over H_a)
+  double pixels, background, ns;   // W·H, W·H − H_a, the shading's time
+};
+
+// What the calibration measured, as rows of its fits (SPEC §11's figures in brackets).
+struct CalibrationRuns {
+  std::array<std::vector<FullRun>, 3> fullRuns;  // per effect: a, b (, e, ν), c and k₀
   // Per-pixel slopes from affine fits over the three sizes (P, 1): the intercepts are the passes'
-  // set-up, paid per frame whatever its size; full's go to k₀, the method's to k (fitted below on
-  // the rest, which holds them).
+  // set-up, paid per frame whatever its size; full's go to k₀, the method's to k (fitted on the
+  // rest, which holds them).
   std::array<LeastSquares, 3> levelFit;  // per effect, full frames: P_0 (H / W·H), 1 → d (SSAO's planes, SSGI's direct light)
   std::array<LeastSquares, 3> ruleFit;   // per effect, the method's frames: W·H, 1 → ρ (the rule's own counts)
   LeastSquares fullBlendFit, blendFit;   // full's blend: W·H, 1 → β₀; the method's: W·H, |S_j| s_j², 1 → β₀ + β, β_f
-  std::vector<CalibrationFrame> mrrRuns;  // at 320×180, 640×360 and 1280×720: s (per pixel) from k (per frame)
-  LeastSquares gbufferFit;  // P_ℓ, 1 → g (the pass's set-up goes to k)
-  // The method's frames count with a model that prices PCF (e > 0), so that SSM's frames sample
-  // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
-  CostModel counting = CostModel::defaults(path.name);
-  counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
-  LeastSquares edgesFit, masksFit;  // P_0, H, 1 → ε, ε_h, κ's share; P_0, A, 1 → μ, μ_A, the rest of κ
-  for (const char* sceneName : {"builtin:corner", "builtin:demo", "builtin:bumpy"}) {
-    const OpenScene sc = openScene(sceneName, path);
-    const float diagonal = sc.scene->bounds().diagonal();
-    for (const RuleView& view : ruleViews(*sc.scene, sc.camera, static_cast<float>(w) / h)) {
-      if (view.name == "default") continue;  // three views are enough to separate H from W·H − H
-      for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
-        const auto ei = static_cast<size_t>(e);
-        const int n1 = e == Effect::Ssm ? 16 : 8, n2 = e == Effect::Ssm ? 256 : 128;
-        std::cerr << "[calibrate] " << path.name << " " << sceneName << " " << view.name << " " << toString(e) << "\n";
-        Measured mrr = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n2), diagonal),
-                               repeats, &counting);
-        const FrameCounts& n = mrr.last.counts;
-        const Measured small = measure(sc.render, view.camera,
-                                       makeConstants(settingsFor("mrr-norule", e, w / 2, h / 2, n2), diagonal), repeats,
-                                       &counting);
-        const Measured large = measure(sc.render, view.camera,
-                                       makeConstants(settingsFor("mrr-norule", e, 2 * w, 2 * h, n2), diagonal), repeats,
-                                       &counting);
-        // full at both sample counts, and at n2 at half and twice the size: the sizes tell k₀
-        // (per frame) from the per-pixel costs, and the fit holds from 320×180 to 1280×720.
-        struct FullConfig {
-          int width, height, samples;
-          const FrameCounts* counts;
-        };
-        for (const FullConfig& fc : {FullConfig{w, h, n1, &n}, FullConfig{w, h, n2, &n},
-                                     FullConfig{w / 2, h / 2, n2, &small.last.counts},
-                                     FullConfig{2 * w, 2 * h, n2, &large.last.counts}}) {
-          const Measured full = measure(
-              sc.render, view.camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
-          const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
-          std::vector<double> row = {onGeometry, onGeometry * fc.samples};
-          if (e == Effect::Ssm) {
-            row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
-            row.push_back(static_cast<double>(fc.counts->searchedFootprint) / kFootprintSteps);  // Σ f over H_a
-          }
-          fullRuns[ei].push_back({row, p, p - onGeometry, shadingMs(full.ms) * 1e6});
-          const double levelNs = levelPixelMs(full.ms) * 1e6, blendNs = stage(full.ms, "blend") * 1e6;
-          const double hits = static_cast<double>(fc.counts->hitPixels);  // P_0 (H / W·H) = H
-          if (levelNs > 0.0) levelFit[ei].addRelative({hits, 1e6}, levelNs, levelNs);
-          if (blendNs > 0.0) fullBlendFit.addRelative({p, 1e6}, blendNs, blendNs);
-        }
-        mrrRuns.push_back({e, mrr.last.constants, n, restMs(mrr.ms)});
-        mrrRuns.push_back({e, small.last.constants, small.last.counts, restMs(small.ms)});
-        mrrRuns.push_back({e, large.last.constants, large.last.counts, restMs(large.ms)});
-        // and at the low sample count: where a pixel's fixed part (a; SSM's blocker search) is most
-        // of its cost, the stencilled pixel's premium differs from the one at n2 (PCF's taps)
-        const Measured few = measure(sc.render, view.camera, makeConstants(settingsFor("mrr-norule", e, w, h, n1), diagonal),
-                                     repeats, &counting);
-        mrrRuns.push_back({e, few.last.constants, few.last.counts, restMs(few.ms)});
-        // The method's other stages at every size: the coarse G-buffers, the rule, the blend, edges and masks.
-        for (const Measured* m : {&small, static_cast<const Measured*>(&mrr), &large}) {
-          const Constants& mc = m->last.constants;
-          const double frame = static_cast<double>(mc.width) * mc.height;
-          for (const LevelConstants& lc : mc.levels)
-            if (lc.enabled && lc.index > 0) {
-              const double p = static_cast<double>(lc.width) * lc.height;
-              const double ns = stage(m->ms, "gbuffer.L" + std::to_string(lc.index)) * 1e6;
-              gbufferFit.addRelative({p, 1e6}, ns, ns);
-            }
-          const double ruleNs = stage(m->ms, "rule") * 1e6;
-          if (ruleNs > 0.0) ruleFit[ei].addRelative({frame, 1e6}, ruleNs, ruleNs);
-          const double blendNs = stage(m->ms, "blend") * 1e6;
-          const double fine = finerLevelsArea(mc, m->last.counts.shaded);
-          if (blendNs > 0.0) blendFit.addRelative({frame, fine, 1e6}, blendNs, blendNs);
-          const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
-          const double edgesNs = stage(m->ms, "edges") * 1e6, masksNs = stage(m->ms, "masks") * 1e6;
-          const FrameCounts& mn = m->last.counts;
-          double reach = 0.0;
-          for (int64_t r : mn.reach) reach += static_cast<double>(r);
-          edgesFit.addRelative({padded, static_cast<double>(mn.hitPixels), 1e6}, edgesNs, edgesNs);
-          masksFit.addRelative({padded, reach, 1e6}, masksNs, masksNs);
-        }
-      }
+  LeastSquares gbufferFit;               // P_ℓ, 1 → g (the pass's set-up goes to k)
+  LeastSquares edgesFit, masksFit;       // P_0, H, 1 → ε, ε_h, κ's share; P_0, A, 1 → μ, μ_A, the rest of κ
+  std::vector<CalibrationFrame> mrrRuns;  // every size and both counts: s (per pixel) from k (per frame)
+};
+
+// The one way a stage's time becomes a row of a fit: ns = Σ figure × count + a per-frame part (the
+// last column, kNsPerMs, so that its figure reads in ms), relative (weighted by 1/measured: the
+// rule's error is relative). A stage the frame did not run (0 ms) adds nothing.
+void addStageTime(LeastSquares& fit, std::vector<double> counts, double ms) {
+  const double ns = msToNs(ms);
+  if (ns <= 0.0) return;
+  counts.push_back(kNsPerMs);
+  fit.addRelative(std::move(counts), ns, ns);
+}
+// A fit's i-th figure, `otherwise` where the fit had nothing to go on.
+double figure(const std::vector<double>& solved, size_t i, double otherwise = 0.0) {
+  return i < solved.size() ? solved[i] : otherwise;
+}
+
+// Full at both sample counts at the middle size, and at the high count at half and twice it: the
+// shading against what it shades, the per-level-pixel stages and the blend.
+void measureFull(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, float diagonal, Effect e,
+                 int repeats, const std::array<const FrameCounts*, 3>& countsBySize) {
+  const auto ei = static_cast<size_t>(e);
+  struct FullConfig {
+    int width, height, samples;
+    const FrameCounts* counts;  // the method's at the same size: H_a, H_p, Σ f
+  };
+  const int w = kCalibrationWidth, h = kCalibrationHeight;
+  for (const FullConfig& fc : {FullConfig{w, h, fewSamples(e), countsBySize[1]}, FullConfig{w, h, manySamples(e), countsBySize[1]},
+                               FullConfig{w / 2, h / 2, manySamples(e), countsBySize[0]},
+                               FullConfig{2 * w, 2 * h, manySamples(e), countsBySize[2]}}) {
+    const Measured full = measure(
+        sc.render, camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
+    const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
+    std::vector<double> row = {onGeometry, onGeometry * fc.samples};
+    if (e == Effect::Ssm) {
+      row.push_back(static_cast<double>(fc.counts->pcfPixels) * fc.samples);
+      row.push_back(static_cast<double>(fc.counts->searchedFootprint) / kFootprintSteps);  // Σ f over H_a
     }
+    runs.fullRuns[ei].push_back({row, p, p - onGeometry, msToNs(shadingMs(full.ms))});
+    const double hits = static_cast<double>(fc.counts->hitPixels);  // P_0 (H / W·H) = H
+    addStageTime(runs.levelFit[ei], {hits}, levelPixelMs(full.ms));
+    addStageTime(runs.fullBlendFit, {p}, timedMs(full.ms, Timed::Blend));
   }
-  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
-    const auto ei = static_cast<size_t>(e);
-    EffectCost& ec = model.effect[ei];
-    // c and k₀ from the frames nearly all sky (at every size), then a, b (, e) on the rest
-    LeastSquares sky;
-    for (const FullRun& r : fullRuns[ei])
-      if (r.onGeometry[0] < 0.05 * r.pixels) sky.addRelative({r.background, 1e6}, r.ns, r.ns);
-    const std::vector<double> ck = sky.solve();
-    ec.nsPerBackgroundPixel = ck.empty() ? 0.0 : ck[0];
-    ec.fullFixedMs = ck.size() > 1 ? ck[1] : 0.0;
-    LeastSquares fit;
-    for (const FullRun& r : fullRuns[ei])
-      if (r.onGeometry[0] >= 0.05 * r.pixels)
-        fit.addRelative(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel - ec.fullFixedMs * 1e6, r.ns);
-    const std::vector<double> ab = fit.solve();
-    ec.nsPerShadedPixel = ab.size() > 0 ? ab[0] : 0.0;
-    ec.nsPerSample = ab.size() > 1 ? ab[1] : 0.0;
-    ec.nsPerPcfSample = ab.size() > 2 ? ab[2] : 0.0;
-    ec.nsPerFootprintTexel = ab.size() > 3 ? ab[3] : 0.0;
-    const std::vector<double> rho = ruleFit[ei].solve();  // its intercept stays in the rest, where k takes it
-    ec.nsPerRulePixel = rho.empty() ? 0.0 : rho[0];
-    const std::vector<double> d = levelFit[ei].solve();
-    ec.nsPerLevelPixel = d.empty() ? 0.0 : d[0];
-    ec.fullFixedMs += d.size() > 1 ? d[1] : 0.0;  // full's one level pass
-  }
-  const std::vector<double> g = gbufferFit.solve();
-  model.nsPerCoarseGbufferPixel = g.empty() ? 0.0 : g[0];
-  // β₀: full's blend (its level 0 copied into the result), and β, the method's beyond it
-  const std::vector<double> fullBlend = fullBlendFit.solve(), blend = blendFit.solve();
-  model.nsPerFullBlendPixel = fullBlend.empty() ? 0.0 : fullBlend[0];
-  for (EffectCost& ec : model.effect) ec.fullFixedMs += fullBlend.size() > 1 ? fullBlend[1] : 0.0;
-  model.nsPerBlendPixel = std::max(0.0, (blend.empty() ? 0.0 : blend[0]) - model.nsPerFullBlendPixel);
-  model.nsPerFineBlendPixel = blend.size() > 1 ? blend[1] : 0.0;
-  // ε, μ and κ: the edges and the masks per padded pixel and per frame, over the three sizes
-  const std::vector<double> edgeCost = edgesFit.solve(), maskCost = masksFit.solve();
-  model.nsPerEdgePixel = edgeCost[0];
-  model.nsPerEdgeHitPixel = edgeCost[1];
-  model.nsPerMaskPixel = maskCost[0];
-  model.nsPerMaskReachPixel = maskCost[1];
-  model.edgesMasksFixedMs = edgeCost[2] + maskCost[2];
-  // φ_ℓ and η_ℓ: how the stencils fill the edge sample's reach, over every frame and size (a level
-  // no frame reaches keeps the built-in figures)
-  model.stencilFill = counting.stencilFill;
-  model.edgeBandFill = counting.edgeBandFill;
-  fitStencilFill(model, mrrRuns);
-  // s and k, per effect, over the method's frames at every size and both sample counts
-  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) fitSparseFactorAndFixedCost(model, e, mrrRuns);
-  // w: the early estimate of the method's rest (from the edge sample) against the one its
-  // stencils give, relative, over every frame of the method: a uniform of that RMS spans ±√3 RMS.
+}
+
+// The method's stages beside its effect, at one size: the coarse G-buffers, the rule, the blend,
+// the edges and the masks.
+void addMethodStages(CalibrationRuns& runs, Effect e, const Measured& m) {
+  const Constants& mc = m.last.constants;
+  const FrameCounts& mn = m.last.counts;
+  const double frame = static_cast<double>(mc.width) * mc.height;
+  for (const LevelConstants& lc : mc.levels)
+    if (lc.enabled && lc.index > 0)
+      addStageTime(runs.gbufferFit, {static_cast<double>(lc.width) * lc.height}, timedMs(m.ms, Timed::GBuffer, lc.index));
+  addStageTime(runs.ruleFit[static_cast<size_t>(e)], {frame}, timedMs(m.ms, Timed::Rule));
+  addStageTime(runs.blendFit, {frame, finerLevelsArea(mc, mn.shaded)}, timedMs(m.ms, Timed::Blend));
+  const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
+  double reach = 0.0;
+  for (int64_t r : mn.reach) reach += static_cast<double>(r);
+  addStageTime(runs.edgesFit, {padded, static_cast<double>(mn.hitPixels)}, timedMs(m.ms, Timed::Edges));
+  addStageTime(runs.masksFit, {padded, reach}, timedMs(m.ms, Timed::Masking));
+}
+
+// One scene, view and effect: the method (rule off) at the three sizes and the low count, full
+// at both counts (measureFull), into the fits' rows.
+void measureView(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, Effect e, int repeats,
+                 const CostModel& counting) {
+  const float diagonal = sc.scene->bounds().diagonal();
+  const int w = kCalibrationWidth, h = kCalibrationHeight;
+  auto method = [&](int width, int height, int samples) {
+    return measure(sc.render, camera, makeConstants(settingsFor("mrr-norule", e, width, height, samples), diagonal),
+                   repeats, &counting);
+  };
+  const Measured mrr = method(w, h, manySamples(e));
+  const Measured small = method(w / 2, h / 2, manySamples(e));
+  const Measured large = method(2 * w, 2 * h, manySamples(e));
+  measureFull(runs, sc, camera, diagonal, e, repeats, {&small.last.counts, &mrr.last.counts, &large.last.counts});
+  // and at the low sample count: where a pixel's fixed part (a; SSM's blocker search) is most
+  // of its cost, the stencilled pixel's premium differs from the one at the high count (PCF's taps)
+  const Measured few = method(w, h, fewSamples(e));
+  for (const Measured* m : {&mrr, &small, &large, &few})
+    runs.mrrRuns.push_back({e, m->last.constants, m->last.counts, restMs(m->ms)});
+  for (const Measured* m : {&small, &mrr, &large}) addMethodStages(runs, e, *m);
+}
+
+// c and k₀ from the frames nearly all sky (at every size), then a, b (, e, ν) on the rest with
+// those fixed; ρ and d from their stages (d's intercept is full's one level pass, in k₀).
+void fitEffect(CostModel& model, Effect e, const CalibrationRuns& runs) {
+  const auto ei = static_cast<size_t>(e);
+  EffectCost& ec = model.effect[ei];
+  LeastSquares sky;
+  for (const FullRun& r : runs.fullRuns[ei])
+    if (r.onGeometry[0] < kSkyShare * r.pixels) sky.addRelative({r.background, kNsPerMs}, r.ns, r.ns);
+  const std::vector<double> ck = sky.solve();
+  ec.nsPerBackgroundPixel = figure(ck, 0);
+  ec.fullFixedMs = figure(ck, 1);
+  LeastSquares fit;
+  for (const FullRun& r : runs.fullRuns[ei])
+    if (r.onGeometry[0] >= kSkyShare * r.pixels)
+      fit.addRelative(r.onGeometry, r.ns - r.background * ec.nsPerBackgroundPixel - msToNs(ec.fullFixedMs), r.ns);
+  const std::vector<double> ab = fit.solve();
+  ec.nsPerShadedPixel = figure(ab, 0);
+  ec.nsPerSample = figure(ab, 1);
+  ec.nsPerPcfSample = figure(ab, 2);
+  ec.nsPerFootprintTexel = figure(ab, 3);
+  ec.nsPerRulePixel = figure(runs.ruleFit[ei].solve(), 0);  // its intercept stays in the rest, where k takes it
+  const std::vector<double> d = runs.levelFit[ei].solve();
+  ec.nsPerLevelPixel = figure(d, 0);
+  ec.fullFixedMs += figure(d, 1);  // full's one level pass
+}
+
+// g, β₀ (full's blend: its level 0 copied into the result), β and β_f (the method's beyond it),
+// ε, ε_h, μ, μ_A and κ (the edges and the masks per padded pixel and per frame).
+void fitSharedStages(CostModel& model, const CalibrationRuns& runs) {
+  model.nsPerCoarseGbufferPixel = figure(runs.gbufferFit.solve(), 0);
+  const std::vector<double> fullBlend = runs.fullBlendFit.solve(), blend = runs.blendFit.solve();
+  model.nsPerFullBlendPixel = figure(fullBlend, 0);
+  for (EffectCost& ec : model.effect) ec.fullFixedMs += figure(fullBlend, 1);
+  model.nsPerBlendPixel = std::max(0.0, figure(blend, 0) - model.nsPerFullBlendPixel);
+  model.nsPerFineBlendPixel = figure(blend, 1);
+  const std::vector<double> edgeCost = runs.edgesFit.solve(), maskCost = runs.masksFit.solve();
+  model.nsPerEdgePixel = figure(edgeCost, 0);
+  model.nsPerEdgeHitPixel = figure(edgeCost, 1);
+  model.nsPerMaskPixel = figure(maskCost, 0);
+  model.nsPerMaskReachPixel = figure(maskCost, 1);
+  model.edgesMasksFixedMs = figure(edgeCost, 2) + figure(maskCost, 2);
+}
+
+// w: the early estimate of the method's rest (from the edge sample) against the one its stencils
+// give, relative, over every frame of the method: a uniform of that RMS spans ±√3 RMS.
+double estimateSpread(const CostModel& model, const std::vector<CalibrationFrame>& frames) {
   double squares = 0.0;
-  for (const CalibrationFrame& r : mrrRuns) {
+  for (const CalibrationFrame& r : frames) {
     const double late = predictMrrMs(model, r.constants, r.counts);
     const double early = predictMrrMs(model, r.constants, estimateStencils(model, r.constants, r.counts));
     const double off = early / std::max(late, 1e-9) - 1.0;
     squares += off * off;
   }
-  model.estimateSpread = mrrRuns.empty() ? 0.0 : std::sqrt(3.0 * squares / static_cast<double>(mrrRuns.size()));
+  return frames.empty() ? 0.0 : std::sqrt(3.0 * squares / static_cast<double>(frames.size()));
+}
+
+}  // namespace
+
+CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(std::max(threads, 1)));
+  CostModel model;
+  model.source = "mrr bench --calibrate, " + path.name + " (" + path.device + "), builtin:corner, builtin:demo and builtin:bumpy " +
+                 std::to_string(kCalibrationWidth / 2) + "x" + std::to_string(kCalibrationHeight / 2) + " to " +
+                 std::to_string(2 * kCalibrationWidth) + "x" + std::to_string(2 * kCalibrationHeight);
+  // The method's frames count with a model that prices PCF (e > 0), so that SSM's frames sample
+  // where PCF runs (H_p) on both paths, whatever the built-in model says: e is fitted from them.
+  CostModel counting = CostModel::defaults(path.name);
+  counting.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 1.0;
+  CalibrationRuns runs;
+  for (const char* sceneName : {"builtin:corner", "builtin:demo", "builtin:bumpy"}) {
+    const OpenScene sc = openScene(sceneName, path);
+    for (const RuleView& view :
+         ruleViews(*sc.scene, sc.camera, static_cast<float>(kCalibrationWidth) / kCalibrationHeight)) {
+      if (view.name == "default") continue;  // three views are enough to separate H from W·H − H
+      for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+        std::cerr << "[calibrate] " << path.name << " " << sceneName << " " << view.name << " " << toString(e) << "\n";
+        measureView(runs, sc, view.camera, e, repeats, counting);
+      }
+    }
+  }
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) fitEffect(model, e, runs);
+  fitSharedStages(model, runs);
+  // φ_ℓ and η_ℓ: how the stencils fill the edge sample's reach, over every frame and size (a level
+  // no frame reaches keeps the built-in figures)
+  model.stencilFill = counting.stencilFill;
+  model.edgeBandFill = counting.edgeBandFill;
+  fitStencilFill(model, runs.mrrRuns);
+  // s and k, per effect, over the method's frames at every size and both sample counts
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) fitSparseFactorAndFixedCost(model, e, runs.mrrRuns);
+  model.estimateSpread = estimateSpread(model, runs.mrrRuns);
   return model;
 }
 
@@ -408,8 +471,9 @@ struct Verdict {
 Verdict judge(const std::string& decision, double fullMs, double mrrMs, const std::vector<double>& pairRatios) {
   const bool keptMrr = decision == "mrr";
   Verdict v;
-  v.right = keptMrr ? mrrMs <= 1.05 * fullMs : fullMs <= 1.05 * mrrMs;
-  v.wrongBeyondNoise = !v.right && (keptMrr ? quantile(pairRatios, 0.25) > 1.05 : quantile(pairRatios, 0.75) * 1.05 < 1.0);
+  v.right = keptMrr ? mrrMs <= kFasterWithin * fullMs : fullMs <= kFasterWithin * mrrMs;
+  v.wrongBeyondNoise = !v.right && (keptMrr ? quantile(pairRatios, 0.25) > kFasterWithin
+                                            : quantile(pairRatios, 0.75) * kFasterWithin < 1.0);
   return v;
 }
 
@@ -462,8 +526,8 @@ nlohmann::json summarize(const nlohmann::json& frames) {
       {"full_rest", error(field("predicted_full_rest_ms"), field("measured_full_rest_ms"))},
       {"mrr_rest", error(field("predicted_mrr_rest_ms"), field("measured_mrr_rest_ms"))},
       {"mrr_early_estimate", error(field("predicted_mrr_estimate_ms"), [](const nlohmann::json& f) {
-         const nlohmann::json& st = f["mrr_stages_ms"];
-         return f["measured_mrr_rest_ms"].get<double>() + st.value("edges", 0.0) + st.value("masks", 0.0);
+         const auto stages = f["mrr_stages_ms"].get<std::map<std::string, double>>();
+         return f["measured_mrr_rest_ms"].get<double>() + costClassMs(stages, CostClass::Detection);
        })}};
   return summary;
 }
@@ -475,10 +539,10 @@ void printSummary(const nlohmann::json& s, std::ostream& out) {
       s.contains("rule_unmeasured") ? " (" + std::to_string(s["rule_unmeasured"].get<int>()) + " unmeasured)" : "";
   char line[512];
   std::snprintf(line, sizeof line,
-                "| frames | right (faster within 5%%) | wrong beyond noise | kept mrr | fell back | worst mrr/full where kept | "
+                "| frames | right (faster within %.0f%%) | wrong beyond noise | kept mrr | fell back | worst mrr/full where kept | "
                 "worst full/mrr where fallen back | worst with-rule/full |\n|---|---|---|---|---|---|---|---|\n| %zu | %d (%.1f%%) | "
                 "%d | %d | %d | %.3f | %.3f | %.3f%s |\n",
-                frames, right, 100.0 * right / static_cast<double>(std::max<size_t>(frames, 1)),
+                100.0 * (kFasterWithin - 1.0), frames, right, 100.0 * right / static_cast<double>(std::max<size_t>(frames, 1)),
                 s["wrong_beyond_noise"].get<int>(), s["kept_mrr"].get<int>(), s["fell_back"].get<int>(),
                 s["worst_kept_mrr_over_full"].get<double>(), s["worst_fell_back_full_over_mrr"].get<double>(),
                 s["worst_rule_over_full"].get<double>(), unmeasured.c_str());
@@ -587,7 +651,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
   nlohmann::json frames = nlohmann::json::array();
   nlohmann::json models = nlohmann::json::object();  // path → the cost model that decided its frames
-  const size_t framesPerPath = o.scenes.size() * 4 * static_cast<size_t>(o.configsPerView);
+  const size_t framesPerPath = o.scenes.size() * kRuleViewCount * static_cast<size_t>(o.configsPerView);
   const size_t total = paths.size() * framesPerPath;
   size_t done = 0;
   const auto start = std::chrono::steady_clock::now();
@@ -645,7 +709,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           };
           runRounds(o.repeats, true);
           const double nearRatio = frameMs(mrr.ms) / std::max(frameMs(full.ms), 1e-9);
-          const bool nearBreakEven = nearRatio > 0.9 && nearRatio < 1.1;
+          const bool nearBreakEven = nearRatio > kNearBreakEvenLow && nearRatio < kNearBreakEvenHigh;
           if (nearBreakEven) runRounds(o.repeats, false);
           const FrameCounts& n = mrr.last.counts;
           const std::string& decision = rule.decision;

@@ -9,14 +9,22 @@
 //    the rule off, and where the rule falls back also with it on, and counts how often the rule
 //    chose the faster mode, and what it cost where it did not. scripts/rule-chart.py draws it.
 #include <iosfwd>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "common/camera.h"
 #include "common/cost_model.h"
+#include "common/stages.h"
 #include "compare/bench.h"
 
 namespace mrr {
+
+// The time a frame's stages (timing name → ms, as stageMs gives them) spend in stages of class
+// `cost` (common/stages.h, kTimed): what the sweep's frame and rests and the calibration's fits
+// sum. A name the stage list does not know throws MrrError: renamed, a stage would otherwise drop
+// out of its sum and zero a term of the never-slower fits.
+double costClassMs(const std::map<std::string, double>& ms, CostClass cost);
 
 struct RuleView {
   std::string name;  // catalogue, default, sky, close-up
@@ -24,6 +32,7 @@ struct RuleView {
 };
 // The catalogue's camera; the default framing (frameScene); the sky: from the catalogue's eye,
 // 50° above the horizon; a close-up: a quarter of the way from the target to the eye.
+inline constexpr size_t kRuleViewCount = 4;
 std::vector<RuleView> ruleViews(const Scene& scene, const Camera& catalogue, float aspect);
 
 // Fits the model's costs on `path` (SPEC §11's calibration): builtin:corner (a few creases:

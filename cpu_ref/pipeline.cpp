@@ -71,11 +71,10 @@ class OracleFrame final : public FrameBackend {
       lr.raw = lr.sub = ImageF(lc.width, lc.height, c.channels());
       return;
     }
-    const std::string L = ".L" + std::to_string(l);
     switch (c.effect) {
       case Effect::Ssao: {
         OccluderPlanes& planes = planes_[static_cast<size_t>(l)];
-        stage("planes" + L, [&] { occluderPlanes(lr.gbuffer, planes); });
+        stage(timedName(Timed::Planes, l), [&] { occluderPlanes(lr.gbuffer, planes); });
         // Long stages (over ~2·10⁸ samples, seconds on 2 cores) also report their tenths.
         std::function<void(double)> tenths;
         const double work = static_cast<double>(lc.width) * lc.height * c.ssao.samples;
@@ -94,7 +93,7 @@ class OracleFrame final : public FrameBackend {
         break;
       case Effect::Ssgi: {
         ImageF direct;
-        stage("direct" + L, [&] { direct = directLight(lr.gbuffer, f.shadowMap, f.view, scene_.light, c.ssm.biasTexels); });
+        stage(timedName(Timed::Direct, l), [&] { direct = directLight(lr.gbuffer, f.shadowMap, f.view, scene_.light, c.ssm.biasTexels); });
         stage(stageName(Part::Raw, l), [&] { lr.raw = renderSsgi(lr.gbuffer, direct, lr.masks.stencil, f.view, lc, c.ssgi); });
         lr.sub = lr.raw;
         break;

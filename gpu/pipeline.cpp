@@ -27,7 +27,10 @@
 
 namespace mrr::gpu {
 
-bool isPortOnlyStage(const std::string& stage) { return stage == "stencils"; }
+bool isPortOnlyStage(const std::string& stage) {
+  const std::optional<TimedStage> t = findTimed(stage);
+  return t && t->info().on == TimedOn::Port;
+}
 
 GpuTiming parseGpuTiming(const std::string& name) {
   if (name == "auto") return GpuTiming::Auto;
@@ -153,7 +156,7 @@ class PortFrame final : public FrameBackend {
   }
   void useMasks(FrameResult& f, const Masks& masks, const StageFn& stage) override {
     if (!maskTargets_ || !maskTargets_->drawn || f.fallback.fellBack)  // host stencils: to the GPU
-      stage("stencils", [&] { maskTargets_ = uploadMasks(masks, f.constants); });
+      stage(timedName(Timed::Stencils), [&] { maskTargets_ = uploadMasks(masks, f.constants); });
   }
   // The effect with the stencil test; SSAO then gets the bilateral blur.
   void shadeLevel(FrameResult& f, int l, const StageFn& stage) override {
@@ -186,7 +189,7 @@ class PortFrame final : public FrameBackend {
         break;
       case Effect::Ssgi: {
         const Target direct = scene_.target(lc.width, lc.height, 1, false);
-        stage("direct.L" + std::to_string(l), [&] {
+        stage(timedName(Timed::Direct, l), [&] {
           drawDirectLight(scene_, targets, f.shadowMap, shadowMap_->texture(), f.view, source_.light, c.ssm.biasTexels,
                           *direct);
         });

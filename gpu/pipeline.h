@@ -16,8 +16,9 @@
 
 namespace mrr::gpu {
 
-// The stage only the port has, beside the oracle's: `stencils` (host-made stencils of full,
-// uniform-k, tiles or a never-slower fallback, uploaded for the stencil test).
+// Whether a timing name is of a stage only the port has, beside the oracle's (TimedOn::Port in
+// common/stages.h's kTimed): `stencils` (host-made stencils of full, uniform-k, tiles or a
+// never-slower fallback, uploaded for the stencil test).
 bool isPortOnlyStage(const std::string& stage);
 
 // How stages are timed. wall: glFinish + a steady clock around each stage (what llvmpipe needs:

@@ -245,6 +245,9 @@ void writeBadInputs(const std::string& in) {
   json typeDoc = TriangleGltf(kTriangle, {0, 1, 2}).finished(false);
   typeDoc["accessors"][0]["componentType"] = 5125;  // UNSIGNED_INT positions (bytes and shorts are quantized ones)
   writeFile(path("componenttype.gltf"), typeDoc.dump());
+  json quantizedDoc = TriangleGltf(kTriangle, {0, 1, 2}).finished(false);
+  quantizedDoc["accessors"][0]["componentType"] = 5121;  // UNSIGNED_BYTE positions, KHR_mesh_quantization undeclared
+  writeFile(path("quantized.gltf"), quantizedDoc.dump());
   json extensionDoc = TriangleGltf(kTriangle, {0, 1, 2}).finished(false);
   extensionDoc["extensionsRequired"] = {"EXT_foo_bar"};
   writeFile(path("extension.gltf"), extensionDoc.dump());
@@ -852,6 +855,8 @@ const std::vector<BadCase> kBadCases = {
     {"BadBufferUri", renderArgs("{in}/baduri.gltf"), "buffer 0: file no-such-buffer.bin not found (expected at {in}/no-such-buffer.bin)"},
     {"BufferShorterThanAccessor", renderArgs("{in}/shortbuffer.gltf"), "shortbuffer.gltf"},
     {"WrongComponentType", renderArgs("{in}/componenttype.gltf"), "componenttype.gltf"},
+    {"QuantizedWithoutExtension", renderArgs("{in}/quantized.gltf"),
+     "mesh 'tri' primitive 0 POSITION accessor 0 has componentType UNSIGNED_BYTE, which needs KHR_mesh_quantization"},
     {"UnknownRequiredExtension", renderArgs("{in}/extension.gltf"), "requires glTF extension EXT_foo_bar, which mrr does not read"},
     {"CorruptMeshopt", renderArgs("{in}/meshopt.gltf"), "EXT_meshopt_compression): the ATTRIBUTES data is corrupt"},
     {"CorruptDraco", renderArgs("{in}/draco.glb"), "(KHR_draco_mesh_compression): the data is corrupt"},

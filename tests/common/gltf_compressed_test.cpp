@@ -383,6 +383,52 @@ TEST(GltfCompressedTest, QuantizedPositionsAndNormalsLoadThroughTheNodeTransform
   }
 }
 
+// Integer attributes in a file that does not declare KHR_mesh_quantization: one clear error naming
+// the primitive, the attribute, its accessor, its type and the extension (read, they would be
+// garbage geometry rendered with exit status 0). Declared, the same file loads.
+TEST(GltfCompressedTest, QuantizedAttributesWithoutTheExtensionAreAnError) {
+  const std::string dir = test::scratchDir();
+  for (const auto& [componentType, name] : {std::pair{kByte, "BYTE"}, std::pair{kUnsignedByte, "UNSIGNED_BYTE"},
+                                            std::pair{kShort, "SHORT"}, std::pair{kUnsignedShort, "UNSIGNED_SHORT"}})
+    for (bool normalized : {false, true}) {
+      SCOPED_TRACE(std::string(name) + (normalized ? " normalized" : ""));
+      const size_t size = componentType == kShort || componentType == kUnsignedShort ? 2 : 1;
+      std::vector<uint8_t> bytes(3 * 8, 0);  // (0,0,0), (1,0,0), (0,1,0), 8 bytes apart (little-endian)
+      bytes[8] = bytes[16 + size] = 1;
+      GltfBuilder b;
+      b.doc["accessors"].push_back({{"bufferView", b.addView(bytes.data(), bytes.size(), 8)},
+                                    {"componentType", componentType},
+                                    {"normalized", normalized},
+                                    {"type", "VEC3"},
+                                    {"count", 3}});
+      b.addMesh("q", {json{{"attributes", {{"POSITION", 0}}}}});
+      b.setRoots({b.addNode({{"mesh", 0}})});
+      expectLoadError(b.writeGltf(dir, "undeclared.gltf"),
+                      "mesh 'q' primitive 0 POSITION accessor 0 has componentType " + std::string(name) +
+                          (normalized ? " (normalized)" : "") + ", which needs KHR_mesh_quantization (not declared");
+      b.doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+      EXPECT_EQ(loadGltf(b.writeGltf(dir, "declared.gltf")).meshes.size(), 1u);
+    }
+  // A BYTE normal beside float positions: the normal is named.
+  GltfBuilder b;
+  const std::vector<int8_t> normals = {0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127, 0};
+  const json p = b.primitive(kTriangle, kUpNormals, {0, 1, 2});
+  b.doc["accessors"].push_back({{"bufferView", b.addView(normals.data(), normals.size(), 4)},
+                                {"componentType", kByte},
+                                {"normalized", true},
+                                {"type", "VEC3"},
+                                {"count", 3}});
+  json q = p;
+  q["attributes"]["NORMAL"] = b.doc["accessors"].size() - 1;
+  b.addMesh("n", {q});
+  b.setRoots({b.addNode({{"mesh", 0}})});
+  expectLoadError(b.writeGltf(dir, "normals.gltf"),
+                  "NORMAL accessor " + std::to_string(b.doc["accessors"].size() - 1) +
+                      " has componentType BYTE (normalized), which needs KHR_mesh_quantization");
+  b.doc["extensionsRequired"] = {"KHR_mesh_quantization"};  // declared as required alone: enough
+  EXPECT_EQ(loadGltf(b.writeGltf(dir, "normals-declared.gltf")).meshes.size(), 1u);
+}
+
 // ---- sparse accessors ----------------------------------------------------------------------------
 
 TEST(GltfCompressedTest, SparseAccessorsSubstituteTheirValues) {

@@ -98,6 +98,23 @@ TEST(GltfCutout, AnImageInsideTheGlbAndQuantizedTexcoordsRead) {
   EXPECT_EQ(s.meshes.at(0).texcoords.at(0), glm::vec2(0, 1));  // 65535 normalized is exactly 1
 }
 
+// glTF 2.0 itself allows normalized UNSIGNED_BYTE and UNSIGNED_SHORT texture coordinates: they
+// need no KHR_mesh_quantization. Not normalized, they do, and the loader says so.
+TEST(GltfCutout, NormalizedUnsignedTexcoordsNeedNoExtensionOthersDo) {
+  const std::string dir = test::scratchDir();
+  writePng(dir + "/cut.png");
+  GltfBuilder b = cutoutQuad(maskMaterial(), /*quantizedTexcoords=*/true);
+  b.doc.erase("extensionsUsed");
+  b.push("images", {{"uri", "cut.png"}});
+  const Scene s = loadGltf(b.writeGltf(dir, "core.gltf"));
+  EXPECT_EQ(s.meshes.at(0).texcoords.at(0), glm::vec2(0, 1));
+  const int accessor = b.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"];
+  b.doc["accessors"][static_cast<size_t>(accessor)]["normalized"] = false;
+  expectLoadError(b.writeGltf(dir, "unnormalized.gltf"),
+                  "TEXCOORD_0 accessor " + std::to_string(accessor) +
+                      " has componentType UNSIGNED_SHORT, which needs KHR_mesh_quantization");
+}
+
 TEST(GltfCutout, AMaskWithoutTextureIsAllOrNothing) {
   const std::string dir = test::scratchDir();
   GltfBuilder b;

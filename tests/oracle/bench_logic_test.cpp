@@ -4,9 +4,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "common/error.h"
+#include "common/stages.h"
 #include "compare/bench_report.h"
+#include "compare/rule.h"
+#include "render_helpers.h"
 #include "scenes/cameras.h"
 
 namespace mrr {
@@ -144,6 +148,67 @@ TEST(CameraPaths, StartAndEndAtTheSceneCameraAndMoveSmoothly) {
     EXPECT_LT(largest, 4.0f * total / 59.0f) << kind << " has no jump";
   }
   EXPECT_THROW(cameraPath(base, "spin", 60), MrrError);
+}
+
+// Every timing name a real oracle frame records is a row of the stage list (common/stages.h
+// kTimed), of the oracle's or both paths': every effect, every mode, the rule on (kept, and
+// fallen back early with a model that prices the method dear) and off. The rule sweep's sums
+// then hold every stage, and their classes add up to the stages' sum.
+TEST(TimedStages, EveryNameAnOracleFrameRecordsIsInTheStageList) {
+  CostModel dear = CostModel::defaults("cpu");
+  for (EffectCost& ec : dear.effect) ec.fixedMs = 1e6;  // the method can never pay: it falls back early
+  SceneRequest req;
+  req.scene = "builtin:shadows";
+  const ResolvedScene rs = resolveScene(req);
+  const Renderer renderer(rs.scene);
+  std::set<std::string> seen;
+  for (Effect effect : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
+    for (Mode mode : kAllModes)
+      for (int variant = 0; variant < (mode == Mode::Mrr ? 3 : 1); ++variant) {
+        Settings s = defaultSettings(effect);
+        s.width = 48;
+        s.height = 32;
+        s.mode = mode;
+        s.setSamples(effect == Effect::Ssm ? 16 : 4);
+        s.ssm.shadowMapSize = 128;
+        s.neverSlower = variant > 0;
+        RenderOptions options{false, {}, variant == 2 ? &dear : nullptr, true};
+        const FrameResult f = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()), options);
+        const std::string what = toString(effect) + " " + toString(mode) + " variant " + std::to_string(variant);
+        if (variant == 2) EXPECT_TRUE(f.fallback.fellBack) << what;
+        double sum = 0.0;
+        for (const StageTiming& t : f.timings) {
+          const std::optional<TimedStage> stage = findTimed(t.stage);
+          ASSERT_TRUE(stage.has_value()) << what << ": " << t.stage << " is not in common/stages.h's kTimed";
+          EXPECT_NE(stage->info().on, TimedOn::Port) << what << ": " << t.stage;
+          if (stage->timed != Timed::Total) sum += t.ms;
+          seen.insert(std::string(stage->info().name));
+        }
+        ASSERT_FALSE(f.timings.empty());
+        EXPECT_EQ(f.timings.back().stage, timedName(Timed::Total)) << what;
+        const std::map<std::string, double> ms = stageMs(f);
+        double classes = 0.0;
+        for (CostClass c : {CostClass::Shared, CostClass::Detection, CostClass::Viewing, CostClass::Shading,
+                            CostClass::LevelPixel, CostClass::Rest})
+          classes += costClassMs(ms, c);
+        EXPECT_NEAR(classes, sum, 1e-9 * std::max(sum, 1.0)) << what;
+        EXPECT_EQ(costClassMs(ms, CostClass::Total), f.timing(timedName(Timed::Total))) << what;
+      }
+  // and the oracle's frames time every stage of the list but the port's own
+  for (const TimedInfo& t : kTimed)
+    EXPECT_EQ(seen.count(std::string(t.name)), t.on == TimedOn::Port ? 0u : 1u) << t.name;
+}
+
+// The rule sweep counts its frames per path as scenes × kRuleViewCount × configurations per view.
+TEST(RuleViews, AreTheCountTheSweepPlansFor) {
+  SceneRequest req;
+  req.scene = "builtin:demo";
+  const ResolvedScene rs = resolveScene(req);
+  const std::vector<RuleView> views = ruleViews(rs.scene, rs.camera, 16.0f / 9.0f);
+  ASSERT_EQ(views.size(), kRuleViewCount);
+  std::set<std::string> names;
+  for (const RuleView& v : views) names.insert(v.name);
+  EXPECT_EQ(names, (std::set<std::string>{"catalogue", "default", "sky", "close-up"}));
 }
 
 }  // namespace

@@ -64,7 +64,7 @@ void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--rule-replay", c.ruleReplayIn,
                "re-decide every frame of a --rule-sweep JSON with this build's built-in cost models, from the counts "
                "it recorded, and judge them by the times it measured (renders nothing)");
-  b.add_option("--cost-model", c.ruleCostModelFile,
+  b.add_option(optionName(Param::CostModel), c.ruleCostModelFile,
                "with --rule-sweep or --rule-replay: the rule's costs, a JSON written by --calibrate ({path} is "
                "replaced by cpu or gpu; default: built in)");
   b.add_flag("--quick", c.quick,
@@ -149,7 +149,7 @@ void checkOutputs(const BenchCommand& c) {
   }
   requireDistinct({{"--json", o.jsonOut}, {"--markdown", o.markdownOut}, {"--csv", o.csvOut}});
   require(c.ruleCostModelFile.empty() || !c.ruleSweepOut.empty() || !c.ruleReplayIn.empty(),
-          "--cost-model: only with --rule-sweep or --rule-replay (the bench's methods run with the built-in rule)");
+          optionName(Param::CostModel) + ": only with --rule-sweep or --rule-replay (the bench's methods run with the built-in rule)");
 }
 
 int calibrate(const BenchCommand& c, const std::vector<BenchPath>& paths, int threads) {

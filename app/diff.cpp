@@ -12,7 +12,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
-#include "common/metrics.h"
+#include "compare/metrics.h"
 #include "compare/flip.h"
 
 namespace mrr {
@@ -149,7 +149,7 @@ int runDiff(const DiffOptions& o) {
         {"ssim", ssimValue},
         {"max_abs", maxAbs},
         {"flip",
-         {{"mean", f.stats.mean}, {"median", f.stats.median}, {"q1", f.stats.q1}, {"q3", f.stats.q3}, {"max", f.stats.max}}}};
+         nlohmann::json(f.stats)}};
     writeTextFile(o.jsonOut, j.dump(2) + "\n");
   }
   if (!o.mapOut.empty()) {

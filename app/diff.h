@@ -1,6 +1,6 @@
 #pragma once
 // `mrr diff REF TEST` (issue 36): any two images, PNG or EXR, compared as a viewer sees them:
-// RMS, PSNR, SSIM, max |Δ| (common/metrics.h) and LDR-FLIP (compare/flip.h), printed and
+// RMS, PSNR, SSIM, max |Δ| (compare/metrics.h) and LDR-FLIP (compare/flip.h), printed and
 // optionally written as JSON and as a FLIP map. docs/diff.md shows it.
 #include <CLI/CLI.hpp>
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "scenes/builtin.h"
 #include "common/error.h"
 #include "common/frame_params.h"
 #include "frontend/options.h"
@@ -50,6 +51,7 @@ nlohmann::json sceneInfo(const SceneRequest& request) {
   nlohmann::json j;
   j["scene"] = s.name;
   j["credit"] = s.credit;
+  if (request.scene.rfind("builtin:", 0) == 0) j["description"] = builtinSceneDescription(request.scene.substr(8));
   j["triangles"] = s.triangleCount();
   j["meshes"] = s.meshes.size();
   j["bounds"] = {{"lo", vec3(b.lo)}, {"hi", vec3(b.hi)}, {"diagonal", b.diagonal()}};
@@ -86,6 +88,7 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
   const auto& hi = j["bounds"]["hi"];
   out << "scene       " << j["scene"].get<std::string>() << "\n";
   if (!j["credit"].get<std::string>().empty()) out << "credit      " << j["credit"].get<std::string>() << "\n";
+  if (j.contains("description")) out << "what        " << j["description"].get<std::string>() << "\n";
   out << "geometry    " << j["triangles"] << " triangles in " << j["meshes"] << " meshes\n"
       << "bounds      " << triple(lo) << " to " << triple(hi) << "  (diagonal " << j["bounds"]["diagonal"].get<double>()
       << ")\n";

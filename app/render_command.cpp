@@ -11,6 +11,7 @@
 #include "common/image_io.h"
 #include "common/memory.h"
 #include "common/pixel_memory.h"
+#include "common/stages.h"
 #include "compare/against.h"
 #include "compare/probe_both.h"
 #include "compare/report.h"
@@ -89,7 +90,7 @@ void checkRenderOutputs(const RenderCommand& c) {
 
 void printRenderSummary(const FrameResult& frame, const Constants& constants, const std::optional<FrameErrors>& err) {
   std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
-            << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing("total")
+            << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing(timedName(Timed::Total))
             << " ms\n";
   if (frame.fallback.fellBack)
     std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMrrMs << " ms mrr"

@@ -345,7 +345,7 @@ std::string shaderContractMarkdown() {
     std::string parts;
     for (const PartInfo& p : kParts)
       if (std::string_view(p.shader).find(c.file) != std::string_view::npos)
-        parts += (parts.empty() ? "" : ", ") + ("`" + std::string(p.name) + "`");
+        parts.append(parts.empty() ? "" : ", ").append("`").append(p.name).append("`");
     if (!parts.empty()) md += "- makes: " + parts + "\n";
     md += "- defines: " + (c.defines.empty() ? std::string("none") : std::string(c.defines)) + "\n";
     md += "- the oracle: " + std::string(c.oracle) + "\n\n";

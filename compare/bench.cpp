@@ -18,7 +18,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
-#include "common/process.h"
+#include "compare/process.h"
 #include "common/stages.h"
 #include "compare/bench_report.h"
 #include "compare/report.h"

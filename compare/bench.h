@@ -19,7 +19,9 @@
 #include <nlohmann/json.hpp>
 
 #include "common/cost_model.h"
-#include "cpu_ref/pipeline.h"
+#include "common/camera.h"
+#include "common/frame.h"
+#include "common/scene.h"
 
 namespace mrr {
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/metrics.h"
+#include "compare/metrics.h"
 #include "compare/bench.h"
 
 namespace mrr {

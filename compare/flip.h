@@ -11,6 +11,8 @@
 // Every filter is separable and runs row by row through parallelFor (common/parallel.h);
 // each pixel's arithmetic does not depend on which thread ran it and the statistics reduce
 // in a fixed order, so the map and the figures are identical for any thread count.
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <numbers>
 
@@ -47,6 +49,8 @@ struct FlipStats {
   double q3 = 0.0;
   double max = 0.0;
 };
+// As JSON: {"mean", "median", "q1", "q3", "max"} (`mrr diff --json`, the reports' "flip").
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FlipStats, mean, median, q1, q3, max)
 
 struct FlipResult {
   ImageF errorMap;  // one channel, [0,1]

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "compare/parity.h"
-#include "cpu_ref/pipeline.h"
+#include "common/frame.h"
 
 namespace mrr {
 

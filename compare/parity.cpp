@@ -1,5 +1,7 @@
 #include "compare/parity.h"
 
+#include "cpu_ref/pipeline.h"  // the oracle's stages, run on the port's inputs
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

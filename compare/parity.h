@@ -14,11 +14,10 @@
 #include <string>
 #include <utility>
 #include <vector>
-#include <vector>
 
 #include "common/scene.h"
 #include "common/tolerance.h"
-#include "cpu_ref/pipeline.h"
+#include "common/frame.h"
 
 namespace mrr {
 

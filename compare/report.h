@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "common/image_io.h"
-#include "common/metrics.h"
+#include "compare/metrics.h"
 #include "compare/flip.h"
-#include "cpu_ref/pipeline.h"
+#include "common/frame.h"
 
 namespace mrr {
 
@@ -37,7 +37,6 @@ struct FrameErrors {
 };
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference);
 // {"mean", "median", "q1", "q3", "max"}: how every report writes FLIP's figures.
-nlohmann::json flipJson(const FlipStats& s);
 
 nlohmann::json makeReport(const FrameResult& frame, const RunInfo& info, const std::optional<FrameErrors>& errors);
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "common/process.h"
+#include "compare/process.h"
 #include "compare/report_files.h"
 
 namespace mrr {

@@ -112,33 +112,96 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
   return names;
 }
 
+namespace {
+
+// A 0/1 image, white and black.
+void binaryLayer(const ImageU8& img, const std::string& caption, LayerImage& out) {
+  out.kind = LayerKind::Binary;
+  out.values = fromBytes(img);
+  out.channels = {"value"};
+  out.caption = caption + ": 1 white, 0 black";
+}
+
+// |frame - full resolution|, max over channels, scaled by `gain` on the ramp.
+LayerImage differenceLayer(const FrameResult& f, const FrameResult& reference, float gain) {
+  LayerImage out;
+  out.name = "difference";
+  const ImageF& a = f.final();
+  const ImageF& b = reference.final();
+  require(a.width == b.width && a.height == b.height && a.channels == b.channels,
+          "difference: the frame and the full-resolution frame differ in size");
+  out.values = ImageF(a.width, a.height, 1, 0.0f);
+  const size_t ch = static_cast<size_t>(a.channels);
+  for (size_t p = 0; p < out.values.data.size(); ++p) {
+    float d = 0.0f;
+    for (size_t k = 0; k < ch; ++k) d = std::max(d, std::fabs(a.data[p * ch + k] - b.data[p * ch + k]));
+    out.values.data[p] = d;
+  }
+  out.channels = {"abs_diff"};
+  out.kind = LayerKind::Scalar;
+  out.lo = 0.0f;
+  out.hi = 1.0f / std::max(gain, 1e-6f);
+  char text[160];
+  std::snprintf(text, sizeof text, "|this frame - full resolution| x %g on the ramp (full scale = %g)", gain, out.hi);
+  out.caption = text;
+  out.what = "the difference from the full-resolution frame (mode full, same samples)";
+  return out;
+}
+
+// One channel of a level's G-buffer: hit, depth, normal, albedo or position.
+void gbufferLayer(const GBuffer& g, const std::string& channel, const std::string& name, LayerImage& out) {
+  if (channel == "hit") {
+    binaryLayer(g.hit, "hit (geometry)", out);
+  } else if (channel == "depth") {
+    out.kind = LayerKind::Scalar;
+    out.values = maskedByHit(g.depth, g.hit);
+    out.channels = {"z"};
+    finiteRange(out.values, out.lo, out.hi);
+    out.caption = "linear view depth z on the ramp, near to far; background grey";
+  } else if (channel == "normal" || channel == "albedo" || channel == "position") {
+    out.kind = LayerKind::Colour;
+    out.values = maskedByHit(channel == "normal" ? g.normal : channel == "albedo" ? g.albedo : g.position, g.hit);
+    out.channels = {"x", "y", "z"};
+    if (channel == "albedo") out.channels = {"R", "G", "B"};
+    if (channel == "position") {
+      out.lo = 0.0f;
+      out.hi = 1.0f;
+      for (const float v : out.values.data)
+        if (std::isfinite(v)) out.hi = std::max(out.hi, std::fabs(v));
+    }
+    out.caption = channel == "normal"   ? "view-space normal as 0.5 + 0.5 n (RGB); background grey"
+                  : channel == "albedo" ? "base colour (linear RGB); background grey"
+                                        : "view-space position as 0.5 + 0.5 P / max|P| (RGB); background grey";
+  } else {
+    throw MrrError("no layer " + name);
+  }
+}
+
+// The light's shadow map, every factor-th texel so that it is shown at most kShadowMapShown wide.
+void shadowMapLayer(const ShadowMap& m, LayerImage& out) {
+  const int factor = std::max(1, (m.depth.width + kShadowMapShown - 1) / kShadowMapShown);
+  out.values = ImageF((m.depth.width + factor - 1) / factor, (m.depth.height + factor - 1) / factor, 1, 0.0f);
+  for (int y = 0; y < out.values.height; ++y)
+    for (int x = 0; x < out.values.width; ++x) {
+      const float d = m.depth.at(x * factor, y * factor);
+      out.values.at(x, y) = d == ShadowMap::kNoBlocker || !std::isfinite(d) ? kNaN : d;
+    }
+  out.kind = LayerKind::Scalar;
+  out.scale = 0;  // the light's grid, not the screen's
+  out.channels = {"distance"};
+  finiteRange(out.values, out.lo, out.hi);
+  out.caption = "distance from the light plane on the ramp; no blocker grey" +
+                (factor > 1 ? "; shown every " + std::to_string(factor) + "th texel" : std::string());
+}
+
+}  // namespace
+
 LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameResult* reference, float gain) {
   const std::vector<std::string> layers = layerNames(f, reference != nullptr);
   require(std::find(layers.begin(), layers.end(), name) != layers.end(), "no layer " + name + " in this frame");
   LayerImage out;
   out.name = name;
-  if (name == "difference") {
-    const ImageF& a = f.final();
-    const ImageF& b = reference->final();
-    require(a.width == b.width && a.height == b.height && a.channels == b.channels,
-            "difference: the frame and the full-resolution frame differ in size");
-    out.values = ImageF(a.width, a.height, 1, 0.0f);
-    const size_t ch = static_cast<size_t>(a.channels);
-    for (size_t p = 0; p < out.values.data.size(); ++p) {
-      float d = 0.0f;
-      for (size_t k = 0; k < ch; ++k) d = std::max(d, std::fabs(a.data[p * ch + k] - b.data[p * ch + k]));
-      out.values.data[p] = d;
-    }
-    out.channels = {"abs_diff"};
-    out.kind = LayerKind::Scalar;
-    out.lo = 0.0f;
-    out.hi = 1.0f / std::max(gain, 1e-6f);
-    char text[160];
-    std::snprintf(text, sizeof text, "|this frame - full resolution| x %g on the ramp (full scale = %g)", gain, out.hi);
-    out.caption = text;
-    out.what = "the difference from the full-resolution frame (mode full, same samples)";
-    return out;
-  }
+  if (name == "difference") return differenceLayer(f, *reference, gain);
   Part part{};
   require(partOf(name, part), "no layer " + name);
   const std::vector<std::string> tokens = split(name, '.');
@@ -155,12 +218,7 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
   out.what = std::string(partInfo(part).what);
   const size_t li = static_cast<size_t>(std::max(level, 0));
   const LevelResult& lr = f.levels[li];
-  const auto binary = [&](const ImageU8& img, const std::string& caption) {
-    out.kind = LayerKind::Binary;
-    out.values = fromBytes(img);
-    out.channels = {"value"};
-    out.caption = caption + ": 1 white, 0 black";
-  };
+  const auto binary = [&](const ImageU8& img, const std::string& caption) { binaryLayer(img, caption, out); };
   const auto effect = [&](const ImageF& img, const std::string& caption) {
     out.kind = LayerKind::Effect;
     out.values = img;
@@ -168,53 +226,8 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
     out.caption = caption + (img.channels == 3 ? " (RGB)" : "") + ", clamped to [0, 1]: 0 black, 1 white";
   };
   switch (part) {
-    case Part::GBuffer: {
-      const GBuffer& g = lr.gbuffer;
-      const std::string channel = tokens.size() == 3 ? tokens[2] : "";
-      if (channel == "hit") {
-        binary(g.hit, "hit (geometry)");
-      } else if (channel == "depth") {
-        out.kind = LayerKind::Scalar;
-        out.values = maskedByHit(g.depth, g.hit);
-        out.channels = {"z"};
-        finiteRange(out.values, out.lo, out.hi);
-        out.caption = "linear view depth z on the ramp, near to far; background grey";
-      } else if (channel == "normal" || channel == "albedo" || channel == "position") {
-        out.kind = LayerKind::Colour;
-        out.values = maskedByHit(channel == "normal" ? g.normal : channel == "albedo" ? g.albedo : g.position, g.hit);
-        out.channels = {"x", "y", "z"};
-        if (channel == "albedo") out.channels = {"R", "G", "B"};
-        if (channel == "position") {
-          out.lo = 0.0f;
-          out.hi = 1.0f;
-          for (const float v : out.values.data)
-            if (std::isfinite(v)) out.hi = std::max(out.hi, std::fabs(v));
-        }
-        out.caption = channel == "normal"   ? "view-space normal as 0.5 + 0.5 n (RGB); background grey"
-                      : channel == "albedo" ? "base colour (linear RGB); background grey"
-                                            : "view-space position as 0.5 + 0.5 P / max|P| (RGB); background grey";
-      } else {
-        throw MrrError("no layer " + name);
-      }
-      break;
-    }
-    case Part::ShadowMap: {
-      const ShadowMap& m = f.shadowMap;
-      const int factor = std::max(1, (m.depth.width + kShadowMapShown - 1) / kShadowMapShown);
-      out.values = ImageF((m.depth.width + factor - 1) / factor, (m.depth.height + factor - 1) / factor, 1, 0.0f);
-      for (int y = 0; y < out.values.height; ++y)
-        for (int x = 0; x < out.values.width; ++x) {
-          const float d = m.depth.at(x * factor, y * factor);
-          out.values.at(x, y) = d == ShadowMap::kNoBlocker || !std::isfinite(d) ? kNaN : d;
-        }
-      out.kind = LayerKind::Scalar;
-      out.scale = 0;  // the light's grid, not the screen's
-      out.channels = {"distance"};
-      finiteRange(out.values, out.lo, out.hi);
-      out.caption = "distance from the light plane on the ramp; no blocker grey" +
-                    (factor > 1 ? "; shown every " + std::to_string(factor) + "th texel" : std::string());
-      break;
-    }
+    case Part::GBuffer: gbufferLayer(lr.gbuffer, tokens.size() == 3 ? tokens[2] : "", name, out); break;
+    case Part::ShadowMap: shadowMapLayer(f.shadowMap, out); break;
     case Part::ShadowTest: binary(f.shadowLit, "the one-tap shadow test (1 = lit)"); break;
     case Part::Edges: {
       const std::string kind = tokens.size() == 2 ? tokens[1] : "E";

@@ -446,7 +446,7 @@ class Explorer {
     info.memoryEstimateBytes = estimateFrameBytes(constants, true);
     info.peakResidentBytes = peakResidentBytes();
     out->report = makeReport(out->frame, info, errorVsFull(out->frame, reference->frame));
-    const double frameMs = out->frame.timing("total"), fullMs = reference->frame.timing("total");
+    const double frameMs = out->frame.timing(timedName(Timed::Total)), fullMs = reference->frame.timing(timedName(Timed::Total));
     out->wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     out->report["explore"] = {
         {"full_ms", fullMs},

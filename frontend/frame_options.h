@@ -55,7 +55,7 @@ struct FrameOptions {
   // Comparisons pass the oracle's for both paths, so both take the same decision.
   CostModel costModel(const std::string& forPath) const;
   SceneRequest sceneRequest() const;
-  // The frame as a frame file (app/frame_file.h): the camera and light as resolved, so that
+  // The frame as a frame file (frontend/frame_file.h): the camera and light as resolved, so that
   // reading it back renders the same bits; the parameters as the settings hold them.
   nlohmann::json frame(const ResolvedScene& rs, const Settings& s) const;
   void checkPath(bool bothAllowed = false) const;

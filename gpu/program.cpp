@@ -91,7 +91,6 @@ ShaderDirectory loadShaderDirectory(const std::string& dir) {
   return result;
 }
 
-void clearShaderDirectory() { overrides() = {}; }
 
 std::string locateShaderError(const std::string& log, const std::vector<std::string>& sourceFiles) {
   static const std::regex mesa(R"(^\s*(\d+):(\d+)\(\d+\): error: (.*)$)");

@@ -28,7 +28,6 @@ struct ShaderDirectory {
   std::vector<std::string> loaded, unknown;
 };
 ShaderDirectory loadShaderDirectory(const std::string& dir);
-void clearShaderDirectory();
 bool shaderOverridden(const std::string& name);
 // Where a shader comes from, for messages: "DIR/ssao.frag" or "gpu/shaders/ssao.frag".
 std::string shaderPath(const std::string& name);

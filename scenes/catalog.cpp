@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "common/error.h"
-#include "common/gltf_loader.h"
+#include "scenes/gltf_loader.h"
 #include "common/paths.h"
 #include "scenes/builtin.h"
 

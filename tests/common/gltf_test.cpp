@@ -1,6 +1,6 @@
 // Tests of the glTF loader. Small files are generated at test time (.gltf with an embedded
 // base64 buffer, or a .glb assembled by hand); the three shared scenes are loaded when present.
-#include "common/gltf_loader.h"
+#include "scenes/gltf_loader.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "common/metrics.h"
+#include "compare/metrics.h"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

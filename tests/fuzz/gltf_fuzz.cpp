@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "common/gltf_loader.h"
+#include "scenes/gltf_loader.h"
 #include "common/scene.h"
 
 namespace {

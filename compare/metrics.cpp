@@ -1,4 +1,4 @@
-#include "common/metrics.h"
+#include "compare/metrics.h"
 
 #include <tbb/blocked_range.h>
 #include "common/parallel.h"

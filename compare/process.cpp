@@ -1,4 +1,4 @@
-#include "common/process.h"
+#include "compare/process.h"
 
 #include <fcntl.h>
 #include <spawn.h>

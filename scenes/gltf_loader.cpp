@@ -1,4 +1,4 @@
-#include "common/gltf_loader.h"
+#include "scenes/gltf_loader.h"
 
 #include <draco/compression/decode.h>
 #include <meshoptimizer.h>

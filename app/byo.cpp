@@ -18,7 +18,7 @@ void addShadersOption(CLI::App& command, std::string& dir) {
                      "built-in shader of the same name; the built-ins serve the rest (docs/shader-contract.md)");
 }
 
-void useShaderDirectory(const std::string& dir) {
+void useShaderDirectory(const std::string& dir, bool quiet) {
   if (dir.empty()) return;
   const gpu::ShaderDirectory d = gpu::loadShaderDirectory(dir);
   if (!d.unknown.empty()) {
@@ -30,6 +30,7 @@ void useShaderDirectory(const std::string& dir) {
   }
   std::string loaded;
   for (const std::string& n : d.loaded) loaded += (loaded.empty() ? "" : ", ") + n;
+  if (quiet) return;
   if (d.loaded.empty())
     std::cerr << "[mrr] shaders: " << dir << " holds none of mrr's shader files; every shader is built in\n";
   else

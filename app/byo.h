@@ -12,8 +12,9 @@ void addShadersOption(CLI::App& command, std::string& dir);
 
 // Loads DIR's shaders in place of the built-ins (gpu::loadShaderDirectory) and says once on
 // stderr which files came from DIR; a file that is no shader of mrr gets a warning listing
-// those that are. A missing DIR: MrrError. Nothing when `dir` is empty.
-void useShaderDirectory(const std::string& dir);
+// those that are. A missing DIR: MrrError. Nothing when `dir` is empty. `quiet` (-q) drops the
+// line saying which files came from DIR; warnings still print.
+void useShaderDirectory(const std::string& dir, bool quiet = false);
 
 struct ForeignStages;
 

@@ -169,7 +169,7 @@ int run(int argc, char** argv) {
                       ((*render.command || *probe.command) && f.path != "cpu");
     require(port, "--shaders " + shaderDir + ": the shaders are the port's; run it with --path gpu" +
                       (*bench.command ? std::string(" (bench: --paths gpu)") : *probe.command ? " or both" : ""));
-    useShaderDirectory(shaderDir);
+    useShaderDirectory(shaderDir, !*bench.command && f.quiet);
   }
   if (*bench.command) return runBenchCommand(bench);
   if (*compare.command) return runCompareCommand(compare);

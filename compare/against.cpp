@@ -204,6 +204,7 @@ ForeignStages readForeignStages(const std::string& path, const FrameResult& orac
 ParityResult compareForeign(const FrameResult& oracle, const ForeignStages& foreign, const DirectionalLight& light) {
   const ParityResult all = compareFrames(oracle, foreign.frame, light);
   ParityResult result;
+  result.effect = all.effect;
   const Constants& c = oracle.constants;
   for (StageRow row : all.rows) {
     Part part;

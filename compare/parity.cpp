@@ -35,20 +35,23 @@ DiffFigures diffImages(const ImageF& a, const ImageF& b, double threshold, const
   double sum2 = 0.0;
   int64_t over = 0;
   f.deltaMap = ImageF(a.width, a.height, 1, 0.0f);
+  // Every figure (pixels, max|Δ|, over, RMS) is over the same pixels: those compared outside
+  // the guard band. The band's pixels are counted apart (f.band, f.overInBand).
   for (size_t p = 0; p < a.pixelCount(); ++p) {
     if (include && !include(p)) continue;
-    ++f.pixels;
-    double worst = 0.0;
+    double worst = 0.0, pixelSum2 = 0.0;
     for (size_t c = 0; c < ch; ++c) {
       const double d = std::fabs(static_cast<double>(a.data[p * ch + c]) - static_cast<double>(b.data[p * ch + c]));
       worst = std::max(worst, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
-      sum2 += d * d;
+      pixelSum2 += d * d;
     }
     f.deltaMap.data[p] = static_cast<float>(worst);
     if (band && (*band)[p]) {
       f.overInBand += worst > threshold;
       continue;
     }
+    ++f.pixels;
+    sum2 += pixelSum2;
     over += worst > threshold;
     if (worst > f.maxAbs || f.worstX < 0) {
       if (worst > f.maxAbs) f.maxAbs = worst;
@@ -143,6 +146,34 @@ std::pair<int, int> StageRow::worstPixel() const {
 }
 
 bool ParityResult::pass() const { return firstFailing().empty(); }
+
+std::string ParityResult::shaderOf(const std::string& stage) const {
+  Part part;
+  if (!partOf(stage, part)) return "";
+  const std::string_view shaders = partInfo(part).shader;
+  if (shaders.find(' ') == std::string_view::npos) return std::string(shaders);
+  // One file per effect ("ssao.frag ssm.frag ssgi.frag"): the frame's.
+  const std::string mine = toString(effect) + ".frag";
+  return shaders.find(mine) != std::string_view::npos ? mine : std::string(shaders);
+}
+
+std::string ParityResult::inheritedFrom(size_t row) const {
+  std::string out;
+  int named = 0;
+  for (size_t i = 0; i < row && i < rows.size() && named < 3; ++i) {
+    const StageRow& r = rows[i];
+    if (!r.endToEnd || r.verdict() != "PASS") continue;
+    const DiffFigures& f = r.endToEnd->figures;
+    if (f.over == 0 && f.overInBand == 0) continue;
+    std::string what = f.over > 0 ? std::to_string(f.over) + " px over its threshold"
+                                  : std::to_string(f.overInBand) + " px differ in its guard band";
+    const auto [x, y] = r.worstPixel();
+    if (f.over > 0 && x >= 0) what += std::string(", worst at ") + (r.scale == 0 ? "texel " : "") + std::to_string(x) + "," + std::to_string(y);
+    out += (out.empty() ? "" : "; ") + r.stage + " (" + what + ")";
+    ++named;
+  }
+  return out;
+}
 
 int ParityResult::inherited() const {
   return static_cast<int>(std::count_if(rows.begin(), rows.end(), [](const StageRow& r) { return r.verdict() == "UPSTREAM"; }));
@@ -416,6 +447,7 @@ std::optional<StageCheck> Rows::blendRows() {
 ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const DirectionalLight& light) {
   const Constants& c = o.constants;
   ParityResult result;
+  result.effect = c.effect;
   Rows rows{o, p, c, result};
   // 1. The full-res G-buffer (the masks are made from it); 2. the shadow map and test; 3. the
   // edges, the never-slower decision and the stencils (when the paths decide differently,
@@ -484,8 +516,15 @@ std::string formatParityTable(const ParityResult& result, const std::string& own
          "stage's bug.\n";
   const std::string first = result.firstFailing();
   const int inherited = result.inherited();
+  for (size_t i = 0; i < result.rows.size(); ++i) {
+    if (result.rows[i].verdict() != "UPSTREAM") continue;
+    const std::string from = result.inheritedFrom(i);
+    out += "UPSTREAM " + result.rows[i].stage + ": inherits " +
+           (from.empty() ? "differences below every earlier stage's threshold" : "what earlier stages let through: " + from) + "\n";
+  }
+  const std::string firstShader = result.shaderOf(first);
   if (!result.pass())
-    out += "FAIL: first failing stage " + first + "\n";
+    out += "FAIL: first failing stage " + first + (firstShader.empty() ? "" : " (" + firstShader + ")") + "\n";
   else if (inherited > 0)
     out += "PASS: every stage's own computation within tolerance; " + std::to_string(inherited) +
            " stage(s) over their end-to-end rule only by what they inherit (UPSTREAM)\n";

@@ -84,6 +84,7 @@ struct StageRow {
 
 struct ParityResult {
   std::vector<StageRow> rows;  // in pipeline order
+  Effect effect = Effect::Ssao;  // the frame's: which shader computes the effect rows
   // No stage FAILs. UPSTREAM rows do not fail the frame: their own computation matches the
   // oracle's on the same input, so the difference is inherited, and is blamed where it
   // starts (a G-buffer row over its own rule would FAIL there).
@@ -92,6 +93,13 @@ struct ParityResult {
   // The first row, in pipeline order, whose verdict is FAIL (empty when none): where a
   // shader bug starts.
   std::string firstFailing() const;
+  // The port's shader file(s) that compute a row's stage, from the stage list ("ssao.frag" for
+  // raw.L0 of an SSAO frame; "" for a row no shader makes, e.g. the never-slower decision).
+  std::string shaderOf(const std::string& stage) const;
+  // For an UPSTREAM row: the earlier rows that let differences through within their own rules
+  // (pixels over their threshold, or inside their guard band), first to last, with where each
+  // is worst: "raw.L0 (1 px over its threshold, worst at 111,74)". Empty when none did.
+  std::string inheritedFrom(size_t row) const;
 };
 
 // Compares the port's frame with the oracle's (same scene, camera and constants; both

@@ -196,6 +196,18 @@ Assembled assemble(const std::string& stage, const std::string& name, const std:
   return a;
 }
 
+// "" for the default variant, else " (variant SHADOW_EDGES E_ONLY)": the #defines the host
+// prepended, which is how a user tells the variants of one file apart (the program's cache key,
+// `stage`, is internal).
+std::string variantText(const std::string& defines) {
+  std::string names;
+  for (size_t at = defines.find("#define "); at != std::string::npos; at = defines.find("#define ", at + 8)) {
+    const size_t start = at + 8, end = defines.find_first_of(" \n", start);
+    names += (names.empty() ? "" : " ") + defines.substr(start, end - start);
+  }
+  return names.empty() ? "" : " (variant " + names + ")";
+}
+
 GLuint compile(const std::string& stage, const std::string& name, const std::string& text, GLenum type,
                const std::string& defines, Lookup lookup = lookupActive) {
   const GLuint shader = glCreateShader(type);
@@ -212,8 +224,8 @@ GLuint compile(const std::string& stage, const std::string& name, const std::str
     glGetShaderInfoLog(shader, length, nullptr, raw.data());
     glDeleteShader(shader);
     const std::string located = locateShaderError(raw.data(), a.files);
-    if (!located.empty()) throw MrrError(located + " (stage " + stage + ": " + name + " does not compile)");
-    throw MrrError("gpu: stage " + stage + ": " + shaderPath(name) + " does not compile: " + oneLine(raw.data()));
+    if (!located.empty()) throw MrrError(located + " (" + name + variantText(defines) + " does not compile)");
+    throw MrrError("gpu: " + shaderPath(name) + variantText(defines) + " does not compile: " + oneLine(raw.data()));
   }
   return shader;
 }

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "compare/parity.h"
+
+#include <cmath>
 #include "tests/oracle/render_helpers.h"
 
 namespace mrr {
@@ -105,8 +107,62 @@ TEST_F(ParityLogic, TheTableNamesTheFirstFailingStage) {
   port.levels[0].raw.data[0] += 1.0f;
   port.levels[0].masks.stencil.data[0] = 1;
   const std::string table = formatParityTable(compareFrames(oracle(), port, light()));
-  EXPECT_NE(table.find("FAIL: first failing stage "), std::string::npos) << table;
+  // The verdict names the stage and the port's shader that computes it (issue 34).
+  EXPECT_NE(table.find("FAIL: first failing stage raw.L0 (ssao.frag)"), std::string::npos) << table;
   EXPECT_NE(table.find("stage"), std::string::npos);
+}
+
+TEST(ParityShaders, EachStageNamesTheFileThatComputesIt) {
+  ParityResult r;
+  r.effect = Effect::Ssm;
+  EXPECT_EQ(r.shaderOf("raw.L0"), "ssm.frag");  // one file per effect: the frame's
+  EXPECT_EQ(r.shaderOf("edges.depth"), "edges.frag");
+  EXPECT_EQ(r.shaderOf("gbuffer.L1.normal"), "gbuffer.frag");
+  EXPECT_EQ(r.shaderOf("final"), "blend.frag");
+  EXPECT_EQ(r.shaderOf("never_slower"), "");  // no part, no shader
+}
+
+// Every figure of a check is over the same pixels: a difference in the guard band is counted
+// apart and moves neither the RMS nor max |Δ| (before, the RMS took the band and max |Δ| did
+// not, so a row could read "max|d| 2.38e-07, rms 0.014").
+TEST(ParityFigures, RmsAndMaxAreOverTheSamePixels) {
+  ImageF a(4, 1, 1, 0.0f), b(4, 1, 1, 0.0f);
+  b.data = {0.01f, 0.0f, 0.5f, 0.0f};
+  const std::vector<char> band = {0, 0, 1, 0};
+  const DiffFigures f = diffImages(a, b, 0.1, {}, &band);
+  EXPECT_EQ(f.pixels, 3);
+  EXPECT_EQ(f.overInBand, 1);
+  EXPECT_EQ(f.over, 0);
+  EXPECT_NEAR(f.maxAbs, 0.01, 1e-9);
+  EXPECT_NEAR(f.rms, 0.01 / std::sqrt(3.0), 1e-9);
+  EXPECT_LE(f.rms, f.maxAbs);
+}
+
+// UPSTREAM names what it inherits: the earlier rows that let pixels through within their own
+// rules, with where each is worst (to probe).
+TEST(ParityUpstream, AnUpstreamRowNamesWhereItsDifferenceCameFrom) {
+  ParityResult r;
+  auto check = [](int64_t over, int64_t inBand, bool pass, int x, int y) {
+    StageCheck c;
+    c.rule = "final";
+    c.pass = pass;
+    c.figures.pixels = 100;
+    c.figures.over = over;
+    c.figures.overInBand = inBand;
+    c.figures.maxAbs = over > 0 ? 0.2 : 0.0;
+    c.figures.worstX = x;
+    c.figures.worstY = y;
+    return c;
+  };
+  r.rows.push_back({"edges", -1, 1, check(0, 2, true, -1, -1), std::nullopt});
+  r.rows.push_back({"raw.L0", 0, 1, check(1, 0, true, 111, 74), std::nullopt});
+  r.rows.push_back({"sub.L0", 0, 1, check(0, 0, true, -1, -1), std::nullopt});
+  r.rows.push_back({"final", -1, 1, check(40, 0, false, 111, 74), check(0, 0, true, -1, -1)});
+  ASSERT_EQ(r.rows.back().verdict(), "UPSTREAM");
+  EXPECT_EQ(r.inheritedFrom(3), "edges (2 px differ in its guard band); raw.L0 (1 px over its threshold, worst at 111,74)");
+  const std::string table = formatParityTable(r);
+  EXPECT_NE(table.find("UPSTREAM final: inherits what earlier stages let through: edges"), std::string::npos) << table;
+  EXPECT_EQ(r.inheritedFrom(1), "edges (2 px differ in its guard band)");
 }
 
 }  // namespace

@@ -109,10 +109,13 @@ MrrError usageError(const CLI::App& app, const CLI::ParseError& e, const std::st
   return MrrError(where + what);
 }
 
-// `mrr explore`: its frame starts small, so that it re-renders in well under a second (docs/explore.md).
+// `mrr explore`: its frame starts small, so that it re-renders in well under a second, and with
+// the never-slower rule off, so that it opens on the method's own levels, masks and stencils
+// (a small frame often falls back to full; docs/explore.md).
 CLI::App* addExploreCommand(CLI::App& app, explore::ServerOptions& o) {
   o.frame.size = "320x180";
   o.frame.samples = 16;
+  o.frame.neverSlowerDefault = false;
   CLI::App* explore = app.add_subcommand(
       "explore", "serve a local page on one frame: every stage as a layer, oracle beside port, probes, live knobs");
   o.frame.add(*explore);

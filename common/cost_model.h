@@ -142,6 +142,7 @@ struct FrameCounts {
 struct FallbackDecision {
   bool evaluated = false;        // mode mrr with the rule on
   bool fellBack = false;         // the frame was shaded at full resolution
+  bool wouldFallBack = false;    // with the rule off: what it would have decided on the stencils
   bool early = false;            // decided before the edges (fellBack then: no edges, no masks)
   bool onFloor = false;          // fell back early on the floor alone, before the edge sample (not taken)
   double predictedFullMs = 0.0;  // the rest of a `full` frame

@@ -358,6 +358,7 @@ double FrameResult::timing(const std::string& stage) const {
 void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model) {
   f.fallback = decideFallback(model, f.constants, f.counts);
   f.fallback.evaluated = f.constants.neverSlower;
+  f.fallback.wouldFallBack = f.fallback.fellBack;
   if (!f.constants.neverSlower) f.fallback.fellBack = false;  // predicted only
   if (!f.fallback.fellBack) return;
   f.constants.fallBackToFull();

@@ -581,6 +581,14 @@ async function start() {
     o.value = o.textContent = s;
     scene.appendChild(o);
   }
+  // Each knob's help, unit and range come from the frame-parameter table the server reads
+  // (common/frame_params.h): one text for the command line's --help and the page.
+  const rows = Object.fromEntries((info.params || []).map((r) => [r.key, r]));
+  for (const el of $$('[data-param]')) {
+    const row = rows[el.dataset.param];
+    if (row) el.title = `${row.option}: ${row.help}`;
+    else console.warn(`knob ${el.dataset.param}: not a frame parameter the server accepts`);
+  }
   const d = info.defaults;
   scene.value = d.scene;
   $('#effect').value = d.effect;

@@ -1,6 +1,7 @@
 #include "common/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -54,6 +55,30 @@ int cutoutTexel(float t, int n, Wrap wrap) {
 bool Cutout::opaqueAt(float s, float t) const {
   const int x = cutoutTexel(s, width, wrapS), y = cutoutTexel(t, height, wrapT);
   return opaque[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] != 0;
+}
+
+const float* srgbToLinearTable() {
+  static const auto table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double c = static_cast<double>(i) / 255.0;  // IEC 61966-2-1
+      t[static_cast<size_t>(i)] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return table.data();
+}
+
+glm::vec3 ColorTexture::linearAt(float s, float t) const {
+  const int x = cutoutTexel(s, width, wrapS), y = cutoutTexel(t, height, wrapT);
+  const uint8_t* texel = &rgba[4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x))];
+  const float* linear = srgbToLinearTable();
+  return {linear[texel[0]], linear[texel[1]], linear[texel[2]]};
+}
+
+glm::vec3 Mesh::albedoAt(const std::vector<ColorTexture>& textures, glm::vec2 st) const {
+  if (texture < 0) return baseColor;
+  return baseColor * textures[static_cast<size_t>(texture)].linearAt(st.x, st.y);
 }
 
 Bounds Scene::bounds() const {
@@ -132,6 +157,23 @@ void validateScene(const Scene& scene, const std::string& source) {
                                              describe(mesh.normals[v]));
     }
     require(isFinite(mesh.baseColor), what + " has a non-finite base colour");
+    if (mesh.texture >= 0) {
+      require(static_cast<size_t>(mesh.texture) < scene.textures.size(),
+              what + " uses texture " + std::to_string(mesh.texture) + " of " + std::to_string(scene.textures.size()));
+      const ColorTexture& t = scene.textures[static_cast<size_t>(mesh.texture)];
+      require(t.width > 0 && t.height > 0 &&
+                  t.rgba.size() == 4 * static_cast<size_t>(t.width) * static_cast<size_t>(t.height),
+              what + ": its texture has " + std::to_string(t.rgba.size()) + " bytes for " + std::to_string(t.width) +
+                  "x" + std::to_string(t.height) + " RGBA texels");
+    }
+    if (mesh.cutout >= 0 || mesh.texture >= 0) {
+      require(mesh.texcoords.size() == vertexCount, what + " has " + std::to_string(mesh.texcoords.size()) +
+                                                        " texture coordinates for " + std::to_string(vertexCount) +
+                                                        " positions");
+      for (size_t v = 0; v < vertexCount; ++v)
+        require(std::isfinite(mesh.texcoords[v].x) && std::isfinite(mesh.texcoords[v].y),
+                what + " vertex " + std::to_string(v) + " has a non-finite texture coordinate");
+    }
     if (mesh.cutout >= 0) {
       require(static_cast<size_t>(mesh.cutout) < scene.cutouts.size(),
               what + " uses cutout " + std::to_string(mesh.cutout) + " of " + std::to_string(scene.cutouts.size()));
@@ -140,12 +182,6 @@ void validateScene(const Scene& scene, const std::string& source) {
                   c.opaque.size() == static_cast<size_t>(c.width) * static_cast<size_t>(c.height),
               what + ": its cutout has " + std::to_string(c.opaque.size()) + " texels for " +
                   std::to_string(c.width) + "x" + std::to_string(c.height));
-      require(mesh.texcoords.size() == vertexCount, what + " has " + std::to_string(mesh.texcoords.size()) +
-                                                        " texture coordinates for " + std::to_string(vertexCount) +
-                                                        " positions");
-      for (size_t v = 0; v < vertexCount; ++v)
-        require(std::isfinite(mesh.texcoords[v].x) && std::isfinite(mesh.texcoords[v].y),
-                what + " vertex " + std::to_string(v) + " has a non-finite texture coordinate");
     }
     for (size_t i = 0; i < mesh.indices.size(); ++i) {
       require(mesh.indices[i] < vertexCount,

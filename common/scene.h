@@ -1,7 +1,8 @@
 #pragma once
 // The scene model: only what the effects need (brief: "model no more than a scene needs").
-// Triangles with per-vertex normals and one base colour per mesh, alpha cutouts (which are
-// visibility), one directional light, and cameras. Everything is in world space once loaded;
+// Triangles with per-vertex normals, a base colour per mesh (its factor, times its base-colour
+// texture where it has one), alpha cutouts (which are visibility), one directional light, and
+// cameras. Everything is in world space once loaded;
 // node transforms are baked in.
 #include <glm/glm.hpp>
 
@@ -31,6 +32,21 @@ struct Cutout {
 // §1.1): i = floor(t·n), then wrapped. gpu/shaders/cutout.glsl is the same function.
 int cutoutTexel(float t, int n, Wrap wrap);
 
+// sRGB-encoded byte → linear float32 (the sRGB transfer function, evaluated once in double and
+// rounded): the one table both paths read (the port uploads it as a texture).
+const float* srgbToLinearTable();  // 256 entries
+
+// A base-colour texture (glTF baseColorTexture, docs/spec.md §1.2): the image's RGB as stored
+// (sRGB bytes), addressed like a cutout (cutoutTexel, nearest), decoded through
+// srgbToLinearTable. Albedo = the material's factor × this, per channel, in float32.
+struct ColorTexture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // width × height × 4 (alpha unused: 255); row 0 is the image's first row (v = 0)
+  Wrap wrapS = Wrap::Repeat, wrapT = Wrap::Repeat;
+
+  glm::vec3 linearAt(float s, float t) const;  // the texel cutoutTexel addresses, linear RGB
+};
+
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;  // world space
@@ -38,7 +54,12 @@ struct Mesh {
   std::vector<uint32_t> indices;     // three per triangle, counter-clockwise seen from the front
   glm::vec3 baseColor{0.8f};         // linear RGB albedo in [0,1]
   int cutout = -1;                   // index into Scene::cutouts, or -1: opaque
-  std::vector<glm::vec2> texcoords;  // one per position when cutout >= 0, else empty
+  int texture = -1;                  // index into Scene::textures, or -1: the factor alone
+  // One per position when cutout >= 0 or texture >= 0, else empty: the base-colour texture's
+  // TEXCOORD_n with its KHR_texture_transform already applied (the cutout reads the same).
+  std::vector<glm::vec2> texcoords;
+
+  glm::vec3 albedoAt(const std::vector<ColorTexture>& textures, glm::vec2 st) const;  // baseColor × texel
 };
 
 struct DirectionalLight {
@@ -64,6 +85,7 @@ struct Scene {
   std::string credit;  // attribution line to show wherever a rendering is published
   std::vector<Mesh> meshes;
   std::vector<Cutout> cutouts;  // shared by the meshes that use them
+  std::vector<ColorTexture> textures;  // base-colour textures, shared by the meshes that use them
   DirectionalLight light;
   bool hasLight = false;        // false: `light` is the default
   std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty

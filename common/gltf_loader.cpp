@@ -266,6 +266,7 @@ struct LocalPrimitive {
   int cutout = -1;                   // into Scene::cutouts
   int texture = -1;                  // into Scene::textures
   std::vector<glm::vec2> texcoords;  // with a cutout or a texture only, transformed (materialTexCoord)
+  bool blend = false;                // alphaMode BLEND, drawn opaque
 };
 
 class Loader {
@@ -1073,6 +1074,7 @@ class Loader {
              " indices, not a multiple of 3; the last partial triangle is dropped");
       out.indices = toTriangleList(mode, indices);
       out.baseColor = materialColor(primitive.material, what);
+      out.blend = isBlend(primitive.material);
       cached->push_back(std::move(out));
     }
     return *cached;
@@ -1092,6 +1094,7 @@ class Loader {
       mesh.baseColor = primitive.baseColor;
       mesh.cutout = primitive.cutout;
       mesh.texture = primitive.texture;
+      mesh.blend = primitive.blend;
       mesh.texcoords = primitive.texcoords;
       mesh.positions.reserve(primitive.positions.size());
       for (const glm::vec3& p : primitive.positions)

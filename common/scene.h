@@ -59,6 +59,8 @@ struct Mesh {
   // TEXCOORD_n with its KHR_texture_transform already applied (the cutout reads the same).
   std::vector<glm::vec2> texcoords;
 
+  bool blend = false;  // glTF alphaMode BLEND (glass, light cones), drawn opaque: no say in the default framing
+
   glm::vec3 albedoAt(const std::vector<ColorTexture>& textures, glm::vec2 st) const;  // baseColor × texel
 };
 
@@ -107,15 +109,22 @@ void validateScene(const Scene& scene, const std::string& source);
 // enough that the bounds' sphere fits the vertical field of view.
 Camera frameBounds(const Bounds& bounds, float yfovRadians);
 
-// The default view of a scene that brings no camera (issue 19):
+// The default view of a scene that brings no camera (issues 19, 34). Only opaque and MASK
+// surfaces decide it: BLEND ones (glass, light cones) close a room (a window is a wall) but
+// are never its walls, never a view's end, and do not count in the bounds it frames.
 // - an interior (the bounds' centre is enclosed: rays from it meet geometry in at least 24 of
-//   26 directions) is seen from that centre, looking along the level direction with the most
-//   room;
+//   26 directions, and the surfaces met face it) is seen from inside: the eye is inside the
+//   bounds, at the place with the most room, looking along the level direction with the
+//   farthest opaque surface;
+// - an enclosure with one level side open (a Cornell box: most of a fan of rays through that
+//   side escapes, not just the one through a window or a door) is seen from outside, looking in
+//   through the opening: not "inside";
 // - anything else from the front-above diagonal, as frameBounds, but at the distance where its
 //   vertices just fit an image of this aspect (W/H) with a 5% margin, so it fills the frame.
 struct Framing {
   Camera camera;
-  bool interior = false;
+  bool interior = false;   // the eye is inside the bounds, in the room
+  bool openSide = false;   // an enclosure seen through its open side, from outside
   int enclosedDirections = 0;  // of 26: the rays from the bounds' centre that meet a surface
   int facingDirections = 0;    // of those, the ones along which a surface faces the centre (a room's walls)
 };

@@ -97,8 +97,9 @@ Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::str
     const Framing framing = frameScene(scene, fov, request.aspect);
     if (framed) *framed = framing;
     camera = framing.camera;
-    where = framing.interior ? "default framing: inside, the scene encloses its centre"
-                             : "default framing: from outside, fitted to the frame";
+    where = framing.interior   ? "default framing: inside, the scene encloses its centre"
+            : framing.openSide ? "default framing: from outside, looking in through its open side"
+                               : "default framing: from outside, fitted to the frame";
   }
   if (request.fovDegrees) camera.yfov = fov;
   if (source) *source = where;

@@ -82,6 +82,16 @@ struct SceneFacts {
   int opaqueMaterials = 0, maskMaterials = 0, blendMaterials = 0;
 };
 
+// Where a scene's light came from (issue 34), for `mrr info`: the file's or the built-in
+// scene's own, --light-dir, or for a scene without one the candidate that lights the most of
+// the default view's visible surface (scenes/default_light.h).
+struct LightOrigin {
+  std::string source = "built-in default";  // "the scene", "--light-dir", "built-in default", "chosen for the view"
+  float litShare = -1.0f;         // the share of the view's visible surface it lights (-1: not measured)
+  float builtinLitShare = -1.0f;  // the built-in default's share of the same view (-1: not measured)
+  int candidate = -1;             // its index in defaultLightCandidates() (0: the built-in default), -1: none
+};
+
 struct Scene {
   std::string name;    // "builtin:plane", or the file's path
   std::string credit;  // attribution line to show wherever a rendering is published
@@ -90,6 +100,7 @@ struct Scene {
   std::vector<ColorTexture> textures;  // base-colour textures, shared by the meshes that use them
   DirectionalLight light;
   bool hasLight = false;        // false: `light` is the default
+  LightOrigin lightOrigin;      // set by loadRequestedScene (scenes/catalog.cpp)
   std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty
   SceneFacts facts;
 

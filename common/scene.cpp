@@ -1,6 +1,7 @@
 #include "common/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -54,6 +55,30 @@ int cutoutTexel(float t, int n, Wrap wrap) {
 bool Cutout::opaqueAt(float s, float t) const {
   const int x = cutoutTexel(s, width, wrapS), y = cutoutTexel(t, height, wrapT);
   return opaque[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] != 0;
+}
+
+const float* srgbToLinearTable() {
+  static const auto table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double c = static_cast<double>(i) / 255.0;  // IEC 61966-2-1
+      t[static_cast<size_t>(i)] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return table.data();
+}
+
+glm::vec3 ColorTexture::linearAt(float s, float t) const {
+  const int x = cutoutTexel(s, width, wrapS), y = cutoutTexel(t, height, wrapT);
+  const uint8_t* texel = &rgba[4 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x))];
+  const float* linear = srgbToLinearTable();
+  return {linear[texel[0]], linear[texel[1]], linear[texel[2]]};
+}
+
+glm::vec3 Mesh::albedoAt(const std::vector<ColorTexture>& textures, glm::vec2 st) const {
+  if (texture < 0) return baseColor;
+  return baseColor * textures[static_cast<size_t>(texture)].linearAt(st.x, st.y);
 }
 
 Bounds Scene::bounds() const {
@@ -132,6 +157,23 @@ void validateScene(const Scene& scene, const std::string& source) {
                                              describe(mesh.normals[v]));
     }
     require(isFinite(mesh.baseColor), what + " has a non-finite base colour");
+    if (mesh.texture >= 0) {
+      require(static_cast<size_t>(mesh.texture) < scene.textures.size(),
+              what + " uses texture " + std::to_string(mesh.texture) + " of " + std::to_string(scene.textures.size()));
+      const ColorTexture& t = scene.textures[static_cast<size_t>(mesh.texture)];
+      require(t.width > 0 && t.height > 0 &&
+                  t.rgba.size() == 4 * static_cast<size_t>(t.width) * static_cast<size_t>(t.height),
+              what + ": its texture has " + std::to_string(t.rgba.size()) + " bytes for " + std::to_string(t.width) +
+                  "x" + std::to_string(t.height) + " RGBA texels");
+    }
+    if (mesh.cutout >= 0 || mesh.texture >= 0) {
+      require(mesh.texcoords.size() == vertexCount, what + " has " + std::to_string(mesh.texcoords.size()) +
+                                                        " texture coordinates for " + std::to_string(vertexCount) +
+                                                        " positions");
+      for (size_t v = 0; v < vertexCount; ++v)
+        require(std::isfinite(mesh.texcoords[v].x) && std::isfinite(mesh.texcoords[v].y),
+                what + " vertex " + std::to_string(v) + " has a non-finite texture coordinate");
+    }
     if (mesh.cutout >= 0) {
       require(static_cast<size_t>(mesh.cutout) < scene.cutouts.size(),
               what + " uses cutout " + std::to_string(mesh.cutout) + " of " + std::to_string(scene.cutouts.size()));
@@ -140,12 +182,6 @@ void validateScene(const Scene& scene, const std::string& source) {
                   c.opaque.size() == static_cast<size_t>(c.width) * static_cast<size_t>(c.height),
               what + ": its cutout has " + std::to_string(c.opaque.size()) + " texels for " +
                   std::to_string(c.width) + "x" + std::to_string(c.height));
-      require(mesh.texcoords.size() == vertexCount, what + " has " + std::to_string(mesh.texcoords.size()) +
-                                                        " texture coordinates for " + std::to_string(vertexCount) +
-                                                        " positions");
-      for (size_t v = 0; v < vertexCount; ++v)
-        require(std::isfinite(mesh.texcoords[v].x) && std::isfinite(mesh.texcoords[v].y),
-                what + " vertex " + std::to_string(v) + " has a non-finite texture coordinate");
     }
     for (size_t i = 0; i < mesh.indices.size(); ++i) {
       require(mesh.indices[i] < vertexCount,
@@ -215,11 +251,12 @@ struct Triangle {
   glm::vec3 a, b, c, n;
 };
 
-// Every triangle, or only the `largest` of them by area (walls and floors, not the furniture).
-std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX) {
+// Every triangle, or only the `largest` of them by area (walls and floors, not the furniture);
+// BLEND meshes' only with `withBlend`.
+std::vector<Triangle> triangles(const Scene& scene, size_t largest = SIZE_MAX, bool withBlend = false) {
   std::vector<std::pair<float, Triangle>> all;
   for (const Mesh& mesh : scene.meshes)
-    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    for (size_t t = 0; t + 2 < mesh.indices.size() && (withBlend || !mesh.blend); t += 3) {
       const uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
       Triangle tri{mesh.positions[i0], mesh.positions[i1], mesh.positions[i2], glm::vec3(0.0f)};
       tri.n = mesh.normals.size() == mesh.positions.size() ? mesh.normals[i0] + mesh.normals[i1] + mesh.normals[i2]
@@ -270,8 +307,10 @@ glm::vec3 fittedEye(const Scene& scene, const glm::vec3& centre, const glm::vec3
   const float tanV = std::tan(0.5f * camera.yfov) / kMargin;
   const float tanH = tanV * (std::isfinite(aspect) && aspect > 0.0f ? aspect : 16.0f / 9.0f);
   float distance = 0.0f;
+  const bool anyOpaque = std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& m) { return !m.blend; });
   for (const Mesh& mesh : scene.meshes)
-    for (const glm::vec3& p : mesh.positions) {
+    for (size_t v = 0; v < mesh.positions.size() && !(anyOpaque && mesh.blend); ++v) {
+      const glm::vec3& p = mesh.positions[v];
       const glm::vec3 d = p - centre;
       const float x = glm::dot(d, right), y = glm::dot(d, up), z = glm::dot(d, back);
       distance = std::max({distance, z + std::fabs(x) / tanH, z + std::fabs(y) / tanV});
@@ -292,10 +331,40 @@ std::vector<glm::vec3> neighbourDirections() {
 
 }  // namespace
 
+namespace {
+
+// The bounds the default framing frames: the opaque and MASK surfaces' (BLEND ones, a light
+// cone reaching out of a window, do not count), or every surface's where all are BLEND.
+Bounds framedBounds(const Scene& scene) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  glm::vec3 lo{kInf}, hi{-kInf};
+  bool any = false;
+  for (const Mesh& mesh : scene.meshes) {
+    if (mesh.blend) continue;
+    for (const glm::vec3& p : mesh.positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+      any = true;
+    }
+  }
+  return any ? Bounds{lo, hi} : scene.bounds();
+}
+
+// Two unit vectors perpendicular to the axis direction d and to each other.
+std::pair<glm::vec3, glm::vec3> across(const glm::vec3& d) {
+  const glm::vec3 u = std::fabs(d.y) < 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+  const glm::vec3 a = glm::normalize(glm::cross(d, u));
+  return {a, glm::cross(d, a)};
+}
+
+}  // namespace
+
 Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
   constexpr int kEnclosedAt = 24;  // of 26 directions
+  constexpr int kOpenAt = 20;      // of the 25 rays of a side's fan that escape: the side is open
   Framing out;
-  out.camera = frameBounds(scene.bounds(), yfovRadians);
+  const Bounds b = framedBounds(scene);
+  out.camera = frameBounds(b, yfovRadians);
   const glm::vec3 centre = out.camera.target;
   const std::vector<glm::vec3> directions = neighbourDirections();
   std::vector<glm::vec3> level;  // the 8 directions with y = 0
@@ -304,12 +373,15 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
   // 1. is the centre enclosed, by surfaces that face it? Inside a room the walls, floor and
   // ceiling turn their fronts to the centre (along a quarter of the directions at least: the
   // apartment's 15 of 26, the arcade's 26); inside a closed object (a helmet: 2 of 26) the centre
-  // sees only the backs of its shell, and the object is framed from outside.
-  const std::vector<Triangle> all = triangles(scene);
-  std::vector<uint8_t> facing;  // a surface along the ray faces the centre
-  const std::vector<float> hits = castFrom(all, centre, directions, &facing);
+  // sees only the backs of its shell, and the object is framed from outside. A BLEND surface
+  // (a window's glass) closes a direction but is never a wall that faces the centre.
+  const std::vector<Triangle> opaque = triangles(scene);
+  const std::vector<Triangle> all = triangles(scene, SIZE_MAX, true);
+  std::vector<uint8_t> facing;  // an opaque surface along the ray faces the centre
+  const std::vector<float> closed = castFrom(all, centre, directions);
+  const std::vector<float> hits = castFrom(opaque, centre, directions, &facing);
   for (size_t i = 0; i < hits.size(); ++i) {
-    out.enclosedDirections += std::isfinite(hits[i]);
+    out.enclosedDirections += std::isfinite(closed[i]);
     out.facingDirections += std::isfinite(hits[i]) && facing[i];
   }
   if (out.enclosedDirections < kEnclosedAt || 4 * out.facingDirections < out.enclosedDirections) {
@@ -317,20 +389,31 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
     out.camera.eye = fittedEye(scene, centre, glm::normalize(out.camera.eye - centre), out.camera, aspect);
     return out;
   }
-  out.interior = true;
-  // 3. an enclosure open on one level side (a Cornell box): look in through the opening
-  const std::vector<float> around = castFrom(all, centre, level);
-  for (size_t i = 0; i < level.size(); ++i)
-    if (!std::isfinite(around[i]) && level[i].x * level[i].z == 0.0f) {
+  // 3. an enclosure open on one level side (a Cornell box): look in through the opening, from
+  // outside. Open means most of a fan of rays through that side escapes, not the one ray
+  // through a window or a door (a study's window, a hotel room's door: those are rooms).
+  for (size_t i = 0; i < level.size(); ++i) {
+    if (level[i].x * level[i].z != 0.0f) continue;
+    const auto [u, v] = across(level[i]);
+    std::vector<glm::vec3> fan;
+    for (int p = -2; p <= 2; ++p)
+      for (int q = -2; q <= 2; ++q)
+        fan.push_back(glm::normalize(level[i] + 0.3f * static_cast<float>(p) * u + 0.3f * static_cast<float>(q) * v));
+    const std::vector<float> through = castFrom(all, centre, fan);
+    if (std::count_if(through.begin(), through.end(), [](float h) { return !std::isfinite(h); }) >= kOpenAt) {
       const glm::vec3 back = glm::normalize(level[i] + glm::vec3(0.0f, 0.25f, 0.0f));
       out.camera.eye = fittedEye(scene, centre, back, out.camera, aspect);
+      out.openSide = true;
       return out;
     }
-  // 4. a closed interior: from the candidate eye with the most clearance among the large
-  // surfaces (a 6×6 grid over the bounds at about 0.4 of their height), along the level direction
-  // with the farthest surface, from near the surface behind: the most of the room in view
-  const std::vector<Triangle> large = triangles(scene, 4096);
-  const Bounds b = scene.bounds();
+  }
+  out.interior = true;
+  // 4. a closed interior: from the candidate eye with the most clearance among the large opaque
+  // surfaces (a 6×6 grid over the bounds at about 0.4 of their height), along the level
+  // direction with the farthest opaque surface whose view no BLEND surface covers (the glass of
+  // a window, a light cone: drawn solid, they would hide the room), from near the surface
+  // behind: the most of the room in view
+  const std::vector<Triangle> large = triangles(scene, 4096), largeAll = triangles(scene, 4096, true);
   float clearance = -1.0f;
   glm::vec3 eye = centre;
   std::vector<float> view;
@@ -341,12 +424,10 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
       const glm::vec3 candidate(b.lo.x + (b.hi.x - b.lo.x) * (static_cast<float>(i) + 0.4871f) / 6.0f,
                                 b.lo.y + 0.4129f * (b.hi.y - b.lo.y),
                                 b.lo.z + (b.hi.z - b.lo.z) * (static_cast<float>(k) + 0.5133f) / 6.0f);
-      const std::vector<float> reach = castFrom(large, candidate, directions);
+      const std::vector<float> reach = castFrom(largeAll, candidate, directions);
       if (std::count_if(reach.begin(), reach.end(), [](float h) { return std::isfinite(h); }) < kEnclosedAt)
         continue;  // outside, or in the open
-      std::vector<float> room;
-      for (const glm::vec3& d : level)
-        room.push_back(reach[static_cast<size_t>(std::find(directions.begin(), directions.end(), d) - directions.begin())]);
+      const std::vector<float> room = castFrom(large, candidate, level);
       const float nearest = *std::min_element(room.begin(), room.end());
       if (std::isfinite(nearest) && nearest > clearance) {
         clearance = nearest;
@@ -354,15 +435,26 @@ Framing frameScene(const Scene& scene, float yfovRadians, float aspect) {
         view = room;
       }
     }
-  if (view.empty()) view = castFrom(large, centre, level);
-  size_t best = 0;
-  for (size_t i = 0; i < level.size(); ++i)
-    if (std::isfinite(view[i]) && (!std::isfinite(view[best]) || view[i] > view[best])) best = i;
+  if (view.empty()) view = castFrom(large, eye, level);
+  // a direction whose nearest surface, BLEND ones included, is nearer than its opaque one looks
+  // at glass: taken only where every direction does
+  const std::vector<float> first = castFrom(all, eye, level);
+  auto clear = [&](size_t i) { return !(first[i] < view[i]); };
+  size_t best = level.size();
+  for (size_t i = 0; i < level.size(); ++i) {
+    if (!std::isfinite(view[i])) continue;
+    if (best == level.size() || (clear(i) && !clear(best)) || (clear(i) == clear(best) && view[i] > view[best])) best = i;
+  }
+  if (best == level.size()) best = 0;
   const glm::vec3 d = level[best];
-  float behind = view[std::find(level.begin(), level.end(), -d) - level.begin()];
+  float behind = view[static_cast<size_t>(std::find(level.begin(), level.end(), -d) - level.begin())];
   if (!std::isfinite(behind)) behind = 0.0f;
-  out.camera.eye = eye - d * (0.9f * behind);
-  out.camera.target = out.camera.eye + d;
+  glm::vec3 placed = eye - d * (0.9f * behind);
+  // 5. inside means inside: the eye is kept within the bounds (1% in from each face)
+  const glm::vec3 margin = 0.01f * (b.hi - b.lo);
+  placed = glm::clamp(placed, b.lo + margin, b.hi - margin);
+  out.camera.eye = placed;
+  out.camera.target = placed + d;
   return out;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The scene model: only what the effects need (brief: "model no more than a scene needs").
-// Triangles with per-vertex normals and one base colour per mesh, alpha cutouts (which are
-// visibility), one directional light, and cameras. Everything is in world space once loaded;
+// Triangles with per-vertex normals, a base colour per mesh (its factor, times its base-colour
+// texture where it has one), alpha cutouts (which are visibility), one directional light, and
+// cameras. Everything is in world space once loaded;
 // node transforms are baked in.
 #include <glm/glm.hpp>
 
@@ -31,6 +32,21 @@ struct Cutout {
 // §1.1): i = floor(t·n), then wrapped. gpu/shaders/cutout.glsl is the same function.
 int cutoutTexel(float t, int n, Wrap wrap);
 
+// sRGB-encoded byte → linear float32 (the sRGB transfer function, evaluated once in double and
+// rounded): the one table both paths read (the port uploads it as a texture).
+const float* srgbToLinearTable();  // 256 entries
+
+// A base-colour texture (glTF baseColorTexture, docs/spec.md §1.2): the image's RGB as stored
+// (sRGB bytes), addressed like a cutout (cutoutTexel, nearest), decoded through
+// srgbToLinearTable. Albedo = the material's factor × this, per channel, in float32.
+struct ColorTexture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // width × height × 4 (alpha unused: 255); row 0 is the image's first row (v = 0)
+  Wrap wrapS = Wrap::Repeat, wrapT = Wrap::Repeat;
+
+  glm::vec3 linearAt(float s, float t) const;  // the texel cutoutTexel addresses, linear RGB
+};
+
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;  // world space
@@ -38,7 +54,14 @@ struct Mesh {
   std::vector<uint32_t> indices;     // three per triangle, counter-clockwise seen from the front
   glm::vec3 baseColor{0.8f};         // linear RGB albedo in [0,1]
   int cutout = -1;                   // index into Scene::cutouts, or -1: opaque
-  std::vector<glm::vec2> texcoords;  // one per position when cutout >= 0, else empty
+  int texture = -1;                  // index into Scene::textures, or -1: the factor alone
+  // One per position when cutout >= 0 or texture >= 0, else empty: the base-colour texture's
+  // TEXCOORD_n with its KHR_texture_transform already applied (the cutout reads the same).
+  std::vector<glm::vec2> texcoords;
+
+  bool blend = false;  // glTF alphaMode BLEND (glass, light cones), drawn opaque: no say in the default framing
+
+  glm::vec3 albedoAt(const std::vector<ColorTexture>& textures, glm::vec2 st) const;  // baseColor × texel
 };
 
 struct DirectionalLight {
@@ -59,13 +82,25 @@ struct SceneFacts {
   int opaqueMaterials = 0, maskMaterials = 0, blendMaterials = 0;
 };
 
+// Where a scene's light came from (issue 34), for `mrr info`: the file's or the built-in
+// scene's own, --light-dir, or for a scene without one the candidate that lights the most of
+// the default view's visible surface (scenes/default_light.h).
+struct LightOrigin {
+  std::string source = "built-in default";  // "the scene", "--light-dir", "built-in default", "chosen for the view"
+  float litShare = -1.0f;         // the share of the view's visible surface it lights (-1: not measured)
+  float builtinLitShare = -1.0f;  // the built-in default's share of the same view (-1: not measured)
+  int candidate = -1;             // its index in defaultLightCandidates() (0: the built-in default), -1: none
+};
+
 struct Scene {
   std::string name;    // "builtin:plane", or the file's path
   std::string credit;  // attribution line to show wherever a rendering is published
   std::vector<Mesh> meshes;
   std::vector<Cutout> cutouts;  // shared by the meshes that use them
+  std::vector<ColorTexture> textures;  // base-colour textures, shared by the meshes that use them
   DirectionalLight light;
   bool hasLight = false;        // false: `light` is the default
+  LightOrigin lightOrigin;      // set by loadRequestedScene (scenes/catalog.cpp)
   std::vector<Camera> cameras;  // from the file or the built-in scene; may be empty
   SceneFacts facts;
 
@@ -85,15 +120,22 @@ void validateScene(const Scene& scene, const std::string& source);
 // enough that the bounds' sphere fits the vertical field of view.
 Camera frameBounds(const Bounds& bounds, float yfovRadians);
 
-// The default view of a scene that brings no camera (issue 19):
+// The default view of a scene that brings no camera (issues 19, 34). Only opaque and MASK
+// surfaces decide it: BLEND ones (glass, light cones) close a room (a window is a wall) but
+// are never its walls, never a view's end, and do not count in the bounds it frames.
 // - an interior (the bounds' centre is enclosed: rays from it meet geometry in at least 24 of
-//   26 directions) is seen from that centre, looking along the level direction with the most
-//   room;
+//   26 directions, and the surfaces met face it) is seen from inside: the eye is inside the
+//   bounds, at the place with the most room, looking along the level direction with the
+//   farthest opaque surface;
+// - an enclosure with one level side open (a Cornell box: most of a fan of rays through that
+//   side escapes, not just the one through a window or a door) is seen from outside, looking in
+//   through the opening: not "inside";
 // - anything else from the front-above diagonal, as frameBounds, but at the distance where its
 //   vertices just fit an image of this aspect (W/H) with a 5% margin, so it fills the frame.
 struct Framing {
   Camera camera;
-  bool interior = false;
+  bool interior = false;   // the eye is inside the bounds, in the room
+  bool openSide = false;   // an enclosure seen through its open side, from outside
   int enclosedDirections = 0;  // of 26: the rays from the bounds' centre that meet a surface
   int facingDirections = 0;    // of those, the ones along which a surface faces the centre (a room's walls)
 };

@@ -30,8 +30,9 @@ inline constexpr ToleranceRule kTolerances[] = {
      "1 − N·N': interpolation order of the vertex normals; at creases (the oracle's normal turns > 8° to a "
      "neighbour) the rasteriser's sub-pixel snapping may pick the other facet, allowed and counted apart"},
     {"gbuffer.albedo", 1e-6, 0.03, kNoRms,
-     "one base colour per mesh, but coplanar overlapping meshes (the arcade's decals) z-fight: the nearest ray hit "
-     "and the depth test pick different ones (arcade 320x180: 2.4% at L1), besides triangle-edge pixels"},
+     "the same factor and texel on both paths, but coplanar overlapping meshes (the arcade's decals) z-fight: the "
+     "nearest ray hit and the depth test pick different ones (arcade 320x180: 2.4% at L1), besides triangle-edge "
+     "pixels and a texture coordinate within rounding of a texel border (barycentric vs perspective-correct)"},
     {"edges", 0.5, 0.02, kNoRms, "inherited from the G-buffer's triangle-edge pixels"},
     {"edges.same_input", 0.5, 0.0, kNoRms,
      "exact outside the guard band (measures within 1e-4 of τ_n or τ_z, relative), where rounding may flip a pixel"},

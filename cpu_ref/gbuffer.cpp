@@ -119,12 +119,16 @@ GBuffer renderGBuffer(const RayScene& rays, const View& view, const LevelConstan
         const float len = glm::length(n);
         n = len > 0.0f ? n / len : -glm::normalize(p);
         if (glm::dot(n, p) > 0.0f) n = -n;  // SPEC §1: flip to face the camera
+        // 2. albedo: the factor, times the base-colour texture's texel at the hit's texture
+        //    coordinate where the mesh has one (docs/spec.md §1.2)
+        const glm::vec3 albedo =
+            mesh.texture < 0 ? mesh.baseColor : mesh.albedoAt(scene.textures, texcoordAt(mesh, hit.primID, hit.u, hit.v));
         g.hit.at(x, y) = 1;
         g.depth.at(x, y) = -p.z;
         for (int c = 0; c < 3; ++c) {
           g.position.at(x, y, c) = p[c];
           g.normal.at(x, y, c) = n[c];
-          g.albedo.at(x, y, c) = mesh.baseColor[c];
+          g.albedo.at(x, y, c) = albedo[c];
         }
       });
   return g;

@@ -231,14 +231,46 @@ unsigned uploadCutout(const Cutout& cutout) {
   return uploadBinary(bits);
 }
 
+// A base-colour texture's bytes as an RGBA8 texture, read with texelFetch (byte/255, no sRGB
+// decoding by the driver: albedo.glsl decodes through the host's table).
+unsigned uploadColorTexture(const ColorTexture& texture) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  require(texture.width <= maxSize && texture.height <= maxSize,
+          "gpu: a base-colour texture of " + std::to_string(texture.width) + "x" + std::to_string(texture.height) +
+              " texels is over this GL's texture limit of " + std::to_string(maxSize));
+  unsigned id = 0;
+  glGenTextures(1, &id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, texture.width, texture.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               texture.rgba.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  checkGl("upload base-colour texture");
+  return id;
+}
+
 int wrapNumber(Wrap wrap) { return wrap == Wrap::Clamp ? 1 : wrap == Wrap::Mirror ? 2 : 0; }
 }  // namespace
 
 GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
   for (const Cutout& cutout : scene.cutouts) cutouts_.push_back(uploadCutout(cutout));
+  for (const ColorTexture& texture : scene.textures) textures_.push_back(uploadColorTexture(texture));
+  {
+    ImageF table(256, 1, 1);
+    const float* linear = srgbToLinearTable();
+    for (int i = 0; i < 256; ++i) table.data[static_cast<size_t>(i)] = linear[i];
+    srgbToLinear_ = uploadTexture(table);
+  }
   for (const Mesh& mesh : scene.meshes) {
     MeshGl m;
     m.color = mesh.baseColor;
+    if (mesh.texture >= 0) {
+      const ColorTexture& texture = scene.textures[static_cast<size_t>(mesh.texture)];
+      m.texture = textures_[static_cast<size_t>(mesh.texture)];
+      m.textureWrap = {wrapNumber(texture.wrapS), wrapNumber(texture.wrapT)};
+    }
     if (mesh.cutout >= 0) {
       const Cutout& cutout = scene.cutouts[static_cast<size_t>(mesh.cutout)];
       m.cutout = cutouts_[static_cast<size_t>(mesh.cutout)];
@@ -249,7 +281,7 @@ GpuScene::GpuScene(const Scene& scene) : bounds_(scene.bounds()) {
     glBindVertexArray(m.vao);
     m.positions = uploadAttribute(0, mesh.positions);
     m.normals = uploadAttribute(1, mesh.normals);
-    if (mesh.cutout >= 0) m.texcoords = uploadAttribute(2, mesh.texcoords);
+    if (!mesh.texcoords.empty()) m.texcoords = uploadAttribute(2, mesh.texcoords);
     glGenBuffers(1, &m.indices);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.indices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.indices.size() * sizeof(uint32_t)),
@@ -337,6 +369,8 @@ GpuScene::~GpuScene() {
   free_.clear();
   for (const auto& [stage, program] : programs_) glDeleteProgram(program);
   if (!cutouts_.empty()) glDeleteTextures(static_cast<GLsizei>(cutouts_.size()), cutouts_.data());
+  if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+  glDeleteTextures(1, &srgbToLinear_);
   glDeleteVertexArrays(1, &emptyVao_);
   glDeleteVertexArrays(1, &rectVao_);
   glDeleteBuffers(1, &rectBuffer_);
@@ -383,9 +417,13 @@ void drawGBuffer(const GpuScene& scene, const View& view, const Framebuffer& tar
   for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, i, zero);
   glClear(GL_DEPTH_BUFFER_BIT);
   const GLint albedo = uniform(program, "albedo");
+  glUniform1i(uniform(program, "srgbToLinear"), 2);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, scene.srgbToLinear());
   for (const GpuScene::MeshGl& m : scene.meshes()) {
     glUniform3f(albedo, m.color.x, m.color.y, m.color.z);
     bindCutout(program, m, 0);
+    bindColorTexture(program, m, 1);
     glBindVertexArray(m.vao);
     glDrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
   }
@@ -400,6 +438,14 @@ void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit) {
   glUniform1i(uniform(program, "cutout"), unit);
   glActiveTexture(GL_TEXTURE0 + static_cast<unsigned>(unit));
   glBindTexture(GL_TEXTURE_2D, mesh.cutout);
+}
+
+void bindColorTexture(unsigned program, const GpuScene::MeshGl& mesh, int unit) {
+  glUniform1i(uniform(program, "hasTexture"), mesh.texture != 0 ? 1 : 0);
+  glUniform2i(uniform(program, "textureWrap"), mesh.textureWrap.x, mesh.textureWrap.y);
+  glUniform1i(uniform(program, "baseColor"), unit);
+  glActiveTexture(GL_TEXTURE0 + static_cast<unsigned>(unit));
+  glBindTexture(GL_TEXTURE_2D, mesh.texture);
 }
 
 void subsampleGBuffer(const GpuScene& scene, const Framebuffer& full, const LevelConstants& level,

@@ -110,9 +110,12 @@ class GpuScene {
     glm::vec3 color{0.0f};
     unsigned cutout = 0;         // the R8 texture of its alpha cutout, or 0: opaque
     glm::ivec2 cutoutWrap{0};    // wrapS, wrapT as cutout.glsl numbers them
+    unsigned texture = 0;        // the RGBA8 texture of its base colour, or 0: the factor alone
+    glm::ivec2 textureWrap{0};   // wrapS, wrapT as albedo.glsl numbers them
   };
   const std::vector<MeshGl>& meshes() const { return meshes_; }
   const Bounds& bounds() const { return bounds_; }
+  unsigned srgbToLinear() const { return srgbToLinear_; }  // the 256x1 R32F table albedo.glsl reads
 
   // The program of a stage, compiled on first use in this context and kept (keyed by stage,
   // so each variant of a file, with its own `defines`, needs its own stage name).
@@ -136,6 +139,8 @@ class GpuScene {
  private:
   std::vector<MeshGl> meshes_;
   std::vector<unsigned> cutouts_;  // one R8 texture per Scene::cutouts entry
+  std::vector<unsigned> textures_;  // one RGBA8 texture per Scene::textures entry
+  unsigned srgbToLinear_ = 0;
   Bounds bounds_;
   unsigned emptyVao_ = 0, rectVao_ = 0, rectBuffer_ = 0;
   mutable std::map<std::string, unsigned> programs_;
@@ -153,6 +158,10 @@ void subsampleGBuffer(const GpuScene& scene, const Framebuffer& full, const Leve
 
 // Sets cutout.glsl's uniforms for one mesh of a geometry pass (its texture on unit `unit`).
 void bindCutout(unsigned program, const GpuScene::MeshGl& mesh, int unit);
+
+// Sets albedo.glsl's uniforms for one mesh of the G-buffer pass (its base-colour texture on
+// unit `unit`; the sRGB table is bound once by drawGBuffer).
+void bindColorTexture(unsigned program, const GpuScene::MeshGl& mesh, int unit);
 
 // Reads drawn G-buffer targets back into the oracle's structure.
 GBuffer readGBuffer(const Framebuffer& target);

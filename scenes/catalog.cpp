@@ -7,6 +7,7 @@
 #include "scenes/gltf_loader.h"
 #include "common/paths.h"
 #include "scenes/builtin.h"
+#include "scenes/default_light.h"
 
 namespace mrr {
 
@@ -59,6 +60,20 @@ Scene loadRequestedScene(const SceneRequest& request) {
     require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
     // A unit direction (as frame files write it) is kept bit for bit.
     scene.light.direction = std::fabs(length - 1.0f) <= 1e-6f ? -*request.lightToward : -*request.lightToward / length;
+    scene.lightOrigin.source = "--light-dir";
+  } else if (scene.hasLight) {
+    scene.lightOrigin.source = "the scene";
+  } else {
+    // No light of its own: the candidate that lights the most of what the request's view sees
+    // (the built-in default first, kept bit for bit where nothing does better).
+    const DefaultLightChoice choice = chooseDefaultLight(scene, requestedCamera(request, scene), request.aspect);
+    scene.lightOrigin.candidate = choice.chosen;
+    scene.lightOrigin.litShare = choice.shares[static_cast<size_t>(choice.chosen)];
+    scene.lightOrigin.builtinLitShare = choice.shares.front();
+    if (choice.chosen != 0) {
+      scene.light.direction = choice.direction;
+      scene.lightOrigin.source = "chosen for the view";
+    }
   }
   return scene;
 }
@@ -97,8 +112,9 @@ Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::str
     const Framing framing = frameScene(scene, fov, request.aspect);
     if (framed) *framed = framing;
     camera = framing.camera;
-    where = framing.interior ? "default framing: inside, the scene encloses its centre"
-                             : "default framing: from outside, fitted to the frame";
+    where = framing.interior   ? "default framing: inside, the scene encloses its centre"
+            : framing.openSide ? "default framing: from outside, looking in through its open side"
+                               : "default framing: from outside, fitted to the frame";
   }
   if (request.fovDegrees) camera.yfov = fov;
   if (source) *source = where;

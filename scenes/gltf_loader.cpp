@@ -167,24 +167,30 @@ bool isFinite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// The alpha of an image that an alpha-MASK material's base colour reads (the only images mrr
-// decodes), or why it could not be decoded.
+// What mrr reads of an image: the alpha where an alpha-MASK material's base colour reads it
+// (a cutout), the RGB bytes where a drawn material's base colour does (its albedo); or why it
+// could not be decoded. No other image is decoded.
 struct ImageAlpha {
   int width = 0, height = 0;
-  std::vector<float> alpha;  // width × height, row 0 = the image's first row; 1 where it has none
+  std::vector<float> alpha;  // width × height, row 0 = the image's first row; 1 where it has none (MASK only)
+  std::vector<uint8_t> rgba; // width × height × 4 as stored (sRGB), alpha 255 (base colour only)
   std::string error;         // non-empty: not decoded
 };
 struct ImageRequests {
   std::set<int> wanted;                // image indices MASK materials need (prepareJson)
+  std::set<int> wantedColor;           // image indices drawn materials' base colours need (prepareJson)
   std::map<int, ImageAlpha> decoded;   // filled by decodeWantedImage
 };
 
-// tinygltf's image callback: decodes the wanted images' alpha with OpenImageIO, from the bytes
-// tinygltf found (a data: URI, a file beside the glTF, or a bufferView); others are skipped.
+// tinygltf's image callback: decodes the wanted images' alpha and colour with OpenImageIO,
+// from the bytes tinygltf found (a data: URI, a file beside the glTF, or a bufferView); others
+// are skipped.
 bool decodeWantedImage(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
                        const unsigned char* bytes, int size, void* user) {
   auto* requests = static_cast<ImageRequests*>(user);
-  if (!requests || !requests->wanted.count(index) || size <= 0) return true;
+  const bool wantAlpha = requests && requests->wanted.count(index);
+  const bool wantColor = requests && requests->wantedColor.count(index);
+  if (!(wantAlpha || wantColor) || size <= 0) return true;
   ImageAlpha& out = requests->decoded[index];
   // OpenImageIO picks its reader by the name's extension: PNG and JPEG are what glTF allows.
   const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG", 4) == 0;
@@ -194,7 +200,12 @@ bool decodeWantedImage(tinygltf::Image* image, const int index, std::string*, st
     return true;
   }
   OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), static_cast<size_t>(size));
-  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", nullptr, &reader);
+  // Colour as stored: OpenImageIO would otherwise premultiply a PNG's colour by its alpha.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  OIIO::Filesystem::IOProxy* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", wantColor ? &config : nullptr, &reader);
   if (!in) {
     out.error = oneLine(OIIO::geterror());
     return true;
@@ -208,12 +219,40 @@ bool decodeWantedImage(tinygltf::Image* image, const int index, std::string*, st
   }
   out.width = spec.width;
   out.height = spec.height;
-  out.alpha.assign(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height), 1.0f);
-  if (spec.alpha_channel >= 0 &&
-      !in->read_image(0, 0, spec.alpha_channel, spec.alpha_channel + 1, OIIO::TypeDesc::FLOAT, out.alpha.data())) {
+  const size_t texels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  if (!wantColor) {  // a cutout's alpha alone
+    out.alpha.assign(texels, 1.0f);
+    if (spec.alpha_channel >= 0 &&
+        !in->read_image(0, 0, spec.alpha_channel, spec.alpha_channel + 1, OIIO::TypeDesc::FLOAT, out.alpha.data())) {
+      out = ImageAlpha{};
+      out.error = oneLine(in->geterror());
+    }
+    return true;
+  }
+  // Every channel in one read (a PNG cannot be read twice from memory), as float: an 8-bit
+  // file's byte b reads b/255, so the bytes come back exactly and the alpha is the one the
+  // cutout alone reads. Deeper files round to the nearest byte.
+  const int channels = std::max(spec.nchannels, 1);
+  std::vector<float> all(texels * static_cast<size_t>(channels));
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data())) {
     out = ImageAlpha{};
     out.error = oneLine(in->geterror());
+    return true;
   }
+  const size_t n = static_cast<size_t>(channels);
+  if (wantAlpha) {
+    out.alpha.assign(texels, 1.0f);
+    if (spec.alpha_channel >= 0 && spec.alpha_channel < channels)
+      for (size_t i = 0; i < texels; ++i) out.alpha[i] = all[i * n + static_cast<size_t>(spec.alpha_channel)];
+  }
+  // RGB; a grey or grey-alpha image's first channel in all three
+  const bool grey = channels < 3;
+  out.rgba.assign(4 * texels, 255);
+  for (size_t i = 0; i < texels; ++i)
+    for (size_t c = 0; c < 3; ++c) {
+      const float v = all[i * n + (grey ? 0 : c)];
+      out.rgba[4 * i + c] = static_cast<uint8_t>(std::lround(std::clamp(v == v ? v : 0.0f, 0.0f, 1.0f) * 255.0f));
+    }
   return true;
 }
 
@@ -225,7 +264,9 @@ struct LocalPrimitive {
   std::vector<uint32_t> indices;   // triangle list
   glm::vec3 baseColor{1.0f};
   int cutout = -1;                   // into Scene::cutouts
-  std::vector<glm::vec2> texcoords;  // with a cutout only
+  int texture = -1;                  // into Scene::textures
+  std::vector<glm::vec2> texcoords;  // with a cutout or a texture only, transformed (materialTexCoord)
+  bool blend = false;                // alphaMode BLEND, drawn opaque
 };
 
 class Loader {
@@ -778,8 +819,6 @@ class Loader {
            " is out of range: drawn without its cutout");
       return out;
     }
-    if (info.extensions.count("KHR_texture_transform"))
-      warn(name + " (alpha MASK): KHR_texture_transform on its base-colour texture is not applied");
     const tinygltf::Texture& texture = model_.textures[static_cast<size_t>(info.index)];
     const int source = textureSource(texture);
     const auto image = images_.decoded.find(source);
@@ -804,13 +843,109 @@ class Loader {
       cutout.wrapS = wrapOf(sampler.wrapS);
       cutout.wrapT = wrapOf(sampler.wrapT);
     }
-    out.texCoord = info.texCoord;
+    out.texCoord = materialTexCoord(material).index;
     if (opaque == 0) {
       out.invisible = true;
     } else if (opaque < cutout.opaque.size()) {
       out.cutout = static_cast<int>(scene_.cutouts.size());
       scene_.cutouts.push_back(std::move(cutout));
     }
+    return out;
+  }
+
+  // ---- base-colour textures (docs/spec.md §1.2) ----------------------------------------------
+
+  // Which TEXCOORD_n a material's base-colour texture reads, and KHR_texture_transform's affine
+  // map of it: (s', t') = offset + R(rotation) · (scale ⊙ (s, t)), glTF's T · R · S.
+  struct TexCoord {
+    int index = 0;
+    bool transformed = false;
+    double m[2][3] = {{1, 0, 0}, {0, 1, 0}};  // s' = m[0]·(s, t, 1), t' = m[1]·(s, t, 1)
+  };
+  TexCoord materialTexCoord(int material) const {
+    TexCoord out;
+    if (material < 0 || static_cast<size_t>(material) >= model_.materials.size()) return out;
+    const tinygltf::TextureInfo& info = model_.materials[static_cast<size_t>(material)].pbrMetallicRoughness.baseColorTexture;
+    out.index = std::max(info.texCoord, 0);
+    const auto ext = info.extensions.find("KHR_texture_transform");
+    if (ext == info.extensions.end() || !ext->second.IsObject()) return out;
+    const tinygltf::Value& t = ext->second;
+    auto number = [](const tinygltf::Value& v, double fallback) {
+      return v.IsNumber() && std::isfinite(v.GetNumberAsDouble()) ? v.GetNumberAsDouble() : fallback;
+    };
+    auto pair = [&](const char* key, double fallback, double& a, double& b) {
+      const tinygltf::Value& v = t.Get(key);
+      a = b = fallback;
+      if (v.IsArray() && v.ArrayLen() == 2) {
+        a = number(v.Get(0), fallback);
+        b = number(v.Get(1), fallback);
+      }
+    };
+    double ox, oy, sx, sy;
+    pair("offset", 0.0, ox, oy);
+    pair("scale", 1.0, sx, sy);
+    const double r = number(t.Get("rotation"), 0.0);
+    if (t.Get("texCoord").IsInt()) out.index = std::max(t.Get("texCoord").GetNumberAsInt(), 0);
+    // KHR_texture_transform: rotation [[c, s], [−s, c]] (counter-clockwise in UV space)
+    const double c = std::cos(r), sn = std::sin(r);
+    out.m[0][0] = c * sx;
+    out.m[0][1] = sn * sy;
+    out.m[0][2] = ox;
+    out.m[1][0] = -sn * sx;
+    out.m[1][1] = c * sy;
+    out.m[1][2] = oy;
+    out.transformed = true;
+    return out;
+  }
+  static void applyTexCoord(const TexCoord& tc, std::vector<glm::vec2>& st) {
+    if (!tc.transformed) return;
+    for (glm::vec2& p : st) {
+      const double s = p.x, t = p.y;
+      p = glm::vec2(static_cast<float>(tc.m[0][0] * s + tc.m[0][1] * t + tc.m[0][2]),
+                    static_cast<float>(tc.m[1][0] * s + tc.m[1][1] * t + tc.m[1][2]));
+    }
+  }
+
+  // A material's base-colour texture as a Scene::textures index (one per glTF texture, shared
+  // by the materials that use it), or -1: none, or its image could not be read (said once).
+  int materialTexture(int material) {
+    const auto cached = textures_.find(material);
+    if (cached != textures_.end()) return cached->second;
+    int& out = textures_[material];
+    out = -1;
+    if (material < 0 || static_cast<size_t>(material) >= model_.materials.size()) return out;
+    const tinygltf::Material& m = model_.materials[static_cast<size_t>(material)];
+    const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+    if (info.index < 0) return out;
+    const std::string name = "material " + (m.name.empty() ? std::to_string(material) : "'" + m.name + "'");
+    if (static_cast<size_t>(info.index) >= model_.textures.size()) {
+      warn(name + ": base-colour texture " + std::to_string(info.index) + " is out of range: drawn with its factor");
+      return out;
+    }
+    const auto shared = textureIndex_.find(info.index);
+    if (shared != textureIndex_.end()) return out = shared->second;
+    const tinygltf::Texture& texture = model_.textures[static_cast<size_t>(info.index)];
+    const int source = textureSource(texture);
+    const auto image = images_.decoded.find(source);
+    if (image == images_.decoded.end() || !image->second.error.empty() || image->second.rgba.empty()) {
+      const std::string why = image == images_.decoded.end() || image->second.error.empty()
+                                  ? "could not be read (see above)"
+                                  : image->second.error;
+      warn(name + ": base-colour image " + std::to_string(source) + " " + why + ": drawn with its factor");
+      return out;
+    }
+    ColorTexture colour;
+    colour.width = image->second.width;
+    colour.height = image->second.height;
+    colour.rgba = image->second.rgba;
+    if (texture.sampler >= 0 && static_cast<size_t>(texture.sampler) < model_.samplers.size()) {
+      const tinygltf::Sampler& sampler = model_.samplers[static_cast<size_t>(texture.sampler)];
+      colour.wrapS = wrapOf(sampler.wrapS);
+      colour.wrapT = wrapOf(sampler.wrapT);
+    }
+    out = static_cast<int>(scene_.textures.size());
+    textureIndex_[info.index] = out;
+    scene_.textures.push_back(std::move(colour));
     return out;
   }
 
@@ -834,8 +969,7 @@ class Loader {
     if (material < 0 || static_cast<size_t>(material) >= model_.materials.size())
       fail(what + " material " + std::to_string(material) + " is out of range (" +
            std::to_string(model_.materials.size()) + " materials)");
-    // The factor only: colour textures are never read (only alpha-MASK materials' base-colour
-    // images are decoded, for their alpha: materialCutout).
+    // The factor; its base-colour texture, if any, is materialTexture.
     const std::vector<double>& factor =
         model_.materials[static_cast<size_t>(material)].pbrMetallicRoughness.baseColorFactor;
     glm::vec3 color(1.0f);
@@ -890,7 +1024,10 @@ class Loader {
         ++invisiblePrimitives_;
         continue;
       }
-      const std::string texcoordName = "TEXCOORD_" + std::to_string(cut.texCoord);
+      const int texture = materialTexture(primitive.material);
+      const bool wantTexcoords = cut.cutout >= 0 || texture >= 0;
+      const TexCoord texCoord = materialTexCoord(primitive.material);
+      const std::string texcoordName = "TEXCOORD_" + std::to_string(texCoord.index);
       const auto position = primitive.attributes.find("POSITION");
       if (position == primitive.attributes.end()) fail(what + " has no POSITION attribute");
 
@@ -904,23 +1041,25 @@ class Loader {
       if (compressed) {
         if (mode != kModeTriangles)
           fail(what + " is a Draco-compressed " + modeName(mode) + "; mrr reads Draco TRIANGLES only");
-        decodeDraco(draco->second, normal != primitive.attributes.end(), cut.cutout >= 0 ? texcoordName : "", what,
+        decodeDraco(draco->second, normal != primitive.attributes.end(), wantTexcoords ? texcoordName : "", what,
                     out, indices);
       } else {
         out.positions = readVec3(position->second, what + " POSITION");
         if (normal != primitive.attributes.end()) out.normals = readVec3(normal->second, what + " NORMAL", true);
         const auto texcoord = primitive.attributes.find(texcoordName);
-        if (cut.cutout >= 0 && texcoord != primitive.attributes.end())
+        if (wantTexcoords && texcoord != primitive.attributes.end())
           out.texcoords = readVec<2>(texcoord->second, what + " " + texcoordName);
       }
-      if (cut.cutout >= 0) {
+      if (wantTexcoords) {
         if (out.texcoords.size() == out.positions.size()) {
+          applyTexCoord(texCoord, out.texcoords);
           out.cutout = cut.cutout;
+          out.texture = texture;
         } else {
-          warn(what + ": its material's alpha cutout reads " + texcoordName + ", which the primitive " +
+          warn(what + ": its material's base-colour texture reads " + texcoordName + ", which the primitive " +
                (out.texcoords.empty() ? "lacks" : "has for " + std::to_string(out.texcoords.size()) + " of " +
                                                       std::to_string(out.positions.size()) + " vertices") +
-               ": drawn without the cutout");
+               (cut.cutout >= 0 ? ": drawn without the cutout" : ": drawn with its factor"));
           out.texcoords.clear();
         }
       }
@@ -952,6 +1091,7 @@ class Loader {
              " indices, not a multiple of 3; the last partial triangle is dropped");
       out.indices = toTriangleList(mode, indices);
       out.baseColor = materialColor(primitive.material, what);
+      out.blend = isBlend(primitive.material);
       cached->push_back(std::move(out));
     }
     return *cached;
@@ -970,6 +1110,8 @@ class Loader {
       mesh.name = primitive.name;
       mesh.baseColor = primitive.baseColor;
       mesh.cutout = primitive.cutout;
+      mesh.texture = primitive.texture;
+      mesh.blend = primitive.blend;
       mesh.texcoords = primitive.texcoords;
       mesh.positions.reserve(primitive.positions.size());
       for (const glm::vec3& p : primitive.positions)
@@ -1080,6 +1222,8 @@ class Loader {
   const bool skipBlend_;  // --blend-materials skip
   size_t skippedBlend_ = 0;  // primitives dropped for it
   std::map<int, MaterialCutout> cutouts_;  // per material
+  std::map<int, int> textures_;            // per material: its Scene::textures index, or -1
+  std::map<int, int> textureIndex_;        // per glTF texture: its Scene::textures index
   size_t invisiblePrimitives_ = 0;         // alpha MASK under the cutoff everywhere: not drawn
   Scene scene_;
   std::vector<std::optional<std::vector<LocalPrimitive>>> meshCache_;
@@ -1169,33 +1313,52 @@ bool isMeshoptFallback(const nlohmann::json& buffer) {
   return fallback != meshopt->end() && fallback->is_boolean() && fallback->get<bool>();
 }
 
-// The images alpha-MASK materials read (their base colour's texture's source, or its
-// EXT_texture_webp source), from the JSON before tinygltf parses it.
-std::set<int> maskImages(const nlohmann::json& doc) {
-  std::set<int> out;
+// The image a material's base-colour texture reads (the texture's source, or its
+// EXT_texture_webp source), or -1.
+int baseColorImage(const nlohmann::json& material, const nlohmann::json& textures) {
+  if (!material.is_object()) return -1;
+  const nlohmann::json* info = nullptr;
+  const auto pbr = material.find("pbrMetallicRoughness");
+  if (pbr != material.end() && pbr->is_object() && pbr->contains("baseColorTexture")) info = &(*pbr)["baseColorTexture"];
+  if (!info || !info->is_object() || !info->contains("index") || !(*info)["index"].is_number_unsigned()) return -1;
+  const size_t t = (*info)["index"].get<size_t>();
+  if (t >= textures.size() || !textures[t].is_object()) return -1;
+  const nlohmann::json& texture = textures[t];
+  if (texture.contains("source") && texture["source"].is_number_unsigned())
+    return static_cast<int>(std::min<size_t>(texture["source"].get<size_t>(), INT32_MAX));
+  const nlohmann::json* webp = nullptr;
+  if (texture.contains("extensions") && texture["extensions"].is_object() &&
+      texture["extensions"].contains("EXT_texture_webp"))
+    webp = &texture["extensions"]["EXT_texture_webp"];
+  if (webp && webp->is_object() && webp->contains("source") && (*webp)["source"].is_number_unsigned())
+    return static_cast<int>(std::min<size_t>((*webp)["source"].get<size_t>(), INT32_MAX));
+  return -1;
+}
+
+// The images mrr decodes, from the JSON before tinygltf parses it: `alpha`, those alpha-MASK
+// materials' base colours read (their cutouts); `colour`, those the base colours of the
+// materials some primitive draws read (their albedo; BLEND ones not with `skipBlend`). No
+// other image (normal, occlusion, emissive maps, unused materials') is decoded.
+void wantedImages(const nlohmann::json& doc, bool skipBlend, std::set<int>& alpha, std::set<int>& colour) {
   const auto materials = doc.find("materials"), textures = doc.find("textures");
-  if (materials == doc.end() || !materials->is_array() || textures == doc.end() || !textures->is_array()) return out;
-  for (const nlohmann::json& material : *materials) {
-    if (!material.is_object() || material.value("alphaMode", std::string()) != "MASK") continue;
-    const nlohmann::json* info = nullptr;
-    const auto pbr = material.find("pbrMetallicRoughness");
-    if (pbr != material.end() && pbr->is_object() && pbr->contains("baseColorTexture")) info = &(*pbr)["baseColorTexture"];
-    if (!info || !info->is_object() || !info->contains("index") || !(*info)["index"].is_number_unsigned()) continue;
-    const size_t t = (*info)["index"].get<size_t>();
-    if (t >= textures->size() || !(*textures)[t].is_object()) continue;
-    const nlohmann::json& texture = (*textures)[t];
-    if (texture.contains("source") && texture["source"].is_number_unsigned()) {
-      out.insert(static_cast<int>(std::min<size_t>(texture["source"].get<size_t>(), INT32_MAX)));
-    } else {
-      const nlohmann::json* webp = nullptr;
-      if (texture.contains("extensions") && texture["extensions"].is_object() &&
-          texture["extensions"].contains("EXT_texture_webp"))
-        webp = &texture["extensions"]["EXT_texture_webp"];
-      if (webp && webp->is_object() && webp->contains("source") && (*webp)["source"].is_number_unsigned())
-        out.insert(static_cast<int>(std::min<size_t>((*webp)["source"].get<size_t>(), INT32_MAX)));
+  if (materials == doc.end() || !materials->is_array() || textures == doc.end() || !textures->is_array()) return;
+  std::set<size_t> drawn;  // materials some primitive uses
+  const auto meshes = doc.find("meshes");
+  if (meshes != doc.end() && meshes->is_array())
+    for (const nlohmann::json& mesh : *meshes) {
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      for (const nlohmann::json& primitive : mesh["primitives"])
+        if (primitive.is_object() && primitive.contains("material") && primitive["material"].is_number_unsigned())
+          drawn.insert(primitive["material"].get<size_t>());
     }
+  for (size_t m = 0; m < materials->size(); ++m) {
+    const nlohmann::json& material = (*materials)[m];
+    const int image = baseColorImage(material, *textures);
+    if (image < 0) continue;
+    const std::string mode = material.value("alphaMode", std::string());
+    if (mode == "MASK") alpha.insert(image);
+    if (drawn.count(m) && !(skipBlend && mode == "BLEND")) colour.insert(image);
   }
-  return out;
 }
 
 // What mrr settles in the JSON before tinygltf parses it, since tinygltf 2.7.0 reads every
@@ -1206,12 +1369,14 @@ std::set<int> maskImages(const nlohmann::json& doc) {
 //   become a one-byte placeholder: their data is only ever the compressed views' output;
 // - KHR_draco_mesh_compression primitives lose `indices` (an accessor without a bufferView,
 //   which tinygltf refuses): the triangles come with the Draco mesh;
-// - images are replaced by placeholders but for the base-colour images of alpha-MASK materials,
-//   so no other texture is read or decoded and absent ones warn of nothing.
+// - images are replaced by placeholders but for the base-colour images of alpha-MASK materials
+//   and of the materials drawn (wantedImages), so no other texture is read or decoded and
+//   absent ones warn of nothing.
 // Returns the bytes to parse: the same when nothing changed, else the JSON (or the GLB)
 // rewritten. Bytes whose JSON does not parse go to tinygltf unchanged, for it to report.
 std::vector<unsigned char> prepareJson(const std::vector<unsigned char>& bytes, const std::string& name,
-                                       const std::string& baseDir, bool binary, std::set<int>* wanted) {
+                                       const std::string& baseDir, bool binary, bool skipBlend,
+                                       std::set<int>* wanted, std::set<int>* wantedColor) {
   using nlohmann::json;
   size_t jsonBegin = 0, jsonSize = bytes.size(), glbLength = 0;
   if (binary) {
@@ -1278,13 +1443,16 @@ std::vector<unsigned char> prepareJson(const std::vector<unsigned char>& bytes, 
         }
       }
     }
-  // Images: only the base-colour images of alpha-MASK materials are read (for their alpha);
-  // every other one becomes a one-byte placeholder that is never decoded, so indices hold.
-  if (wanted) *wanted = maskImages(doc);
+  // Images: only base-colour images are read (wantedImages); every other one becomes a
+  // one-byte placeholder that is never decoded, so indices hold.
+  std::set<int> alpha, colour;
+  wantedImages(doc, skipBlend, alpha, colour);
+  if (wanted) *wanted = alpha;
+  if (wantedColor) *wantedColor = colour;
   const auto images = doc.find("images");
   if (images != doc.end() && images->is_array()) {
     for (size_t i = 0; i < images->size(); ++i) {
-      if (wanted && wanted->count(static_cast<int>(i))) continue;
+      if (alpha.count(static_cast<int>(i)) || colour.count(static_cast<int>(i))) continue;
       (*images)[i] = {{"uri", "data:image/png;base64,AA=="}};
       changed = true;
     }
@@ -1319,7 +1487,7 @@ Scene parseGltf(const std::vector<unsigned char>& bytes, const std::string& name
   std::vector<unsigned char> prepared;
   ImageRequests images;
   try {
-    prepared = prepareJson(bytes, name, baseDir, binary, &images.wanted);
+    prepared = prepareJson(bytes, name, baseDir, binary, options.skipBlend, &images.wanted, &images.wantedColor);
   } catch (const MrrError&) {
     throw;
   } catch (const std::exception& e) {

@@ -19,7 +19,9 @@ struct LoadOptions {
 //   points and lines are skipped with a warning on stderr;
 // - POSITION and NORMAL as FLOAT or quantized (KHR_mesh_quantization), sparse accessors, and
 //   compressed geometry (EXT_meshopt_compression, KHR_draco_mesh_compression);
-// - base colour factor (images are never read: the effects use one albedo per mesh);
+// - base colour: the factor, times the base-colour texture (PNG or JPEG, decoded only for the
+//   materials drawn; its sampler's wrap modes, TEXCOORD_n and KHR_texture_transform: docs/spec.md
+//   §1.2); no other image is read;
 // - normals, computed where missing;
 // - perspective cameras and the first KHR_lights_punctual directional light, when present.
 // Skins and morph targets stay in the bind pose, BLEND and MASK materials are opaque: one

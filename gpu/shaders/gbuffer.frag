@@ -24,7 +24,8 @@ in vec3 viewPosition;
 in vec3 viewNormal;
 in vec2 surfaceTexcoord;
 #include "cutout.glsl"
-uniform vec3 albedo;
+#include "albedo.glsl"
+uniform vec3 albedo;  // the factor
 uniform float farDepth;  // the linear depth that maps to 1 in the depth buffer
 void main() {
   // 0. alpha cutout (docs/spec.md §1.1): a transparent texel is no surface, the ray goes on
@@ -35,7 +36,7 @@ void main() {
   if (dot(n, viewPosition) > 0.0) n = -n;
   outPositionHit = vec4(viewPosition, 1.0);
   outNormalDepth = vec4(n, -viewPosition.z);
-  outAlbedo = vec4(albedo, 1.0);
+  outAlbedo = vec4(albedoAt(albedo, surfaceTexcoord), 1.0);  // §1.2: factor × texel
   // 2. the depth test orders surfaces by linear depth (uniform precision from the eye out), not
   // by the projection's 1/z, whose precision near a close near plane (a camera inside a room)
   // is too coarse to order a picture and the wall behind it

@@ -4,7 +4,7 @@
 // makes the coarser levels from it).
 layout(location = 0) in vec3 worldPosition;
 layout(location = 1) in vec3 worldNormal;
-layout(location = 2) in vec2 texcoord;  // meshes with an alpha cutout only (else (0, 0))
+layout(location = 2) in vec2 texcoord;  // meshes with an alpha cutout or a texture only (else (0, 0))
 uniform mat4 worldToView;
 // Full-res pixel of a view point: px = cx + f x/(−z), py = cy − f y/(−z), mapped so that GL's
 // row 0 is image row 0 (readback needs no flip): (2f/Wp, 2cx/Wp − 1, −2f/Hp, 2cy/Hp − 1).

@@ -497,17 +497,31 @@ TEST(GltfCompressedTest, MissingBinNamesTheFileAndWhereItWasExpected) {
   }
 }
 
-TEST(GltfCompressedTest, TexturesAreNeverReadSoAbsentOnesSayNothing) {
+TEST(GltfCompressedTest, OnlyDrawnBaseColourImagesAreReadAndAnAbsentOneIsSaid) {
+  // Material 0 draws the triangle with a base-colour image that is absent: said, drawn with its
+  // factor. Image 1 is only a normal map, image 2 only an unused material's base colour: neither
+  // is read, so their broken bytes say nothing.
   GltfBuilder b = singleTriangle();
-  b.doc["materials"] = json::array({{{"pbrMetallicRoughness",
-                                      {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}, {"baseColorTexture", {{"index", 0}}}}}}});
+  b.doc["materials"] = json::array(
+      {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}, {"baseColorTexture", {{"index", 0}}}}},
+        {"normalTexture", {{"index", 1}}}},
+       {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 2}}}}}}});
   b.doc["meshes"][0]["primitives"][0]["material"] = 0;
-  b.doc["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
-  b.doc["images"] = json::array({{{"uri", "absent/albedo.png"}}, {{"uri", "data:image/png;base64,AAAA"}}});
+  b.doc["textures"] = json::array({{{"source", 0}}, {{"source", 1}}, {{"source", 2}}});
+  b.doc["images"] = json::array({{{"uri", "absent/albedo.png"}},
+                                 {{"uri", "data:image/png;base64,AAAA"}},
+                                 {{"uri", "data:image/png;base64,AAAA"}}});
   const std::string path = b.writeGltf(test::scratchDir(), "textured.gltf");
   testing::internal::CaptureStderr();
   const Scene scene = loadGltf(path);
-  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("material 0: base-colour image 0 could not be read (see above): drawn with its factor"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(err.find("image 1"), std::string::npos) << err;
+  EXPECT_EQ(err.find("image 2"), std::string::npos) << err;
+  EXPECT_EQ(scene.meshes[0].texture, -1);
+  EXPECT_TRUE(scene.textures.empty());
   expectNear(scene.meshes[0].baseColor, {0.5f, 0.25f, 1.0f});
 }
 

@@ -143,17 +143,39 @@ TEST(GltfCutout, AMissingImageIsDrawnOpaqueAndSaidOnce) {
   EXPECT_NE(err.find("drawn without its cutout"), std::string::npos) << err;
 }
 
-TEST(GltfCutout, ImagesOfOtherMaterialsAreNeverRead) {
-  // An opaque material's absent texture is no concern of mrr's: no warning, nothing read.
+TEST(GltfCutout, AnOpaqueMaterialsImageIsItsAlbedoNotACutout) {
+  // An opaque material's base-colour image is read for its colour (docs/spec.md §1.2), never as
+  // a cutout: the mesh gets a texture and its texture coordinates, and no cutout.
   const std::string dir = test::scratchDir();
+  writePng(dir + "/cut.png");
   GltfBuilder b = cutoutQuad({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
-  b.push("images", {{"uri", "absent.png"}});
+  b.push("images", {{"uri", "cut.png"}});
   testing::internal::CaptureStderr();
   const Scene s = loadGltf(b.writeGltf(dir, "opaque.gltf"));
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_TRUE(s.cutouts.empty());
-  EXPECT_TRUE(s.meshes.at(0).texcoords.empty());
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.meshes.at(0).texture, 0);
+  EXPECT_EQ(s.meshes.at(0).texcoords.size(), 4u);
+  // the colour as stored, not premultiplied by the alpha (the first texel's alpha is 0, the
+  // fourth's 255)
+  const std::vector<uint8_t>& rgba = s.textures[0].rgba;
+  EXPECT_EQ(std::vector<int>(rgba.begin(), rgba.begin() + 4), (std::vector<int>{200, 100, 50, 255}));
+  EXPECT_EQ(std::vector<int>(rgba.begin() + 12, rgba.begin() + 16), (std::vector<int>{200, 100, 50, 255}));
   EXPECT_EQ(err, "");
+}
+
+TEST(GltfCutout, AMaskAlsoColoursWithTheSameImage) {
+  const std::string dir = test::scratchDir();
+  writePng(dir + "/cut.png");
+  GltfBuilder b = cutoutQuad(maskMaterial());
+  b.push("images", {{"uri", "cut.png"}});
+  const Scene s = loadGltf(b.writeGltf(dir, "both.gltf"));
+  ASSERT_EQ(s.cutouts.size(), 1u);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.meshes.at(0).cutout, 0);
+  EXPECT_EQ(s.meshes.at(0).texture, 0);
+  EXPECT_EQ(bits(s.cutouts[0]), (std::vector<int>{0, 0, 1, 1, 1, 0, 1, 0}));  // the same bits as the cutout alone
 }
 
 TEST(GltfCutout, ACorruptImageIsSaidAndDrawnOpaque) {

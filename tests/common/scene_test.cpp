@@ -346,7 +346,8 @@ TEST(SceneTest, DefaultFramingOfAClosedObjectIsFromOutside) {
 TEST(SceneTest, DefaultFramingOfAnOpenBoxLooksInThroughTheOpening) {
   const Scene scene = roomScene({-1, 0, -1}, {1, 2, 1}, true);
   const Framing framing = frameScene(scene, glm::radians(60.0f), 16.0f / 9.0f);
-  EXPECT_TRUE(framing.interior);
+  EXPECT_FALSE(framing.interior);  // "inside" would mean the eye is inside the bounds
+  EXPECT_TRUE(framing.openSide);
   EXPECT_GT(framing.camera.eye.z, 1.0f);  // outside, before the open +z side
   EXPECT_LT(std::fabs(framing.camera.eye.x), 1e-4f);
 }

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 // Renders a scene with the oracle for a test: one call, everything kept.
 #include <memory>
 #include <string>
@@ -29,10 +30,13 @@ inline Settings ssaoSettings(int w, int h, int samples = 16, Mode mode = Mode::M
   return s;
 }
 
-inline Rendered renderScene(const std::string& sceneSpec, const Settings& s) {
+// `lightToward`: --light-dir (a scene without a light otherwise gets one chosen for its view).
+inline Rendered renderScene(const std::string& sceneSpec, const Settings& s,
+                            const std::optional<glm::vec3>& lightToward = std::nullopt) {
   Rendered r;
   SceneRequest req;
   req.scene = sceneSpec;
+  req.lightToward = lightToward;
   ResolvedScene rs = resolveScene(req);
   r.scene = std::make_unique<Scene>(std::move(rs.scene));
   r.camera = rs.camera;

@@ -135,6 +135,11 @@ CaseResult runCase(const CaseRun& run, const std::string& name, std::string& sub
     r.verdict = "ERROR";
     r.message = e.what();
   }
+  if (r.verdict == "ERROR" && !c.reportDir.empty()) {  // no page: no empty folder beside the others
+    std::error_code ec;
+    const fs::path folder = fs::path(c.reportDir) / name;
+    if (fs::is_directory(folder, ec) && fs::is_empty(folder, ec)) fs::remove(folder, ec);
+  }
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
@@ -204,10 +209,8 @@ int runCheckCommand(CheckCommand& c) {
 
   const int threads = threadCount(c.threads);
   const int jobs = std::max(1, std::min<int>(c.jobs, static_cast<int>(names.size())));
-  const CaseRun run{c, std::max(1, threads / jobs), nullptr};
   std::mutex portLock, printLock;
-  CaseRun shared = run;
-  if (jobs > 1) shared.portLock = &portLock;
+  const CaseRun shared{c, std::max(1, threads / jobs), jobs > 1 ? &portLock : nullptr};
   const std::string what = !c.against.empty() ? "--against " + c.against
                            : !c.shaders.empty() ? "the port with --shaders " + c.shaders
                                                 : "the port";

@@ -256,7 +256,14 @@ void writeSuiteIndex(const std::string& dir, const SuiteResults& r) {
     std::error_code ec;
     const bool linked = !c.page.empty() && fs::exists(fs::path(dir) / c.page, ec);
     total += c.seconds;
-    cases.push_back({{"name", c.name}, {"effect", c.effect}, {"method", c.method}, {"scene", c.scene},
+    // The failing stage's section of the page: compare.html.j2's anchors are EFFECT-STAGE.
+    std::string stageLink;
+    if (linked && c.verdict == "FAIL") {
+      const size_t colon = c.stage.find(':');
+      stageLink = c.page + "#" + (colon == std::string::npos ? c.effect + "-" + c.stage
+                                                              : c.stage.substr(0, colon) + "-" + c.stage.substr(colon + 1));
+    }
+    cases.push_back({{"name", c.name}, {"stage_link", stageLink}, {"effect", c.effect}, {"method", c.method}, {"scene", c.scene},
                      {"size", c.size}, {"verdict", c.verdict}, {"stage", c.stage}, {"message", c.message},
                      {"time", seconds(c.seconds) + " s"}, {"page", linked ? c.page : ""}});
   }

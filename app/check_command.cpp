@@ -42,7 +42,7 @@ void addCheckCommand(CLI::App& app, CheckCommand& c) {
   c.command->add_option("--junit", c.junit, "also write JUnit XML (one testcase per case) to this .xml file");
   c.command->add_option("--json", c.json, "also write the results as JSON, for `mrr check --merge`");
   c.command->add_option("--report", c.reportDir,
-                        "also write HTML: each case's compare page in DIR/CASE/ and an index, DIR/index.html");
+                        "also write HTML: each case's compare page in FOLDER/CASE/ and an index, FOLDER/index.html");
   c.command->add_option("--shard", c.shard,
                         "run shard I of N (I/N, e.g. 2/4): the cases whose name hashes to it (FNV-1a); the N shards partition the suite");
   c.command->add_option("--jobs", c.jobs, "cases run side by side, the threads divided between them (the port runs one frame at a time)")

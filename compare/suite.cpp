@@ -126,7 +126,7 @@ std::string formatSummary(const SuiteResults& r) {
   else if (n == 0)
     out += "PASS: shard " + shardText(r.shard) + " holds none of the suite's " + std::to_string(r.casesInSuite) + " cases\n";
   else
-    out += "PASS: all " + of + "\n";
+    out += "PASS: " + std::string(n == 1 ? "" : "all ") + of + "\n";
   return out;
 }
 

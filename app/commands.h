@@ -5,7 +5,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <mutex>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,6 +62,39 @@ struct CompareCommand {
 };
 void addCompareCommand(CLI::App& app, CompareCommand& c);
 int runCompareCommand(CompareCommand& c);
+
+// compare's work on one frame, shared with check. prepareCompare checks everything that can be
+// checked before any rendering (the path, the --against file, threads, the report folder,
+// memory; MrrError) and gives the settings of each effect compared. compareFrame renders and
+// judges them; `out` gets the tables compare prints (nothing when null). `portLock`, when given,
+// is held while the port renders, with a renderer (and GL context) of its own made and closed
+// under it: check --jobs runs frames side by side, the port one at a time.
+struct CompareOutcome {
+  bool pass = true;
+  std::string effect;        // the first failing frame's effect
+  std::string firstFailing;  // its first failing stage ("ssm:edges" when several effects are compared); "" on PASS
+  std::string figures;       // the check that failed it: "ssao.same_input max|d| 0.03  rms 0.0269  over 85.4% of 12036"
+  std::string tables;        // what compare prints on stdout
+  std::string subject;       // the port's GL renderer, or the --against file
+  std::string scene;         // the scene as resolved
+};
+std::vector<Settings> prepareCompare(CompareCommand& c);
+CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>& settings, std::ostream* out,
+                            std::mutex* portLock = nullptr);
+
+// ---- check (app/check_command.cpp): a folder of frame files, one compare each (issue 38) ----------------
+struct CheckCommand {
+  CLI::App* command = nullptr;
+  std::string dir;                  // the suite: a folder of frame files
+  std::string against;              // --against ADIR: ADIR/CASE.exr or ADIR/CASE/ per case
+  std::string junit, json, reportDir, shard;
+  std::vector<std::string> merge;   // --merge R1.json R2.json ...: shards' results joined
+  std::string shaders;              // --shaders SDIR (main.cpp loads them; named in the summary)
+  int jobs = 1, threads = 0, glDevice = -1;
+  bool quiet = false;
+};
+void addCheckCommand(CLI::App& app, CheckCommand& c);
+int runCheckCommand(CheckCommand& c);
 
 // ---- bench (app/bench_command.cpp) --------------------------------------------------------------------
 struct BenchCommand {

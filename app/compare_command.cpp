@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <mutex>
+#include <sstream>
 
 #include "app/byo.h"
 #include "app/commands.h"
@@ -66,7 +68,7 @@ void writeReport(const CompareCommand& c, const ResolvedScene& rs, const std::ve
 
 }  // namespace
 
-int runCompareCommand(CompareCommand& c) {
+std::vector<Settings> prepareCompare(CompareCommand& c) {
   FrameOptions& fo = c.frame;
   fo.checkPath();
   if (!c.against.empty()) checkForeignStagesFile(c.against, fo.effect);
@@ -80,16 +82,38 @@ int runCompareCommand(CompareCommand& c) {
   int64_t memory = 0;
   for (const Settings& s : settings) memory = std::max(memory, 2 * estimateFrameBytes(makeConstants(s, 1.0f), true));
   requireMemory(memory, memoryLimit(fo.memoryLimitGiB), "comparing a " + fo.size + " frame on both paths");
+  return settings;
+}
 
-  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threadCount(fo.threads)));
+namespace {
+
+// "raw.L0: ssao.same_input max|d| 0.03  rms 0.0269  over 85.4% of 12036": the check that decided
+// the row's FAIL (its same-input check when that fails, else its end-to-end one).
+std::string failingFigures(const ParityResult& result) {
+  for (const StageRow& r : result.rows) {
+    if (r.verdict() != "FAIL") continue;
+    const std::optional<StageCheck>& check = r.sameInput && !r.sameInput->pass ? r.sameInput : r.endToEnd;
+    std::ostringstream text;
+    if (check) text << check->rule << " " << check->figures;
+    return text.str();
+  }
+  return {};
+}
+
+}  // namespace
+
+CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>& settings, std::ostream* out,
+                            std::mutex* portLock) {
+  const FrameOptions& fo = c.frame;
   if (!fo.quiet) std::cerr << "[mrr] loading " << fo.scene << "\n";
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const std::unique_ptr<FrameRenderer> oracle = makeRenderer("cpu", rs.scene);
-  std::unique_ptr<FrameRenderer> port;  // none with --against: the file's stages instead
-  if (c.against.empty()) port = makeRenderer("gpu", rs.scene, fo.pathOptions());
-  const std::string subjectName = port ? port->device() : c.against;
+  const bool usePort = c.against.empty();  // else the file's stages
+  std::unique_ptr<FrameRenderer> port;     // with a portLock: made, used and closed under it, per frame
+  if (usePort && !portLock) port = makeRenderer("gpu", rs.scene, fo.pathOptions());
+  std::string subjectName = port ? port->device() : c.against;
   if (!fo.quiet && port) std::cerr << "[mrr] GL renderer: " << port->device() << "\n";
-  bool pass = true;
+  CompareOutcome outcome;
   // Frames are kept for the HTML report (two frames with every stage per effect).
   std::vector<std::unique_ptr<FrameResult>> kept;
   std::vector<ComparedFrame> compared;
@@ -100,8 +124,16 @@ int runCompareCommand(CompareCommand& c) {
     std::unique_ptr<FrameResult> subject;
     ParityResult result;
     std::string notChecked;
-    if (port) {
-      subject = std::make_unique<FrameResult>(port->render(rs.camera, k, {true, progressPrinter(fo.quiet, "port"), &costs}));
+    if (usePort) {
+      const RenderOptions options{true, progressPrinter(fo.quiet, "port"), &costs};
+      if (portLock) {
+        const std::lock_guard<std::mutex> lock(*portLock);
+        const std::unique_ptr<FrameRenderer> one = makeRenderer("gpu", rs.scene, fo.pathOptions());
+        subjectName = one->device();
+        subject = std::make_unique<FrameResult>(one->render(rs.camera, k, options));
+      } else {
+        subject = std::make_unique<FrameResult>(port->render(rs.camera, k, options));
+      }
       result = compareFrames(*reference, *subject, rs.scene.light);
     } else {
       ForeignStages foreign = readForeignStages(c.against, *reference);
@@ -111,12 +143,20 @@ int runCompareCommand(CompareCommand& c) {
       notChecked = formatNotChecked(foreign);
       subject = std::make_unique<FrameResult>(std::move(foreign.frame));
     }
-    if (&s != &settings.front()) std::cout << "\n";  // the last line is the verdict
-    std::cout << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
-              << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs "
-              << (port ? "port (" + port->device() + ")" : c.against) << "\n"
-              << notChecked << formatParityTable(result, port ? "the port's" : "the file's");
-    pass = pass && result.pass();
+    std::ostringstream table;
+    if (&s != &settings.front()) table << "\n";  // the last line is the verdict
+    table << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode) << ", "
+          << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs "
+          << (usePort ? "port (" + subjectName + ")" : c.against) << "\n"
+          << notChecked << formatParityTable(result, usePort ? "the port's" : "the file's");
+    if (out) *out << table.str();
+    outcome.tables += table.str();
+    if (!result.pass() && outcome.pass) {
+      outcome.pass = false;
+      outcome.effect = toString(s.effect);
+      outcome.firstFailing = (settings.size() > 1 ? outcome.effect + ":" : "") + result.firstFailing();
+      outcome.figures = failingFigures(result);
+    }
     if (!c.reportDir.empty()) {
       std::string probe = "mrr probe --path both " + (c.against.empty() ? "" : "--against " + c.against + " ") +
                           frameCommandLine(fo.frame(rs, s));
@@ -125,8 +165,16 @@ int runCompareCommand(CompareCommand& c) {
       kept.push_back(std::move(subject));
     }
   }
+  outcome.subject = subjectName;
+  outcome.scene = rs.scene.name;
   if (!c.reportDir.empty()) writeReport(c, rs, settings, subjectName, compared);
-  return pass ? 0 : 1;
+  return outcome;
+}
+
+int runCompareCommand(CompareCommand& c) {
+  const std::vector<Settings> settings = prepareCompare(c);
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threadCount(c.frame.threads)));
+  return compareFrame(c, settings, &std::cout).pass ? 0 : 1;
 }
 
 }  // namespace mrr

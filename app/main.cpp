@@ -1,5 +1,5 @@
 // mrr — the command line: parses, then hands each subcommand to its own file (app/commands.h:
-// render and probe in render_command.cpp, compare, bench, info; explore/, shaders in byo.cpp).
+// render and probe in render_command.cpp, compare, check, bench, info; explore/, shaders in byo.cpp).
 // Every bad input is one line, "mrr: error: ...", and exit 2.
 #include <CLI/CLI.hpp>
 
@@ -137,15 +137,17 @@ int run(int argc, char** argv) {
   explore::ServerOptions exploreOptions;
   InfoCommand info;
   BenchCommand bench;
+  CheckCommand check;
   addRenderCommand(app, render);
   addProbeCommand(app, probe);
   addCompareCommand(app, compare);
   CLI::App* explore = addExploreCommand(app, exploreOptions);
   addInfoCommand(app, info);
   addBenchCommand(app, bench);
+  addCheckCommand(app, check);  // issue 38: `mrr check DIR`, a suite of frames
   // Issue 17: the user's own shaders on every command that runs the port, and `mrr shaders`.
   std::string shaderDir;
-  for (CLI::App* c : {render.command, probe.command, compare.command, bench.command}) addShadersOption(*c, shaderDir);
+  for (CLI::App* c : {render.command, probe.command, compare.command, bench.command, check.command}) addShadersOption(*c, shaderDir);
   ShadersCommand shadersCommand;
   addShadersCommand(app, shadersCommand);
   DiffOptions diff;  // issue 36: `mrr diff REF TEST` (app/diff.h)
@@ -165,7 +167,12 @@ int run(int argc, char** argv) {
 
   if (shadersCommand.command->parsed()) return runShadersCommand(shadersCommand);
   if (diff.command->parsed()) return runDiff(diff);
-  if (!shaderDir.empty()) {
+  if (!shaderDir.empty() && *check.command) {
+    require(check.against.empty() && check.merge.empty(),
+            "check: --shaders " + shaderDir + ": the shaders are the port's; not with --against or --merge");
+    check.shaders = shaderDir;
+    useShaderDirectory(shaderDir);
+  } else if (!shaderDir.empty()) {
     const FrameOptions& f = *render.command ? render.frame : *probe.command ? probe.frame : compare.frame;
     const bool port = *compare.command ||
                       (*bench.command && std::count(bench.paths.begin(), bench.paths.end(), "gpu") > 0) ||
@@ -174,6 +181,7 @@ int run(int argc, char** argv) {
                       (*bench.command ? std::string(" (bench: --paths gpu)") : *probe.command ? " or both" : ""));
     useShaderDirectory(shaderDir, !*bench.command && f.quiet);
   }
+  if (*check.command) return runCheckCommand(check);
   if (*bench.command) return runBenchCommand(bench);
   if (*compare.command) return runCompareCommand(compare);
   if (*explore) return explore::serve(exploreOptions);

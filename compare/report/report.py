@@ -2,7 +2,8 @@
 
 mrr compiles this file and templates/*.html.j2 into its binary, writes them to a scratch
 folder and runs `/usr/bin/python3 report.py DATA.json PAGE.html` (compare/report_python.cpp).
-DATA.json holds what C++ measured, with "kind": "compare" or "bench". This program writes the
+DATA.json holds what C++ measured, with "kind": "compare", "bench" or "check" (the index of
+`mrr check --report`). This program writes the
 page to PAGE.html (mrr then moves it into place) and, for the bench, every chart as SVG and
 PNG into DIR/charts/. Any failure is an exception; mrr shows its last line.
 """
@@ -273,6 +274,8 @@ def main(argv):
     env = environment(os.path.dirname(os.path.abspath(argv[1])))
     if data["kind"] == "bench":
         page = bench_page(data, env)
+    elif data["kind"] == "check":
+        page = env.get_template("check.html.j2").render(**data)
     else:
         page = env.get_template("compare.html.j2").render(**data)
     with open(argv[2], "w", encoding="utf-8") as f:

@@ -23,6 +23,7 @@
 #include <thread>
 
 #include <arpa/inet.h>
+#include <malloc.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -470,6 +471,10 @@ class Explorer {
         std::lock_guard lock(progressMutex_);
         ++cancelled_;
       }
+      job.reset();
+      // A frame's images are large and short-lived: give what the render freed back to the
+      // system, so that the server's memory is its cache's, not the peak of every frame it made.
+      malloc_trim(0);
     }
   }
 

@@ -123,6 +123,7 @@ CLI::App* addExploreCommand(CLI::App& app, explore::ServerOptions& o) {
   explore->add_option("--host", o.host,
                       "address to listen on (default 127.0.0.1: this machine only; 0.0.0.0 opens it to the network)")
       ->capture_default_str();
+  explore->add_option("--budget", o.budget, "most work per request, in millions of sample-pixels (docs/explore.md)")->capture_default_str();
   return explore;
 }
 

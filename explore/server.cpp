@@ -22,7 +22,12 @@
 #include <sstream>
 #include <thread>
 
+#include <arpa/inet.h>
+#include <malloc.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include "common/error.h"
 #include "common/frame_params.h"
@@ -34,6 +39,7 @@
 #include "compare/probe_both.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
+#include "explore/budget.h"
 #include "explore/explore_files.h"
 #include "explore/layers.h"
 #include "gpu/context.h"
@@ -52,6 +58,95 @@ struct ApiError {
   int status = 400;
   std::string message;
   std::string parameter;  // empty: none in particular
+  json extra = json::object();  // more members of the error's JSON (the budget's figures)
+};
+
+// Thrown on the render thread at a stage boundary when the job was cancelled: its client left,
+// or a newer request for the same view came. It unwinds the render; nothing half made is cached.
+struct Cancelled {
+  std::string why;
+};
+
+// A render the HTTP threads hand to the render thread.
+struct Job {
+  std::function<void(const Job&)> body;
+  std::string view;  // the page's view it renders for ("" none): a newer one for it supersedes this
+  std::string key;   // what it renders: a newer request for the same view and frame does not
+  std::promise<void> done;
+
+  void cancel(const std::string& reason) {
+    std::lock_guard lock(whyMutex_);
+    if (!cancelled_) why_ = reason;
+    cancelled_ = true;
+  }
+  bool cancelled() const { return cancelled_; }
+  // At a stage boundary: throws Cancelled if the job was cancelled.
+  void check() const {
+    if (!cancelled_) return;
+    std::lock_guard lock(whyMutex_);
+    throw Cancelled{why_};
+  }
+
+ private:
+  std::atomic<bool> cancelled_{false};
+  mutable std::mutex whyMutex_;
+  std::string why_;
+};
+
+// The socket of a request's connection: cpp-httplib 0.11 (Debian 12) does not hand it to the
+// handler, so it is found among this process's descriptors by its two ends. -1: not found.
+int connectionSocket(const httplib::Request& req) {
+  if (req.remote_port <= 0) return -1;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", ec)) {
+    int fd = -1;
+    const std::string name = entry.path().filename().string();
+    if (std::from_chars(name.data(), name.data() + name.size(), fd).ec != std::errc()) continue;
+    sockaddr_storage peer{}, local{};
+    socklen_t peerLength = sizeof peer, localLength = sizeof local;
+    if (getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &peerLength) != 0) continue;
+    if (getsockname(fd, reinterpret_cast<sockaddr*>(&local), &localLength) != 0) continue;
+    auto endpoint = [](const sockaddr_storage& a) -> std::pair<std::string, int> {
+      char text[INET6_ADDRSTRLEN] = {};
+      if (a.ss_family == AF_INET) {
+        const auto& v4 = reinterpret_cast<const sockaddr_in&>(a);
+        inet_ntop(AF_INET, &v4.sin_addr, text, sizeof text);
+        return {text, ntohs(v4.sin_port)};
+      }
+      if (a.ss_family == AF_INET6) {
+        const auto& v6 = reinterpret_cast<const sockaddr_in6&>(a);
+        inet_ntop(AF_INET6, &v6.sin6_addr, text, sizeof text);
+        return {text, ntohs(v6.sin6_port)};
+      }
+      return {"", -1};
+    };
+    const auto [peerAddress, peerPort] = endpoint(peer);
+    const auto [localAddress, localPort] = endpoint(local);
+    if (peerPort == req.remote_port && peerAddress == req.remote_addr &&
+        (req.local_port <= 0 || localPort == req.local_port))
+      return fd;
+  }
+  return -1;
+}
+
+// Whether the client at the other end of `fd` has gone: it closed or reset the connection. (A
+// browser sends nothing more on a connection while it waits for the answer, and closes it when
+// the page aborts the request.)
+bool clientLeft(int fd) {
+  pollfd p{fd, static_cast<short>(POLLIN | POLLRDHUP), 0};
+  if (poll(&p, 1, 0) <= 0) return false;
+  if (p.revents & (POLLHUP | POLLERR | POLLRDHUP | POLLNVAL)) return true;
+  if (p.revents & POLLIN) {
+    char c = 0;
+    return recv(fd, &c, 1, MSG_PEEK | MSG_DONTWAIT) == 0;
+  }
+  return false;
+}
+
+// What a waiting request watches: its connection, and the page's view it renders for.
+struct Watch {
+  const httplib::Request* request = nullptr;
+  std::string view;
 };
 
 // The frame parameters the page may send are the frame-parameter table's rows marked for
@@ -99,6 +194,8 @@ struct FrameRequest {
   std::string sceneKey;      // what loading the scene depends on
   std::string key;           // the frame (path aside)
   std::string referenceKey;  // its full-resolution reference
+  double work = 0.0;         // estimated, in sample-pixels (explore/budget.h)
+  int mostSamples = 0;       // the most samples within the budget at this frame's other settings
 };
 
 std::string frameKey(const Settings& s, const SceneRequest& r) {
@@ -151,7 +248,8 @@ struct SceneState {
 class Explorer {
  public:
   explicit Explorer(const ServerOptions& options)
-      : options_(options), cacheBudget_(memoryLimit(options.frame.memoryLimitGiB).bytes / 2) {
+      : options_(options), cacheBudget_(memoryLimit(options.frame.memoryLimitGiB).bytes / 2),
+        budget_(options.budget * 1e6) {
     for (const std::string& n : builtinSceneNames()) scenes_.push_back("builtin:" + n);
     for (const SharedSceneInfo& s : sharedSceneCatalog())  // those this machine has
       if (std::filesystem::exists(std::filesystem::path(sharedScenesDir()) / s.file)) scenes_.push_back(s.name);
@@ -159,7 +257,7 @@ class Explorer {
       scenes_.push_back(options.frame.scene);  // the scene named on the command line
     worker_ = std::thread([this] { workLoop(); });
     // The port's status, found on the thread that will own its context.
-    runOnWorker([this] {
+    runOnWorker([this](const Job&) {
       try {
         const gpu::GlContext context(options_.frame.glDevice);
         portAvailable_ = true;
@@ -223,6 +321,7 @@ class Explorer {
       std::string parameter = memory ? std::string(paramInfo(Param::Size).key) : parameterNamed(e.what());
       throw ApiError{400, e.what(), parameter};
     }
+    checkBudget(r);
     SceneRequest sceneOnly = r.scene;
     sceneOnly.eye = sceneOnly.target = std::nullopt;
     sceneOnly.cameraIndex = std::nullopt;
@@ -233,27 +332,70 @@ class Explorer {
     return r;
   }
 
+  // Issue 39: a request whose estimated work is over the budget is a 400 naming the parameter
+  // to lower (samples when fewer would fit, else the shadow map's size or the frame's size) and the
+  // budget, with the figures for the page: budget_m, work_m (millions of sample-pixels) and
+  // max_samples (the most that fit at this size; 0: none).
+  void checkBudget(FrameRequest& r) const {
+    const Settings& s = r.settings;
+    const WorkLine line = requestWork(s, referenceSettings(s));
+    r.work = line.at(s.samples());
+    r.mostSamples = mostSamplesWithin(line, budget_, s.effect);
+    if (r.work <= budget_) return;
+    const auto key = [](Param p) { return std::string(paramInfo(p).key); };
+    std::string parameter = key(Param::Samples), advice;
+    if (r.mostSamples > 0) {
+      advice = "at most " + std::to_string(r.mostSamples) + " samples fit at this size";
+    } else {
+      Settings smaller = s;
+      smaller.ssm.shadowMapSize = defaultSettings(s.effect).ssm.shadowMapSize;
+      const bool shadowMap = s.effect != Effect::Ssao && smaller.ssm.shadowMapSize < s.ssm.shadowMapSize &&
+                             requestWork(smaller, referenceSettings(smaller)).at(1) <= budget_;
+      parameter = key(shadowMap ? Param::ShadowMapSize : Param::Size);
+      advice = shadowMap ? "even 1 sample is over it with this shadow map: choose a smaller shadow_map_size"
+                         : "even 1 sample is over it at this size: choose a smaller size";
+    }
+    throw ApiError{400,
+                   r.options.size + ", " + toString(s.effect) + ", " + std::to_string(s.samples()) + " samples, " +
+                       toString(s.mode) + ": an estimated " + millions(r.work) +
+                       " M sample-pixels of work (the frame and its full-resolution reference), over this server's "
+                       "budget of " + millions(budget_) + " M (mrr explore --budget); " + advice,
+                   parameter,
+                   {{"budget_m", budget_ / 1e6}, {"work_m", r.work / 1e6}, {"max_samples", r.mostSamples}}};
+  }
+
+  static std::string millions(double work) {
+    char text[32];
+    const double m = work / 1e6;
+    std::snprintf(text, sizeof text, m >= 100.0 ? "%.0f" : "%.3g", m);
+    return text;
+  }
+
   static std::string pathParameter(const httplib::Request& req, bool bothAllowed) {
     const std::string path = req.has_param("path") ? req.get_param_value("path") : "cpu";
     if (path == "cpu" || path == "gpu" || (bothAllowed && path == "both")) return path;
     throw ApiError{400, "path " + path + ": expected cpu or gpu" + std::string(bothAllowed ? ", or both" : ""), "path"};
   }
 
-  // The frame on `path`, from the cache or rendered (one at a time, on the render thread).
-  RenderedPtr frame(const FrameRequest& r, const std::string& path) {
+  // The frame on `path`, from the cache or rendered (one at a time, on the render thread). While
+  // it waits, the request's connection is watched: when its client leaves, the render is cancelled
+  // and the request returns at once; a newer request for the same view cancels it too (409).
+  RenderedPtr frame(const FrameRequest& r, const std::string& path, const Watch& watch = {}) {
     if (path == "gpu" && !portAvailable_)
       throw ApiError{503, "the port is unavailable here: " + portStatus_, "path"};
     if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;
-    RenderedPtr out;
-    runOnWorker([&] { out = renderOnWorker(r, path); });
-    return out;
+    // The job owns what it reads: its request may be gone before it runs.
+    auto out = std::make_shared<RenderedPtr>();
+    runOnWorker([this, r, path, out](const Job& job) { *out = renderOnWorker(r, path, job); }, watch,
+                path + r.key);
+    return *out;
   }
 
   // Loads the command line's scene and builds its BVH before the first request: a scene that
   // cannot be read is one line and exit 2, not a page that fails.
   void preload() {
     const FrameRequest r = parse(httplib::Request{}, {});
-    runOnWorker([&] { sceneFor(r); });
+    runOnWorker([&](const Job&) { sceneFor(r); });
   }
 
   json info() const {
@@ -277,6 +419,11 @@ class Explorer {
         params.push_back({{"key", p.key}, {"option", optionName(p.param)}, {"kind", kindName(p.kind)},
                           {"unit", p.unit}, {"help", paramHelp(p.param)}});
     return {{"scenes", scenes_},
+            {"budget",
+             {{"budget_m", budget_ / 1e6},
+              {"unit", "millions of sample-pixels (one SSAO sample at one pixel, about 8 ns on 2 cores)"},
+              {"what", "a request's estimated work (its frame and the full-resolution reference) may not exceed "
+                       "this; mrr explore --budget sets it"}}},
             {"port", {{"available", portAvailable_}, {"status", portStatus_}, {"renderer", portRenderer()}}},
             {"defaults", defaults},
             {"params", params},
@@ -292,6 +439,7 @@ class Explorer {
             {"stage", stage_},
             {"queued", queued_},
             {"renders", renders_},
+            {"cancelled", cancelled_},
             {"elapsed_ms", busy_ ? std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_).count()
                                  : 0.0}};
   }
@@ -304,7 +452,7 @@ class Explorer {
  private:
   void workLoop() {
     for (;;) {
-      std::function<void()> job;
+      std::shared_ptr<Job> job;
       {
         std::unique_lock lock(queueMutex_);
         queueReady_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
@@ -312,17 +460,44 @@ class Explorer {
         job = std::move(queue_.front());
         queue_.pop_front();
       }
-      job();
+      try {
+        job->check();  // cancelled while it queued: not started
+        job->body(*job);
+        job->done.set_value();
+      } catch (...) {
+        job->done.set_exception(std::current_exception());
+      }
+      if (job->cancelled()) {
+        std::lock_guard lock(progressMutex_);
+        ++cancelled_;
+      }
+      job.reset();
+      // A frame's images are large and short-lived: give what the render freed back to the
+      // system, so that the server's memory is its cache's, not the peak of every frame it made.
+      malloc_trim(0);
     }
   }
 
-  // Runs `body` on the render thread and waits for it; its exception comes back here.
-  void runOnWorker(const std::function<void()>& body) {
-    auto task = std::make_shared<std::packaged_task<void()>>(body);
-    std::future<void> done = task->get_future();
+  // Runs `body` on the render thread and waits for it; its exception comes back here. With a
+  // watch: a newer job for the same view and another frame cancels this one (409), and when the
+  // request's client leaves, this one is cancelled and the wait ends at once.
+  void runOnWorker(std::function<void(const Job&)> body, const Watch& watch = {}, const std::string& key = {}) {
+    auto job = std::make_shared<Job>();
+    job->body = std::move(body);
+    job->view = watch.view;
+    job->key = key;
+    std::future<void> done = job->done.get_future();
     {
       std::lock_guard lock(queueMutex_);
-      queue_.push_back([task] { (*task)(); });
+      if (!job->view.empty()) {
+        for (auto it = views_.begin(); it != views_.end();)  // the views of finished jobs
+          it = it->second.expired() ? views_.erase(it) : std::next(it);
+        std::weak_ptr<Job>& latest = views_[job->view];
+        if (const std::shared_ptr<Job> older = latest.lock(); older && older->key != job->key)
+          older->cancel("superseded by a newer request for view " + job->view);
+        latest = job;
+      }
+      queue_.push_back(job);
     }
     {
       std::lock_guard lock(progressMutex_);
@@ -336,7 +511,21 @@ class Explorer {
         --self->queued_;
       }
     } dequeued{this};
-    done.get();
+    const int fd = watch.request ? connectionSocket(*watch.request) : -1;
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      if (fd >= 0 && clientLeft(fd)) {
+        job->cancel("the client left");
+        throw ApiError{503, "the client left; its render is cancelled", {}};
+      }
+      if (job->cancelled()) break;  // superseded: the render thread skips it, or stops it at a stage boundary
+    }
+    if (done.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      throw ApiError{409, "superseded by a newer request for view " + job->view, "view"};
+    try {
+      done.get();
+    } catch (const Cancelled& c) {
+      throw ApiError{409, c.why, job->view.empty() ? std::string() : "view"};
+    }
   }
 
   RenderedPtr cached(const std::string& key) {
@@ -381,7 +570,11 @@ class Explorer {
     return state_;
   }
 
-  RenderedPtr renderOnWorker(const FrameRequest& r, const std::string& path) {
+  // Cancellation (issue 39): `job` is checked before each render and at every stage boundary
+  // (the progress hook the driver calls as each stage starts), where Cancelled unwinds the render.
+  // The cache only ever takes whole frames, after they are made: a cancelled render leaves the
+  // cache as it was, but for a reference it finished before it was cancelled.
+  RenderedPtr renderOnWorker(const FrameRequest& r, const std::string& path, const Job& job) {
     if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;  // rendered while this one queued
     const auto start = std::chrono::steady_clock::now();
     {
@@ -412,17 +605,27 @@ class Explorer {
     const CostModel costs = options_.frame.costModel("cpu");
     const std::string who = path == "cpu" ? "oracle" : "port";
     auto render = [&](const Constants& k, bool keepStages, const std::string& what) {
-      const ProgressFn progress = [this](const std::string& stage) { setProgress("", stage); };
+      // A stage's start ("raw.L0") is a boundary; its tenths ("raw.L0 40%", from the oracle's
+      // parallel loops, maybe on another thread) only report.
+      const ProgressFn progress = [this, &job](const std::string& stage) {
+        if (stage.find('%') == std::string::npos) job.check();
+        setProgress("", stage);
+      };
+      job.check();
       setProgress(who + ": " + what, "");
       return renderer->render(camera, k, {keepStages, progress, &costs});
     };
     // A renderer's first frames pay for compiling shaders and paging in scratch: one throwaway
-    // frame of each kind first, so the measured speedup compares warm frames.
+    // frame of each kind first, so the measured speedup compares warm frames. One sample each:
+    // the samples are a uniform, not part of the shaders, and cost no paging.
     if (!state.warm.count(path)) {
-      render(makeConstants(referenceSettings(r.settings), diagonal), false, "warming up (full resolution)");
-      render(makeConstants(r.settings, diagonal), false, "warming up");
+      Settings warm = r.settings;
+      warm.setSamples(1);
+      render(makeConstants(referenceSettings(warm), diagonal), false, "warming up (full resolution)");
+      render(makeConstants(warm, diagonal), false, "warming up");
       state.warm.insert(path);
     }
+    job.check();
     RenderedPtr reference = cached("reference " + path + r.referenceKey);
     if (!reference) {
       auto ref = std::make_shared<Rendered>();
@@ -454,7 +657,10 @@ class Explorer {
         {"measured_speedup", frameMs > 0.0 ? fullMs / frameMs : 0.0},
         {"render_wall_ms", out->wallMs},
         {"layers", layerNames(out->frame, true)},
-        {"key", r.key}};
+        {"key", r.key},
+        {"work_m", r.work / 1e6},
+        {"budget_m", budget_ / 1e6},
+        {"max_samples", r.mostSamples}};
     remember("frame " + path + r.key, out);
     return out;
   }
@@ -506,6 +712,7 @@ class Explorer {
 
   ServerOptions options_;
   int64_t cacheBudget_ = 0;
+  double budget_ = 0.0;  // a request's most work, in sample-pixels (explore/budget.h)
   std::vector<std::string> scenes_;
   bool portAvailable_ = false;  // set once, before any request
   std::string portStatus_;
@@ -513,7 +720,8 @@ class Explorer {
   std::thread worker_;
   std::mutex queueMutex_;
   std::condition_variable queueReady_;
-  std::deque<std::function<void()>> queue_;
+  std::deque<std::shared_ptr<Job>> queue_;
+  std::map<std::string, std::weak_ptr<Job>> views_;  // the newest job of each view
   bool stopping_ = false;
   SceneState state_;  // render thread only
 
@@ -525,6 +733,7 @@ class Explorer {
   std::string job_, stage_, portRenderer_;
   int queued_ = 0;
   long long renders_ = 0;
+  long long cancelled_ = 0;
   std::chrono::steady_clock::time_point started_;
 };
 
@@ -535,8 +744,9 @@ void sendJson(httplib::Response& res, const json& j, int status = 200) {
 }
 
 void sendError(httplib::Response& res, const ApiError& e) {
-  sendJson(res, {{"error", e.message}, {"parameter", e.parameter.empty() ? json(nullptr) : json(e.parameter)}},
-           e.status);
+  json body = {{"error", e.message}, {"parameter", e.parameter.empty() ? json(nullptr) : json(e.parameter)}};
+  body.update(e.extra);
+  sendJson(res, body, e.status);
 }
 
 int intParameter(const httplib::Request& req, const std::string& name, int lo, int hi) {
@@ -580,6 +790,63 @@ httplib::Server::Handler guarded(std::function<void(const httplib::Request&, htt
   };
 }
 
+// Issue 39: who may ask. A page on another site can reach this server through the browser: with
+// an image tag (a simple GET, which starts a render), or by DNS rebinding (its own name resolving
+// to 127.0.0.1, so that it may read the answers). So a request must name this server in its Host
+// (421 otherwise: a rebound name is not one of ours) and, when the browser says where it comes
+// from (Sec-Fetch-Site, Origin), come from this server's own page (403 otherwise). No answer
+// carries CORS headers, so no other origin may read one.
+class HostGuard {
+ public:
+  HostGuard(const std::string& host, int port) : port_(port) {
+    const std::string p = ":" + std::to_string(port);
+    wildcard_ = host == "0.0.0.0" || host == "::" || host.empty();
+    for (const std::string& name : {std::string("127.0.0.1"), std::string("localhost"), std::string("[::1]")})
+      allowed_.insert(name + p);
+    allowed_.insert((host.find(':') != std::string::npos ? "[" + host + "]" : lower(host)) + p);
+    if (port == 80)  // a browser leaves the default port out
+      for (const std::string& a : std::set<std::string>(allowed_)) allowed_.insert(a.substr(0, a.size() - p.size()));
+  }
+
+  // The refusal, or an empty ApiError (status 0) when the request may go on.
+  ApiError check(const httplib::Request& req) const {
+    const std::string host = lower(req.get_header_value("Host"));
+    if (!allows(host))
+      return {421, "Host " + (host.empty() ? std::string("(none)") : host) +
+                       ": this server answers to its own address only (" + *allowed_.begin() + ", ...)",
+              {}};
+    const std::string site = req.get_header_value("Sec-Fetch-Site");
+    if (!site.empty() && site != "same-origin" && site != "none")
+      return {403, "Sec-Fetch-Site " + site + ": this server answers its own page only", {}};
+    const std::string origin = lower(req.get_header_value("Origin"));
+    if (!origin.empty() && origin != "http://" + host)
+      return {403, "Origin " + origin + ": this server answers its own page only", {}};
+    return {0, {}, {}};
+  }
+
+ private:
+  static std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+  }
+  bool allows(const std::string& host) const {
+    if (allowed_.count(host)) return true;
+    if (!wildcard_) return false;
+    // Listening on every address: an address literal with this port (a DNS name could be rebound).
+    const std::string p = ":" + std::to_string(port_);
+    if (host.size() <= p.size() || host.compare(host.size() - p.size(), p.size(), p) != 0) return false;
+    std::string name = host.substr(0, host.size() - p.size());
+    unsigned char buffer[sizeof(in6_addr)];
+    if (name.size() > 2 && name.front() == '[' && name.back() == ']')
+      return inet_pton(AF_INET6, name.substr(1, name.size() - 2).c_str(), buffer) == 1;
+    return inet_pton(AF_INET, name.c_str(), buffer) == 1;
+  }
+
+  int port_;
+  bool wildcard_ = false;
+  std::set<std::string> allowed_;
+};
+
 const ExploreFile* pageFile(const std::string& name) {
   for (const ExploreFile& f : kExploreFiles)
     if (std::string(f.path) == name) return &f;
@@ -593,6 +860,8 @@ int serve(const ServerOptions& options) {
                               static_cast<size_t>(options.frame.threads > 0 ? options.frame.threads
                                                                             : tbb::info::default_concurrency()));
   require(options.port >= 0 && options.port <= 65535, "--port " + std::to_string(options.port) + ": must be in [0, 65535]");
+  require(std::isfinite(options.budget) && options.budget > 0.0,
+          "--budget " + std::to_string(options.budget) + ": must be a positive number (millions of sample-pixels)");
   require(options.frame.threads >= 0 && options.frame.threads <= 1024, optionName(Param::Threads) + ": must be in " + paramRange(Param::Threads));
   options.frame.checkPath();
   options.frame.settings();        // a bad option is one line and exit 2, before anything serves
@@ -623,8 +892,17 @@ int serve(const ServerOptions& options) {
   try {
     explorer.preload();
   } catch (const ApiError& e) {
+    if (e.extra.contains("budget_m")) throw MrrError("--budget: the starting frame is over it: " + e.message);
     throw MrrError(e.message);
   }
+
+  const HostGuard guard(options.host, port);
+  server.set_pre_routing_handler([&guard](const httplib::Request& req, httplib::Response& res) {
+    const ApiError refused = guard.check(req);
+    if (refused.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    sendError(res, refused);
+    return httplib::Server::HandlerResponse::Handled;
+  });
 
   for (const char* file : {"index.html", "explore.js", "explore.css"}) {
     const ExploreFile* f = pageFile(std::string("page/") + file);
@@ -642,9 +920,11 @@ int serve(const ServerOptions& options) {
   server.Get("/api/progress",
              guarded([&](const httplib::Request&, httplib::Response& res) { sendJson(res, explorer.progress()); }));
   server.Get("/api/frame", guarded([&](const httplib::Request& req, httplib::Response& res) {
-               const FrameRequest r = explorer.parse(req, {"path"});
+               const FrameRequest r = explorer.parse(req, {"path", "view"});
                const std::string path = Explorer::pathParameter(req, false);
-               sendJson(res, explorer.frame(r, path)->report);
+               const std::string view = req.has_param("view") ? req.get_param_value("view") : "";
+               if (view.size() > 64) throw ApiError{400, "view: at most 64 characters", "view"};
+               sendJson(res, explorer.frame(r, path, {&req, view.empty() ? view : view + " " + path})->report);
              }));
   server.Get(R"(/api/stage/([A-Za-z0-9_.]+)\.(png|json))",
              guarded([&](const httplib::Request& req, httplib::Response& res) {
@@ -653,7 +933,7 @@ int serve(const ServerOptions& options) {
                const std::string path = Explorer::pathParameter(req, true);
                const float gain = gainParameter(req);
                auto layerOf = [&](const std::string& p) {
-                 const RenderedPtr f = explorer.frame(r, p);
+                 const RenderedPtr f = explorer.frame(r, p, {&req, {}});
                  const std::vector<std::string> names = layerNames(f->frame, f->reference != nullptr);
                  if (std::find(names.begin(), names.end(), name) == names.end())
                    throw ApiError{404, "no layer " + name + " in this frame (GET /api/frame lists them)", {}};
@@ -697,7 +977,7 @@ int serve(const ServerOptions& options) {
                const std::string name = req.get_param_value("layer");
                const int x = intParameter(req, "x", 0, r.settings.width - 1);
                const int y = intParameter(req, "y", 0, r.settings.height - 1);
-               const RenderedPtr f = explorer.frame(r, path);
+               const RenderedPtr f = explorer.frame(r, path, {&req, {}});
                const std::vector<std::string> names = layerNames(f->frame, f->reference != nullptr);
                if (std::find(names.begin(), names.end(), name) == names.end())
                  throw ApiError{404, "no layer " + name + " in this frame", "layer"};
@@ -708,8 +988,8 @@ int serve(const ServerOptions& options) {
                const std::string path = Explorer::pathParameter(req, true);
                const int x = intParameter(req, "x", 0, r.settings.width - 1);
                const int y = intParameter(req, "y", 0, r.settings.height - 1);
-               if (path != "both") return sendJson(res, probePixel(explorer.frame(r, path)->frame, x, y));
-               const RenderedPtr o = explorer.frame(r, "cpu"), p = explorer.frame(r, "gpu");
+               if (path != "both") return sendJson(res, probePixel(explorer.frame(r, path, {&req, {}})->frame, x, y));
+               const RenderedPtr o = explorer.frame(r, "cpu", {&req, {}}), p = explorer.frame(r, "gpu", {&req, {}});
                sendJson(res, probeBothJson(probePixel(o->frame, x, y), probePixel(p->frame, x, y)));
              }));
   server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {

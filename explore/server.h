@@ -13,6 +13,7 @@
 // Renders run one at a time on one thread, which owns the GL context; the frames are cached.
 #include <string>
 
+#include "explore/budget.h"
 #include "frontend/frame_options.h"
 
 namespace mrr::explore {
@@ -21,6 +22,9 @@ struct ServerOptions {
   FrameOptions frame;  // the command line's frame: the page starts from it
   std::string host = "127.0.0.1";
   int port = 8080;  // 0: any free port
+  // --budget: the most work one request may ask for, in millions of sample-pixels (one SSAO
+  // sample at one pixel; explore/budget.h). Over it, a request is a 400 naming the budget.
+  double budget = kDefaultBudgetM;
 };
 
 // Serves until the process is stopped. Throws MrrError (exit 2) when the options are bad or

@@ -15,6 +15,8 @@ const state = {
   pixel: null,         // [x, y] of the probed pixel
   probe: null,         // the oracle's (or the one path's) probe of it, for the footprint
   seq: 0,              // the latest render request; older answers are dropped
+  abort: null,         // aborts the frame requests of the render in flight (the server then cancels it)
+  view: Math.random().toString(36).slice(2, 10),  // this page's view: a newer frame for it supersedes an older one
   zoom: 1,
 };
 
@@ -23,11 +25,12 @@ class ApiError extends Error {
     super(body && body.error ? body.error : 'HTTP ' + status);
     this.status = status;
     this.parameter = body ? body.parameter : null;
+    this.body = body;
   }
 }
 
-async function api(path) {
-  const r = await fetch(path);
+async function api(path, signal) {
+  const r = await fetch(path, signal ? {signal} : {});
   const type = r.headers.get('content-type') || '';
   const body = type.startsWith('application/json') ? await r.json() : null;
   if (!r.ok) throw new ApiError(r.status, body);
@@ -159,18 +162,32 @@ function moveCamera(yawStep, pitchStep, dolly) {
 // ---------------------------------------------------------------------------------------------
 // Rendering a frame: the report of each path, then the layer, then the probe.
 
+// The server's work budget (/api/info budget, issue 39): the samples knob stops at the most that
+// fit at this frame's size (max_samples of the frame, or of the 400 that refused it).
+function showSamplesLimit(most) {
+  const b = state.info && state.info.budget;
+  if (!b || most === undefined || most === null) return;
+  $('#samples').max = String(Math.max(1, most));
+  $('#samples_limit').textContent = most > 0
+    ? `at most ${most} samples at this size (the server's budget: ${b.budget_m} M sample-pixels a request)`
+    : `this size is over the server's budget (${b.budget_m} M sample-pixels a request) even at 1 sample`;
+}
+
 async function render() {
   const seq = ++state.seq;
+  if (state.abort) state.abort.abort();  // the older frame's requests: the server stops their render
+  const abort = state.abort = new AbortController();
   busy(+1);
   document.body.dataset.state = 'rendering';
   say('rendering…');
   try {
-    const q = query();
-    const cpu = await api('/api/frame?' + q + '&path=cpu');
+    const q = query() + '&view=' + state.view;
+    const cpu = await api('/api/frame?' + q + '&path=cpu', abort.signal);
     if (seq !== state.seq) return;
     let gpu = null;
-    if (state.port) gpu = await api('/api/frame?' + q + '&path=gpu');
+    if (state.port) gpu = await api('/api/frame?' + q + '&path=gpu', abort.signal);
     if (seq !== state.seq) return;
+    showSamplesLimit(cpu.explore.max_samples);
     state.reports = {cpu, gpu};
     fillControls(cpu);
     showStats();
@@ -187,6 +204,7 @@ async function render() {
   } catch (e) {
     if (seq !== state.seq) return;
     document.body.dataset.state = 'error';
+    if (e.body) showSamplesLimit(e.body.max_samples);
     say((e.parameter ? `bad ${e.parameter}: ` : '') + e.message, true);
     if (e.parameter) {
       const el = document.getElementById(e.parameter);

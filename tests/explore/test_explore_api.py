@@ -1,12 +1,17 @@
 #!/usr/bin/env python3
 """`mrr explore`'s JSON API on its own (issue 20): status codes, content types, bad inputs
 (400 naming the parameter, 404 for unknown layers and paths, path traversal), concurrent
-requests, a port in use, and the re-render time at 320x180 SSAO-16.
+requests, a port in use, and the re-render time at 320x180 SSAO-16. Issue 39: the work budget,
+abandoned and superseded renders cancelled, only the server's own Host, and a soak.
 
     test_explore_api.py path/to/mrr
 Without an EGL device the port's checks are skipped unless MRR_REQUIRE_GL=1."""
 import http.client
 import json
+import os
+import random
+import socket
+import threading
 import statistics
 import subprocess
 import sys
@@ -265,6 +270,85 @@ class ExploreApi(unittest.TestCase):
             self.assertEqual(len(seen), 1, "identical requests gave different answers: " + path)
         self.assertNotEqual(bodies[frames[0]], bodies[frames[1]])
 
+    # -- issue 39: the budget and the host ----------------------------------------------------
+    def test_over_budget_is_a_400_naming_the_budget(self):
+        budget = self.info["budget"]["budget_m"]
+        self.assertEqual(budget, 500)
+        for q, parameter in (("effect=ssgi&samples=8192&size=1920x1080", "size"),
+                             ("effect=ssgi&samples=8192&size=320x180", "samples"),
+                             ("effect=ssao&samples=1024&size=1280x720&method=full", "samples"),
+                             ("effect=ssm&samples=1&size=160x90&shadow_map_size=8192", "shadow_map_size")):
+            for endpoint in ("api/frame?", "api/stage/final.png?", "api/probe?x=1&y=1&", "api/value?layer=final&x=1&y=1&"):
+                status, error = self.server.json(endpoint + q)
+                self.assertEqual(status, 400, (endpoint, q, error))
+                self.assertEqual(error["parameter"], parameter, (q, error))
+                self.assertIn("budget of %g M" % budget, error["error"])
+                self.assertIn("--budget", error["error"])
+                self.assertEqual(error["budget_m"], budget)
+                self.assertGreater(error["work_m"], budget)
+            if parameter == "samples":
+                self.assertGreater(error["max_samples"], 0)
+                # the most that fit pass the budget (x out of range: refused after it, before a render)
+                most = q.replace("samples=8192", "samples=%d" % error["max_samples"]).replace(
+                    "samples=1024", "samples=%d" % error["max_samples"])
+                status, error = self.server.json("api/value?layer=final&x=99999&y=0&" + most)
+                self.assertEqual((status, error["parameter"]), (400, "x"), error)
+            else:
+                self.assertEqual(error["max_samples"], 0)
+        status, report = self.server.json("api/frame?" + FRAME)
+        self.assertEqual(status, 200)
+        self.assertEqual(report["explore"]["budget_m"], budget)
+        self.assertLess(report["explore"]["work_m"], budget)
+        self.assertEqual(report["explore"]["max_samples"], 1024)  # SSAO's own limit at 320x180
+
+    def raw_request(self, path, headers, method="GET"):
+        """(status, headers, body) of a request with exactly these headers (no Host unless given)."""
+        host, port = self.server.url[len("http://"):-1].split(":")
+        conn = http.client.HTTPConnection(host, int(port), timeout=60)
+        conn.putrequest(method, path, skip_host=True, skip_accept_encoding=True)
+        for k, v in headers.items():
+            conn.putheader(k, v)
+        conn.endheaders()
+        r = conn.getresponse()
+        body = r.read()
+        conn.close()
+        return r.status, dict((k.lower(), v) for k, v in r.getheaders()), body
+
+    def test_only_the_servers_own_host(self):
+        port = self.server.url.rstrip("/").rsplit(":", 1)[1]
+        own = "127.0.0.1:" + port
+        for host in ("127.0.0.1:" + port, "localhost:" + port, "LOCALHOST:" + port, "[::1]:" + port):
+            for path in ("/", "/api/info", "/api/frame?" + FRAME):
+                status, headers, body = self.raw_request(path, {"Host": host})
+                self.assertEqual(status, 200, (host, path, body[:200]))
+        refused = [({"Host": "evil.example.com"}, 421), ({"Host": "evil.example.com:" + port}, 421),
+                   ({"Host": "127.0.0.1"}, 421), ({"Host": "127.0.0.1:1"}, 421), ({"Host": "127.0.0.2:" + port}, 421),
+                   ({"Host": "localhost.evil.example.com:" + port}, 421), ({}, 421),
+                   ({"Host": own, "Sec-Fetch-Site": "cross-site"}, 403),
+                   ({"Host": own, "Sec-Fetch-Site": "same-site"}, 403),
+                   ({"Host": own, "Origin": "http://evil.example.com"}, 403),
+                   ({"Host": own, "Origin": "http://localhost:" + port}, 403)]
+        for headers, expected in refused:
+            for path in ("/", "/api/info", "/api/frame?" + FRAME, "/api/stage/final.png?" + FRAME, "/nope"):
+                status, got, body = self.raw_request(path, headers)
+                self.assertEqual(status, expected, (headers, path, body[:200]))
+                self.assertIn("error", json.loads(body))
+        # the page's own requests: same-origin fetches, a typed URL
+        for headers in ({"Host": own, "Sec-Fetch-Site": "same-origin", "Origin": "http://" + own},
+                        {"Host": own, "Sec-Fetch-Site": "none"}):
+            self.assertEqual(self.raw_request("/api/info", headers)[0], 200, headers)
+
+    def test_no_cors_headers(self):
+        own = self.server.url[len("http://"):-1]
+        for method, path in (("GET", "/"), ("GET", "/api/info"), ("GET", "/api/frame?" + FRAME),
+                             ("GET", "/api/frame?tau_n=9"), ("GET", "/nope"), ("OPTIONS", "/api/info"),
+                             ("GET", "/api/info"), ("OPTIONS", "/api/frame")):
+            status, headers, _ = self.raw_request(path, {"Host": own, "Origin": "http://" + own,
+                                                         "Access-Control-Request-Method": "GET"}, method)
+            self.assertFalse([h for h in headers if h.startswith("access-control-")], (method, path, headers))
+        status, headers, _ = self.raw_request("/api/info", {"Host": "evil.example.com", "Origin": "http://evil.example.com"})
+        self.assertFalse([h for h in headers if h.startswith("access-control-")], headers)
+
     # -- the command line ---------------------------------------------------------------------
     def test_a_port_in_use_is_one_line_and_exit_2(self):
         port = self.server.url.rstrip("/").rsplit(":", 1)[1]
@@ -274,7 +358,8 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
 
     def test_bad_command_line_options_exit_2(self):
-        for args in (["--port", "70000"], ["--tau-n", "7"], ["--scene", "builtin:nope"], ["--size", "0x0"],
+        for args in (["--port", "70000"], ["--budget", "0"], ["--budget", "-5"], ["--budget", "nan"],
+                     ["--budget", "1", "--size", "320x180"], ["--tau-n", "7"], ["--scene", "builtin:nope"], ["--size", "0x0"],
                      ["--scene", "/nonexistent/scene.gltf"], ["--cost-model", "/nonexistent.json"]):
             r = subprocess.run([MRR, "explore", *args], capture_output=True, text=True, timeout=60)
             self.assertEqual(r.returncode, 2, (args, r.stderr))
@@ -296,6 +381,166 @@ class ExploreApi(unittest.TestCase):
                   (path, 1000 * median, len(times), ", ".join("%.0f" % (1000 * t) for t in times)), file=sys.stderr)
             # the issue's budget is 1 s on 2 cores; 3 s leaves room for a loaded CI machine
             self.assertLess(median, 3.0, path)
+
+
+def rss_kib(pid):
+    with open("/proc/%d/status" % pid) as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    raise RuntimeError("no VmRSS")
+
+
+class ExploreHoldsUp(unittest.TestCase):
+    """Issue 39 on a server of its own, with a smaller budget (--budget 300) so that its heaviest
+    request takes a few seconds here: abandoned and superseded renders stop, and a soak of random
+    requests with clients dropping mid-way leaves it answering at once, its memory where it was."""
+
+    BUDGET = 300
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = ExploreServer(MRR, "--scene", "builtin:demo", "--threads", "2", "--budget", str(cls.BUDGET))
+        host, port = cls.server.url[len("http://"):-1].split(":")
+        cls.address = (host, int(port))
+        status, cls.info = cls.server.json("api/info")
+        assert status == 200, cls.info
+        cls.port = cls.info["port"]["available"]
+        # The heaviest frame within the budget at the soak's largest size: SSGI at full resolution,
+        # 320x180, the most samples that fit (its effect stage is the longest there is at this budget).
+        status, error = cls.server.json("api/frame?effect=ssgi&method=full&size=320x180&samples=8192")
+        assert status == 400 and error["max_samples"] > 0, error
+        cls.heavy = "effect=ssgi&method=full&size=320x180&samples=%d" % error["max_samples"]
+
+    @classmethod
+    def tearDownClass(cls):
+        alive = cls.server.alive()
+        cls.server.stop()
+        assert alive, "the server died during the tests:\n" + "".join(cls.server.stderr_lines)
+
+    def send_and_leave(self, path, after):
+        """Sends GET path on a connection of its own and closes it `after` seconds later, unanswered."""
+        conn = socket.create_connection(self.address)
+        conn.sendall(("GET /%s HTTP/1.1\r\nHost: %s:%d\r\n\r\n" % (path, *self.address)).encode())
+        time.sleep(after)
+        conn.close()
+
+    def timed(self, path):
+        start = time.perf_counter()
+        status, body = self.server.json(path)
+        return status, body, time.perf_counter() - start
+
+    def test_an_abandoned_heavy_request_stops(self):
+        status, _, cheap_first = self.timed("api/frame?%s&tau_n=0.11" % FRAME)  # warm: scene, BVH, renderer
+        self.assertEqual(status, 200)
+        status, _, cheap = self.timed("api/frame?%s&tau_n=0.12" % FRAME)
+        self.assertEqual(status, 200)
+        # the heavy frame once to its end, for its longest stage
+        status, report, whole = self.timed("api/frame?%s&gi_radius=0.5" % self.heavy)
+        self.assertEqual(status, 200, report)
+        self.assertLessEqual(report["explore"]["work_m"], self.BUDGET)
+        longest = max(ms for stage, ms in report["timings_ms"].items() if stage != "total") / 1000
+        _, before, _ = self.timed("api/progress")
+        delays = []
+        for i, after in enumerate((0.1 * whole, 0.6 * whole)):  # in the reference's effect; in the frame's
+            self.send_and_leave("api/frame?%s&gi_radius=%.2f" % (self.heavy, 0.6 + 0.1 * i), after)
+            status, _, delay = self.timed("api/frame?%s&tau_n=%.2f" % (FRAME, 0.13 + 0.01 * i))
+            self.assertEqual(status, 200)
+            delays.append(delay)
+        _, after, _ = self.timed("api/progress")
+        print("abandoned heavy request (%s, %.0f M, %.2f s whole, longest stage %.2f s): the next cheap frame "
+              "in %s s (%.2f s alone)" % (self.heavy, report["explore"]["work_m"], whole, longest,
+                                          ", ".join("%.2f" % d for d in delays), cheap), file=sys.stderr)
+        self.assertEqual(after["cancelled"] - before["cancelled"], 2, after)
+        for delay in delays:
+            self.assertLess(delay, 5.0)  # the issue's bound
+            self.assertLess(delay, longest + cheap + 1.5)  # at most a stage of the abandoned render
+
+    def test_a_newer_request_for_the_same_view_supersedes(self):
+        self.server.get("api/frame?%s&tau_n=0.21" % FRAME)
+        results = {}
+
+        def older():
+            results["older"] = self.timed("api/frame?%s&gi_radius=1.5&view=v1" % self.heavy)
+
+        t = threading.Thread(target=older)
+        t.start()
+        time.sleep(0.5)
+        status, report, newer = self.timed("api/frame?%s&tau_n=0.22&view=v1" % FRAME)
+        t.join(60)
+        self.assertEqual(status, 200, report)
+        status, error, _ = results["older"]
+        self.assertEqual(status, 409, error)
+        self.assertEqual(error["parameter"], "view")
+        self.assertIn("superseded", error["error"])
+        self.assertLess(newer, 5.0)
+        # another view, or the same frame again, does not supersede
+        status, _, _ = self.timed("api/frame?%s&tau_n=0.22&view=v2" % FRAME)
+        self.assertEqual(status, 200)
+
+    def test_soak(self):
+        """Random requests, at most 160 and 45 s, four clients at a time, one in four leaving mid-way."""
+        paths = ["cpu"] + (["gpu"] if self.port else [])
+        rng = random.Random(39)
+
+        def frame():
+            return "effect=%s&method=%s&size=%s&samples=%d&tau_n=%.2f" % (
+                rng.choice(["ssao", "ssm", "ssgi"]), rng.choice(["mrr", "full", "uniform-1", "tiles"]),
+                rng.choice(["160x90", "320x180"]), rng.choice([1, 4, 9, 16]), rng.choice([0.05, 0.1, 0.2, 0.4]))
+
+        def request():
+            q = frame() + "&path=" + rng.choice(paths)
+            return rng.choice([
+                "api/frame?" + q, "api/frame?" + q + "&view=soak", "api/stage/final.png?" + q,
+                "api/stage/stencil.L0.json?" + q, "api/probe?x=3&y=4&" + q, "api/value?layer=final&x=2&y=2&" + q,
+                "api/info", "api/progress", "api/frame?" + q + "&tau_n=9", "api/frame?effect=ssgi&samples=8192&size=1280x720",
+                "api/stage/nope.png?" + q, "api/frame?" + self.heavy + "&gi_radius=%.2f" % rng.uniform(2, 3)])
+
+        # Fill the cache (12 frames) and the port's pool of textures with frames like the soak's
+        # first: the soak's frames then replace frames like them, and what the server holds after
+        # it beyond what it held before is a leak.
+        for i in range(24):
+            self.server.get("api/frame?%s&path=%s" % (frame(), paths[i % len(paths)]))
+        start_rss = rss_kib(self.server.proc.pid)
+        plan = [(request(), rng.random() < 0.25, rng.uniform(0.05, 1.0)) for _ in range(160)]
+        deadline = time.monotonic() + 45
+        counts = {"answered": 0, "left": 0, "skipped": 0}
+        lock = threading.Lock()
+
+        def run(item):
+            path, leave, after = item
+            if time.monotonic() > deadline:
+                with lock:
+                    counts["skipped"] += 1
+                return
+            if leave:
+                self.send_and_leave(path, after)
+                with lock:
+                    counts["left"] += 1
+                return
+            status, _, body = self.server.get(path, timeout=60)
+            self.assertTrue(200 <= status < 300 or 400 <= status < 500, (path, status, body[:300]))
+            with lock:
+                counts["answered"] += 1
+
+        t0 = time.monotonic()
+        with ThreadPoolExecutor(max_workers=4) as pool:
+            list(pool.map(run, plan))
+        soak = time.monotonic() - t0
+        self.assertTrue(self.server.alive())
+        status, _, at_once = self.timed("api/info")
+        self.assertEqual(status, 200)
+        status, _, cheap = self.timed("api/frame?%s&tau_n=0.77" % FRAME)
+        self.assertEqual(status, 200)
+        end_rss = rss_kib(self.server.proc.pid)
+        print("soak: %d answered, %d left mid-way, %d skipped in %.1f s; then info in %.3f s, a new frame in %.2f s; "
+              "RSS %.0f MiB -> %.0f MiB" % (counts["answered"], counts["left"], counts["skipped"], soak, at_once, cheap,
+                                           start_rss / 1024, end_rss / 1024), file=sys.stderr)
+        self.assertLess(soak, 120)
+        self.assertLess(at_once, 1.0)
+        self.assertLess(cheap, 5.0)
+        # the cache holds 12 frames of the soak's sizes at most, as it did before: what is left is a leak
+        self.assertLess(end_rss, 1.5 * start_rss)
 
 
 class ExploreWithoutThePort(unittest.TestCase):

@@ -15,6 +15,7 @@
 #include "common/error.h"
 #include "common/memory.h"
 #include "compare/against.h"
+#include "compare/constant_effect.h"
 #include "compare/html_report.h"
 #include "compare/parity.h"
 #include "compare/report_python.h"
@@ -121,6 +122,12 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
   for (const Settings& s : settings) {
     const Constants k = makeConstants(s, rs.scene.bounds().diagonal());
     auto reference = std::make_unique<FrameResult>(oracle->render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle"), &costs}));
+    if (effectIsConstant(*reference)) {  // two black frames agree, and check nothing
+      const EffectRange range = effectRange(*reference);
+      std::cerr << "mrr: warning: " << toString(s.effect) << ": the oracle's effect is " << range.lo
+                << " at every surface pixel of the view, so this comparison checks little; light the view with "
+                << optionName(Param::LightDir) << " x,y,z (`mrr info " << fo.scene << "` prints the light used)\n";
+    }
     std::unique_ptr<FrameResult> subject;
     ParityResult result;
     std::string notChecked;

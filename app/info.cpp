@@ -60,7 +60,10 @@ nlohmann::json sceneInfo(const SceneRequest& request) {
   j["light"] = {{"from_scene", s.hasLight},
                 {"direction", vec3(s.light.direction)},
                 {"toward_light", vec3(-s.light.direction)},
-                {"color", vec3(s.light.color)}};
+                {"color", vec3(s.light.color)},
+                {"source", s.lightOrigin.source},  // "the scene", "--light-dir", "built-in default", "chosen for the view"
+                {"lit_share", s.lightOrigin.litShare},  // of the view's visible surface; -1: not measured
+                {"builtin_lit_share", s.lightOrigin.builtinLitShare}};
   j["extensions_required"] = s.facts.extensionsRequired;
   j["extensions_used"] = s.facts.extensionsUsed;
   j["materials"] = {{"opaque", s.facts.opaqueMaterials}, {"mask", s.facts.maskMaterials}, {"blend", s.facts.blendMaterials}};
@@ -78,6 +81,7 @@ nlohmann::json sceneInfo(const SceneRequest& request) {
   const Framing framing = rs.framing ? *rs.framing : frameScene(s, rs.camera.yfov, request.aspect);
   j["suggested"] = cameraJson(framing.camera);
   j["suggested"]["interior"] = framing.interior;
+  j["suggested"]["open_side"] = framing.openSide;
   j["suggested"]["enclosed_directions"] = framing.enclosedDirections;
   j["suggested"]["facing_directions"] = framing.facingDirections;
   return j;
@@ -94,8 +98,17 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
       << ")\n";
   out << "cameras     " << j["cameras"].size() << (j["cameras"].empty() ? "" : ":") << "\n";
   for (size_t i = 0; i < j["cameras"].size(); ++i) out << "  " << i << "  " << cameraText(j["cameras"][i]) << "\n";
-  out << "light       " << (j["light"]["from_scene"].get<bool>() ? "the scene's" : "none in the scene: the default")
-      << ", --light-dir " << triple(j["light"]["toward_light"]) << "\n";
+  out << "light       " << j["light"]["source"].get<std::string>() << ", --light-dir " << triple(j["light"]["toward_light"]);
+  if (const double lit = j["light"]["lit_share"].get<double>(); lit >= 0.0) {
+    char share[96];
+    std::snprintf(share, sizeof share, "; lights %.0f%% of the visible surface", 100.0 * lit);
+    out << share;
+    if (const double builtin = j["light"]["builtin_lit_share"].get<double>(); builtin >= 0.0 && j["light"]["source"] != "built-in default") {
+      std::snprintf(share, sizeof share, " (the built-in default: %.0f%%)", 100.0 * builtin);
+      out << share;
+    }
+  }
+  out << "\n";
   out << "extensions  required: " << joined(j["extensions_required"]) << "; used: " << joined(j["extensions_used"])
       << "\n";
   out << "materials   " << j["materials"]["opaque"] << " opaque, " << j["materials"]["mask"] << " alpha MASK (cutouts), "

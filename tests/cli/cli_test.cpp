@@ -1234,6 +1234,25 @@ INSTANTIATE_TEST_SUITE_P(Scenes, CliCompareTest,
                                            "cornell", "arcade", "apartment"),
                          [](const auto& info) { return info.param; });
 
+// A frame whose effect is the same everywhere (a light from below the ground: every pixel in
+// shadow) checks little; compare says so and how to light the view, and still judges it.
+TEST(CliCompareWarnings, AConstantEffectIsNamedWithTheWayToLightTheView) {
+  const std::string dir = test::scratchDir();
+  MRR_REQUIRE_GL_FOR_CLI(dir);
+  const std::vector<std::string> frame = {"compare", "--scene", "builtin:demo", "--effect", "ssm", "--size", "64x36",
+                                          "--samples", "4", "--shadow-map-size", "256", "-q"};
+  std::vector<std::string> dark = frame;
+  dark.insert(dark.end(), {"--light-dir", "0,-1,0"});
+  RunResult r = runMrr(dark, dir);
+  ASSERT_TRUE(r.exited) << describe(r);
+  EXPECT_EQ(r.status, 0) << describe(r);
+  EXPECT_NE(r.err.find("mrr: warning: ssm: the oracle's effect is 0 at every surface pixel of the view"), std::string::npos)
+      << describe(r);
+  EXPECT_NE(r.err.find("--light-dir x,y,z"), std::string::npos) << describe(r);
+  r = runMrr(frame, dir);  // the scene's own light: shadows vary, no warning
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << describe(r);
+}
+
 struct PlantedFault {
   std::string fault;   // MRR_GPU_FAULT (gpu/faults.cpp)
   std::string effect;

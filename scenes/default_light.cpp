@@ -1,5 +1,7 @@
 #include "scenes/default_light.h"
 
+#include "common/parallel.h"
+
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
@@ -183,10 +185,12 @@ DefaultLightChoice chooseDefaultLight(const Scene& scene, const Camera& camera, 
   DefaultLightChoice out;
   out.surface = static_cast<int>(samples.size());
   const std::vector<glm::vec3>& candidates = defaultLightCandidates();
-  for (size_t i = 0; i < candidates.size(); ++i) {
-    out.shares.push_back(shareOf(tris, samples, bounds, candidates[i], 256).share);
-    if (out.shares.back() > out.shares[static_cast<size_t>(out.chosen)]) out.chosen = static_cast<int>(i);
-  }
+  // Each candidate's share on its own (side by side: independent), then the choice in order.
+  out.shares.assign(candidates.size(), 0.0f);
+  parallelFor(size_t{0}, candidates.size(),
+              [&](size_t i) { out.shares[i] = shareOf(tris, samples, bounds, candidates[i], 256).share; });
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (out.shares[i] > out.shares[static_cast<size_t>(out.chosen)]) out.chosen = static_cast<int>(i);
   out.direction = candidates[static_cast<size_t>(out.chosen)];
   return out;
 }

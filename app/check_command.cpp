@@ -48,7 +48,7 @@ void addCheckCommand(CLI::App& app, CheckCommand& c) {
   c.command->add_option("--jobs", c.jobs, "cases run side by side, the threads divided between them (the port runs one frame at a time)")
       ->capture_default_str();
   c.command->add_option("--threads", c.threads, "worker threads in all (0 = all cores)")->capture_default_str();
-  c.command->add_option("--gl-device", c.glDevice, "EGL device index of the port (default: the first with GL 3.3 core)");
+  c.command->add_option(optionName(Param::GlDevice), c.glDevice, paramHelp(Param::GlDevice));
   c.command->add_option("--merge", c.merge, "join the --json results of shards (R1.json R2.json ...) instead of running DIR")
       ->expected(1, -1);
   c.command->add_flag("-q,--quiet", c.quiet, "no progress lines on stderr");

@@ -172,7 +172,7 @@ int run(int argc, char** argv) {
     require(check.against.empty() && check.merge.empty(),
             "check: --shaders " + shaderDir + ": the shaders are the port's; not with --against or --merge");
     check.shaders = shaderDir;
-    useShaderDirectory(shaderDir);
+    useShaderDirectory(shaderDir, check.quiet);
   } else if (!shaderDir.empty()) {
     const FrameOptions& f = *render.command ? render.frame : *probe.command ? probe.frame : compare.frame;
     const bool port = *compare.command ||

@@ -90,8 +90,8 @@ void checkRenderOutputs(const RenderCommand& c) {
 
 void printRenderSummary(const FrameResult& frame, const Constants& constants, const std::optional<FrameErrors>& err) {
   std::cerr << "[mrr] shaded " << frame.shadedPixelsTotal << " of " << constants.width * constants.height
-            << " pixels: ideal speedup " << frame.idealSpeedup << "x; total " << frame.timing(timedName(Timed::Total))
-            << " ms\n";
+            << " pixels: ideal speedup " << frame.idealSpeedup << "x (on geometry " << frame.idealSpeedupHit
+            << "x: the background is free in full too); total " << frame.timing(timedName(Timed::Total)) << " ms, one run\n";
   if (frame.fallback.fellBack)
     std::cerr << "[mrr] never slower: predicted " << frame.fallback.predictedMrrMs << " ms mrr"
               << (frame.fallback.onFloor ? " at the least, before the edge sample,"

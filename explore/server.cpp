@@ -613,7 +613,8 @@ class Explorer {
       };
       job.check();
       setProgress(who + ": " + what, "");
-      return renderer->render(camera, k, {keepStages, progress, &costs});
+      // The rule's samples with it off too (explore's default): the page shows what it would decide.
+      return renderer->render(camera, k, {keepStages, progress, &costs, /*sampleWithRuleOff=*/true});
     };
     // A renderer's first frames pay for compiling shaders and paging in scratch: one throwaway
     // frame of each kind first, so the measured speedup compares warm frames. One sample each:
@@ -661,6 +662,11 @@ class Explorer {
         {"work_m", r.work / 1e6},
         {"budget_m", budget_ / 1e6},
         {"max_samples", r.mostSamples}};
+    const FallbackDecision& rule = out->frame.fallback;
+    if (r.settings.mode == Mode::Mrr && !rule.evaluated)  // the rule is off: what it would have decided
+      out->report["explore"]["rule_off"] = {{"would_fall_back", rule.wouldFallBack},
+                                            {"predicted_full_ms", rule.predictedFullMs},
+                                            {"predicted_mrr_ms", rule.predictedMrrMs}};
     remember("frame " + path + r.key, out);
     return out;
   }

@@ -221,14 +221,20 @@ function showStats() {
   const both = (label, f, id) => rows.push([label, f(cpu), gpu ? f(gpu) : null, id]);
   $('#summary').textContent = `${cpu.scene.split('/').pop()} · ${cpu.effect} · ${cpu.method} · ${cpu.width}×${cpu.height} · ${cpu.samples} samples`;
   both('never slower', (r) => {
-    if (!r.never_slower) return 'off';
+    if (!r.never_slower) {
+      const w = r.explore.rule_off;
+      if (!w) return 'off';
+      return `off: it would ${w.would_fall_back ? 'fall back to full' : 'keep mrr'}` +
+        ` (predicted ${fmt(w.predicted_mrr_ms)} vs ${fmt(w.predicted_full_ms)} ms full)`;
+    }
     const n = r.never_slower;
     return (n.fell_back_to_full ? 'fell back to full' : 'kept mrr') +
       ` (predicted ${fmt(n.predicted_mrr_ms)} vs ${fmt(n.predicted_full_ms)} ms full)`;
   }, 'never-slower');
   both('ideal speedup', (r) => fmt(r.ideal_speedup) + '×', 'ideal-speedup');
+  both('ideal, on geometry', (r) => r.ideal_speedup_hit ? fmt(r.ideal_speedup_hit) + '×' : '–', 'ideal-speedup-hit');
   both('ideal, 4×2 blocks', (r) => fmt(r.ideal_speedup_4x2_blocks) + '×', 'block-speedup');
-  both('measured speedup', (r) => `${fmt(r.explore.measured_speedup)}× (${fmt(r.explore.frame_ms)} vs ${fmt(r.explore.full_ms)} ms)`, 'measured-speedup');
+  both('measured speedup, one warm run', (r) => `${fmt(r.explore.measured_speedup)}× (${fmt(r.explore.frame_ms)} vs ${fmt(r.explore.full_ms)} ms)`, 'measured-speedup');
   both('RMS vs full', (r) => r.error_vs_full ? fmt(r.error_vs_full.rms) : '–', 'rms');
   both('SSIM vs full', (r) => r.error_vs_full ? fmt(r.error_vs_full.ssim, 4) : '–', 'ssim');
   for (const lv of cpu.levels) {

@@ -119,7 +119,7 @@ TEST(ShadersDir, UnchangedExportPassesEveryEffect) {
   const std::string shaders = exportShaders(dir);
   const Ran r = mrr(loud(compareArgs("all", {"--shaders", shaders})), dir);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
-  EXPECT_NE(r.err.find("[mrr] shaders from " + shaders + ": bilateral.frag, bilateral.glsl, blend.frag"), std::string::npos)
+  EXPECT_NE(r.err.find("[mrr] shaders from " + shaders + ": albedo.glsl, bilateral.frag, bilateral.glsl, blend.frag"), std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;  // README.md is not a stray file
   EXPECT_EQ(lastLine(r.out).rfind("PASS", 0), 0u) << r.out;
@@ -216,7 +216,7 @@ TEST(ShadersDir, StrayFileGetsAWarningListingTheNames) {
   EXPECT_NE(r.err.find("mrr: warning: " + (fs::path(shaders) / "ssao2.frag").string() + " is no shader of mrr"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("mrr's shaders: bilateral.frag, bilateral.glsl, blend.frag"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mrr's shaders: albedo.glsl, bilateral.frag, bilateral.glsl, blend.frag"), std::string::npos) << r.err;
 }
 
 TEST(ShadersDir, MissingUniformOrOutputIsNamed) {

@@ -83,10 +83,21 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual((report["width"], report["height"], report["samples"]), (320, 180, 16))
         self.assertEqual(len(report["levels"]), 4)
         self.assertGreater(report["ideal_speedup"], 1.0)
-        self.assertIn("never_slower", report)
+        # explore opens on the method: the rule is off, and the report says what it would decide
+        self.assertNotIn("never_slower", report)
+        would = report["explore"]["rule_off"]
+        self.assertIsInstance(would["would_fall_back"], bool)
+        self.assertGreater(would["predicted_full_ms"], 0.0)
+        self.assertGreater(would["predicted_mrr_ms"], 0.0)
         self.assertIn("error_vs_full", report)
         self.assertGreater(report["explore"]["measured_speedup"], 0.0)
         self.assertIn("stencil.L0", report["explore"]["layers"])
+        # with the rule on, it decides and the report says how
+        status, _, body = self.server.get("api/frame?" + FRAME + "&never_slower=on")
+        self.assertEqual(status, 200)
+        on = json.loads(body)
+        self.assertIn("never_slower", on)
+        self.assertNotIn("rule_off", on["explore"])
 
     def test_tau_n_changes_the_stencil(self):
         counts = []

@@ -1,5 +1,8 @@
 #include "compare/probe_both.h"
 
+#include <cctype>
+#include <cmath>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,36 +185,80 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
   return rows;
 }
 
+namespace {
+
+// The pipeline step a probe row belongs to, as a heading with the port's shader that computes
+// it (the stage list's), and the row's name within it: "L2.ssao.occluders" is "occluders" under
+// "4. The effect at level 2 (ssao.frag)".
+struct Section {
+  std::string title;
+  std::string name;
+};
+
+Section sectionOf(const std::string& key, const std::string& effect) {
+  auto shader = [](Part part) { return std::string(partInfo(part).shader); };
+  auto rest = [&](size_t from) { return from < key.size() ? key.substr(from) : key; };
+  if (key.rfind("gbuffer.", 0) == 0) return {"1. The G-buffer at full resolution (" + shader(Part::GBuffer) + ")", rest(8)};
+  if (key.rfind("shadow", 0) == 0) return {"1. The light's shadow map and test (" + shader(Part::ShadowMap) + ")", key};
+  if (key.rfind("edges.", 0) == 0) return {"2. Edges (" + shader(Part::Edges) + ")", rest(6)};
+  if (key.size() > 3 && key[0] == 'L' && std::isdigit(static_cast<unsigned char>(key[1])) && key[2] == '.') {
+    const std::string level = key.substr(1, 1), what = key.substr(3);
+    const std::string field = what.substr(0, what.find_first_of(".["));
+    if (field == "M" || field == "a" || field == "S")
+      return {"3. Masks and stencil, level " + level + " (" + shader(Part::Mask) + ")", what};
+    if (field == "c_raw" || field == effect)
+      return {"4. The effect, level " + level + " (" + effect + ".frag)", what};
+    if (field == "c") return {"4. The sub-image, level " + level + " (" + shader(Part::Sub) + ")", what};
+    return {"5. Upsample and blend, level " + level + " (" + shader(Part::Composite) + ")", what};
+  }
+  if (key == "final" || key == "finest_contributing_level") return {"5. The final image (" + shader(Part::Final) + ")", key};
+  if (key.rfind("shaded", 0) == 0) return {"6. The shaded image (" + shader(Part::Shaded) + ")", key};
+  return {"other", key};
+}
+
+}  // namespace
+
 std::string formatProbeSideBySide(const json& o, const json& p, const std::string& renderer) {
   const std::vector<ProbeRow> rows = probeSideBySide(o, p);
+  const std::string effect = o.value("effect", std::string("?"));
   std::string out = "pixel " + show(o.value("pixel", json())) + " of " + show(o.value("size", json())) + ", effect " +
-                    o.value("effect", std::string("?")) + ", mode " + o.value("mode", std::string("?")) +
-                    ": the oracle (cpu_ref) beside the port (" + renderer + "), in pipeline order\n";
-  size_t width = 24;
-  for (const ProbeRow& r : rows) width = std::max(width, r.key.size() + 2);
-  char line[512];
-  std::snprintf(line, sizeof line, "%-*s %-28s %-28s %-34s %s\n", static_cast<int>(width), "stage.value", "oracle",
-                "port", "|d| <= tolerance (rule)", "within");
-  out += line;
+                    effect + ", mode " + o.value("mode", std::string("?")) + ": the oracle (cpu_ref) beside the port (" +
+                    renderer + "), step by step\n";
+  // Columns as wide as what they hold (a value at most 44 characters).
+  size_t name = 10, value = 8;
+  for (const ProbeRow& r : rows) {
+    name = std::max(name, sectionOf(r.key, effect).name.size());
+    value = std::max({value, std::min<size_t>(r.oracle.size(), 44), std::min<size_t>(r.port.size(), 44)});
+  }
+  char line[640];
+  auto add = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d, const std::string& e) {
+    std::snprintf(line, sizeof line, "  %-*s  %-*s  %-*s  %-44s %s", static_cast<int>(name), a.c_str(),
+                  static_cast<int>(value), b.c_str(), static_cast<int>(value), c.c_str(), d.c_str(), e.c_str());
+    std::string text = line;
+    text.erase(text.find_last_not_of(' ') + 1);
+    out += text + "\n";
+  };
+  add("value", "oracle", "port", "how they are compared", "");
+  std::string section;
   bool marked = false;
   int differing = 0;
   for (const ProbeRow& r : rows) {
-    const char* mark = "";
+    const Section s = sectionOf(r.key, effect);
+    if (s.title != section) out += (section = s.title) + "\n";
+    std::string verdict = r.within ? "" : "OVER";
     if (r.differs) {
       ++differing;
-      mark = marked ? "  <>" : "  <> first difference";
+      verdict += (verdict.empty() ? "" : ", ") + std::string(marked ? "differs" : "<- the first difference");
       marked = true;
     }
-    char tol[96];
-    if (r.rule.empty() && r.oracleValue.is_number())
-      std::snprintf(tol, sizeof tol, "exact (rel %.0e)", kProbeRelativeDifference);  // "parted" (common/tolerance.h)
+    char how[128];
+    if (r.rule.empty() && r.oracleValue.is_number())  // no tolerance of its own: a bookkeeping value
+      std::snprintf(how, sizeof how, "equal to %.0e x max(1, |value|)", kProbeRelativeDifference);
     else if (r.rule.empty())
-      std::snprintf(tol, sizeof tol, "%s", "exact");
+      std::snprintf(how, sizeof how, "equal");
     else
-      std::snprintf(tol, sizeof tol, "%.3g <= %.3g (%s)", r.delta, r.threshold, r.rule.c_str());
-    std::snprintf(line, sizeof line, "%-*s %-28s %-28s %-34s %s%s\n", static_cast<int>(width), r.key.c_str(),
-                  r.oracle.c_str(), r.port.c_str(), tol, r.within ? "yes" : "NO", mark);
-    out += line;
+      std::snprintf(how, sizeof how, "|d| %.3g vs %.3g allowed (%s)", std::fabs(r.delta), r.threshold, r.rule.c_str());
+    add(s.name, r.oracle, r.port, how, verdict);
   }
   const long over = std::count_if(rows.begin(), rows.end(), [](const ProbeRow& r) { return !r.within; });
   out += differing == 0 ? "the paths agree at every stage for this pixel\n"
@@ -227,7 +274,8 @@ json probeBothJson(const json& o, const json& p) {
   j["rows"] = json::array();
   j["first_difference"] = nullptr;
   for (const ProbeRow& r : probeSideBySide(o, p)) {
-    j["rows"].push_back({{"key", r.key}, {"oracle", r.oracle}, {"port", r.port}, {"differs", r.differs},
+    j["rows"].push_back({{"key", r.key}, {"section", sectionOf(r.key, o.value("effect", std::string("?"))).title},
+                         {"oracle", r.oracle}, {"port", r.port}, {"differs", r.differs},
                          {"rule", r.rule.empty() ? json() : json(r.rule)}, {"delta", r.delta},
                          {"threshold", r.threshold}, {"within", r.within}});
     if (r.differs && j["first_difference"].is_null()) j["first_difference"] = r.key;

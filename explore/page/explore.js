@@ -464,9 +464,17 @@ async function probe() {
     };
     if (path === 'both') {
       state.probe = j.oracle;
-      head.appendChild(row(['stage.value', 'oracle', 'port', ''], 'th'));
+      head.appendChild(row(['value', 'oracle', 'port', ''], 'th'));
       let first = true;
+      let section = null;
       for (const r of j.rows) {
+        if (r.section && r.section !== section) {  // one heading per pipeline step, with its shader
+          section = r.section;
+          const h = row([section], 'th');
+          h.firstChild.colSpan = 4;
+          h.classList.add('probe-section');
+          body.appendChild(h);
+        }
         const tr = row([r.key, r.oracle, r.port, r.differs ? (first ? '◀ first difference' : '≠') : '']);
         if (r.differs) {
           tr.classList.add('differs');

@@ -1317,8 +1317,11 @@ TEST(CliProbeBothTest, MarksTheFirstStageWhereThePathsPart) {
   std::vector<std::string> text = args;
   text.erase(std::find(text.begin(), text.end(), "--json"));
   const RunResult shown = runMrr(text, dir, {.env = {"MRR_GPU_FAULT=ssao-bias-sign"}});
-  EXPECT_NE(shown.out.find("L3.c_raw"), std::string::npos);
-  EXPECT_NE(shown.out.find("first difference"), std::string::npos) << shown.out;
+  // Grouped by step, under the shader that computes it: the level-3 effect, its raw value first.
+  EXPECT_NE(shown.out.find("4. The effect, level 3 (ssao.frag)\n  c_raw "), std::string::npos) << shown.out;
+  EXPECT_NE(shown.out.find("<- the first difference"), std::string::npos) << shown.out;
+  EXPECT_LT(shown.out.find("1. The G-buffer at full resolution (gbuffer.frag)"), shown.out.find("2. Edges (edges.frag)"))
+      << shown.out;
 }
 
 // The port's two timing methods: the report names the one used, and each gives a figure for

@@ -253,9 +253,9 @@ std::string formatProbeSideBySide(const json& o, const json& p, const std::strin
     }
     char how[128];
     if (r.rule.empty() && r.oracleValue.is_number())  // no tolerance of its own: a bookkeeping value
-      std::snprintf(how, sizeof how, "equal to %.0e x max(1, |value|)", kProbeRelativeDifference);
+      std::snprintf(how, sizeof how, "must agree to %.0e x max(1, |value|)", kProbeRelativeDifference);
     else if (r.rule.empty())
-      std::snprintf(how, sizeof how, "equal");
+      std::snprintf(how, sizeof how, "must be equal");
     else
       std::snprintf(how, sizeof how, "|d| %.3g vs %.3g allowed (%s)", std::fabs(r.delta), r.threshold, r.rule.c_str());
     add(s.name, r.oracle, r.port, how, verdict);

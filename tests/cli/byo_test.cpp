@@ -14,36 +14,16 @@
 #include <vector>
 
 #include "common/image_io.h"
+#include "tests/cli/run_mrr.h"
 #include "tests/test_support.h"
 
 namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-struct Ran {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-Ran mrr(const std::vector<std::string>& args, const std::string& dir, const std::string& env = "") {
-  std::string cmd = env.empty() ? "" : env + " ";
-  cmd += quote(MRR_BINARY);
-  for (const std::string& a : args) cmd += " " + quote(a);
-  const std::string out = (fs::path(dir) / "run.stdout").string(), err = (fs::path(dir) / "run.stderr").string();
-  cmd += " >" + quote(out) + " 2>" + quote(err);
-  const int raw = std::system(cmd.c_str());
-  Ran r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = test::readFile(out);
-  r.err = test::readFile(err);
-  return r;
-}
+using cli::Ran;
+using cli::quote;
+using cli::mrr;
 
 std::string lastLine(const std::string& text) {
   std::string t = text;
@@ -60,22 +40,6 @@ std::string edited(const std::string& text, const std::string& find, const std::
   if (at == std::string::npos) return text;
   return text.substr(0, at) + replace + text.substr(at + find.size());
 }
-
-bool glAvailable(const std::string& dir) {
-  static const bool available =
-      mrr({"render", "--scene", "builtin:plane", "--path", "gpu", "--size", "8x8", "--samples", "1", "-q", "--out",
-           (fs::path(dir) / "gl-probe.exr").string()},
-          dir)
-          .status == 0;
-  return available;
-}
-
-#define REQUIRE_GL(dir)                                                                    \
-  if (!glAvailable(dir)) {                                                                 \
-    const char* r = std::getenv("MRR_REQUIRE_GL");                                         \
-    if (r && std::string(r) == "1") FAIL() << "no EGL device, and MRR_REQUIRE_GL=1";       \
-    GTEST_SKIP() << "no EGL device with GL 3.3 core here: the port cannot run";            \
-  }
 
 // Exports the shaders into DIR/shaders and keeps only `keep` (all when empty).
 std::string exportShaders(const std::string& dir, const std::vector<std::string>& keep = {}) {
@@ -239,7 +203,6 @@ TEST(ShadersDir, MissingUniformOrOutputIsNamed) {
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find(file.string() + ": stage ssao: lacks the output ao at location 0"), std::string::npos) << r.err;
 }
-
 
 // ---- compare --against: another renderer's stages ---------------------------------------
 

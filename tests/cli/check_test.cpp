@@ -18,50 +18,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/cli/run_mrr.h"
 #include "tests/test_support.h"
 
 namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-struct Ran {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-Ran mrr(const std::vector<std::string>& args, const std::string& dir) {
-  std::string cmd = "cd " + quote(dir) + " && " + quote(MRR_BINARY);
-  for (const std::string& a : args) cmd += " " + quote(a);
-  cmd += " >run.stdout 2>run.stderr";
-  const int raw = std::system(cmd.c_str());
-  Ran r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = test::readFile((fs::path(dir) / "run.stdout").string());
-  r.err = test::readFile((fs::path(dir) / "run.stderr").string());
-  return r;
-}
-
-bool glAvailable(const std::string& dir) {
-  static const bool available =
-      mrr({"render", "--scene", "builtin:plane", "--path", "gpu", "--size", "8x8", "--samples", "1", "-q", "--out",
-           (fs::path(dir) / "gl-probe.exr").string()},
-          dir)
-          .status == 0;
-  return available;
-}
-
-#define REQUIRE_GL(dir)                                                              \
-  if (!glAvailable(dir)) {                                                           \
-    const char* r = std::getenv("MRR_REQUIRE_GL");                                   \
-    if (r && std::string(r) == "1") FAIL() << "no EGL device, and MRR_REQUIRE_GL=1"; \
-    GTEST_SKIP() << "no EGL device with GL 3.3 core here: the port cannot run";      \
-  }
+using cli::Ran;
+using cli::quote;
+// Runs in DIR: the suite's folders are named relative to it.
+Ran mrr(const std::vector<std::string>& args, const std::string& dir) { return cli::mrr(args, dir, "", true); }
 
 // The four good frames of the docs' suite, in DIR/frames.
 std::string makeFrames(const std::string& dir) {

@@ -111,6 +111,8 @@ void validateSettings(const Settings& s) {
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
   require(s.effectMask.scale >= 0.0f && s.effectMask.scale <= 16.0f, "mrr-effect: the footprint scale must be in [0, 16]");
   require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, "mrr-effect: the widening cap must be in [0, 64] level pixels");
+  require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
+          "mrr-effect: the first widened level must be in [0, " + std::to_string(kLevelCount - 1) + "]");
   require(sizeOk(s.width) && sizeOk(s.height),
           optionName(Param::Size) + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
               ": each side must be in [1, " + std::to_string(kMaxImageSize) + "]");
@@ -205,6 +207,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   c.neverSlower = s.neverSlower && isMethod(s.mode);
   c.effectMask.scale = s.effectMask.scale;
   c.effectMask.cap = s.effectMask.cap;
+  c.effectMask.firstLevel = s.effectMask.firstLevel;
 
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f

@@ -85,6 +85,7 @@ struct SsgiSettings {
 struct EffectMaskSettings {
   float scale = 1.0f;  // the footprint's multiplier [0, 16]; 0 = mrr's masks exactly
   int cap = 8;         // the widest widening, level pixels [0, 64]
+  int firstLevel = 0;  // the finest level widened [0, kLevelCount − 1]; finer ones keep mrr's M_ℓ
   static constexpr int kDefaultCap = 8;
 };
 
@@ -169,6 +170,7 @@ struct Constants {
   struct EffectMask {  // mode mrr-effect (SPEC §12)
     float scale = 1.0f;
     int cap = 0;
+    int firstLevel = 0;
   } effectMask;
   struct Bilateral {
     int radius = 0;

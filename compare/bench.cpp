@@ -41,7 +41,7 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
   s.setSamples(samples);
   s.neverSlower = method != "mrr-norule";
   // mrr-effect's ablation variants (SPEC §12): "mrr-effect" then any of "+cN" (the cap, level
-  // pixels), "+xF" (the footprint's scale) and "+noblur" (σ_ℓ² = 0: the footprint alone widens).
+  // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale) and "+noblur" (σ_ℓ² = 0: the footprint alone widens).
   const size_t plus = method.find('+');
   const std::string base = method.substr(0, plus);
   s.mode = parseMode(base == "mrr-norule" ? "mrr" : base);
@@ -54,13 +54,15 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
         for (LevelSettings& ls : s.levels) ls.sigma2 = 0.0f;
       } else if (v.size() > 1 && v[0] == 'c') {
         s.effectMask.cap = std::stoi(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'f') {
+        s.effectMask.firstLevel = std::stoi(v.substr(1));
       } else if (v.size() > 1 && v[0] == 'x') {
         s.effectMask.scale = std::stof(v.substr(1));
       } else {
         throw MrrError("");
       }
     } catch (const std::exception&) {
-      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +xF or +noblur)");
+      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF or +noblur)");
     }
     at = next;
   }

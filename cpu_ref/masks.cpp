@@ -93,7 +93,7 @@ std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Consta
     for (int l = 0; l < kLevelCount; ++l) {
       if (l > 0) fl = maxPoolF(fl);
       const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      if (!lc.enabled || l == c.coarsestEnabled) continue;
+      if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.firstLevel) continue;
       MaskLevel& ml = levels[static_cast<size_t>(l)];
       ml.mask = dilateByReach(ml.mask, levelReach(ml.mask, fl, lc.scale, c.effectMask.cap));
     }

@@ -85,7 +85,9 @@ struct SsgiSettings {
 struct EffectMaskSettings {
   float scale = 1.0f;  // the footprint's multiplier [0, 16]; 0 = mrr's masks exactly
   int cap = 8;         // the widest widening, level pixels [0, 64]
-  int firstLevel = 0;  // the finest level widened [0, kLevelCount − 1]; finer ones keep mrr's M_ℓ
+  // The finest level widened [0, kLevelCount − 1]; finer ones keep mrr's M_ℓ. 1: level 0 is
+  // mrr's (widening it cost more than it gained: docs/figures.md, "Masks that see the effect").
+  int firstLevel = 1;
   static constexpr int kDefaultCap = 8;
 };
 
@@ -170,7 +172,7 @@ struct Constants {
   struct EffectMask {  // mode mrr-effect (SPEC §12)
     float scale = 1.0f;
     int cap = 0;
-    int firstLevel = 0;
+    int firstLevel = 1;
   } effectMask;
   struct Bilateral {
     int radius = 0;

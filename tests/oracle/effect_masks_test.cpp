@@ -41,21 +41,28 @@ TEST(EffectMasks, LevelReachRoundsTheFootprintInLevelPixelsAndCaps) {
   EXPECT_EQ(k.data[3], -1);  // no edge: reaches nothing
 }
 
-// Level 0 of mrr-effect shades every pixel mrr's does, and more; every level's stencil contains mrr's.
+// Every level's stencil of mrr-effect contains mrr's. By default (first widened level 1) level 0
+// is mrr's and level 1 grows; widened from level 0, level 0 grows too.
 TEST(EffectMasks, ShadesASupersetOfMrrsPixels) {
   Settings s = ssaoSettings(160, 96, 8);
   const auto mrr = renderScene("builtin:demo", s);
-  s.mode = Mode::MrrEffect;
-  const auto eff = renderScene("builtin:demo", s);
-  ASSERT_FALSE(eff.frame.fallback.fellBack);
-  for (int l = 0; l < kLevelCount; ++l) {
-    const ImageU8& a = mrr.frame.levels[static_cast<size_t>(l)].masks.stencil;
-    const ImageU8& b = eff.frame.levels[static_cast<size_t>(l)].masks.stencil;
-    if (a.empty()) continue;
-    ASSERT_EQ(a.data.size(), b.data.size());
-    for (size_t i = 0; i < a.data.size(); ++i) ASSERT_LE(a.data[i], b.data[i]) << "level " << l << " pixel " << i;
+  for (const int first : {1, 0}) {
+    s.mode = Mode::MrrEffect;
+    s.effectMask.firstLevel = first;
+    const auto eff = renderScene("builtin:demo", s);
+    ASSERT_FALSE(eff.frame.fallback.fellBack);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const ImageU8& a = mrr.frame.levels[static_cast<size_t>(l)].masks.stencil;
+      const ImageU8& b = eff.frame.levels[static_cast<size_t>(l)].masks.stencil;
+      if (a.empty()) continue;
+      ASSERT_EQ(a.data.size(), b.data.size());
+      for (size_t i = 0; i < a.data.size(); ++i) ASSERT_LE(a.data[i], b.data[i]) << "level " << l << " pixel " << i;
+    }
+    const int64_t l0 = countSet(mrr.frame.levels[0].masks.stencil), e0 = countSet(eff.frame.levels[0].masks.stencil);
+    if (first == 0) EXPECT_GT(e0, l0);
+    else EXPECT_EQ(e0, l0);
+    EXPECT_GT(countSet(eff.frame.levels[1].masks.stencil), countSet(mrr.frame.levels[1].masks.stencil)) << "first " << first;
   }
-  EXPECT_GT(countSet(eff.frame.levels[0].masks.stencil), countSet(mrr.frame.levels[0].masks.stencil));
 }
 
 // With no footprint (scale 0, or an AO radius under half a pixel everywhere), mrr-effect's
@@ -67,6 +74,7 @@ TEST(EffectMasks, NoFootprintIsMrrExactly) {
     const auto mrr = renderScene("builtin:demo", s);
     s.mode = Mode::MrrEffect;
     if (!tinyRadius) s.effectMask.scale = 0.0f;
+    s.effectMask.firstLevel = 0;  // every level could widen
     const auto eff = renderScene("builtin:demo", s);
     for (int l = 0; l < kLevelCount; ++l) {
       const MaskLevel& a = mrr.frame.levels[static_cast<size_t>(l)].masks;

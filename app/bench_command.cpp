@@ -22,7 +22,7 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--effects", o.effects, "effects: ssao ssm ssgi")->capture_default_str();
   b.add_option("--samples", o.samples,
                "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
-  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr")->capture_default_str();
+  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect (the oracle only; +cN, +fN, +xF, +noblur: its variants)")->capture_default_str();
   b.add_option("--cameras", o.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   b.add_option("--repeats", o.repeats, "timed repeats per configuration")->capture_default_str();
   b.add_option("--threads", o.threads, "the oracle's threads (0 = all cores)");
@@ -118,7 +118,10 @@ void resolveAndValidate(BenchCommand& c) {
     require(w >= 1 && h >= 1 && w <= kMaxImageSize && h <= kMaxImageSize,
             "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
                 std::to_string(kMaxImageSize) + "]");
-  for (const std::string& m : o.methods) parseMode(m);           // validates the name
+  for (const std::string& m : o.methods) settingsFor(m, Effect::Ssao, 64, 64, 16);  // validates the name
+  for (const std::string& m : o.methods)
+    if (settingsFor(m, Effect::Ssao, 64, 64, 16).mode == Mode::MrrEffect)
+      for (const std::string& p : c.paths) requirePortImplements(Mode::MrrEffect, p);
   for (const std::string& e : o.stabilityEffects) parseEffect(e);  // validates the name
   // Every sample count in its effect's range: the main sweep's for each chosen effect, and
   // each effect's samples sweep.

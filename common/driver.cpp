@@ -52,7 +52,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // reach R_ℓ, whenever the rule decides (or the caller reads its counts), unless the floor,
   // which needs no sample, already rules the method out.
   bool fellBackEarly = false;
-  if (c.mode == Mode::Mrr)
+  if (isMethod(c.mode))
     stage(timedName(Timed::Rule), [&] {
       const bool counted = c.neverSlower || options.sampleWithRuleOff;
       if (c.effect == Effect::Ssm && counted && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
@@ -65,7 +65,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
         countEdgeSample(f.counts, f.edgeSample, silhouetteBlocks, b.fullResHit(f), c);
       }
     });
-  if (c.mode == Mode::Mrr && c.neverSlower) {
+  if (isMethod(c.mode) && c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {
       f.fallback = early;
@@ -76,18 +76,19 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
 
   // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9). uniform-k's and
   // full's stencils are constants of the frame's size, made on the host for both paths.
-  const bool findsEdges = (c.mode == Mode::Mrr && !fellBackEarly) || c.mode == Mode::Tiles;
+  const bool findsEdges = (isMethod(c.mode) && !fellBackEarly) || c.mode == Mode::Tiles;
   if (findsEdges) stage(stageName(Part::Edges), [&] { b.edges(f); });
   Masks masks;
   switch (fellBackEarly ? Mode::Full : c.mode) {
-    case Mode::Mrr: stage(stageName(Part::Stencil), [&] { masks = b.methodMasks(f); }); break;
+    case Mode::Mrr:
+    case Mode::MrrEffect: stage(stageName(Part::Stencil), [&] { masks = b.methodMasks(f); }); break;
     case Mode::Tiles: stage(stageName(Part::Stencil), [&] { masks = b.tileMasks(f); }); break;
     case Mode::Uniform1:
     case Mode::Uniform2: masks = uniformMasks(c); break;
     case Mode::Full: masks = fullModeMasks(c); break;
   }
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  if (c.mode == Mode::Mrr && !fellBackEarly) {
+  if (isMethod(c.mode) && !fellBackEarly) {
     stage(timedName(Timed::Rule), [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });
     applyNeverSlower(f, masks, model);
   }

@@ -23,12 +23,20 @@ std::string toString(Mode mode) {
     case Mode::Uniform1: return "uniform-1";
     case Mode::Uniform2: return "uniform-2";
     case Mode::Tiles: return "tiles";
+    case Mode::MrrEffect: return "mrr-effect";
     case Mode::Mrr: break;
   }
   return "mrr";
 }
 
 bool isPeer(Mode mode) { return mode == Mode::Uniform1 || mode == Mode::Uniform2 || mode == Mode::Tiles; }
+
+void requirePortImplements(Mode mode, const std::string& path) {
+  require(!(mode == Mode::MrrEffect && path == "gpu"),
+          optionName(Param::Method) + " mrr-effect: the port (" + optionName(Param::Path) +
+              " gpu) does not implement it yet; it is the oracle's experiment (docs/spec.md §12): use " +
+              optionName(Param::Path) + " cpu");
+}
 
 Effect parseEffect(const std::string& name) {
   if (name == "ssao") return Effect::Ssao;
@@ -41,7 +49,9 @@ Mode parseMode(const std::string& name) {
   if (name == "multires") return Mode::Mrr;  // the old spelling, still accepted from scripts
   for (Mode m : kAllModes)
     if (name == toString(m)) return m;
-  throw MrrError(optionName(Param::Method) + " " + name + ": unknown method (expected mrr, full, uniform-1, uniform-2 or tiles)");
+  if (name == toString(Mode::MrrEffect)) return Mode::MrrEffect;
+  throw MrrError(optionName(Param::Method) + " " + name +
+                 ": unknown method (expected mrr, full, uniform-1, uniform-2, tiles or mrr-effect)");
 }
 
 // Table 1 of the paper (SPEC §3). i = ℓ + 1; the coarsest level covers everything.
@@ -99,6 +109,10 @@ int squareRoot(int n) {
 
 void validateSettings(const Settings& s) {
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
+  require(s.effectMask.scale >= 0.0f && s.effectMask.scale <= 16.0f, "mrr-effect: the footprint scale must be in [0, 16]");
+  require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, "mrr-effect: the widening cap must be in [0, 64] level pixels");
+  require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
+          "mrr-effect: the first widened level must be in [0, " + std::to_string(kLevelCount - 1) + "]");
   require(sizeOk(s.width) && sizeOk(s.height),
           optionName(Param::Size) + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
               ": each side must be in [1, " + std::to_string(kMaxImageSize) + "]");
@@ -172,7 +186,8 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
     lc.width = c.paddedWidth / lc.scale;
     lc.height = c.paddedHeight / lc.scale;
     switch (s.mode) {
-      case Mode::Mrr: lc.enabled = ls.enabled; break;
+      case Mode::Mrr:
+      case Mode::MrrEffect: lc.enabled = ls.enabled; break;
       case Mode::Full: lc.enabled = l == 0; break;
       case Mode::Uniform1: lc.enabled = l == 0 || l == 1; lc.shaded = l == 1; break;
       case Mode::Uniform2: lc.enabled = l == 0 || l == 2; lc.shaded = l == 2; break;
@@ -189,7 +204,10 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   for (int l = 0; l < kLevelCount; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) c.coarsestEnabled = l;
   c.edges = s.edges;
-  c.neverSlower = s.neverSlower && s.mode == Mode::Mrr;
+  c.neverSlower = s.neverSlower && isMethod(s.mode);
+  c.effectMask.scale = s.effectMask.scale;
+  c.effectMask.cap = s.effectMask.cap;
+  c.effectMask.firstLevel = s.effectMask.firstLevel;
 
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f

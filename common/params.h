@@ -21,6 +21,10 @@ enum class Mode {
   Uniform1,  // every pixel of level 1 (½), then joint bilateral upsampling
   Uniform2,  // every pixel of level 2 (¼), then joint bilateral upsampling
   Tiles,     // 16×16 VRS-style tiles at 1×1, 2×2 or 4×4 by their edges, broadcast unfiltered
+  // The oracle's experiment (issue 35, SPEC §12): mrr with each level's edge mask widened by the
+  // effect's footprint, known before shading; `--method mrr-effect`. Not one of SPEC §9's five
+  // (kAllModes), and the port does not implement it yet.
+  MrrEffect,
 };
 constexpr Mode kAllModes[] = {Mode::Full, Mode::Uniform1, Mode::Uniform2, Mode::Tiles, Mode::Mrr};
 
@@ -29,6 +33,10 @@ std::string toString(Mode mode);        // "mrr", "full", "uniform-1", "uniform-
 Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
 Mode parseMode(const std::string& name);  // also accepts "multires", the old name of "mrr"
 bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
+// Throws MrrError (one line: the port does not implement it yet) for mrr-effect on path "gpu".
+void requirePortImplements(Mode mode, const std::string& path);
+// mrr or mrr-effect: the paper's pipeline (masks from edges, blend coarse to fine, SPEC §11's rule).
+inline bool isMethod(Mode mode) { return mode == Mode::Mrr || mode == Mode::MrrEffect; }
 
 constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
 constexpr int kMaxImageSize = 16384;     // per side; beyond it the G-buffers alone exceed RAM
@@ -73,6 +81,16 @@ struct SsgiSettings {
   static constexpr float kAutoRadiusFraction = 0.06f;
 };
 
+// mrr-effect only (SPEC §12): how far each level's edge mask is widened by the effect's footprint.
+struct EffectMaskSettings {
+  float scale = 1.0f;  // the footprint's multiplier [0, 16]; 0 = mrr's masks exactly
+  int cap = 8;         // the widest widening, level pixels [0, 64]
+  // The finest level widened [0, kLevelCount − 1]; finer ones keep mrr's M_ℓ. 1: level 0 is
+  // mrr's (widening it cost more than it gained: docs/figures.md, "Masks that see the effect").
+  int firstLevel = 1;
+  static constexpr int kDefaultCap = 8;
+};
+
 struct BilateralSettings {
   int radius = 2;              // taps each side [0, 8]; 0 disables the blur
   float sigmaSpatial = 1.5f;   // spatial Gaussian σ, level pixels
@@ -91,6 +109,7 @@ struct Settings {
   SsmSettings ssm;
   SsgiSettings ssgi;
   BilateralSettings bilateral;
+  EffectMaskSettings effectMask;  // mode mrr-effect only
   // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
   bool neverSlower = true;
 
@@ -150,6 +169,11 @@ struct Constants {
     float minDistance2 = 0.0f;       // (R/4)²: the sender distance is clamped to it
     std::vector<glm::vec3> kernel;   // same generator as SSAO's
   } ssgi;
+  struct EffectMask {  // mode mrr-effect (SPEC §12)
+    float scale = 1.0f;
+    int cap = 0;
+    int firstLevel = 1;
+  } effectMask;
   struct Bilateral {
     int radius = 0;
     float sigmaDepth = 0.0f;

@@ -40,7 +40,33 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
   s.height = h;
   s.setSamples(samples);
   s.neverSlower = method != "mrr-norule";
-  s.mode = parseMode(method == "mrr-norule" ? "mrr" : method);
+  // mrr-effect's ablation variants (SPEC §12): "mrr-effect" then any of "+cN" (the cap, level
+  // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale) and "+noblur" (σ_ℓ² = 0: the footprint alone widens).
+  const size_t plus = method.find('+');
+  const std::string base = method.substr(0, plus);
+  s.mode = parseMode(base == "mrr-norule" ? "mrr" : base);
+  for (size_t at = plus; at != std::string::npos;) {
+    require(s.mode == Mode::MrrEffect, "--methods " + method + ": only mrr-effect takes +variants");
+    const size_t next = method.find('+', at + 1);
+    const std::string v = method.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
+    try {
+      if (v == "noblur") {
+        for (LevelSettings& ls : s.levels) ls.sigma2 = 0.0f;
+      } else if (v.size() > 1 && v[0] == 'c') {
+        s.effectMask.cap = std::stoi(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'f') {
+        s.effectMask.firstLevel = std::stoi(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'x') {
+        s.effectMask.scale = std::stof(v.substr(1));
+      } else {
+        throw MrrError("");
+      }
+    } catch (const std::exception&) {
+      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF or +noblur)");
+    }
+    at = next;
+  }
+  validateSettings(s);
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include "cpu_ref/masks.h"
 
 #include "common/parallel.h"
+#include "cpu_ref/effect_masks.h"
 
 #include <algorithm>
 
@@ -67,11 +68,36 @@ ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
   return out;
 }
 
-std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c) {
+namespace {
+// 2×2 max of a float image (SPEC §12's footprint pyramid).
+ImageF maxPoolF(const ImageF& src) {
+  ImageF out = ImageF::uninitialised(src.width / 2, src.height / 2);
+  parallelFor(0, out.height, [&](int y) {
+    for (int x = 0; x < out.width; ++x)
+      out.at(x, y) = std::max(std::max(src.at(2 * x, 2 * y), src.at(2 * x + 1, 2 * y)),
+                              std::max(src.at(2 * x, 2 * y + 1), src.at(2 * x + 1, 2 * y + 1)));
+  });
+  return out;
+}
+}  // namespace
+
+std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint) {
   std::array<MaskLevel, kLevelCount> levels;
   // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), built through disabled levels too.
   levels[0].mask = edges;
   for (int l = 1; l < kLevelCount; ++l) levels[static_cast<size_t>(l)].mask = maxPool(levels[static_cast<size_t>(l - 1)].mask, 2);
+  // 1b. mrr-effect (SPEC §12): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's M_ℓ but the
+  // coarsest (whose a ≡ 1) is widened by its reach. The pyramid above stays E's own.
+  if (footprint) {
+    ImageF fl = *footprint;
+    for (int l = 0; l < kLevelCount; ++l) {
+      if (l > 0) fl = maxPoolF(fl);
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.firstLevel) continue;
+      MaskLevel& ml = levels[static_cast<size_t>(l)];
+      ml.mask = dilateByReach(ml.mask, levelReach(ml.mask, fl, lc.scale, c.effectMask.cap));
+    }
+  }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     MaskLevel& ml = levels[static_cast<size_t>(l)];

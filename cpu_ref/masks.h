@@ -15,6 +15,9 @@ ImageU8 maxPool(const ImageU8& src, int factor);
 ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights);
 
 // The whole of SPEC §3 for multires mode. `edges` is E on the padded full-res grid.
-std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& constants);
+// mrr-effect (SPEC §12): `footprint` (cpu_ref/effect_masks.h) widens each enabled level's M_ℓ
+// but the coarsest before its blur; null: the paper's masks, untouched.
+std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& constants,
+                                              const ImageF* footprint = nullptr);
 
 }  // namespace mrr

@@ -7,6 +7,7 @@
 #include "common/parallel.h"
 #include "common/stages.h"
 #include "cpu_ref/bilateral.h"
+#include "cpu_ref/effect_masks.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
 #include "cpu_ref/ssgi.h"
@@ -57,7 +58,13 @@ class OracleFrame final : public FrameBackend {
     const ImageU8* shadowEdges = f.constants.effect == Effect::Ssm ? &f.shadowLit : nullptr;
     f.edges = detectEdges(f.levels[0].gbuffer, f.constants.edges, shadowEdges);
   }
-  Masks methodMasks(FrameResult& f) override { return buildMasks(f.edges.combined, f.constants); }
+  Masks methodMasks(FrameResult& f) override {
+    if (f.constants.mode != Mode::MrrEffect) return buildMasks(f.edges.combined, f.constants);
+    // SPEC §12: the effect's footprint at the edges, then the paper's masks from widened M_ℓ.
+    const ImageF footprint = effectFootprint(f.levels[0].gbuffer, f.edges.combined, f.view,
+                                             f.constants.needsShadowMap() ? &f.shadowMap : nullptr, f.constants);
+    return buildMasks(f.edges.combined, f.constants, &footprint);
+  }
   Masks tileMasks(FrameResult& f) override {
     f.tileRates = tileRates(f.edges.combined);
     return mrr::tileMasks(f.tileRates, f.constants);

@@ -45,7 +45,8 @@ inline double shadedFraction(const Settings& s) {
     case Mode::Uniform1: return 0.25;
     case Mode::Uniform2: return 1.0 / 16.0;
     case Mode::Tiles: return 1.0;
-    case Mode::Mrr: break;
+    case Mode::Mrr:
+    case Mode::MrrEffect: break;
   }
   double sum = 0.0;
   for (int l = 0; l < kLevelCount; ++l)

@@ -258,6 +258,7 @@ class PortFrame final : public FrameBackend {
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
+  requirePortImplements(constants.mode, "gpu");
   PortFrame backend(gpuScene_, scene_, timerQueries_, options);
   return renderFrame(backend, scene_.light, camera, constants, options);
 }

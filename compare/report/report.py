@@ -23,9 +23,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 # One colour and marker per method on every chart (tab10 colours); the references first.
-METHODS = ["full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-norule"]
+METHODS = ["full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-norule", "mrr-effect"]
 COLOR = {"full": "#7f7f7f", "uniform-1": "#1f77b4", "uniform-2": "#17becf", "tiles": "#ff7f0e",
-         "mrr": "#d62728", "mrr-norule": "#9467bd"}
+         "mrr": "#d62728", "mrr-norule": "#9467bd", "mrr-effect": "#8c564b"}
 MARKER = {"uniform-1": "s", "uniform-2": "D", "tiles": "^", "mrr-norule": "X"}
 PAPER_COLOR = "#2ca02c"
 WIDTH, HEIGHT = 880, 560  # pixels of the PNG (the SVG has the same proportions)

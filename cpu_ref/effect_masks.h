@@ -1,0 +1,26 @@
+#pragma once
+// mrr-effect (issue 35, SPEC §12, the oracle's experiment): the effect's footprint, known before
+// shading, widens each level's edge mask. The port does not implement it yet.
+#include "common/camera.h"
+#include "common/frame.h"
+#include "common/image.h"
+#include "common/params.h"
+
+namespace mrr {
+
+// SPEC §12 step 1: the footprint F at each full-res pixel, in full-res pixels: at an edge pixel
+// (E = 1) on geometry, scale × the effect's reach projected at its view depth z (SSAO, SSGI:
+// R · f / z; SSM: the one-tap penumbra bound (d_receiver − d_map)₊ · 2 tan(θ/2) · f / z at a
+// receiver facing the light); 0 elsewhere. `map` is read for SSM only (may be null otherwise).
+ImageF effectFootprint(const GBuffer& g, const ImageU8& edges, const View& view, const ShadowMap* map,
+                       const Constants& c);
+
+// SPEC §12 step 2: level ℓ's reach, in level pixels, where M_ℓ = 1: min(cap, ⌊F_ℓ / s_ℓ + ½⌋) with
+// F_ℓ the max of F over the pixel's s_ℓ × s_ℓ block; −1 where M_ℓ = 0.
+Image<int16_t> levelReach(const ImageU8& mask, const ImageF& footprintMax, int scale, int cap);
+
+// SPEC §12 step 3: M'(p) = 1 where some q with M(q) = 1 lies within reach K(q) of p along both
+// axes (a square of side 2K(q) + 1 around q), clipped to the level. Exact, made separably.
+ImageU8 dilateByReach(const ImageU8& mask, const Image<int16_t>& reach);
+
+}  // namespace mrr

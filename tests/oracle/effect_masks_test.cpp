@@ -1,0 +1,96 @@
+// mrr-effect (SPEC §12, the oracle's experiment): the footprint widens mrr's masks, never narrows
+// them, and with no footprint leaves them exactly as they were.
+#include <gtest/gtest.h>
+
+#include "common/error.h"
+#include "cpu_ref/effect_masks.h"
+#include "tests/oracle/render_helpers.h"
+
+namespace mrr {
+namespace {
+
+using test::countSet;
+using test::renderScene;
+using test::ssaoSettings;
+
+TEST(EffectMasks, DilateByReachIsTheUnionOfSquares) {
+  ImageU8 m(20, 12);
+  m.at(3, 3) = 1;
+  m.at(15, 8) = 1;
+  Image<int16_t> k(20, 12, 1, int16_t{-1});
+  k.at(3, 3) = 2;   // a 5×5 square, clipped by nothing
+  k.at(15, 8) = 4;  // a 9×9 square, clipped by the right and bottom borders
+  const ImageU8 d = dilateByReach(m, k);
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 20; ++x) {
+      const bool a = std::abs(x - 3) <= 2 && std::abs(y - 3) <= 2;
+      const bool b = std::abs(x - 15) <= 4 && std::abs(y - 8) <= 4;
+      EXPECT_EQ(d.at(x, y), a || b ? 1 : 0) << x << "," << y;
+    }
+}
+
+TEST(EffectMasks, LevelReachRoundsTheFootprintInLevelPixelsAndCaps) {
+  ImageU8 m(4, 1);
+  m.data = {1, 1, 1, 0};
+  ImageF f(4, 1);
+  f.data = {2.9f, 3.1f, 1000.0f, 50.0f};
+  const Image<int16_t> k = levelReach(m, f, 2, 8);  // level 1: s = 2
+  EXPECT_EQ(k.data[0], 1);   // ⌊1.45 + ½⌋
+  EXPECT_EQ(k.data[1], 2);   // ⌊1.55 + ½⌋
+  EXPECT_EQ(k.data[2], 8);   // the cap
+  EXPECT_EQ(k.data[3], -1);  // no edge: reaches nothing
+}
+
+// Every level's stencil of mrr-effect contains mrr's. By default (first widened level 1) level 0
+// is mrr's and level 1 grows; widened from level 0, level 0 grows too.
+TEST(EffectMasks, ShadesASupersetOfMrrsPixels) {
+  Settings s = ssaoSettings(160, 96, 8);
+  const auto mrr = renderScene("builtin:demo", s);
+  for (const int first : {1, 0}) {
+    s.mode = Mode::MrrEffect;
+    s.effectMask.firstLevel = first;
+    const auto eff = renderScene("builtin:demo", s);
+    ASSERT_FALSE(eff.frame.fallback.fellBack);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const ImageU8& a = mrr.frame.levels[static_cast<size_t>(l)].masks.stencil;
+      const ImageU8& b = eff.frame.levels[static_cast<size_t>(l)].masks.stencil;
+      if (a.empty()) continue;
+      ASSERT_EQ(a.data.size(), b.data.size());
+      for (size_t i = 0; i < a.data.size(); ++i) ASSERT_LE(a.data[i], b.data[i]) << "level " << l << " pixel " << i;
+    }
+    const int64_t l0 = countSet(mrr.frame.levels[0].masks.stencil), e0 = countSet(eff.frame.levels[0].masks.stencil);
+    if (first == 0) EXPECT_GT(e0, l0);
+    else EXPECT_EQ(e0, l0);
+    EXPECT_GT(countSet(eff.frame.levels[1].masks.stencil), countSet(mrr.frame.levels[1].masks.stencil)) << "first " << first;
+  }
+}
+
+// With no footprint (scale 0, or an AO radius under half a pixel everywhere), mrr-effect's
+// masks, alphas and stencils are mrr's, bit for bit.
+TEST(EffectMasks, NoFootprintIsMrrExactly) {
+  for (const bool tinyRadius : {false, true}) {
+    Settings s = ssaoSettings(160, 96, 8);
+    if (tinyRadius) s.ssao.radius = 1e-6f;
+    const auto mrr = renderScene("builtin:demo", s);
+    s.mode = Mode::MrrEffect;
+    if (!tinyRadius) s.effectMask.scale = 0.0f;
+    s.effectMask.firstLevel = 0;  // every level could widen
+    const auto eff = renderScene("builtin:demo", s);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const MaskLevel& a = mrr.frame.levels[static_cast<size_t>(l)].masks;
+      const MaskLevel& b = eff.frame.levels[static_cast<size_t>(l)].masks;
+      EXPECT_EQ(a.stencil.data, b.stencil.data) << "level " << l << (tinyRadius ? " tiny R" : " scale 0");
+      EXPECT_EQ(a.alpha.data, b.alpha.data) << "level " << l;
+    }
+    EXPECT_EQ(mrr.frame.blend.final.data, eff.frame.blend.final.data);
+  }
+}
+
+TEST(EffectMasks, PortSaysItDoesNotImplementIt) {
+  EXPECT_THROW(requirePortImplements(Mode::MrrEffect, "gpu"), MrrError);
+  EXPECT_NO_THROW(requirePortImplements(Mode::MrrEffect, "cpu"));
+  EXPECT_NO_THROW(requirePortImplements(Mode::Mrr, "gpu"));
+}
+
+}  // namespace
+}  // namespace mrr

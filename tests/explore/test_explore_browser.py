@@ -111,9 +111,12 @@ def run(d, server):
     ActionChains(d).move_to_element(view).click().perform()  # the centre: pixel (160, 90) at 320x180
     wait.until(lambda _: by_id("probe-section").get_attribute("data-pixel") and body().get_attribute("data-busy") == "0")
     pixel = by_id("probe-section").get_attribute("data-pixel")
-    rows = d.find_elements(By.CSS_SELECTOR, "#probe tbody tr")
+    rows = d.find_elements(By.CSS_SELECTOR, "#probe tbody tr:not(.probe-section)")  # values, not step headings
     if len(rows) < 20:
         fail(f"the probe of {pixel} has {len(rows)} rows")
+    headings = [h.text for h in d.find_elements(By.CSS_SELECTOR, "#probe tbody tr.probe-section")]
+    if port and not any("(gbuffer.frag)" in h for h in headings):
+        fail(f"the two-path probe is not grouped by step under its shader: {headings[:3]}")
     keys = [r.find_element(By.TAG_NAME, "td").text for r in rows]
     if not any(k.startswith("gbuffer") for k in keys) or "final" not in keys:
         fail(f"the probe does not run from the G-buffer to the final value: {keys[:5]} ... {keys[-3:]}")

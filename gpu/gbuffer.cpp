@@ -220,12 +220,17 @@ unsigned uploadAttribute(unsigned location, const std::vector<Vec>& values) {
 }
 
 // An alpha cutout's opaque bits as an R8 texture (1.0 opaque), read with texelFetch.
-unsigned uploadCutout(const Cutout& cutout) {
+// A texture of the scene's within this GL's size limit; MrrError naming `what` otherwise.
+void requireTextureFits(int width, int height, const std::string& what) {
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
-  require(cutout.width <= maxSize && cutout.height <= maxSize,
-          "gpu: an alpha cutout of " + std::to_string(cutout.width) + "x" + std::to_string(cutout.height) +
+  require(width <= maxSize && height <= maxSize,
+          "gpu: " + what + " of " + std::to_string(width) + "x" + std::to_string(height) +
               " texels is over this GL's texture limit of " + std::to_string(maxSize));
+}
+
+unsigned uploadCutout(const Cutout& cutout) {
+  requireTextureFits(cutout.width, cutout.height, "an alpha cutout");
   ImageU8 bits(cutout.width, cutout.height, 1, 0);
   bits.data.assign(cutout.opaque.begin(), cutout.opaque.end());
   return uploadBinary(bits);
@@ -234,11 +239,7 @@ unsigned uploadCutout(const Cutout& cutout) {
 // A base-colour texture's bytes as an RGBA8 texture, read with texelFetch (byte/255, no sRGB
 // decoding by the driver: albedo.glsl decodes through the host's table).
 unsigned uploadColorTexture(const ColorTexture& texture) {
-  GLint maxSize = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
-  require(texture.width <= maxSize && texture.height <= maxSize,
-          "gpu: a base-colour texture of " + std::to_string(texture.width) + "x" + std::to_string(texture.height) +
-              " texels is over this GL's texture limit of " + std::to_string(maxSize));
+  requireTextureFits(texture.width, texture.height, "a base-colour texture");
   unsigned id = 0;
   glGenTextures(1, &id);
   glBindTexture(GL_TEXTURE_2D, id);

@@ -33,7 +33,10 @@ const SharedSceneInfo* catalogEntry(const std::string& name) {
 }
 }  // namespace
 
-Scene loadRequestedScene(const SceneRequest& request) {
+namespace {
+
+// The scene's geometry, materials and own light, as the request names them.
+Scene loadGeometry(const SceneRequest& request) {
   Scene scene;
   const std::string& spec = request.scene;
   if (spec.rfind("builtin:", 0) == 0) {
@@ -54,7 +57,12 @@ Scene loadRequestedScene(const SceneRequest& request) {
     }
     scene = loadGltf(path, options);
   }
-  // The light: --light-dir points toward it; the scene's light travels the other way.
+  return scene;
+}
+
+// The light: --light-dir points toward it; the scene's light travels the other way; a scene
+// without one gets the candidate that lights the most of what `camera` (the request's view) sees.
+void applyRequestedLight(Scene& scene, const SceneRequest& request, const Camera& camera) {
   if (request.lightToward) {
     const float length = glm::length(*request.lightToward);
     require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
@@ -66,7 +74,7 @@ Scene loadRequestedScene(const SceneRequest& request) {
   } else {
     // No light of its own: the candidate that lights the most of what the request's view sees
     // (the built-in default first, kept bit for bit where nothing does better).
-    const DefaultLightChoice choice = chooseDefaultLight(scene, requestedCamera(request, scene), request.aspect);
+    const DefaultLightChoice choice = chooseDefaultLight(scene, camera, request.aspect);
     scene.lightOrigin.candidate = choice.chosen;
     scene.lightOrigin.litShare = choice.shares[static_cast<size_t>(choice.chosen)];
     scene.lightOrigin.builtinLitShare = choice.shares.front();
@@ -75,6 +83,13 @@ Scene loadRequestedScene(const SceneRequest& request) {
       scene.lightOrigin.source = "chosen for the view";
     }
   }
+}
+
+}  // namespace
+
+Scene loadRequestedScene(const SceneRequest& request) {
+  Scene scene = loadGeometry(request);
+  applyRequestedLight(scene, request, scene.hasLight || request.lightToward ? Camera{} : requestedCamera(request, scene));
   return scene;
 }
 
@@ -122,9 +137,11 @@ Camera requestedCamera(const SceneRequest& request, const Scene& scene, std::str
 }
 
 ResolvedScene resolveScene(const SceneRequest& request) {
+  // The camera depends on the geometry alone, so it is found once and serves the light's choice.
   ResolvedScene out;
-  out.scene = loadRequestedScene(request);
+  out.scene = loadGeometry(request);
   out.camera = requestedCamera(request, out.scene, &out.cameraSource, &out.framing);
+  applyRequestedLight(out.scene, request, out.camera);
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "common/cost_model.h"
+#include "common/error.h"
 #include "common/stages.h"
 
 namespace mrr {
@@ -17,6 +18,10 @@ void FrameBackend::timeStage(FrameResult& f, const std::string& name, const std:
   const auto t0 = Clock::now();
   body();
   f.timings.push_back({name, msSince(t0)});
+}
+
+void FrameBackend::refineMasks(FrameResult& /*f*/, int /*level*/) {
+  throw MrrError(std::string("mrr-effect's a-posteriori term: the ") + pathName() + " path does not implement it");
 }
 
 FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Camera& camera,
@@ -102,8 +107,22 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
       stage(stageName(Part::GBuffer, l), [&] { b.subsampleGBuffer(f, l); });
 
   // 4. Sub-images: the effect at stencilled pixels only, then SSAO's bilateral blur (SPEC §4).
-  for (int l = 0; l < kLevelCount; ++l)
-    if (c.levels[static_cast<size_t>(l)].enabled) b.shadeLevel(f, l, stage);
+  // mrr-effect's a-posteriori term (SPEC §12.2): coarse to fine, each finer level's masks
+  // refined from the result of the level just shaded, then shaded.
+  const bool posterior = c.mode == Mode::MrrEffect && c.effectMask.posterior > 0.0f && !fellBackEarly &&
+                         !f.fallback.fellBack;
+  if (posterior) {
+    for (int l = kLevelCount - 1; l >= 0; --l) {
+      if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+      if (l != c.coarsestEnabled && l >= c.effectMask.posteriorFinest)
+        stage(stageName(Part::Stencil), [&] { b.refineMasks(f, l); });
+      b.shadeLevel(f, l, stage);
+    }
+    f.countShadedPixels();
+  } else {
+    for (int l = 0; l < kLevelCount; ++l)
+      if (c.levels[static_cast<size_t>(l)].enabled) b.shadeLevel(f, l, stage);
+  }
 
   // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
   stage(stageName(Part::Final), [&] { b.blend(f); });

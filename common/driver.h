@@ -55,6 +55,9 @@ class FrameBackend {
   virtual const char* pathName() const = 0;  // "cpu" or "gpu": CostModel::defaults' path
   // 4. The effect at level ℓ's stencilled pixels, and SSAO's blur (sub-steps named through `stage`).
   virtual void shadeLevel(FrameResult& f, int level, const StageFn& stage) = 0;
+  // mrr-effect's a-posteriori term (SPEC §12.2): level ℓ's masks refined where its next coarser
+  // enabled level's result varies, between that level's shading and ℓ's. The oracle only.
+  virtual void refineMasks(FrameResult& f, int level);
   // 5. Upsample and blend (the peers: their composition); 6. the shaded image.
   virtual void blend(FrameResult& f) = 0;
   virtual void shade(FrameResult& f) = 0;

@@ -31,13 +31,6 @@ std::string toString(Mode mode) {
 
 bool isPeer(Mode mode) { return mode == Mode::Uniform1 || mode == Mode::Uniform2 || mode == Mode::Tiles; }
 
-void requirePortImplements(Mode mode, const std::string& path) {
-  require(!(mode == Mode::MrrEffect && path == "gpu"),
-          optionName(Param::Method) + " mrr-effect: the port (" + optionName(Param::Path) +
-              " gpu) does not implement it yet; it is the oracle's experiment (docs/spec.md §12): use " +
-              optionName(Param::Path) + " cpu");
-}
-
 Effect parseEffect(const std::string& name) {
   if (name == "ssao") return Effect::Ssao;
   if (name == "ssm") return Effect::Ssm;
@@ -111,6 +104,10 @@ void validateSettings(const Settings& s) {
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
   require(s.effectMask.scale >= 0.0f && s.effectMask.scale <= 16.0f, "mrr-effect: the footprint scale must be in [0, 16]");
   require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, "mrr-effect: the widening cap must be in [0, 64] level pixels");
+  require(s.effectMask.posterior >= 0.0f && s.effectMask.posterior <= 100.0f,
+          "mrr-effect: the a-posteriori threshold must be in [0, 100]");
+  require(s.effectMask.posteriorFinest >= 0 && s.effectMask.posteriorFinest < kLevelCount,
+          "mrr-effect: the a-posteriori term's finest level must be a level");
   require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
           "mrr-effect: the first widened level must be in [0, " + std::to_string(kLevelCount - 1) + "]");
   require(sizeOk(s.width) && sizeOk(s.height),
@@ -208,6 +205,8 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   c.effectMask.scale = s.effectMask.scale;
   c.effectMask.cap = s.effectMask.cap;
   c.effectMask.firstLevel = s.effectMask.firstLevel;
+  c.effectMask.posterior = s.effectMask.posterior;
+  c.effectMask.posteriorFinest = s.effectMask.posteriorFinest;
 
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f

@@ -33,8 +33,6 @@ std::string toString(Mode mode);        // "mrr", "full", "uniform-1", "uniform-
 Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
 Mode parseMode(const std::string& name);  // also accepts "multires", the old name of "mrr"
 bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
-// Throws MrrError (one line: the port does not implement it yet) for mrr-effect on path "gpu".
-void requirePortImplements(Mode mode, const std::string& path);
 // mrr or mrr-effect: the paper's pipeline (masks from edges, blend coarse to fine, SPEC §11's rule).
 inline bool isMethod(Mode mode) { return mode == Mode::Mrr || mode == Mode::MrrEffect; }
 
@@ -88,6 +86,10 @@ struct EffectMaskSettings {
   // The finest level widened [0, kLevelCount − 1]; finer ones keep mrr's M_ℓ. 1: level 0 is
   // mrr's (widening it cost more than it gained: docs/figures.md, "Masks that see the effect").
   int firstLevel = 1;
+  // A posteriori (SPEC §12.2): τ_v, the local range of the next coarser level's result above
+  // which a level pixel is refined, in the effect's units [0, 100]; 0 = off.
+  float posterior = 0.0f;
+  int posteriorFinest = 0;  // the finest level the a-posteriori term refines [0, kLevelCount − 1]
   static constexpr int kDefaultCap = 8;
 };
 
@@ -173,6 +175,8 @@ struct Constants {
     float scale = 1.0f;
     int cap = 0;
     int firstLevel = 1;
+    float posterior = 0.0f;
+    int posteriorFinest = 0;
   } effectMask;
   struct Bilateral {
     int radius = 0;

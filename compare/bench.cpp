@@ -58,11 +58,15 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
         s.effectMask.firstLevel = std::stoi(v.substr(1));
       } else if (v.size() > 1 && v[0] == 'x') {
         s.effectMask.scale = std::stof(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'p') {
+        s.effectMask.posterior = std::stof(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'l') {
+        s.effectMask.posteriorFinest = std::stoi(v.substr(1));
       } else {
         throw MrrError("");
       }
     } catch (const std::exception&) {
-      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF or +noblur)");
+      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN or +noblur)");
     }
     at = next;
   }

@@ -10,6 +10,7 @@
 
 #include "common/stages.h"
 #include "cpu_ref/bilateral.h"
+#include "cpu_ref/effect_masks.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
 #include "cpu_ref/ssgi.h"
@@ -152,6 +153,7 @@ std::string ParityResult::shaderOf(const std::string& stage) const {
   if (!partOf(stage, part)) return "";
   const std::string_view shaders = partInfo(part).shader;
   if (shaders.find(' ') == std::string_view::npos) return std::string(shaders);
+  if (part == Part::Mask) return mode == Mode::MrrEffect ? "effect_masks.frag" : "masks.frag";
   // One file per effect ("ssao.frag ssm.frag ssgi.frag"): the frame's.
   const std::string mine = toString(effect) + ".frag";
   return shaders.find(mine) != std::string_view::npos ? mine : std::string(shaders);
@@ -278,7 +280,7 @@ void Rows::shadowRows() {
 // A frame that fell back early (SPEC §11) found no edges: compared only where both did.
 void Rows::edgeRows() {
   const bool bothFoundEdges = !p.edges.combined.empty() && !o.edges.combined.empty();
-  if ((c.mode == Mode::Mrr || c.mode == Mode::Tiles) && bothFoundEdges) {
+  if ((isMethod(c.mode) || c.mode == Mode::Tiles) && bothFoundEdges) {
     const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
     const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
     // Each kind on its own, then their OR, E.
@@ -308,9 +310,13 @@ bool Rows::decisionAndMaskRows() {
     if (p.fallback.fellBack != o.fallback.fellBack) return false;
   }
   // The oracle's stage-3 function of the frame's mode, on the port's own inputs.
-  const bool multires = c.mode == Mode::Mrr && !o.fallback.fellBack;
+  const bool multires = isMethod(c.mode) && !o.fallback.fellBack;
   std::array<MaskLevel, kLevelCount> masks;
-  if (multires) {
+  if (multires && c.mode == Mode::MrrEffect) {  // SPEC §12: the footprint from the port's own G-buffer
+    const ImageF footprint = effectFootprint(p.levels[0].gbuffer, p.edges.combined, p.view,
+                                             c.needsShadowMap() ? &p.shadowMap : nullptr, c);
+    masks = buildMasks(p.edges.combined, c, &footprint);
+  } else if (multires) {
     masks = buildMasks(p.edges.combined, c);
   } else if (c.mode == Mode::Tiles) {
     add({partName(Part::TileRates), -1, kTileSize, check(endToEndRule(Part::Stencil), diffImages(p.tileRates, o.tileRates)),
@@ -448,6 +454,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   const Constants& c = o.constants;
   ParityResult result;
   result.effect = c.effect;
+  result.mode = c.mode;
   Rows rows{o, p, c, result};
   // 1. The full-res G-buffer (the masks are made from it); 2. the shadow map and test; 3. the
   // edges, the never-slower decision and the stencils (when the paths decide differently,

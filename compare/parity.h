@@ -85,6 +85,7 @@ struct StageRow {
 struct ParityResult {
   std::vector<StageRow> rows;  // in pipeline order
   Effect effect = Effect::Ssao;  // the frame's: which shader computes the effect rows
+  Mode mode = Mode::Mrr;         // the frame's: mrr-effect's M'_l comes from effect_masks.frag
   // No stage FAILs. UPSTREAM rows do not fail the frame: their own computation matches the
   // oracle's on the same input, so the difference is inherited, and is blamed where it
   // starts (a G-buffer row over its own rule would FAIL there).

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/parallel.h"
+#include "cpu_ref/masks.h"
 #include "cpu_ref/shadowmap.h"
 
 namespace mrr {
@@ -84,6 +85,45 @@ ImageU8 dilateByReach(const ImageU8& mask, const Image<int16_t>& reach) {
     }
   });
   return out;
+}
+
+ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, const ImageU8& coarserHit, int ratio,
+                        int finerWidth, int finerHeight, float tau) {
+  const int w = coarser.width, h = coarser.height, channels = coarser.channels;
+  // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
+  ImageU8 varies(w, h, 1, 0);
+  parallelFor(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      if (!coarserStencil.at(x, y) || !coarserHit.at(x, y)) continue;
+      float range = 0.0f;
+      for (int ch = 0; ch < channels; ++ch) {
+        float lo = coarser.at(x, y, ch), hi = lo;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h || !coarserStencil.at(xx, yy) || !coarserHit.at(xx, yy)) continue;
+            lo = std::min(lo, coarser.at(xx, yy, ch));
+            hi = std::max(hi, coarser.at(xx, yy, ch));
+          }
+        range = std::max(range, hi - lo);
+      }
+      varies.at(x, y) = range > tau;
+    }
+  });
+  // 2. each finer pixel takes its coarser parent's mark
+  ImageU8 marks = ImageU8::uninitialised(finerWidth, finerHeight);
+  parallelFor(0, finerHeight, [&](int y) {
+    const int py = std::min(y / ratio, h - 1);
+    for (int x = 0; x < finerWidth; ++x) marks.at(x, y) = varies.at(std::min(x / ratio, w - 1), py);
+  });
+  return marks;
+}
+
+void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
+  for (size_t i = 0; i < level.mask.data.size(); ++i) level.mask.data[i] = level.mask.data[i] | marks.data[i];
+  level.alpha = blurMask(level.mask, lc.gaussian);
+  for (size_t i = 0; i < level.alpha.data.size(); ++i)
+    level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] | (level.alpha.data[i] > 0.0f));
 }
 
 }  // namespace mrr

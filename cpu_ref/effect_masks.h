@@ -23,4 +23,15 @@ Image<int16_t> levelReach(const ImageU8& mask, const ImageF& footprintMax, int s
 // axes (a square of side 2K(q) + 1 around q), clipped to the level. Exact, made separably.
 ImageU8 dilateByReach(const ImageU8& mask, const Image<int16_t>& reach);
 
+// SPEC §12.2, a posteriori, step 1: the marks at a finer level from its next coarser level's
+// result c (SSAO: after the bilateral blur): the local range v(q) = max − min of c over q's 3×3
+// neighbourhood of shaded (S = 1) hit pixels, the largest over the channels; a finer pixel p is
+// marked where v(⌊p / ratio⌋) > τ. `finerWidth` × `finerHeight` is the finer level's grid.
+ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, const ImageU8& coarserHit, int ratio,
+                        int finerWidth, int finerHeight, float tau);
+
+// SPEC §12.2 step 2: M_ℓ ∨= marks; a_ℓ = G(σ_ℓ²) ∗ M_ℓ again; S_ℓ ∨= [a_ℓ > 0] (what the closure
+// gave S_ℓ from finer levels is kept). Not for the coarsest enabled level (a ≡ 1).
+void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc);
+
 }  // namespace mrr

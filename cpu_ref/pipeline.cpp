@@ -108,6 +108,16 @@ class OracleFrame final : public FrameBackend {
     }
   }
 
+  void refineMasks(FrameResult& f, int l) override {
+    const Constants& c = f.constants;
+    const int next = c.nextCoarserEnabled(l);
+    const LevelResult& coarser = f.levels[static_cast<size_t>(next)];
+    LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    const ImageU8 marks = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit, 1 << (next - l),
+                                          lr.masks.mask.width, lr.masks.mask.height, c.effectMask.posterior);
+    mrr::refineMasks(lr.masks, marks, c.levels[static_cast<size_t>(l)]);
+  }
+
   void blend(FrameResult& f) override {
     const Constants& c = f.constants;
     if (isPeer(c.mode)) {

@@ -94,7 +94,6 @@ void FrameOptions::add(CLI::App& app) {
 Settings FrameOptions::settings() const {
   Settings s = defaultSettings(parseEffect(effect));
   s.mode = parseMode(mode);
-  requirePortImplements(s.mode, path);
   require(neverSlower.empty() || neverSlower == "on" || neverSlower == "off",
           optionName(Param::NeverSlower) + " " + neverSlower + ": expected on or off");
   s.neverSlower = neverSlower.empty() ? neverSlowerDefault : neverSlower == "on";

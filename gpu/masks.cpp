@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "gpu/effect_masks.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -117,7 +118,8 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
   return rects;
 }
 
-std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c) {
+std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c,
+                                       unsigned footprint) {
   const Pass pass{scene};
   auto out = std::make_unique<MaskTargets>();
   out->drawn = true;
@@ -145,6 +147,30 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   const std::vector<glm::ivec4> edgeRects1 = blockRects(fineBlocks, 1, 2, level(1).width, level(1).height);
   maxPool(1, edges, edgeChannel, 2, &edgeRects1);
   const ImageU8& edgeBlocks = out->edgeBlocks;
+  // 1b. mrr-effect (SPEC §12, gpu/effect_masks.cpp): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's
+  // M_ℓ but the coarsest, from ℓ_first on, widened by its reach into M'_ℓ. The pyramid above
+  // stays E's own. A widened level's passes run over the whole level: its reach is not bounded
+  // by the edge blocks' neighbourhood.
+  std::array<bool, kLevelCount> widened{};
+  if (footprint) {
+    Target pooled;
+    unsigned fl = footprint;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const LevelConstants& lc = level(l);
+      if (l > 0) {
+        Pass::Inputs in;
+        in.source = fl;
+        in.factor = 2;
+        pooled = pass.run(1, {Texel::R32f}, lc.width, lc.height, in);
+        fl = pooled->texture(0);
+      }
+      if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.firstLevel) continue;
+      const unsigned source = l == 0 ? edges : mask[static_cast<size_t>(l)]->texture(0);
+      mask[static_cast<size_t>(l)] = drawDilateByReach(scene, source, l == 0 ? edgeChannel : 0, fl, lc.width,
+                                                       lc.height, lc.scale, c.effectMask.cap);
+      widened[static_cast<size_t>(l)] = true;
+    }
+  }
   // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
   std::array<ImageU8, kLevelCount> support;
   for (int l = 0; l < kLevelCount; ++l) {
@@ -167,16 +193,16 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     const ImageU8 near = nearBlocks(across, blockSize, 0, radius);   // ... and within r down
     const std::vector<glm::ivec4> rows = blockRects(across, 1, blockSize, lc.width, lc.height),
                                   rects = blockRects(near, 1, blockSize, lc.width, lc.height);
-    support[i] = l == 0 ? poolBlocks(near) : near;
-    out->supportRects[i] = rects;
+    support[i] = widened[i] ? ImageU8(edgeBlocks.width, edgeBlocks.height, 1, 1) : l == 0 ? poolBlocks(near) : near;
+    if (!widened[i]) out->supportRects[i] = rects;  // empty: the whole level
     Pass::Inputs horizontal;
-    horizontal.source = l == 0 ? edges : mask[i]->texture(0);
-    horizontal.sourceChannel = l == 0 ? edgeChannel : 0;
+    horizontal.source = l == 0 && !widened[i] ? edges : mask[i]->texture(0);
+    horizontal.sourceChannel = l == 0 && !widened[i] ? edgeChannel : 0;
     horizontal.weights = &lc.gaussian;
-    horizontal.rects = &rows;
+    horizontal.rects = widened[i] ? nullptr : &rows;
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Pass::Inputs vertical = horizontal;
-    vertical.rects = &rects;
+    vertical.rects = widened[i] ? nullptr : &rects;
     vertical.source = h->texture(0);
     vertical.sourceChannel = 0;
     vertical.direction = {0, 1};
@@ -236,11 +262,13 @@ std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount
   return out;
 }
 
-std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& c) {
+std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& c,
+                                              const ImageF* footprint) {
   TextureSet uploaded;
-  const auto targets = drawMasks(scene, uploaded.add(uploadBinary(edges)), 0, c);
+  const unsigned f = footprint ? uploaded.add(uploadTexture(*footprint)) : 0;
+  const auto targets = drawMasks(scene, uploaded.add(uploadBinary(edges)), 0, c, f);
   std::array<MaskLevel, kLevelCount> masks = readMasks(*targets, c, false);
-  masks[0].mask = edges;  // M_0 = E
+  if (masks[0].mask.empty()) masks[0].mask = edges;  // M_0 = E (mrr-effect may have widened it)
   return masks;
 }
 

@@ -27,8 +27,10 @@ struct MaskTargets {
 };
 
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).
+// mrr-effect (SPEC §12): `footprint` is F on the padded full-res grid (R32F, gpu/effect_masks.h:
+// drawFootprint), which widens M_ℓ before the blur; 0: the paper's masks.
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel,
-                                       const Constants& constants);
+                                       const Constants& constants, unsigned footprint = 0);
 
 // Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
 // unless `stencilsOnly`.
@@ -45,6 +47,8 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount>& masks, const Constants& constants);
 
 // Draw from a host E (uploaded as a texture) and read everything back: the same-input form.
-std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& constants);
+// mrr-effect: `footprint` is the host's F (null: the paper's masks).
+std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& constants,
+                                              const ImageF* footprint = nullptr);
 
 }  // namespace mrr::gpu

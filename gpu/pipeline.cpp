@@ -14,6 +14,7 @@
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
 #include "gpu/edges.h"
+#include "gpu/effect_masks.h"
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
 #include "gpu/peers.h"
@@ -145,9 +146,15 @@ class PortFrame final : public FrameBackend {
     if (keep_) f.edges = readEdges(*edges_);
   }
   Masks methodMasks(FrameResult& f) override {
-    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), f.constants);
-    Masks masks = readMasks(*maskTargets_, f.constants, !keep_);
-    if (keep_) masks[0].mask = f.edges.combined;  // M_0 = E
+    const Constants& c = f.constants;
+    Target footprint;  // mrr-effect (SPEC §12): the effect's footprint at the edges
+    if (c.mode == Mode::MrrEffect)
+      footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
+                                c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,
+                                f.view, c);
+    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, footprint ? footprint->texture(0) : 0);
+    Masks masks = readMasks(*maskTargets_, c, !keep_);
+    if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (mrr-effect may widen it)
     return masks;
   }
   Masks tileMasks(FrameResult& f) override {
@@ -258,7 +265,6 @@ class PortFrame final : public FrameBackend {
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
-  requirePortImplements(constants.mode, "gpu");
   PortFrame backend(gpuScene_, scene_, timerQueries_, options);
   return renderFrame(backend, scene_.light, camera, constants, options);
 }

@@ -1257,6 +1257,7 @@ struct PlantedFault {
   std::string fault;   // MRR_GPU_FAULT (gpu/faults.cpp)
   std::string effect;
   std::string stage;   // the first failing stage compare must name (a prefix: the level may vary)
+  std::string method = "mrr";
 };
 void PrintTo(const PlantedFault& f, std::ostream* os) { *os << f.fault; }
 
@@ -1267,8 +1268,8 @@ TEST_P(CliPlantedFaultTest, CompareFailsAtTheStageWhereTheBugIs) {
   const PlantedFault& f = GetParam();
   const std::string dir = test::scratchDir();
   MRR_REQUIRE_GL_FOR_CLI(dir);
-  const RunResult r = runMrr({"compare", "--scene", "builtin:demo", "--effect", f.effect, "--size", "96x64", "--samples",
-                              "16", "-q"},
+  const RunResult r = runMrr({"compare", "--scene", "builtin:demo", "--effect", f.effect, "--method", f.method, "--size",
+                              "96x64", "--samples", "16", "-q"},
                              dir, {.env = {"MRR_GPU_FAULT=" + f.fault}});
   ASSERT_TRUE(r.exited) << describe(r);
   EXPECT_EQ(r.status, 1) << describe(r);
@@ -1288,7 +1289,9 @@ INSTANTIATE_TEST_SUITE_P(Faults, CliPlantedFaultTest,
                                            PlantedFault{"unmasked-bilinear", "ssao", "upsample.L"},
                                            PlantedFault{"ssao-bias-sign", "ssao", "raw.L"},
                                            PlantedFault{"pcf-one-short", "ssm", "raw.L"},
-                                           PlantedFault{"ssgi-no-ndotl", "ssgi", "raw.L"}),
+                                           PlantedFault{"ssgi-no-ndotl", "ssgi", "raw.L"},
+                                           PlantedFault{"effect-reach-truncated", "ssao", "mask.L", "mrr-effect"},
+                                           PlantedFault{"effect-dilate-strict", "ssm", "mask.L", "mrr-effect"}),
                          [](const auto& info) {
                            std::string name = info.param.fault;
                            for (char& c : name)

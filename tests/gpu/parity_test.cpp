@@ -630,6 +630,61 @@ INSTANTIATE_TEST_SUITE_P(Peers, GpuPeerParity, ::testing::ValuesIn(peerCases()),
                            return name;
                          });
 
+// mrr-effect (SPEC §12) on both paths: the footprint's widening (effect_masks.frag) gives the
+// oracle's M'_ℓ exactly on the port's own inputs, and every later stage is within its rule. Two
+// shapes: the default (from level 1, cap 8) and level 0 widened with a small cap (3), so that
+// reaches below the cap, and their rounding, are exercised. Not vacuous: each frame shades more
+// than mrr's on the same path.
+class GpuEffectMaskParity : public ::testing::TestWithParam<PeerCase> {
+ protected:
+  void SetUp() override {
+    MRR_REQUIRE_GL_OR_SKIP();
+    context_ = std::make_unique<gpu::GlContext>();
+  }
+  std::unique_ptr<gpu::GlContext> context_;
+};
+
+TEST_P(GpuEffectMaskParity, WidenedMasksAreExactAndEveryStageMatches) {
+  const PeerCase& pc = GetParam();
+  const CostModel model = CostModel::defaults("cpu");
+  for (const bool fromLevel0 : {false, true}) {
+    Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
+    s.ssm.lightAngle = 0.4f;  // penumbrae wide enough to reach past half a level pixel at 97×61
+    if (fromLevel0) {
+      s.effectMask.firstLevel = 0;
+      s.effectMask.cap = 3;
+    }
+    const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
+    const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+    EXPECT_TRUE(r.pass()) << (fromLevel0 ? "level 0, cap 3: " : "default: ") << "first failing stage "
+                          << r.firstFailing() << "\n" << formatParityTable(r);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const StageRow* row = findRow(r, "mask.L" + std::to_string(l));
+      ASSERT_NE(row, nullptr) << "mask.L" << l;
+      ASSERT_TRUE(row->sameInput);
+      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << (fromLevel0 ? " (level 0, cap 3)" : "");
+    }
+    s.mode = Mode::Mrr;
+    const BothPaths paper = renderBoth("builtin:" + pc.scene, s, model);
+    int64_t widened = 0, edges = 0;  // M'_ℓ against mrr's M_ℓ, summed over the levels
+    for (int l = 0; l < kLevelCount; ++l) {
+      for (uint8_t v : b.port.levels[static_cast<size_t>(l)].masks.mask.data) widened += v;
+      for (uint8_t v : paper.port.levels[static_cast<size_t>(l)].masks.mask.data) edges += v;
+    }
+    EXPECT_GT(widened, edges) << "the widening widened nothing" << (fromLevel0 ? " (level 0, cap 3)" : "");
+    EXPECT_GE(b.port.shadedPixelsTotal, paper.port.shadedPixelsTotal);
+    EXPECT_EQ(b.port.shadedPixelsTotal, b.cpu.shadedPixelsTotal);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectMaskParity,
+                         ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
+                                           PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect},
+                                           PeerCase{"demo", Effect::Ssgi, Mode::MrrEffect}),
+                         [](const ::testing::TestParamInfo<PeerCase>& info) {
+                           return info.param.scene + "_" + toString(info.param.effect);
+                         });
+
 // SPEC §11 on both paths: a cost model whose blend costs more than any saving makes both fall
 // back to full, the same frame; one whose overhead is free makes neither fall back. The
 // decision is the same function (common/cost_model.h) of the same stencils on both.

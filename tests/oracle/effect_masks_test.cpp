@@ -86,11 +86,5 @@ TEST(EffectMasks, NoFootprintIsMrrExactly) {
   }
 }
 
-TEST(EffectMasks, PortSaysItDoesNotImplementIt) {
-  EXPECT_THROW(requirePortImplements(Mode::MrrEffect, "gpu"), MrrError);
-  EXPECT_NO_THROW(requirePortImplements(Mode::MrrEffect, "cpu"));
-  EXPECT_NO_THROW(requirePortImplements(Mode::Mrr, "gpu"));
-}
-
 }  // namespace
 }  // namespace mrr

@@ -1,0 +1,64 @@
+#include "gpu/effect_masks.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <string>
+
+#include "gpu/program.h"
+#include "gpu/shadowmap.h"
+
+namespace mrr::gpu {
+
+Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned edges, int edgeChannel,
+                     const ShadowMap* map, unsigned mapTexture, const View& view, const Constants& c) {
+  const bool ssm = c.effect == Effect::Ssm;
+  const std::string defines = "#define STEP 1\n#define EDGE_CHANNEL " + std::to_string(edgeChannel) +
+                              "\n#define EFFECT_SSM " + (ssm ? "1" : "0") + "\n";
+  const unsigned program = scene.program("effect_masks.1." + std::to_string(edgeChannel) + (ssm ? ".ssm" : ""),
+                                         "fullscreen.vert", "effect_masks.frag", defines);
+  Target target = scene.target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R32f);
+  target->bind();
+  glUseProgram(program);
+  bindTextures(program, {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}, {"edges", edges}});
+  if (ssm) {
+    bindShadowMap(program, *map, mapTexture, 3, view, c.ssm.biasTexels);
+    glUniform1f(uniform(program, "tanHalfAngle"), c.ssm.tanHalfAngle);
+  } else {
+    glUniform1f(uniform(program, "reach"), c.effect == Effect::Ssao ? c.ssao.radius : c.ssgi.radius);
+  }
+  glUniform1f(uniform(program, "focal"), view.focal);
+  glUniform1f(uniform(program, "scale"), c.effectMask.scale);
+  scene.drawFullscreen();
+  checkGl("effect_masks footprint");
+  return target;
+}
+
+Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, unsigned footprint, int width,
+                         int height, int levelScale, int cap) {
+  const std::string shape = "#define CAP " + std::to_string(cap) + "\n#define MASK_CHANNEL " +
+                            std::to_string(maskChannel) + "\n";
+  const std::string key = std::to_string(cap) + "." + std::to_string(maskChannel);
+  // 1. reach and the pass along x: H as float (−1: no reach)
+  const unsigned across = scene.program("effect_masks.2." + key, "fullscreen.vert", "effect_masks.frag",
+                                        "#define STEP 2\n" + shape);
+  Target h = scene.target(width, height, 1, false, Texel::R32f);
+  h->bind();
+  glUseProgram(across);
+  bindTextures(across, {{"source", mask}, {"footprint", footprint}});
+  glUniform1f(uniform(across, "levelScale"), static_cast<float>(levelScale));
+  scene.drawFullscreen();
+  checkGl("effect_masks across");
+  // 2. the pass along y: M'_ℓ
+  const unsigned down = scene.program("effect_masks.3." + key, "fullscreen.vert", "effect_masks.frag",
+                                      "#define STEP 3\n" + shape);
+  Target widened = scene.target(width, height, 1, false, Texel::R8);
+  widened->bind();
+  glUseProgram(down);
+  bindTextures(down, {{"source", h->texture(0)}});
+  scene.drawFullscreen();
+  checkGl("effect_masks down");
+  return widened;
+}
+
+}  // namespace mrr::gpu

@@ -197,12 +197,15 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   }
   // 4. Stability.
   if (!res.stability.empty()) {
-    Table t{"Stability along camera paths (SPEC §10 flicker: mean |Δ error| frame to frame)",
-            {"path", "scene", "effect", "camera path", "frames", "size", "method", "flicker", "mean RMS"},
+    Table t{"Stability along camera paths (SPEC §10 flicker: mean |Δ error| frame to frame; FLIP flicker: mean |Δ FLIP| "
+            "frame to frame)",
+            {"path", "scene", "effect", "camera path", "frames", "size", "method", "flicker", "mean RMS", "FLIP flicker",
+             "mean FLIP"},
             {}};
     for (const StabilityRecord& s : res.stability)
       t.rows.push_back({s.path, s.scene, s.effect + "-" + std::to_string(s.samples), s.kind, std::to_string(s.frames),
-                        sizeName(s.width, s.height), s.method, sci(s.flicker), sci(s.meanRms)});
+                        sizeName(s.width, s.height), s.method, sci(s.flicker), sci(s.meanRms), sci(s.flipFlicker),
+                        sci(s.meanFlip)});
     out.push_back(t);
   }
   // 5. Stress scenes.
@@ -309,7 +312,9 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
     if (r.fellBack && r.error.rms != 0.0) fails.push_back(where + ": fell back to full, yet differs from full");
   }
   for (const StabilityRecord& s : res.stability)
-    if (!std::isfinite(s.flicker) || s.flicker < 0.0) fails.push_back(s.scene + " " + s.kind + " " + s.method + ": flicker not finite");
+    if (!std::isfinite(s.flicker) || s.flicker < 0.0 || !(s.flipFlicker >= 0.0 && s.flipFlicker <= 1.0) ||
+        !(s.meanFlip >= 0.0 && s.meanFlip <= 1.0))
+      fails.push_back(s.scene + " " + s.kind + " " + s.method + ": flicker not finite (or FLIP outside [0,1])");
   return fails;
 }
 
@@ -341,7 +346,8 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
   for (const StabilityRecord& s : res.stability)
     stab.push_back({{"path", s.path}, {"scene", s.scene}, {"effect", s.effect}, {"samples", s.samples}, {"camera_path", s.kind},
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},
-                    {"flicker", s.flicker}, {"mean_rms", s.meanRms}});
+                    {"flicker", s.flicker}, {"mean_rms", s.meanRms}, {"flip_flicker", s.flipFlicker},
+                    {"mean_flip", s.meanFlip}});
   return {{"machine", res.options.machine}, {"devices", res.devices}, {"threads", res.threads},
           {"repeats", res.options.repeats}, {"runs", runs}, {"stability", stab}, {"sanity_failures", failures}};
 }
@@ -359,6 +365,21 @@ std::string benchCsv(const BenchResults& res) {
       << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "," << r.flip << ","
       << r.shadedFlip << "\n";
   return o.str();
+}
+
+std::string benchStabilityCsv(const BenchResults& res) {
+  std::ostringstream o;
+  o << "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip\n";
+  for (const StabilityRecord& s : res.stability)
+    o << s.path << "," << s.scene << "," << s.effect << "," << s.samples << "," << s.kind << "," << s.frames << "," << s.width
+      << "," << s.height << "," << s.method << "," << s.flicker << "," << s.meanRms << "," << s.flipFlicker << ","
+      << s.meanFlip << "\n";
+  return o.str();
+}
+
+std::string stabilityCsvPath(const std::string& csvPath) {
+  const std::filesystem::path p(csvPath);
+  return (p.parent_path() / (p.stem().string() + "-stability.csv")).string();
 }
 
 void writeBenchReport(const std::string& dir, const BenchResults& res, const std::vector<std::string>& failures) {

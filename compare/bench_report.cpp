@@ -104,7 +104,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   {
     Table t{"Speed against accuracy: every scene and camera (medians; chart 1)",
             {"path", "effect", "samples", "method", "settings", "measured speedup", "ideal speedup", "measured/ideal",
-             "RMS", "PSNR", "SSIM", "edge-band RMS", "max |Δ|", "fell back", "effect ms"},
+             "RMS", "FLIP", "shaded FLIP", "PSNR", "SSIM", "edge-band RMS", "max |Δ|", "fell back", "effect ms"},
             {}};
     const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main"; });
     for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
@@ -115,7 +115,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
               return r.path == path && r.effect == effect && r.samples == samples && r.method == m;
             });
             if (sel.empty()) continue;
-            std::vector<double> meas, ideal, rms, psnr, ssim, band, maxAbs, ms;
+            std::vector<double> meas, ideal, rms, flipMean, shadedFlip, psnr, ssim, band, maxAbs, ms;
             int fell = 0;
             int64_t bandPixels = 0;
             for (const BenchRecord& r : sel) {
@@ -123,6 +123,8 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
               meas.push_back(r.measuredSpeedup);
               ideal.push_back(r.idealSpeedup);
               rms.push_back(r.error.rms);
+              flipMean.push_back(r.flip);
+              shadedFlip.push_back(r.shadedFlip);
               psnr.push_back(std::isfinite(r.error.psnr) ? r.error.psnr : 999.0);
               ssim.push_back(r.error.ssim);
               band.push_back(r.error.edgeBandRms);
@@ -133,7 +135,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
             const double mm = median(meas), mi = median(ideal);
             t.rows.push_back({path, effect, std::to_string(samples), m, std::to_string(sel.size()), fixed(mm, 2) + "x",
                               fixed(mi, 2) + "x", fixed(100.0 * mm / mi, 0) + "%", sci(median(rms)),
-                              median(psnr) >= 999.0 ? "inf" : fixed(median(psnr), 1), fixed(median(ssim), 4),
+                              sci(median(flipMean)), sci(median(shadedFlip)), median(psnr) >= 999.0 ? "inf" : fixed(median(psnr), 1), fixed(median(ssim), 4),
                               bandPixels > 0 ? sci(median(band)) : "—", sci(median(maxAbs)), std::to_string(fell) + "/" + std::to_string(sel.size()),
                               fixed(median(ms), 1)});
           }
@@ -154,7 +156,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   }
   // 2. Per scene (all cameras): where each method wins.
   {
-    Table t{"Per scene (median over cameras)", {"path", "scene", "effect", "method", "measured", "ideal", "RMS", "SSIM"}, {}};
+    Table t{"Per scene (median over cameras)", {"path", "scene", "effect", "method", "measured", "ideal", "RMS", "FLIP", "SSIM"}, {}};
     const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main" && r.method != "full"; });
     for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
       for (const std::string& scene : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.scene; }))
@@ -164,15 +166,16 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
               return r.path == path && r.scene == scene && r.effect == effect && r.method == m;
             });
             if (sel.empty()) continue;
-            std::vector<double> meas, ideal, rms, ssim;
+            std::vector<double> meas, ideal, rms, flipMean, ssim;
             for (const BenchRecord& r : sel) {
               meas.push_back(r.measuredSpeedup);
               ideal.push_back(r.idealSpeedup);
               rms.push_back(r.error.rms);
+              flipMean.push_back(r.flip);
               ssim.push_back(r.error.ssim);
             }
             t.rows.push_back({path, scene, effect, m, fixed(median(meas), 2) + "x", fixed(median(ideal), 2) + "x",
-                              sci(median(rms)), fixed(median(ssim), 4)});
+                              sci(median(rms)), sci(median(flipMean)), fixed(median(ssim), 4)});
           }
     out.push_back(t);
   }

@@ -78,6 +78,7 @@ BenchRecord record(const std::string& group, const std::string& scene, int camer
   r.effectMs = 20.0 / r.measuredSpeedup;
   r.shadedPixels = static_cast<long long>(width * height / r.idealSpeedup);
   r.error.rms = method == "full" ? 0.0 : rms;
+  r.flip = method == "full" ? 0.0 : 3.0 * rms;
   r.error.ssim = 0.99;
   return r;
 }
@@ -174,6 +175,11 @@ TEST(BenchReportTest, DrawsEveryChartAsSvgAndPngAndThePageShowsThemWithTheTables
             std::string::npos);
   EXPECT_NE(page.find("<h3>Per scene (median over cameras)</h3>"), std::string::npos);
   EXPECT_NE(page.find("<td>arcade</td><td>ssao</td><td>mrr</td><td>2.20x</td>"), std::string::npos);
+  // FLIP beside RMS in the main and the per-scene tables: mrr's RMS over the arcade's two cameras
+  // is 0.001 and 0.002 (median 0.0015), its FLIP three times that.
+  EXPECT_EQ(count(page, "<th>FLIP</th>"), 2u);
+  EXPECT_NE(page.find("<td>arcade</td><td>ssao</td><td>mrr</td><td>2.20x</td><td>3.30x</td><td>0.0015</td><td>0.0045</td>"),
+            std::string::npos);
   EXPECT_NE(page.find("<td>1.29x</td>"), std::string::npos) << "the paper's Fig. 7 speedup at 720p, beside mrr";
   // The stability table carries FLIP beside RMS: flicker, mean RMS, FLIP flicker, mean FLIP.
   EXPECT_NE(page.find("<th>FLIP flicker</th>"), std::string::npos);

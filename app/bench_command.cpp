@@ -46,7 +46,7 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
 void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
   BenchOptions& o = c.options;
   b.add_option("--json", o.jsonOut, "write every figure as JSON");
-  b.add_option("--csv", o.csvOut, "write every run as CSV");
+  b.add_option("--csv", o.csvOut, "write every run as CSV (and the stability table beside it, as NAME-stability.csv)");
   b.add_option("--markdown", o.markdownOut, "write the tables as Markdown");
   b.add_option("--report", o.reportDir, "write an HTML page with the charts, tables and images into DIR");
   b.add_flag("--check", o.check, "exit 1 when a sanity check fails");

@@ -358,7 +358,7 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
             }
             for (const auto& [m, meter] : meters)
               stability.push_back({path.name, sceneName, effectName, middleSamples(e), kind, o.frames, w, h, m,
-                                   meter.flicker(), meter.meanRms()});
+                                   meter.flicker(), meter.meanRms(), meter.flipFlicker(), meter.meanFlip()});
           }
       }
     // 4. The stress scenes: every method, and mrr without the never-slower rule.
@@ -381,6 +381,7 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
   if (!o.markdownOut.empty()) writeTextFile(o.markdownOut, md);
   if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, benchJson(results, failures).dump(1) + "\n");
   if (!o.csvOut.empty()) writeTextFile(o.csvOut, benchCsv(results));
+  if (!o.csvOut.empty() && !stability.empty()) writeTextFile(stabilityCsvPath(o.csvOut), benchStabilityCsv(results));
   if (!o.reportDir.empty()) {
     std::cerr << "[bench] writing the report to " << o.reportDir << "\n";
     writeBenchReport(o.reportDir, results, failures);

@@ -104,7 +104,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   {
     Table t{"Speed against accuracy: every scene and camera (medians; chart 1)",
             {"path", "effect", "samples", "method", "settings", "measured speedup", "ideal speedup", "measured/ideal",
-             "RMS", "PSNR", "SSIM", "edge-band RMS", "max |Δ|", "fell back", "effect ms"},
+             "RMS", "FLIP", "shaded FLIP", "PSNR", "SSIM", "edge-band RMS", "max |Δ|", "fell back", "effect ms"},
             {}};
     const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main"; });
     for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
@@ -115,7 +115,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
               return r.path == path && r.effect == effect && r.samples == samples && r.method == m;
             });
             if (sel.empty()) continue;
-            std::vector<double> meas, ideal, rms, psnr, ssim, band, maxAbs, ms;
+            std::vector<double> meas, ideal, rms, flipMean, shadedFlip, psnr, ssim, band, maxAbs, ms;
             int fell = 0;
             int64_t bandPixels = 0;
             for (const BenchRecord& r : sel) {
@@ -123,6 +123,8 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
               meas.push_back(r.measuredSpeedup);
               ideal.push_back(r.idealSpeedup);
               rms.push_back(r.error.rms);
+              flipMean.push_back(r.flip);
+              shadedFlip.push_back(r.shadedFlip);
               psnr.push_back(std::isfinite(r.error.psnr) ? r.error.psnr : 999.0);
               ssim.push_back(r.error.ssim);
               band.push_back(r.error.edgeBandRms);
@@ -133,7 +135,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
             const double mm = median(meas), mi = median(ideal);
             t.rows.push_back({path, effect, std::to_string(samples), m, std::to_string(sel.size()), fixed(mm, 2) + "x",
                               fixed(mi, 2) + "x", fixed(100.0 * mm / mi, 0) + "%", sci(median(rms)),
-                              median(psnr) >= 999.0 ? "inf" : fixed(median(psnr), 1), fixed(median(ssim), 4),
+                              sci(median(flipMean)), sci(median(shadedFlip)), median(psnr) >= 999.0 ? "inf" : fixed(median(psnr), 1), fixed(median(ssim), 4),
                               bandPixels > 0 ? sci(median(band)) : "—", sci(median(maxAbs)), std::to_string(fell) + "/" + std::to_string(sel.size()),
                               fixed(median(ms), 1)});
           }
@@ -154,7 +156,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   }
   // 2. Per scene (all cameras): where each method wins.
   {
-    Table t{"Per scene (median over cameras)", {"path", "scene", "effect", "method", "measured", "ideal", "RMS", "SSIM"}, {}};
+    Table t{"Per scene (median over cameras)", {"path", "scene", "effect", "method", "measured", "ideal", "RMS", "FLIP", "SSIM"}, {}};
     const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main" && r.method != "full"; });
     for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
       for (const std::string& scene : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.scene; }))
@@ -164,15 +166,16 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
               return r.path == path && r.scene == scene && r.effect == effect && r.method == m;
             });
             if (sel.empty()) continue;
-            std::vector<double> meas, ideal, rms, ssim;
+            std::vector<double> meas, ideal, rms, flipMean, ssim;
             for (const BenchRecord& r : sel) {
               meas.push_back(r.measuredSpeedup);
               ideal.push_back(r.idealSpeedup);
               rms.push_back(r.error.rms);
+              flipMean.push_back(r.flip);
               ssim.push_back(r.error.ssim);
             }
             t.rows.push_back({path, scene, effect, m, fixed(median(meas), 2) + "x", fixed(median(ideal), 2) + "x",
-                              sci(median(rms)), fixed(median(ssim), 4)});
+                              sci(median(rms)), sci(median(flipMean)), fixed(median(ssim), 4)});
           }
     out.push_back(t);
   }
@@ -197,12 +200,15 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   }
   // 4. Stability.
   if (!res.stability.empty()) {
-    Table t{"Stability along camera paths (SPEC §10 flicker: mean |Δ error| frame to frame)",
-            {"path", "scene", "effect", "camera path", "frames", "size", "method", "flicker", "mean RMS"},
+    Table t{"Stability along camera paths (SPEC §10 flicker: mean |Δ error| frame to frame; FLIP flicker: mean |Δ FLIP| "
+            "frame to frame)",
+            {"path", "scene", "effect", "camera path", "frames", "size", "method", "flicker", "mean RMS", "FLIP flicker",
+             "mean FLIP"},
             {}};
     for (const StabilityRecord& s : res.stability)
       t.rows.push_back({s.path, s.scene, s.effect + "-" + std::to_string(s.samples), s.kind, std::to_string(s.frames),
-                        sizeName(s.width, s.height), s.method, sci(s.flicker), sci(s.meanRms)});
+                        sizeName(s.width, s.height), s.method, sci(s.flicker), sci(s.meanRms), sci(s.flipFlicker),
+                        sci(s.meanFlip)});
     out.push_back(t);
   }
   // 5. Stress scenes.
@@ -309,7 +315,9 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
     if (r.fellBack && r.error.rms != 0.0) fails.push_back(where + ": fell back to full, yet differs from full");
   }
   for (const StabilityRecord& s : res.stability)
-    if (!std::isfinite(s.flicker) || s.flicker < 0.0) fails.push_back(s.scene + " " + s.kind + " " + s.method + ": flicker not finite");
+    if (!std::isfinite(s.flicker) || s.flicker < 0.0 || !(s.flipFlicker >= 0.0 && s.flipFlicker <= 1.0) ||
+        !(s.meanFlip >= 0.0 && s.meanFlip <= 1.0))
+      fails.push_back(s.scene + " " + s.kind + " " + s.method + ": flicker not finite (or FLIP outside [0,1])");
   return fails;
 }
 
@@ -341,7 +349,8 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
   for (const StabilityRecord& s : res.stability)
     stab.push_back({{"path", s.path}, {"scene", s.scene}, {"effect", s.effect}, {"samples", s.samples}, {"camera_path", s.kind},
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},
-                    {"flicker", s.flicker}, {"mean_rms", s.meanRms}});
+                    {"flicker", s.flicker}, {"mean_rms", s.meanRms}, {"flip_flicker", s.flipFlicker},
+                    {"mean_flip", s.meanFlip}});
   return {{"machine", res.options.machine}, {"devices", res.devices}, {"threads", res.threads},
           {"repeats", res.options.repeats}, {"runs", runs}, {"stability", stab}, {"sanity_failures", failures}};
 }
@@ -359,6 +368,21 @@ std::string benchCsv(const BenchResults& res) {
       << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "," << r.flip << ","
       << r.shadedFlip << "\n";
   return o.str();
+}
+
+std::string benchStabilityCsv(const BenchResults& res) {
+  std::ostringstream o;
+  o << "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip\n";
+  for (const StabilityRecord& s : res.stability)
+    o << s.path << "," << s.scene << "," << s.effect << "," << s.samples << "," << s.kind << "," << s.frames << "," << s.width
+      << "," << s.height << "," << s.method << "," << s.flicker << "," << s.meanRms << "," << s.flipFlicker << ","
+      << s.meanFlip << "\n";
+  return o.str();
+}
+
+std::string stabilityCsvPath(const std::string& csvPath) {
+  const std::filesystem::path p(csvPath);
+  return (p.parent_path() / (p.stem().string() + "-stability.csv")).string();
 }
 
 void writeBenchReport(const std::string& dir, const BenchResults& res, const std::vector<std::string>& failures) {

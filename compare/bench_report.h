@@ -44,6 +44,8 @@ struct StabilityRecord {
   std::string method;
   double flicker = 0.0;  // SPEC §10
   double meanRms = 0.0;
+  double flipFlicker = 0.0;  // SPEC §10: mean |FLIP_t − FLIP_{t−1}| against full, per pixel
+  double meanFlip = 0.0;     // the mean per-frame mean FLIP against full
 };
 
 struct BenchResults {
@@ -62,6 +64,10 @@ std::vector<std::string> sanityChecks(const BenchResults& results);
 std::string benchMarkdown(const BenchResults& results, const std::vector<std::string>& failures);
 nlohmann::json benchJson(const BenchResults& results, const std::vector<std::string>& failures);
 std::string benchCsv(const BenchResults& results);
+// The stability table as CSV (one row per path, scene, effect, camera path and method), written
+// beside --csv F as stabilityCsvPath(F): F's folder, F's stem + "-stability.csv".
+std::string benchStabilityCsv(const BenchResults& results);
+std::string stabilityCsvPath(const std::string& csvPath);
 
 // DIR/index.html with the charts (DIR/charts/*.svg and *.png, drawn by matplotlib), the tables
 // and the example images (written by the sweep into DIR/images/). Needs requireReportPython().

@@ -429,6 +429,27 @@ void magma(float v, float* rgb) {
 }
 }  // namespace
 
+void flipMagma(float v, uint8_t* rgb) {
+  const float c = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+  const unsigned char* m = kMagma[static_cast<int>(std::lround(c * 255.0f))];
+  for (int i = 0; i < 3; ++i) rgb[i] = m[i];
+}
+
+std::string flipMagmaGradient() {
+  std::string css = "linear-gradient(to right";
+  for (int i = 0; i <= 255; i += 17)  // 16 stops, 0 to 255
+    css += ",rgb(" + std::to_string(kMagma[i][0]) + "," + std::to_string(kMagma[i][1]) + "," + std::to_string(kMagma[i][2]) + ")";
+  return css + ")";
+}
+
+ImageU8 flipColourMapBytes(const ImageF& errorMap) {
+  ImageU8 out(errorMap.width, errorMap.height, 3, 0);
+  parallelFor(0, errorMap.height, [&](int y) {
+    for (int x = 0; x < errorMap.width; ++x) flipMagma(errorMap.at(x, y, 0), &out.at(x, y, 0));
+  });
+  return out;
+}
+
 ImageF flipColourMap(const ImageF& errorMap, bool legend) {
   const int w = errorMap.width, h = errorMap.height;
   // The colour bar: a gap, then the scale, with ticks at each 0.1 (longer at 0, 0.5 and 1).

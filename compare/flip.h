@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <numbers>
+#include <string>
 
 #include "common/image.h"
 
@@ -72,5 +73,11 @@ ImageF linearToDisplay(const ImageF& linear);
 // as the paper shows its maps. With `legend`, a colour bar from 0 (left) to 1 (right), with
 // ticks at each 0.1, is added below the map.
 ImageF flipColourMap(const ImageF& errorMap, bool legend = false);
+
+// The same colours as 8-bit RGB, no legend (the compare page's and explore's FLIP maps), one
+// value's colour, and the scale as a CSS gradient from 0 (left) to 1 (right) for their legends.
+ImageU8 flipColourMapBytes(const ImageF& errorMap);
+void flipMagma(float v, uint8_t* rgb);
+std::string flipMagmaGradient();
 
 }  // namespace mrr

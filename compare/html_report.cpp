@@ -13,6 +13,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "compare/flip.h"
 #include "common/parallel.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
@@ -455,7 +456,7 @@ void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
       nlohmann::json r = {{"stage", row.stage}, {"verdict", verdict},  {"level", row.level},
                           {"scale", row.scale}, {"missing", v.missing}, {"grid_w", v.gridW},
                           {"grid_h", v.gridH},  {"oracle_image", nullptr}, {"port_image", nullptr},
-                          {"heat_image", nullptr}, {"end_to_end", checkData(row.endToEnd)},
+                          {"heat_image", nullptr}, {"flip_image", nullptr}, {"end_to_end", checkData(row.endToEnd)},
                           {"same_input", checkData(row.sameInput)}, {"worst", nullptr}};
       if (verdict != "PASS" || row.stage == partName(Part::Final)) r["worst"] = worstData(row, verdict, frame);
       if (v.missing.empty()) {
@@ -475,6 +476,20 @@ void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
         r["oracle_image"] = add(shrink(v.oracle, factor));
         r["port_image"] = add(shrink(v.port, factor));
         if (!v.delta.empty()) r["heat_image"] = add(heatMap(shrinkMax(v.delta, factor), scale));
+        // The final image and the shaded one: the LDR-FLIP map of the port against the oracle
+        // beside |Δ| (the effect as grey, the shaded image as its display values, as the bench).
+        if (row.stage == partName(Part::Final) || row.stage == partName(Part::Shaded)) {
+          const bool shaded = row.stage == partName(Part::Shaded);
+          const FlipResult f = shaded ? flip(linearToDisplay(frame.oracle->shaded), linearToDisplay(frame.port->shaded))
+                                      : flip(frame.oracle->final(), frame.port->final());
+          r["flip_image"] = add(flipColourMapBytes(shrinkMax(f.errorMap, factor)));
+          r["flip_mean"] = num(f.stats.mean);
+          r["flip_max"] = num(f.stats.max);
+          r["flip_caption"] = std::string(shaded ? "the shaded image's display values (sRGB, clamped)"
+                                                 : "the effect buffer as grey, clamped to [0, 1]") +
+                              ", at " + num(kFlipDefaultPpd) + " pixels per degree; black = 0, pale yellow = 1" +
+                              (factor > 1 ? "; shown ÷" + std::to_string(factor) + " (max over each block)" : "");
+        }
         r["heat_scale"] = num(scale);
         r["heat_caption"] = heatCaption;
         r["value_caption"] = v.valueCaption;
@@ -508,6 +523,7 @@ void writeCompareReport(const std::string& dir, const CompareReportInfo& info,
                                {"command", info.command},
                                {"frame", frameText},
                                {"ramp", rampGradient()},
+                               {"magma", flipMagmaGradient()},
                                {"frames", std::move(frameData)}};
   writeTextFile((std::filesystem::path(dir) / "index.html").string(), job.makePage(data));
 }

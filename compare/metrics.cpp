@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "compare/flip.h"
 
 namespace mrr {
 
@@ -369,9 +370,23 @@ void FlickerMeter::add(const ImageF& test, const ImageF& ref) {
     count_ += static_cast<int64_t>(error.data.size());
   }
   rmsSum_ += rmsError(test, ref);
+  FlipResult f = flip(ref, test);
+  if (frames_ > 0) {
+    double s = 0.0;  // in index order: the same sum for any thread count
+    for (size_t i = 0; i < f.errorMap.data.size(); ++i)
+      s += std::abs(static_cast<double>(f.errorMap.data[i]) - static_cast<double>(previousFlip_.data[i]));
+    flipSum_ += s;
+    flipCount_ += static_cast<int64_t>(f.errorMap.data.size());
+  }
+  flipMeanSum_ += f.stats.mean;
+  previousFlip_ = std::move(f.errorMap);
   previousError_ = std::move(error);
   ++frames_;
 }
+
+double FlickerMeter::flipFlicker() const { return flipCount_ > 0 ? flipSum_ / static_cast<double>(flipCount_) : 0.0; }
+
+double FlickerMeter::meanFlip() const { return frames_ > 0 ? flipMeanSum_ / frames_ : 0.0; }
 
 double FlickerMeter::flicker() const { return count_ > 0 ? sum_ / static_cast<double>(count_) : 0.0; }
 

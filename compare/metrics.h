@@ -37,17 +37,24 @@ ErrorFigures compareToReference(const ImageF& test, const ImageF& ref, const Ima
 // pixel and channel of |(X_t − R_t) − (X_{t−1} − R_{t−1})|, the frame-to-frame change of the
 // error against the reference R; 0 when a method's error is steady, whatever the scene does.
 // Frames are added in path order; only the previous frame's error is kept.
+//
+// Beside it, the same for the perceptual error (issue 36): with F_t the LDR-FLIP map of X_t
+// against R_t (compare/flip.h; the frames as display values, clamped to [0,1], one channel as
+// grey), FLIP flicker = mean over t ≥ 1 and every pixel of |F_t − F_{t−1}|. FLIP has no sign,
+// so an error that only changes sign is steady here; an error that comes and goes is not.
 class FlickerMeter {
  public:
   void add(const ImageF& test, const ImageF& ref);
   double flicker() const;          // 0 before two frames
   int frames() const { return frames_; }
   double meanRms() const;          // the mean per-frame RMS against R, for the same table
+  double flipFlicker() const;      // 0 before two frames
+  double meanFlip() const;         // the mean per-frame mean FLIP against R
 
  private:
-  ImageF previousError_;
-  double sum_ = 0.0, rmsSum_ = 0.0;
-  int64_t count_ = 0;
+  ImageF previousError_, previousFlip_;
+  double sum_ = 0.0, rmsSum_ = 0.0, flipSum_ = 0.0, flipMeanSum_ = 0.0;
+  int64_t count_ = 0, flipCount_ = 0;
   int frames_ = 0;
 };
 

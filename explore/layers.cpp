@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "common/stages.h"
 #include "compare/false_colour.h"
+#include "compare/flip.h"
 
 namespace mrr::explore {
 
@@ -58,6 +59,7 @@ const char* kindName(LayerKind k) {
     case LayerKind::Scalar: return "scalar";
     case LayerKind::Colour: return "colour";
     case LayerKind::Levels: return "levels";
+    case LayerKind::Flip: return "flip";
   }
   return "?";
 }
@@ -108,7 +110,7 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
   if (!f.blend.levelMap.empty()) names.push_back(partName(Part::LevelMap));
   names.push_back(partName(Part::Final));
   if (!f.shaded.empty()) names.push_back(partName(Part::Shaded));
-  if (hasReference) names.push_back("difference");
+  if (hasReference) names.insert(names.end(), {"difference", "flip"});
   return names;
 }
 
@@ -145,6 +147,31 @@ LayerImage differenceLayer(const FrameResult& f, const FrameResult& reference, f
   std::snprintf(text, sizeof text, "|this frame - full resolution| x %g on the ramp (full scale = %g)", gain, out.hi);
   out.caption = text;
   out.what = "the difference from the full-resolution frame (mode full, same samples)";
+  return out;
+}
+
+// LDR-FLIP of this frame's effect buffer against the full-resolution one's (the effect as grey,
+// clamped to [0, 1], at the default viewing distance), as the bench and `render --reference` measure.
+LayerImage flipLayer(const FrameResult& f, const FrameResult& reference) {
+  LayerImage out;
+  out.name = "flip";
+  const ImageF& a = f.final();
+  const ImageF& b = reference.final();
+  require(a.width == b.width && a.height == b.height && a.channels == b.channels,
+          "flip: the frame and the full-resolution frame differ in size");
+  FlipResult r = flip(b, a);
+  out.values = std::move(r.errorMap);
+  out.channels = {"flip"};
+  out.kind = LayerKind::Flip;
+  out.lo = 0.0f;
+  out.hi = 1.0f;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "LDR-FLIP of this frame against full resolution (the effect as grey, %.0f pixels per degree), "
+                "magma: 0 black to 1 pale yellow; mean %.4g, max %.3g",
+                kFlipDefaultPpd, r.stats.mean, r.stats.max);
+  out.caption = text;
+  out.what = "the perceptual difference (LDR-FLIP) from the full-resolution frame (mode full, same samples)";
   return out;
 }
 
@@ -202,6 +229,7 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
   LayerImage out;
   out.name = name;
   if (name == "difference") return differenceLayer(f, *reference, gain);
+  if (name == "flip") return flipLayer(f, *reference);
   Part part{};
   require(partOf(name, part), "no layer " + name);
   const std::vector<std::string> tokens = split(name, '.');
@@ -322,6 +350,7 @@ ImageU8 colourise(const LayerImage& l) {
         break;
       case LayerKind::Scalar: rampColour((first - l.lo) / span, rgb); break;
       case LayerKind::Levels: rampColour(0.15 + 0.8 * first / 3.0, rgb); break;
+      case LayerKind::Flip: flipMagma(first, rgb); break;
       case LayerKind::Colour:
         for (size_t c = 0; c < 3; ++c) {
           const float x = v.data[p * ch + std::min(c, ch - 1)];
@@ -368,7 +397,8 @@ nlohmann::json layerMeta(const LayerImage& l) {
                       {"hi", l.hi},
                       {"caption", l.caption},
                       {"what", l.what},
-                      {"ramp", rampGradient()}};
+                      {"ramp", l.kind == LayerKind::Flip ? flipMagmaGradient() : rampGradient()}};
+  if (l.kind == LayerKind::Flip) j["mean"] = flipStats(l.values).mean;
   if (l.kind == LayerKind::Binary) {
     long long ones = 0;
     for (const float v : l.values.data) ones += v != 0.0f;

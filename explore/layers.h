@@ -2,7 +2,8 @@
 // `mrr explore`'s layers: every stage image of a frame (common/stages.h) as a picture the page
 // shows, with its legend and the values under the cursor. G-buffer channels and edge kinds are
 // layers of their own ("gbuffer.L1.normal", "edges.depth"; "edges" is E); per-level parts carry
-// ".L<l>"; "difference" is |this frame − the full-resolution frame| (needs the reference).
+// ".L<l>"; "difference" is |this frame − the full-resolution frame| and "flip" the LDR-FLIP map of
+// this frame's effect buffer against the full-resolution one's (both need the reference).
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -20,6 +21,7 @@ enum class LayerKind {
   Scalar,  // non-colour data: the false-colour ramp over [lo, hi]
   Colour,  // RGB data shown as colour (normals as 0.5 + 0.5 n, albedo, positions)
   Levels,  // a level index 0..3: one ramp colour per level
+  Flip,    // an LDR-FLIP error map in [0, 1]: the magma colour map (compare/flip.h)
 };
 
 struct LayerImage {
@@ -33,11 +35,11 @@ struct LayerImage {
   std::string what;     // the stage list's line
 };
 
-// Every layer the frame has, in pipeline order. `hasReference`: "difference" is listed.
+// Every layer the frame has, in pipeline order. `hasReference`: "difference" and "flip" are listed.
 std::vector<std::string> layerNames(const FrameResult& frame, bool hasReference);
 
 // The layer `name`; throws MrrError when the frame has no such layer. `reference` is the
-// full-resolution frame (for "difference"; may be null), `gain` the difference's ×N.
+// full-resolution frame (for "difference" and "flip"; may be null), `gain` the difference's ×N.
 LayerImage makeLayer(const FrameResult& frame, const std::string& name, const FrameResult* reference, float gain);
 
 // The 8-bit picture of a layer (binary white on black, ramp, grey or colour).
@@ -48,7 +50,7 @@ ImageU8 colourise(const LayerImage& layer);
 ImageF layerDifference(const LayerImage& oracle, const LayerImage& port, float* largest);
 
 // The layer's legend for the page: name, kind, grid, scale, range, caption, count of ones
-// (binary layers), and the ramp's CSS gradient.
+// (binary layers), the mean (flip), and the ramp's CSS gradient (flip: magma).
 nlohmann::json layerMeta(const LayerImage& layer);
 
 // The values at full-res pixel (x, y): the layer pixel under it and each channel's value.

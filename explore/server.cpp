@@ -711,6 +711,7 @@ class Explorer {
     };
     for (const PartInfo& p : kParts) add(std::string(p.name), std::string(p.what));
     add("difference", "the difference from the full-resolution frame");
+    add("flip", "the perceptual difference (LDR-FLIP) from the full-resolution frame");
     return steps;
   }
 

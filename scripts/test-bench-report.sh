@@ -4,7 +4,8 @@
 #   scripts/test-bench-report.sh [path/to/mrr]
 # Checks: the bench exits 0 with --check (full's error 0, no method above its ideal speedup,
 # finite figures); the JSON has every method on both paths, the stability and stress runs;
-# the CSV has a row per run; the page loads with no console message, every chart and image
+# the CSV has a row per run, the stability CSV one per stability run with FLIP beside RMS; the
+# page loads with no console message, every chart and image
 # decodes, and it holds one figure per chart written. Then takes a screenshot for
 # docs/images/bench-report.png (MRR_BENCH_SCREENSHOT=path to override, "" to skip).
 # Exit 77 (ctest: skipped) when Chromium cannot be had, or when no GL context can be made
@@ -55,6 +56,11 @@ for r in runs:
     if r["ideal_speedup"] <= 0 or r["measured_speedup"] <= 0: fail("non-positive speedup: %s" % r)
 rows = open(sys.argv[2]).read().strip().split("\n")
 if len(rows) != len(runs) + 1: fail("CSV has %d rows for %d runs" % (len(rows) - 1, len(runs)))
+for s in j["stability"]:  # issue 36: FLIP beside RMS in the flicker table
+    if not (0 <= s["flip_flicker"] <= 1 and 0 <= s["mean_flip"] <= 1): fail("stability FLIP outside [0,1]: %s" % s)
+stab = open(sys.argv[2][:-len(".csv")] + "-stability.csv").read().strip().split("\n")
+if len(stab) != len(j["stability"]) + 1 or not stab[0].endswith(",flip_flicker,mean_flip"):
+    fail("the stability CSV has %d rows for %d stability runs, header %s" % (len(stab) - 1, len(j["stability"]), stab[0]))
 PY
 seconds=$(( $(date +%s) - start ))
 

@@ -197,16 +197,23 @@ def stress(path, effect, runs, device):
     return c
 
 
-def flicker(path, stability, device):
-    """Chart 4: SPEC §10 flicker of each method along each camera path."""
+def flicker(path, stability, device, key="flicker"):
+    """Chart 4: SPEC §10 flicker of each method along each camera path; with key="flip_flicker",
+    the same for the FLIP map (the frame-to-frame change of FLIP against full, issue 36)."""
     s0 = stability[0]
-    c = Chart("flicker-" + path, "Flicker along camera paths (%s path)" % path,
+    flip = key == "flip_flicker"
+    c = Chart("flicker-" + path + ("-flip" if flip else ""),
+              "%s along camera paths (%s path)" % ("FLIP flicker" if flip else "Flicker", path),
               "%s; %d frames at %s" % (device, s0["frames"], size_name(s0)),
-              "Chart 4: the frame-to-frame change of each method's error against full (SPEC §10); lower is steadier.",
-              "scene, camera path, effect", "flicker: mean |error(t) - error(t-1)|")
-    key = lambda s: "%s %s %s" % (s["scene"], s["camera_path"], s["effect"])  # noqa: E731
-    c.bars(distinct(key(s) for s in stability),
-           [(m, {key(s): s["flicker"] for s in stability if s["method"] == m})
+              ("Chart 4b: the frame-to-frame change of each method's LDR-FLIP map against full, per pixel (SPEC §10); "
+               "lower is steadier. FLIP has no sign: an error that only changes sign does not count, one that comes "
+               "and goes does." if flip else
+               "Chart 4: the frame-to-frame change of each method's error against full (SPEC §10); lower is steadier."),
+              "scene, camera path, effect",
+              "FLIP flicker: mean |FLIP(t) - FLIP(t-1)|" if flip else "flicker: mean |error(t) - error(t-1)|")
+    label = lambda s: "%s %s %s" % (s["scene"], s["camera_path"], s["effect"])  # noqa: E731
+    c.bars(distinct(label(s) for s in stability),
+           [(m, {label(s): s[key] for s in stability if s["method"] == m})
             for m in method_order(s["method"] for s in stability)])
     return c
 
@@ -232,6 +239,8 @@ def bench_charts(results, paper):
         stability = [s for s in results["stability"] if s["path"] == path]
         if stability:
             out.append(flicker(path, stability, device))
+            if all("flip_flicker" in s for s in stability):  # bench JSON from before issue 36 has none
+                out.append(flicker(path, stability, device, key="flip_flicker"))
     return out
 
 

@@ -279,10 +279,10 @@ function showStats() {
 function stepOf(name) {
   const head = name.split('.')[0];
   const part = state.info.parts.find((p) => p.name === head);
-  return part ? part.step : 5;
+  return part ? part.step : 7;  // difference, flip: against the full-resolution frame
 }
 const stepNames = {1: '1 · G-buffer and shadow map', 2: '2 · edges', 3: '3 · masks and stencils', 4: '4 · sub-images',
-  5: '5 · upsample and blend', 6: '6 · shading'};
+  5: '5 · upsample and blend', 6: '6 · shading', 7: 'against full resolution'};
 
 function fillLayers(layers) {
   const same = layers.length === state.layers.length && layers.every((l, i) => l === state.layers[i]);

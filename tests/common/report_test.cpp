@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "common/params.h"
 #include "compare/bench_report.h"
+#include "compare/flip.h"
 #include "compare/html_report.h"
 #include "compare/parity.h"
 #include "compare/report_python.h"
@@ -77,6 +78,7 @@ BenchRecord record(const std::string& group, const std::string& scene, int camer
   r.effectMs = 20.0 / r.measuredSpeedup;
   r.shadedPixels = static_cast<long long>(width * height / r.idealSpeedup);
   r.error.rms = method == "full" ? 0.0 : rms;
+  r.flip = method == "full" ? 0.0 : 3.0 * rms;
   r.error.ssim = 0.99;
   return r;
 }
@@ -117,6 +119,8 @@ BenchResults syntheticBench() {
     s.method = method;
     s.flicker = method == "mrr" ? 0.0005 : 0.005;
     s.meanRms = 0.01;
+    s.flipFlicker = method == "mrr" ? 0.0025 : 0.0375;
+    s.meanFlip = method == "mrr" ? 0.02 : 0.09;
     res.stability.push_back(s);
   }
   return res;
@@ -124,7 +128,7 @@ BenchResults syntheticBench() {
 
 const std::vector<std::string> kBenchCharts = {"speed-vs-rms-cpu-ssao", "speed-vs-flip-cpu-ssao", "fig6-cpu-ssao",
                                                "fig7-cpu-ssao",         "fig9-cpu-ssao",          "stress-cpu-ssao",
-                                               "flicker-cpu"};
+                                               "flicker-cpu",           "flicker-cpu-flip"};
 
 TEST(BenchReportTest, DrawsEveryChartAsSvgAndPngAndThePageShowsThemWithTheTables) {
   const fs::path dir = test::scratchDir();
@@ -156,6 +160,7 @@ TEST(BenchReportTest, DrawsEveryChartAsSvgAndPngAndThePageShowsThemWithTheTables
   EXPECT_NE(readFile(out / "charts" / "fig9-cpu-ssao.svg").find("paper, Fig. 9 (GTX 1080)"), std::string::npos);
   EXPECT_NE(readFile(out / "charts" / "speed-vs-rms-cpu-ssao.svg").find("Pareto front"), std::string::npos);
   EXPECT_NE(readFile(out / "charts" / "stress-cpu-ssao.svg").find("mrr-norule"), std::string::npos);
+  EXPECT_NE(readFile(out / "charts" / "flicker-cpu-flip.svg").find("FLIP flicker"), std::string::npos);
 
   const std::string page = readFile(out / "index.html");
   for (const std::string& name : kBenchCharts) {
@@ -170,7 +175,16 @@ TEST(BenchReportTest, DrawsEveryChartAsSvgAndPngAndThePageShowsThemWithTheTables
             std::string::npos);
   EXPECT_NE(page.find("<h3>Per scene (median over cameras)</h3>"), std::string::npos);
   EXPECT_NE(page.find("<td>arcade</td><td>ssao</td><td>mrr</td><td>2.20x</td>"), std::string::npos);
+  // FLIP beside RMS in the main and the per-scene tables: mrr's RMS over the arcade's two cameras
+  // is 0.001 and 0.002 (median 0.0015), its FLIP three times that.
+  EXPECT_EQ(count(page, "<th>FLIP</th>"), 2u);
+  EXPECT_NE(page.find("<td>arcade</td><td>ssao</td><td>mrr</td><td>2.20x</td><td>3.30x</td><td>0.0015</td><td>0.0045</td>"),
+            std::string::npos);
   EXPECT_NE(page.find("<td>1.29x</td>"), std::string::npos) << "the paper's Fig. 7 speedup at 720p, beside mrr";
+  // The stability table carries FLIP beside RMS: flicker, mean RMS, FLIP flicker, mean FLIP.
+  EXPECT_NE(page.find("<th>FLIP flicker</th>"), std::string::npos);
+  EXPECT_NE(page.find("<td>mrr</td><td>0.0005</td><td>0.01</td><td>0.0025</td><td>0.02</td>"),
+            std::string::npos);
   EXPECT_EQ(page.find("The paper's figures were not found"), std::string::npos);
   EXPECT_NE(page.find("document.body.dataset.loaded"), std::string::npos);
 }
@@ -199,7 +213,7 @@ TEST(CompareReportTest, ShowsEveryStageAndTheWorstPixelWithItsProbeCommand) {
   const Renderer renderer(rs.scene);
   const FrameResult oracle = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()));
   FrameResult port = oracle;
-  port.blend.final.at(41, 17) += 0.5f;
+  port.blend.final.at(41, 17) -= 0.5f;  // down: an unoccluded 1 + 0.5 would clamp to 1, invisible to FLIP
   const ParityResult result = compareFrames(oracle, port, rs.scene.light);
   ASSERT_EQ(result.firstFailing(), "final");
 
@@ -221,6 +235,19 @@ TEST(CompareReportTest, ShowsEveryStageAndTheWorstPixelWithItsProbeCommand) {
   EXPECT_NE(page.find("<code class=\"cmd\">" + probe + " --pixel 41,17</code>"), std::string::npos);
   EXPECT_NE(page.find("<b>41,17</b>"), std::string::npos);
   EXPECT_NE(page.find("Scene credit: Made by &lt;someone&gt; &amp; co."), std::string::npos);
+  // The FLIP map of the final image beside its |Δ| (in the overview and its section) and of the
+  // shaded one, with the magma scale and the mean: the planted pixel's, and 0 for the untouched
+  // shaded image.
+  const FlipStats planted = flip(oracle.final(), port.final()).stats;
+  ASSERT_GT(planted.mean, 0.0);
+  char mean[32];
+  std::snprintf(mean, sizeof mean, "%.3g", planted.mean);
+  EXPECT_EQ(count(page, "<figure class=\"flip\">"), 3u);
+  EXPECT_EQ(count(page, "mean <b class=\"flip-mean\">" + std::string(mean) + "</b>"), 2u) << mean;
+  const size_t shaded = page.find("id=\"ssao-shaded\"");
+  ASSERT_NE(shaded, std::string::npos);
+  EXPECT_NE(page.find("mean <b class=\"flip-mean\">0</b>, max 0:", shaded), std::string::npos);
+  EXPECT_NE(page.find(".ramp.magma{background:linear-gradient(to right,rgb(0,0,4)"), std::string::npos);
   // Self-contained: every image is an embedded PNG, nothing is fetched.
   const size_t images = count(page, "<img ");
   EXPECT_GT(images, 3 * result.rows.size() / 2);

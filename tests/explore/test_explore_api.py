@@ -73,6 +73,7 @@ class ExploreApi(unittest.TestCase):
         for part in self.info["parts"]:
             self.assertTrue(taught.get(part["name"], "").strip(), "no step-through text for " + part["name"])
         self.assertTrue(taught.get("difference", "").strip())
+        self.assertTrue(taught.get("flip", "").strip())
 
     # -- frames, layers, probes -------------------------------------------------------------
     def test_frame_report(self):
@@ -118,8 +119,31 @@ class ExploreApi(unittest.TestCase):
             self.assertEqual(body[:8], b"\x89PNG\r\n\x1a\n", layer)
             status, meta = self.server.json("api/stage/%s.json?%s" % (layer, FRAME))
             self.assertEqual(status, 200, layer)
-            self.assertIn(meta["kind"], ("binary", "effect", "scalar", "colour", "levels"))
+            self.assertIn(meta["kind"], ("binary", "effect", "scalar", "colour", "levels", "flip"))
             self.assertLessEqual(meta["lo"], meta["hi"], layer)
+
+    def test_flip_layer_against_full(self):
+        # Issue 36: the LDR-FLIP map of the method's final against full, with its magma legend and
+        # mean; the report's figure is the same number, and full against itself is 0 everywhere.
+        status, report = self.server.json("api/frame?" + FRAME)
+        self.assertEqual(status, 200, report)
+        self.assertEqual(report["explore"]["layers"][-2:], ["difference", "flip"])
+        status, meta = self.server.json("api/stage/flip.json?" + FRAME)
+        self.assertEqual(status, 200, meta)
+        self.assertEqual((meta["kind"], meta["lo"], meta["hi"], meta["channels"]), ("flip", 0.0, 1.0, ["flip"]))
+        self.assertTrue(meta["ramp"].startswith("linear-gradient(to right,rgb(0,0,4)"), meta["ramp"])
+        self.assertGreater(meta["mean"], 0.0)
+        self.assertAlmostEqual(meta["mean"], report["error_vs_full"]["flip"]["mean"], places=6)
+        self.assertIn("LDR-FLIP", meta["caption"])
+        status, ctype, body = self.server.get("api/stage/flip.png?" + FRAME)
+        self.assertEqual((status, ctype, body[:4]), (200, "image/png", b"\x89PNG"))
+        status, v = self.server.json("api/value?layer=flip&x=160&y=90&" + FRAME)
+        self.assertEqual(status, 200, v)
+        self.assertTrue(0.0 <= v["values"]["flip"] <= 1.0, v)
+        status, meta = self.server.json("api/stage/flip.json?method=full&" + FRAME)
+        self.assertEqual(status, 200, meta)
+        self.assertEqual(meta["mean"], 0.0)
+        self.assertIn("flip", {step["part"] for step in self.info["teach"]})
 
     def test_every_effect_and_method_has_its_layers(self):
         for effect, method, samples in [("ssm", "mrr", 16), ("ssgi", "mrr", 8), ("ssao", "tiles", 8),

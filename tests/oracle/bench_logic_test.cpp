@@ -4,14 +4,22 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/stages.h"
+#include "compare/bench.h"
 #include "compare/bench_report.h"
+#include "compare/flip.h"
+#include "compare/metrics.h"
 #include "compare/rule.h"
 #include "render_helpers.h"
 #include "scenes/cameras.h"
+#include "tests/test_support.h"
 
 namespace mrr {
 namespace {
@@ -30,6 +38,36 @@ TEST(Flicker, AnErrorThatFlipsSignEachFrameFlickersByTwiceItsSize) {
   FlickerMeter m;
   for (int t = 0; t < 4; ++t) m.add(filled(t % 2 ? 0.47f : 0.53f), filled(0.5f));
   EXPECT_NEAR(m.flicker(), 0.06, 1e-6);
+}
+
+// A grey ramp with a bright square planted in the middle, or without it.
+ImageF scene(bool planted) {
+  ImageF img(48, 32, 1, 0.0f);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const bool inSquare = x >= 18 && x < 30 && y >= 10 && y < 22;
+      img.at(x, y) = 0.2f + 0.01f * static_cast<float>(x) + (planted && inSquare ? 0.35f : 0.0f);
+    }
+  return img;
+}
+
+TEST(Flicker, FlipFlickerIsZeroForASteadyErrorAndTheWholeFlipOfOneThatComesAndGoes) {
+  const double planted = flip(scene(false), scene(true)).stats.mean;
+  ASSERT_GT(planted, 0.01) << "the planted square is visible";
+  FlickerMeter steady, blinking;
+  for (int t = 0; t < 4; ++t) {
+    steady.add(scene(true), scene(false));
+    blinking.add(scene(t % 2 == 1), scene(false));  // no error, the square, none, the square
+  }
+  EXPECT_EQ(steady.flipFlicker(), 0.0);
+  EXPECT_NEAR(steady.meanFlip(), planted, 1e-9);
+  // Every step changes the FLIP map from 0 to the square's map or back: |ΔFLIP| = its FLIP.
+  EXPECT_NEAR(blinking.flipFlicker(), planted, 1e-7);
+  EXPECT_NEAR(blinking.meanFlip(), planted / 2.0, 1e-9);
+  EXPECT_GT(blinking.flicker(), 0.0);
+  FlickerMeter one;
+  one.add(scene(true), scene(false));
+  EXPECT_EQ(one.flipFlicker(), 0.0) << "no frame-to-frame change before two frames";
 }
 
 TEST(Flicker, RejectsFramesOfDifferentSizes) {
@@ -209,6 +247,54 @@ TEST(RuleViews, AreTheCountTheSweepPlansFor) {
   std::set<std::string> names;
   for (const RuleView& v : views) names.insert(v.name);
   EXPECT_EQ(names, (std::set<std::string>{"catalogue", "default", "sky", "close-up"}));
+}
+
+// The bench end to end on tiny frames: its stability table carries FLIP beside RMS in the
+// JSON, the stability CSV and the Markdown, and a method at a quarter of the pixels along a
+// moving camera has a FLIP error that changes from frame to frame.
+TEST(BenchStability, TheFlickerTableCarriesFlipInJsonCsvAndMarkdown) {
+  const std::string dir = test::scratchDir();
+  BenchOptions o;
+  o.scenes = {"builtin:demo"};
+  o.sizes = {{32, 18}};
+  o.effects = {"ssao"};
+  o.samples = {4};
+  o.methods = {"full", "uniform-2", "mrr"};
+  o.cameras = 1;
+  o.repeats = 1;
+  o.paperSweeps = false;
+  o.frames = 4;
+  o.stabilitySize = {64, 36};
+  o.stabilityScenes = {"builtin:demo"};
+  o.stressScenes = {};
+  o.jsonOut = dir + "/bench.json";
+  o.csvOut = dir + "/bench.csv";
+  o.markdownOut = dir + "/bench.md";
+  const BenchPath cpu{"cpu", "cpu_ref, for a test", [](const Scene& scene) -> RenderFn {
+                        auto r = std::make_shared<Renderer>(scene);
+                        return [r](const Camera& c, const Constants& k, const RenderOptions& ro) { return r->render(c, k, ro); };
+                      }};
+  std::ostringstream out;
+  ASSERT_EQ(runBench(o, {cpu}, out), 0);
+
+  const nlohmann::json j = nlohmann::json::parse(test::readFile(o.jsonOut));
+  ASSERT_EQ(j.at("stability").size(), 2u * cameraPathKinds().size()) << "uniform-2 and mrr on every camera path";
+  for (const nlohmann::json& s : j.at("stability")) {
+    const double flipFlicker = s.at("flip_flicker").get<double>(), meanFlip = s.at("mean_flip").get<double>();
+    EXPECT_GE(flipFlicker, 0.0);
+    EXPECT_LE(meanFlip, 1.0);
+    if (s.at("method") == "uniform-2") {
+      EXPECT_GT(meanFlip, 0.0) << s.dump();
+      EXPECT_GT(flipFlicker, 0.0) << s.dump();
+    }
+  }
+  const std::string csv = test::readFile(stabilityCsvPath(o.csvOut));
+  EXPECT_EQ(stabilityCsvPath(o.csvOut), dir + "/bench-stability.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + static_cast<long>(j.at("stability").size()));
+  const std::string md = test::readFile(o.markdownOut);
+  EXPECT_NE(md.find("| flicker | mean RMS | FLIP flicker | mean FLIP |"), std::string::npos);
 }
 
 }  // namespace

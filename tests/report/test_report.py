@@ -78,6 +78,23 @@ class ChartTest(unittest.TestCase):
         names = [c.name for c in report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])]
         self.assertEqual(names, ["speed-vs-rms-cpu-ssao"])
 
+    def test_flip_flicker_is_charted_beside_flicker(self):
+        stability = [{"path": "cpu", "scene": "builtin:demo", "effect": "ssao", "camera_path": k, "frames": 60,
+                      "width": 320, "height": 180, "method": m, "flicker": f, "flip_flicker": ff}
+                     for k in ("orbit", "dolly") for m, f, ff in (("uniform-2", 0.004, 0.03), ("mrr", 0.001, 0.002))]
+        runs = [{"path": "cpu", "group": "none", "effect": "ssao"}]  # the charts go by the runs' paths
+        names = [c.name for c in report.bench_charts({"runs": runs, "stability": stability, "devices": {}}, [])]
+        self.assertEqual(names, ["flicker-cpu", "flicker-cpu-flip"])
+        chart = report.flicker("cpu", stability, "a test machine", key="flip_flicker")
+        heights = sorted(round(b.get_height(), 6) for b in chart.ax.patches)
+        self.assertEqual(heights, [0.002, 0.002, 0.03, 0.03])  # the FLIP figures, not the RMS ones
+        self.assertEqual(chart.ax.get_ylabel(), "FLIP flicker: mean |FLIP(t) - FLIP(t-1)|")
+        # Bench JSON written before FLIP: the RMS flicker chart alone.
+        for s in stability:
+            del s["flip_flicker"]
+        names = [c.name for c in report.bench_charts({"runs": runs, "stability": stability, "devices": {}}, [])]
+        self.assertEqual(names, ["flicker-cpu"])
+
 
 if __name__ == "__main__":
     unittest.main()

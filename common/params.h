@@ -112,6 +112,9 @@ struct Settings {
   EffectMaskSettings effectMask;  // mode mrr-effect only
   // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
   bool neverSlower = true;
+  // SPEC §7: the sampling seed of SSAO's and SSGI's kernels and per-pixel rotations; 0 is mrr's
+  // own sampling (the golden bits), any other value an independent draw of the same estimator.
+  uint32_t seed = 0;
 
   // The sample count of the selected effect (what --samples sets).
   int samples() const;
@@ -153,6 +156,7 @@ struct Constants {
     float bias = 0.0f;
     bool tangentPlaneDepth = true;
     std::vector<glm::vec3> kernel;  // tangent-space hemisphere samples (kernels.h)
+    uint32_t seed = 0;              // the sampling seed of the rotations (Settings::seed)
   } ssao;
   struct Ssm {
     int samples = 0;
@@ -168,6 +172,7 @@ struct Constants {
     float patchArea = 0.0f;          // A_s = π R² / N (Ritschel et al. 2009)
     float minDistance2 = 0.0f;       // (R/4)²: the sender distance is clamped to it
     std::vector<glm::vec3> kernel;   // same generator as SSAO's
+    uint32_t seed = 0;               // the sampling seed of the rotations (Settings::seed)
   } ssgi;
   struct EffectMask {  // mode mrr-effect (SPEC §12)
     float scale = 1.0f;

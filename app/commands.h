@@ -59,6 +59,7 @@ struct CompareCommand {
   FrameOptions frame;
   std::string reportDir;
   std::string against;  // --against FILE: another renderer's stages instead of the port
+  bool noiseAware = false;  // --noise-aware: the stochastic stages judged statistically (compare/noise.h)
 };
 void addCompareCommand(CLI::App& app, CompareCommand& c);
 int runCompareCommand(CompareCommand& c);

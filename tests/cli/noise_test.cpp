@@ -4,11 +4,17 @@
 // --noise-aware the comparison is exactly today's.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "common/hash.h"
 #include "common/image_io.h"
+#include "common/kernels.h"
 #include "tests/cli/run_mrr.h"
 #include "tests/test_support.h"
 
@@ -125,6 +131,74 @@ TEST(NoiseAware, ExactRunsAreUnchanged) {
   const Ran noise = mrr(with({"compare", "--against", ssmFile, "--noise-aware"}, ssm), dir);
   EXPECT_EQ(exact.status, 0) << exact.out;
   EXPECT_EQ(noise.out, exact.out);
+}
+
+// mrr's sampling as data: `shaders export` writes the kernels (JSON and EXR) and the rotation
+// hash with test vectors; examples/mrr_sampling.py reproduces them bit for bit from the
+// definitions alone, as a foreign renderer would.
+TEST(SamplingExport, KernelsAndHashAsDataReproducedOutsideMrr) {
+  const std::string dir = test::scratchDir();
+  const fs::path out = fs::path(dir) / "exported";
+  Ran r = mrr({"shaders", "export", out.string()}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("sampling/"), std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(test::readFile((out / "sampling" / "sampling.json").string()));
+  const std::vector<glm::vec3> ssao = ssaoKernel(64, kSsaoKernelSeed);
+  ASSERT_EQ(j["kernels"]["ssao"]["points"].size(), ssao.size());
+  for (size_t i = 0; i < ssao.size(); ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(j["kernels"]["ssao"]["points"][i][c].get<float>(), ssao[i][c]) << i;
+  for (const auto& v : j["rotation_test_vectors"])
+    EXPECT_EQ(v["hash"].get<uint32_t>(), rotationHash(v["x"], v["y"], v["level"], v["seed"])) << v.dump();
+  bool exr = false;
+  for (const ExrPart& p : readParts((out / "sampling" / "kernels.exr").string()))
+    if (p.name == "ssao") {
+      exr = true;
+      ASSERT_EQ(p.image.width, 64);
+      for (int i = 0; i < 64; ++i)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(p.image.at(i, 0, c), ssao[static_cast<size_t>(i)][c]);
+    }
+  EXPECT_TRUE(exr);
+  const std::string log = (fs::path(dir) / "py.txt").string();
+  const int status = std::system(("/usr/bin/python3 " + cli::quote(std::string(MRR_SOURCE_DIR) + "/examples/mrr_sampling.py") +
+                                  " " + cli::quote((out / "sampling" / "sampling.json").string()) + " >" + cli::quote(log) + " 2>&1")
+                                     .c_str());
+  EXPECT_EQ(status, 0) << test::readFile(log);
+  EXPECT_NE(test::readFile(log).find("ssao kernel: 64 of 64 points bit for bit"), std::string::npos) << test::readFile(log);
+  EXPECT_NE(test::readFile(log).find("ssgi kernel: 288 of 288 points bit for bit"), std::string::npos);
+}
+
+// The example of a foreign SSAO with its own noise (examples/ssao-own-noise: interleaved gradient
+// noise for the rotations): FAIL exactly, PASS noise-aware; 3% too dark, or its occluders looked up
+// half a pixel off, FAIL at raw.L0 naming the bias.
+TEST(NoiseAware, TheOwnNoiseExampleThroughThePort) {
+  const std::string dir = test::scratchDir();
+  REQUIRE_GL(dir);
+  const std::string example = std::string(MRR_SOURCE_DIR) + "/examples/ssao-own-noise";
+  const std::vector<std::string> frame = {"--scene", "builtin:demo", "--effect", "ssao", "--size", "160x90", "--samples",
+                                          "16", "-q"};
+  Ran r = mrr(with({"compare", "--shaders", example}, frame), dir);
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_EQ(lastLine(r.out), "FAIL: first failing stage raw.L0 (ssao.frag)") << r.out;
+  r = mrr(with({"compare", "--shaders", example, "--noise-aware"}, frame), dir);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  const std::string source = test::readFile(example + "/ssao.frag");
+  const std::pair<std::string, std::string> bugs[] = {
+      {"ao = vec4(1.0 - occlusion / float(samples), 0.0, 0.0, 1.0);",
+       "ao = vec4(0.97 * (1.0 - occlusion / float(samples)), 0.0, 0.0, 1.0);"},
+      {"nearestLevelTexel(px, invScale)", "nearestLevelTexel(px + vec2(0.5), invScale)"}};
+  for (const auto& [find, replace] : bugs) {
+    const size_t at = source.find(find);
+    ASSERT_NE(at, std::string::npos) << find;
+    const fs::path bugged = fs::path(dir) / "bugged";
+    fs::create_directories(bugged);
+    std::ofstream(bugged / "ssao.frag") << source.substr(0, at) + replace + source.substr(at + find.size());
+    r = mrr(with({"compare", "--shaders", bugged.string(), "--noise-aware"}, frame), dir);
+    EXPECT_EQ(r.status, 1) << replace << "\n" << r.out << r.err;
+    EXPECT_EQ(lastLine(r.out), "FAIL: first failing stage raw.L0 (ssao.frag)") << replace << "\n" << r.out;
+    const size_t line = r.out.find("  raw.L0 FAIL: ");
+    ASSERT_NE(line, std::string::npos) << r.out;
+    EXPECT_NE(r.out.substr(line, r.out.find('\n', line) - line).find("bias -"), std::string::npos) << r.out;
+  }
 }
 
 }  // namespace

@@ -384,7 +384,11 @@ std::string shaderExportReadme() {
       "- the host pastes the variant's #defines and the shared constants after #version, then `#line 2 0`;\n"
       "- full-screen passes: pixel = ivec2(gl_FragCoord.xy), read textures with texelFetch;\n"
       "- the effect passes run only where the stencil S_l = 1;\n"
-      "- keep every uniform the built-in uses, and every output at its location.\n\n"
+      "- keep every uniform the built-in uses (`seed` excepted: a shader with its own noise may drop it), and every "
+      "output at its location.\n\n"
+      "`sampling/` holds mrr's sampling as data (the SSAO and SSGI kernels, the rotation hash with test vectors): "
+      "draw the same samples and `compare` judges your SSAO pixel for pixel; draw your own and judge it with "
+      "`compare --noise-aware` (docs/validate-your-own.md).\n\n"
       "| file | role | programs | outputs |\n|---|---|---|---|\n";
   for (const ShaderContract& c : shaderContracts()) {
     std::string outs;

@@ -209,6 +209,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   c.effectMask.cap = s.effectMask.cap;
   c.effectMask.firstLevel = s.effectMask.firstLevel;
 
+  c.renderCoarseGBuffer = s.renderCoarseGBuffer;
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f
                       ? s.ssao.radius

@@ -115,6 +115,9 @@ struct Settings {
   // SPEC §7: the sampling seed of SSAO's and SSGI's kernels and per-pixel rotations; 0 is mrr's
   // own sampling (the golden bits), any other value an independent draw of the same estimator.
   uint32_t seed = 0;
+  // SPEC §1: the coarser levels' G-buffers rendered at their own pixel centres (the paper's
+  // convention; --coarse-gbuffer render) instead of subsampled from level 0 (mrr's).
+  bool renderCoarseGBuffer = false;
 
   // The sample count of the selected effect (what --samples sets).
   int samples() const;
@@ -150,6 +153,7 @@ struct Constants {
   int coarsestEnabled = kLevelCount - 1;
   EdgeSettings edges;
   bool neverSlower = true;  // SPEC §11 (mode mrr only)
+  bool renderCoarseGBuffer = false;  // SPEC §1: levels ≥ 1 rendered at their pixel centres, not subsampled
   struct Ssao {
     int samples = 0;
     float radius = 0.0f;

@@ -32,6 +32,7 @@ struct FrameOptions {
   std::optional<int> samples;
   int threads = 0;
   int seed = 0;  // --seed (Settings::seed)
+  std::string coarseGBuffer = "subsample";  // --coarse-gbuffer (Settings::renderCoarseGBuffer)
   std::optional<int> camera;
   std::string eye, target, up, lightDir, frameFile;
   std::string blendMaterials = "opaque";

@@ -201,5 +201,29 @@ TEST(NoiseAware, TheOwnNoiseExampleThroughThePort) {
   }
 }
 
+// --coarse-gbuffer render (docs/spec.md §1, the paper's convention) on both paths: `compare`
+// passes, every effect, on built-in scenes with edges, cutouts and thin geometry; the frame file
+// records it.
+TEST(CoarseGBuffer, RenderPassesCompareOnBuiltins) {
+  const std::string dir = test::scratchDir();
+  REQUIRE_GL(dir);
+  for (const std::string scene : {"builtin:demo", "builtin:fence", "builtin:wires"}) {
+    const Ran r = mrr({"compare", "--scene", scene, "--effect", "all", "--size", "96x64", "--samples", "16",
+                       "--coarse-gbuffer", "render", "-q"},
+                      dir);
+    EXPECT_EQ(r.status, 0) << scene << "\n" << r.out << r.err;
+    EXPECT_NE(r.out.find("\ngbuffer.L1.depth "), std::string::npos) << r.out;
+  }
+  const std::string frame = (fs::path(dir) / "frame.json").string();
+  Ran r = mrr({"render", "--size", "32x18", "-q", "--coarse-gbuffer", "render", "--frame-out", frame, "--out",
+               (fs::path(dir) / "a.exr").string()},
+              dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(test::readFile(frame).find("\"coarse_gbuffer\": \"render\""), std::string::npos) << test::readFile(frame);
+  r = mrr({"render", "--size", "8x8", "-q", "--coarse-gbuffer", "rays", "--out", (fs::path(dir) / "b.exr").string()}, dir);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("mrr: error: --coarse-gbuffer rays: expected subsample or render"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace mrr

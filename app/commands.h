@@ -49,6 +49,7 @@ struct ProbeCommand {
   std::string pixel;
   bool json = false;
   std::string against;  // --against FILE (with --path both)
+  bool noiseAware = false;  // --noise-aware (with --path both): the stochastic stages' means and intervals
 };
 void addProbeCommand(CLI::App& app, ProbeCommand& c);
 int runProbeCommand(ProbeCommand& c);

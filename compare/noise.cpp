@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "common/stages.h"
 #include "common/tolerance.h"
@@ -212,6 +213,42 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
     f.biases.push_back(b);
   }
   return f;
+}
+
+std::string describeNoisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference,
+                               int x, int y) {
+  std::string out = "noise-aware: the stochastic stages at " + std::to_string(x) + "," + std::to_string(y) +
+                    " against the oracle's " + std::to_string(reference.seeds) + " seeds (docs/spec.md 8)\n";
+  for (const auto& [stage, image] : stochasticImages(subject)) {
+    const auto seeds = reference.stages.find(stage);
+    if (seeds == reference.stages.end() || seeds->second.empty()) continue;
+    const size_t at = stage.find(".L");
+    const int level = at == std::string::npos ? -1 : std::stoi(stage.substr(at + 2));
+    const int scale = level < 0 ? 1 : oracle.constants.levels[static_cast<size_t>(level)].scale;
+    const int lx = x / scale, ly = y / scale;
+    char text[400];
+    if (lx >= image->width || ly >= image->height) continue;
+    const size_t p = static_cast<size_t>(ly) * image->width + lx;
+    if (level >= 0) {
+      const ImageU8& s = oracle.levels[static_cast<size_t>(level)].masks.stencil;
+      if (s.data.size() == image->pixelCount() && !s.data[p]) {
+        std::snprintf(text, sizeof text, "  %-8s not shaded at level pixel %d,%d\n", stage.c_str(), lx, ly);
+        out += text;
+        continue;
+      }
+    }
+    std::vector<char> one(image->pixelCount(), 0);
+    one[p] = 1;
+    const NoiseFigures f = noiseTest(*image, seeds->second, one, {}, reference.samples);
+    const bool inside = f.worstValue >= f.worstLo && f.worstValue <= f.worstHi;
+    std::snprintf(text, sizeof text,
+                  "  %-8s %.6g; the oracle's mean %.6g, one draw in [%.6g, %.6g] (%.3g%%, this pixel alone): %s, t = %.3g%s\n",
+                  stage.c_str(), f.worstValue, f.worstMean, f.worstLo, f.worstHi, 100.0 * (1.0 - f.pixelLevel),
+                  inside ? "inside" : "OUTSIDE", f.worstT,
+                  image->channels > 1 ? (" (channel " + std::to_string(f.worstChannel) + ", the farthest)").c_str() : "");
+    out += text;
+  }
+  return out;
 }
 
 void applyNoiseAware(ParityResult& result, const FrameResult& oracle, const FrameResult& subject,

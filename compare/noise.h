@@ -57,4 +57,10 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
 void applyNoiseAware(ParityResult& result, const FrameResult& oracle, const FrameResult& subject,
                      const NoiseReference& reference);
 
+// `mrr probe --path both --noise-aware`: each stochastic stage at full-res pixel (x, y): the
+// subject's value, the oracle's mean over the K seeds, the interval one draw lands in (this pixel
+// alone, at kNoiseRule.pixelAlpha) and where the value falls in it. One line a stage.
+std::string describeNoisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference,
+                               int x, int y);
+
 }  // namespace mrr

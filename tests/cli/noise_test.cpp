@@ -201,6 +201,38 @@ TEST(NoiseAware, TheOwnNoiseExampleThroughThePort) {
   }
 }
 
+// probe --path both --noise-aware: a stochastic pixel's mean over the oracle's seeds, the interval
+// one draw lands in, and where the file's value falls: inside for another seed, OUTSIDE for a
+// pixel planted at 0.
+TEST(NoiseAware, ProbeShowsThePixelsMeanAndInterval) {
+  const std::string dir = test::scratchDir();
+  std::vector<ExrPart> parts = readParts(stages(dir, "seed7.exr", {"--seed", "7"}));
+  int px = -1, py = -1;
+  for (const ExrPart& p : parts)
+    if (p.name == "stencil.L0")
+      for (int y = 20; y < p.image.height && px < 0; ++y)
+        for (int x = 20; x < p.image.width && px < 0; ++x)
+          if (p.image.at(x, y) > 0.5f) px = x, py = y;
+  ASSERT_GE(px, 0);
+  const std::string pixel = std::to_string(px) + "," + std::to_string(py);
+  Ran r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against",
+                    (fs::path(dir) / "seed7.exr").string()}, kFrame), dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("noise-aware: the stochastic stages at " + pixel), std::string::npos) << r.out;
+  const size_t raw = r.out.find("\n  raw.L0   ");
+  ASSERT_NE(raw, std::string::npos) << r.out;
+  EXPECT_NE(r.out.substr(raw, r.out.find('\n', raw + 1) - raw).find(": inside"), std::string::npos) << r.out;
+  for (ExrPart& p : parts)
+    if (p.name == "raw.L0") p.image.at(px, py) = 0.0f;
+  const std::string planted = (fs::path(dir) / "planted.exr").string();
+  writeMultiPartExr(planted, parts, 160, 90);
+  r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against", planted}, kFrame), dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const size_t at = r.out.find("\n  raw.L0   0;");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NE(r.out.substr(at, r.out.find('\n', at + 1) - at).find("OUTSIDE"), std::string::npos) << r.out;
+}
+
 // --coarse-gbuffer render (docs/spec.md §1, the paper's convention) on both paths: `compare`
 // passes, every effect, on built-in scenes with edges, cutouts and thin geometry; the frame file
 // records it.

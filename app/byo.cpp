@@ -1,10 +1,16 @@
 #include "app/byo.h"
 
+#include <nlohmann/json.hpp>
+
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 
 #include "common/error.h"
+#include "common/hash.h"
 #include "common/image_io.h"
+#include "common/kernels.h"
+#include "common/params.h"
 #include "common/shader_contract.h"
 #include "common/stages.h"
 #include "compare/against.h"
@@ -77,6 +83,57 @@ void addShadersCommand(CLI::App& app, ShadersCommand& s) {
       "contract", "print docs/shader-contract.md: each shader's inputs, uniforms, outputs and the oracle's function");
 }
 
+namespace {
+
+// mrr's sampling as data (issue 40; docs/spec.md §7.1), for a renderer that wants the oracle's
+// exact numbers: the kernels at the default sample counts of seed 0 (JSON and a two-part EXR,
+// one N x 1 RGB row each), and the rotation hash's definition with test vectors.
+void writeSampling(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  require(std::filesystem::is_directory(dir, ec), "shaders export " + dir.string() + ": cannot make the folder");
+  nlohmann::json j = {{"mrr_sampling", 1},
+                      {"spec", "docs/spec.md 6 and 7.1"},
+                      {"seed", 0},
+                      {"kernel_generator",
+                       "ssaoKernel(n, kernelSeed(base, seed)), kernelSeed(base, seed) = base + seed * 0x9e3779b9 "
+                       "(uint32 wrap-around); common/kernels.cpp"},
+                      {"rotation",
+                       "angle = 2 pi hashToUnit(rotationHash(x, y, level, seed)), rotationHash = pixelHash(x, y, level + "
+                       "4 seed), pixelHash(x, y, l) = pcg(x + pcg(y + pcg(l))), hashToUnit(h) = (h >> 8) / 2^24; "
+                       "common/hash.h, cpu_ref/hemisphere.h sampleFrame"}};
+  std::vector<ExrPart> parts;
+  int widest = 1;
+  const std::pair<const char*, uint32_t> kernels[] = {{"ssao", kSsaoKernelSeed}, {"ssgi", kSsgiKernelSeed}};
+  for (const auto& [name, base] : kernels) {
+    const int n = defaultSettings(std::string(name) == "ssao" ? Effect::Ssao : Effect::Ssgi).samples();
+    const std::vector<glm::vec3> k = ssaoKernel(n, kernelSeed(base, 0));
+    nlohmann::json points = nlohmann::json::array();
+    ExrPart part{name, ImageF(n, 1, 3), {"R", "G", "B"}};
+    for (int i = 0; i < n; ++i) {
+      const glm::vec3& v = k[static_cast<size_t>(i)];
+      points.push_back({v.x, v.y, v.z});
+      for (int c = 0; c < 3; ++c) part.image.at(i, 0, c) = v[c];
+    }
+    j["kernels"][name] = {{"base_seed", base}, {"samples", n}, {"points", points}};
+    widest = std::max(widest, n);
+    parts.push_back(std::move(part));
+  }
+  nlohmann::json vectors = nlohmann::json::array();
+  for (const auto& [x, y, level, seed] : {std::array<uint32_t, 4>{0, 0, 0, 0}, {3, 5, 2, 0}, {3, 5, 2, 1},
+                                          {1279, 719, 0, 0}, {17, 9, 3, 12345}, {100, 50, 1, 1000000}}) {
+    const uint32_t h = rotationHash(x, y, level, seed);
+    vectors.push_back({{"x", x}, {"y", y}, {"level", level}, {"seed", seed}, {"hash", h},
+                       {"angle", 6.28318530717958647692f * hashToUnit(h)}});
+  }
+  j["rotation_test_vectors"] = vectors;
+  j["pcg_test_vectors"] = {{{"v", 0}, {"pcg", pcgHash(0u)}}, {{"v", 1}, {"pcg", pcgHash(1u)}}, {{"v", 12345}, {"pcg", pcgHash(12345u)}}};
+  writeTextFile((dir / "sampling.json").string(), j.dump(1) + "\n");
+  writeMultiPartExr((dir / "kernels.exr").string(), parts, widest, 1, {{"mrr:sampling", "seed 0; docs/spec.md 7.1"}});
+}
+
+}  // namespace
+
 int runShadersCommand(const ShadersCommand& s) {
   if (s.contractCommand->parsed()) {
     std::cout << shaderContractMarkdown();
@@ -91,7 +148,9 @@ int runShadersCommand(const ShadersCommand& s) {
   for (const std::string& n : names)
     writeTextFile((std::filesystem::path(dir) / n).string(), gpu::builtinShaderSource(n));
   writeTextFile((std::filesystem::path(dir) / "README.md").string(), shaderExportReadme());
-  std::cout << "wrote " << names.size() << " shaders and README.md to " << dir << "\n";
+  writeSampling(std::filesystem::path(dir) / "sampling");
+  std::cout << "wrote " << names.size() << " shaders, README.md and sampling/ (the kernels and the rotation hash) to "
+            << dir << "\n";
   return 0;
 }
 

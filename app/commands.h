@@ -49,6 +49,7 @@ struct ProbeCommand {
   std::string pixel;
   bool json = false;
   std::string against;  // --against FILE (with --path both)
+  bool noiseAware = false;  // --noise-aware (with --path both): the stochastic stages' means and intervals
 };
 void addProbeCommand(CLI::App& app, ProbeCommand& c);
 int runProbeCommand(ProbeCommand& c);
@@ -59,6 +60,7 @@ struct CompareCommand {
   FrameOptions frame;
   std::string reportDir;
   std::string against;  // --against FILE: another renderer's stages instead of the port
+  bool noiseAware = false;  // --noise-aware: the stochastic stages judged statistically (compare/noise.h)
 };
 void addCompareCommand(CLI::App& app, CompareCommand& c);
 int runCompareCommand(CompareCommand& c);

@@ -17,6 +17,7 @@
 #include "compare/against.h"
 #include "compare/constant_effect.h"
 #include "compare/html_report.h"
+#include "compare/noise.h"
 #include "compare/parity.h"
 #include "compare/report_python.h"
 #include "frontend/renderers.h"
@@ -28,6 +29,11 @@ void addCompareCommand(CLI::App& app, CompareCommand& c) {
   c.frame.add(*c.command);
   c.command->add_option("--report", c.reportDir, "also write a self-contained HTML report into this folder");
   addAgainstOption(*c.command, c.against);
+  c.command->add_flag("--noise-aware", c.noiseAware,
+                      "ssao/ssgi: judge the stochastic stages (raw.L*, sub.L*, final, shaded) statistically against "
+                      "the oracle rendered with " + std::to_string(kNoiseRule.seeds) +
+                          " independent seeds, for a renderer with its own noise (another --seed, blue noise); "
+                          "the deterministic stages keep their exact rules (docs/compare.md)");
 }
 
 namespace {
@@ -95,7 +101,8 @@ std::string failingFigures(const ParityResult& result) {
     if (r.verdict() != "FAIL") continue;
     const std::optional<StageCheck>& check = r.sameInput && !r.sameInput->pass ? r.sameInput : r.endToEnd;
     std::ostringstream text;
-    if (check) text << check->rule << " " << check->figures;
+    if (check && check->noise) text << "noise-aware: " << check->noise->describe();
+    else if (check) text << check->rule << " " << check->figures;
     return text.str();
   }
   return {};
@@ -149,6 +156,21 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
       result = compareForeign(*reference, foreign, rs.scene.light);
       notChecked = formatNotChecked(foreign);
       subject = std::make_unique<FrameResult>(std::move(foreign.frame));
+    }
+    if (c.noiseAware && isStochastic(s.effect)) {
+      // The oracle's stochastic stages over K independent seeds (compare/noise.h).
+      const NoiseReference noise = buildNoiseReference(
+          [&](uint32_t seed) {
+            Settings seeded = s;
+            seeded.seed = seed;
+            return oracle->render(rs.camera, makeConstants(seeded, rs.scene.bounds().diagonal()), {true, {}, &costs});
+          },
+          k.samples(), [&](int i, int n) {
+            if (!fo.quiet) std::cerr << "[mrr] noise-aware: oracle seed " << i + 1 << "/" << n << "\n";
+          });
+      applyNoiseAware(result, *reference, *subject, noise);
+    } else if (c.noiseAware && !fo.quiet) {
+      std::cerr << "[mrr] noise-aware: " << toString(s.effect) << " has no stochastic stage; every stage exact\n";
     }
     std::ostringstream table;
     if (&s != &settings.front()) table << "\n";  // the last line is the verdict

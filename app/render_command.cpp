@@ -13,6 +13,7 @@
 #include "common/pixel_memory.h"
 #include "common/stages.h"
 #include "compare/against.h"
+#include "compare/noise.h"
 #include "compare/probe_both.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
@@ -39,6 +40,9 @@ void addProbeCommand(CLI::App& app, ProbeCommand& c) {
   c.command->add_option("--pixel", c.pixel, "X,Y of the full-res pixel")->required();
   c.command->add_flag("--json", c.json, "print JSON instead of text");
   addAgainstOption(*c.command, c.against);
+  c.command->add_flag("--noise-aware", c.noiseAware,
+                      "with --path both, ssao/ssgi: also each stochastic stage's mean over the oracle's independent "
+                      "seeds, the interval one draw lands in, and where the value falls in it (compare --noise-aware)");
 }
 
 namespace {
@@ -73,6 +77,18 @@ int probeBothPaths(const ProbeCommand& c, const ResolvedScene& rs, const Constan
                              : readForeignStages(c.against, o).frame;
   const nlohmann::json jo = probePixel(o, x, y), jp = probePixel(p, x, y);
   std::cout << (c.json ? probeBothJson(jo, jp).dump(2) + "\n" : formatProbeSideBySide(jo, jp, port ? port->device() : c.against));
+  if (c.noiseAware && isStochastic(constants.effect) && !c.json) {
+    Settings settings = fo.settings();
+    const NoiseReference noise = buildNoiseReference(
+        [&](uint32_t seed) {
+          settings.seed = seed;
+          return oracle->render(rs.camera, makeConstants(settings, rs.scene.bounds().diagonal()), {true, {}, &costs});
+        },
+        constants.samples(), [&](int i, int n) {
+          if (!fo.quiet) std::cerr << "[mrr] noise-aware: oracle seed " << i + 1 << "/" << n << "\n";
+        });
+    std::cout << describeNoisePixel(o, p, noise, x, y);
+  }
   return 0;
 }
 
@@ -113,6 +129,8 @@ int runProbeCommand(ProbeCommand& c) {
     checkForeignStagesFile(c.against, fo.effect);
     fo.neverSlowerDefault = false;  // as compare: the stages of every level, as `render --never-slower off` writes them
   }
+  require(!c.noiseAware || fo.path == "both",
+          "--noise-aware: probe judges a pixel's stochastic stages against the oracle's seeds: add --path both");
   const Settings settings = checkedSettings(fo);
   const auto [x, y] = parsePixel(c.pixel);
   require(x >= 0 && y >= 0 && x < settings.width && y < settings.height,

@@ -40,6 +40,15 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::Samples, "samples", "", K::Int, "", "samples per pixel (ssm: PCF taps)", kFile, kPage},
     {Param::Threads, "threads", "", K::Int, "", "worker threads (0 = all cores); results are identical for any count",
      kNoFile, kNoPage},
+    {Param::Seed, "seed", "", K::Int, "",
+     "ssao/ssgi: the sampling seed of the kernel and the per-pixel rotations (0 = mrr's own sampling; another value "
+     "draws the same estimator's noise anew, for `compare --noise-aware`)",
+     kFile, kNoPage},
+    {Param::CoarseGbuffer, "coarse_gbuffer", "", K::Text, "",
+     "the coarser levels' G-buffers: subsample (level pixel (x, y) copies full-res pixel (x s + s/2, y s + s/2), "
+     "mrr's) or render (one sample at the level pixel's centre ((x + 1/2) s, (y + 1/2) s), the paper's: a ray on "
+     "the oracle, rasterised at the level's size on the port); docs/spec.md §1",
+     kFile, kNoPage},
     {Param::Camera, "camera", "", K::Int, "", "index into the scene's cameras", kNoFile, kPage},
     {Param::Eye, "eye", "", K::Triple, "", "camera position x,y,z (with --target)", kFile, kPage},
     {Param::Target, "target", "", K::Triple, "", "camera target x,y,z (with --eye)", kFile, kPage},
@@ -178,6 +187,7 @@ std::string paramRange(Param param) {
     case Param::AoRadius:
     case Param::GiRadius: return ">= 0";
     case Param::Threads: return "[0, 1024]";
+    case Param::Seed: return "[0, 1073741823]";
     default: return "";
   }
 }

@@ -18,7 +18,7 @@ namespace mrr {
 
 enum class Param {
   Scene, Effect, Method, NeverSlower, CostModel, Path, GlDevice, GpuTiming, Size, Samples, Threads,
-  Camera, Eye, Target, Up, Fov, Frame, BlendMaterials, LightDir, FlipUp, NoFlipUp, AoRadius,
+  Seed, CoarseGbuffer, Camera, Eye, Target, Up, Fov, Frame, BlendMaterials, LightDir, FlipUp, NoFlipUp, AoRadius,
   ShadowMapSize, LightAngle, GiRadius, AoTexelDepth, TauN, TauZ, DisableLevel, Sigma2, Weights,
   MemoryLimit, Quiet,
 };

@@ -36,7 +36,13 @@ std::vector<glm::vec3> ssaoKernel(int n, uint32_t seed) {
     glm::vec3 v;
     float len2 = 0.0f;
     do {  // rejection-sample the unit half-ball, so directions are uniform
-      v = glm::vec3(next() * 2.0f - 1.0f, next() * 2.0f - 1.0f, next());
+      // Drawn z, then y, then x, in statements: the vector was once built from three calls in
+      // one expression, whose order C++ leaves unspecified (GCC went right to left); this keeps
+      // those bits and makes them the same under any compiler (docs/spec.md §7.1).
+      const float z = next();
+      const float y = next() * 2.0f - 1.0f;
+      const float x = next() * 2.0f - 1.0f;
+      v = glm::vec3(x, y, z);
       len2 = glm::dot(v, v);
     } while (len2 > 1.0f || len2 < 1e-4f);
     v /= std::sqrt(len2);

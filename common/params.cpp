@@ -208,13 +208,15 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   c.effectMask.posterior = s.effectMask.posterior;
   c.effectMask.posteriorFinest = s.effectMask.posteriorFinest;
 
+  c.renderCoarseGBuffer = s.renderCoarseGBuffer;
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f
                       ? s.ssao.radius
                       : SsaoSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
   c.ssao.bias = s.ssao.biasFraction * c.ssao.radius;
   c.ssao.tangentPlaneDepth = s.ssao.tangentPlaneDepth;
-  c.ssao.kernel = ssaoKernel(s.ssao.samples);
+  c.ssao.kernel = ssaoKernel(s.ssao.samples, kernelSeed(kSsaoKernelSeed, s.seed));
+  c.ssao.seed = s.seed;
 
   c.ssm.samples = s.ssm.samples;
   c.ssm.grid = squareRoot(s.ssm.samples);
@@ -228,7 +230,8 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
                                        : SsgiSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
   c.ssgi.patchArea = 3.14159265f * c.ssgi.radius * c.ssgi.radius / static_cast<float>(s.ssgi.samples);
   c.ssgi.minDistance2 = 0.0625f * c.ssgi.radius * c.ssgi.radius;
-  c.ssgi.kernel = ssaoKernel(s.ssgi.samples, 0x51a61u);
+  c.ssgi.kernel = ssaoKernel(s.ssgi.samples, kernelSeed(kSsgiKernelSeed, s.seed));
+  c.ssgi.seed = s.seed;
 
   c.bilateral.radius = s.bilateral.radius;
   c.bilateral.sigmaDepth = s.bilateral.sigmaDepth;

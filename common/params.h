@@ -114,6 +114,12 @@ struct Settings {
   EffectMaskSettings effectMask;  // mode mrr-effect only
   // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
   bool neverSlower = true;
+  // SPEC §7: the sampling seed of SSAO's and SSGI's kernels and per-pixel rotations; 0 is mrr's
+  // own sampling (the golden bits), any other value an independent draw of the same estimator.
+  uint32_t seed = 0;
+  // SPEC §1: the coarser levels' G-buffers rendered at their own pixel centres (the paper's
+  // convention; --coarse-gbuffer render) instead of subsampled from level 0 (mrr's).
+  bool renderCoarseGBuffer = false;
 
   // The sample count of the selected effect (what --samples sets).
   int samples() const;
@@ -149,12 +155,14 @@ struct Constants {
   int coarsestEnabled = kLevelCount - 1;
   EdgeSettings edges;
   bool neverSlower = true;  // SPEC §11 (mode mrr only)
+  bool renderCoarseGBuffer = false;  // SPEC §1: levels ≥ 1 rendered at their pixel centres, not subsampled
   struct Ssao {
     int samples = 0;
     float radius = 0.0f;
     float bias = 0.0f;
     bool tangentPlaneDepth = true;
     std::vector<glm::vec3> kernel;  // tangent-space hemisphere samples (kernels.h)
+    uint32_t seed = 0;              // the sampling seed of the rotations (Settings::seed)
   } ssao;
   struct Ssm {
     int samples = 0;
@@ -170,6 +178,7 @@ struct Constants {
     float patchArea = 0.0f;          // A_s = π R² / N (Ritschel et al. 2009)
     float minDistance2 = 0.0f;       // (R/4)²: the sender distance is clamped to it
     std::vector<glm::vec3> kernel;   // same generator as SSAO's
+    uint32_t seed = 0;               // the sampling seed of the rotations (Settings::seed)
   } ssgi;
   struct EffectMask {  // mode mrr-effect (SPEC §12)
     float scale = 1.0f;

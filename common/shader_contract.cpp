@@ -21,6 +21,9 @@ constexpr ShaderVariable kKernel = {"kernel", "sampler2D RGB32F, N x 1",
                                     "the host's hemisphere kernel in the tangent frame (common/kernels.h), one texel a sample"};
 constexpr ShaderVariable kSamples = {"samples", "int", "N, the samples per pixel (--samples)"};
 constexpr ShaderVariable kLevel = {"level", "int", "l, the level (0 = full res); seeds the per-pixel hash"};
+constexpr ShaderVariable kSeed = {"seed", "uint",
+                                  "the sampling seed (--seed; 0 = mrr's own): the rotation hashes (x, y, level + 4 seed); optional: a "
+                                  "shader with its own noise may leave it out"};
 constexpr ShaderVariable kInvScale = {"invScale", "float", "1 / s_l, s_l = 2^l the level's scale"};
 constexpr ShaderVariable kCamera = {"camera", "vec3",
                                     "(focal length, cx, cy) of the full-res image, in full-res pixels"};
@@ -83,8 +86,8 @@ const std::vector<ShaderContract>& shaderContracts() {
        "cpu_ref/blend.cpp: upsampleAt (bilinear over the four level texels with S = 1, renormalised) and blendStep "
        "with the erratum-corrected Eq. 1, c'_l = alpha_l c^_l + (1 - alpha_l) c'_(l+1), coarse to fine."},
       {"common.glsl", "include", "ssao, ssgi, hash", "", {}, {}, {},
-       "common/hash.h pixelHash (PCG, 32-bit wrap-around), cpu_ref/hemisphere.h sampleFrame (the kernel rotated "
-       "about N by an angle from the hash of (x, y, level)) and common/frame.h nearestLevelTexel (the texel whose "
+       "common/hash.h pixelHash (PCG, 32-bit wrap-around) and rotationHash, cpu_ref/hemisphere.h sampleFrame (the "
+       "kernel rotated about N by an angle from the hash of (x, y, level + 4 seed)) and common/frame.h nearestLevelTexel (the texel whose "
        "sample is nearest a projected point)."},
       {"cutout.glsl", "include", "gbuffer, shadowmap", "",
        {{"cutout", "sampler2D R8", "the mesh's alpha cutout: 1 where the texel is opaque (Scene::cutouts)"}},
@@ -248,7 +251,8 @@ const std::vector<ShaderContract>& shaderContracts() {
        {kSamples, kLevel, kInvScale, kCamera,
         {"radius", "float", "R, the SSAO radius in world (view) units (--ao-radius; default 3% of the scene diagonal)"},
         {"bias", "float", "the depth bias, world units"},
-        {"tangentPlaneDepth", "bool", "occluder depth from the texel's tangent plane (false: --ao-texel-depth)"}},
+        {"tangentPlaneDepth", "bool", "occluder depth from the texel's tangent plane (false: --ao-texel-depth)"},
+        kSeed},
        {{"ao", "vec4 -> R32F", "the ambient occlusion AO in [0, 1] in r (1 = unoccluded)", 0}},
        "cpu_ref/ssao.cpp renderSsao: N hemisphere samples of radius R about the receiver, each projected to the "
        "level's G-buffer; occluded when the buffer is in front by more than the bias, weighted by the range check. "
@@ -266,7 +270,9 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"camera", "vec3", "(focal, cx, cy) in full-res pixels", -1, "default"},
         {"radius", "float", "R, world units (--gi-radius)", -1, "default"},
         {"patchArea", "float", "A = pi R^2 / N, world units squared", -1, "default"},
-        {"minDistance2", "float", "(R/4)^2: the sender distance is clamped to it, world units squared", -1, "default"}},
+        {"minDistance2", "float", "(R/4)^2: the sender distance is clamped to it, world units squared", -1, "default"},
+        {"seed", "uint", "the sampling seed (--seed; 0 = mrr's own): rotationHash(x, y, level, seed); optional", -1,
+         "default"}},
        {{"direct", "vec4 -> RGBA32F", "albedo x max(N.L, 0) x shadow x light colour", 0, "DIRECT_LIGHT"},
         {"indirect", "vec4 -> RGBA32F", "the indirect light, rgb", 0, "default"}},
        "cpu_ref/ssgi.cpp directLight and renderSsgi: N hemisphere samples, each projected pixel a sender patch of "
@@ -395,7 +401,11 @@ std::string shaderExportReadme() {
       "- the host pastes the variant's #defines and the shared constants after #version, then `#line 2 0`;\n"
       "- full-screen passes: pixel = ivec2(gl_FragCoord.xy), read textures with texelFetch;\n"
       "- the effect passes run only where the stencil S_l = 1;\n"
-      "- keep every uniform the built-in uses, and every output at its location.\n\n"
+      "- keep every uniform the built-in uses (`seed` excepted: a shader with its own noise may drop it), and every "
+      "output at its location.\n\n"
+      "`sampling/` holds mrr's sampling as data (the SSAO and SSGI kernels, the rotation hash with test vectors): "
+      "draw the same samples and `compare` judges your SSAO pixel for pixel; draw your own and judge it with "
+      "`compare --noise-aware` (docs/validate-your-own.md).\n\n"
       "| file | role | programs | outputs |\n|---|---|---|---|\n";
   for (const ShaderContract& c : shaderContracts()) {
     std::string outs;

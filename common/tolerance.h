@@ -97,6 +97,30 @@ inline constexpr float kCreaseTurn = 0.01f;  // about 8°
 // float rounding of one stage, below any difference a bug makes.
 inline constexpr double kProbeRelativeDifference = 1e-5;
 
+// The noise-aware verdict (`compare --noise-aware`, docs/spec.md §8.1; compare/noise_stats.h):
+// for the stochastic stages (SSAO's and SSGI's raw.Lℓ, and sub.Lℓ, final, shaded downstream)
+// the oracle renders kNoiseSeeds frames with independent sampling seeds; each pixel of the
+// subject is tested against their mean and spread, and the frame's and each region's bias
+// against the spread of the seeds' own biases.
+struct NoiseRule {
+  int seeds;               // K, the oracle's independent seeds
+  unsigned firstSeed;      // their --seed values: firstSeed, firstSeed + 1, ...
+  double pixelAlpha;       // family-wise false-alarm rate of the per-pixel test (Šidák over pixels × channels)
+  double biasAlpha;        // family-wise false-alarm rate of the bias tests (Šidák over the regions)
+  double sampleFloor;      // a pixel's spread is at least this many samples' worth: floor σ = this × scale / N
+  double biasFloor;        // |relative bias| at or below it is never flagged (0.5%: below what a user sees)
+  int minRegionPixels;     // regions with fewer pixels are not tested for bias on their own
+  std::string_view why;
+};
+
+inline constexpr NoiseRule kNoiseRule = {
+    16, 1000000u, 0.01, 0.01, 1.0, 0.005, 16,
+    "a renderer with its own noise (another seed, blue noise) draws another sample of the same estimator: its pixels "
+    "are judged by how far they stray from the oracle's mean in units of the oracle's own spread (Welch's t with "
+    "Šidák's family-wise correction, as Mitsuba 3's tests do), and its average by whether its bias lies outside what "
+    "the oracle's own seeds show; a pixel whose K seeds barely vary (one occluded sample among N) keeps one sample's "
+    "worth of spread, so a rare sample is no bug"};
+
 inline const ToleranceRule& tolerance(std::string_view stage) {
   for (const ToleranceRule& r : kTolerances)
     if (r.stage == stage) return r;

@@ -495,13 +495,11 @@ std::string formatParityTable(const ParityResult& result, const std::string& own
     if (!c) {
       std::snprintf(text, sizeof text, "%-24s %9s %10s %8s %10s", "-", "", "", "", "");
     } else {
-      const ToleranceRule& rule = tolerance(c->rule);
       char ruleText[64];
       std::snprintf(ruleText, sizeof ruleText, "%s%s", c->rule.c_str(), c->pass ? "" : " !");
       std::snprintf(text, sizeof text, "%-24s %9lld %10.3g %8.3f %10.3g", ruleText,
                     static_cast<long long>(c->figures.pixels), c->figures.maxAbs, 100.0 * c->figures.shareOver,
                     c->figures.rms);
-      (void)rule;
     }
     return std::string(text);
   };
@@ -521,6 +519,17 @@ std::string formatParityTable(const ParityResult& result, const std::string& own
          "failed check.\n";
   out += "UPSTREAM: end to end over its rule while the stage on " + owner + " own inputs passes: inherited, not this "
          "stage's bug.\n";
+  bool noise = false;
+  for (const StageRow& r : result.rows) {
+    if (!r.endToEnd || !r.endToEnd->noise) continue;
+    if (!noise)
+      out += "noise-aware (docs/spec.md 8.1): stochastic stages judged against the oracle's " +
+             std::to_string(r.endToEnd->noise->seeds) +
+             " seeds: per pixel (columns: pixels tested, |d| of the worst pixel from the seeds' mean, % rejected, "
+             "|bias| over the frame), and the bias per region with its interval:\n";
+    noise = true;
+    out += "  " + r.stage + " " + (r.endToEnd->pass ? "pass" : "FAIL") + ": " + r.endToEnd->noise->describe() + "\n";
+  }
   const std::string first = result.firstFailing();
   const int inherited = result.inherited();
   for (size_t i = 0; i < result.rows.size(); ++i) {

@@ -18,6 +18,7 @@
 #include "common/scene.h"
 #include "common/tolerance.h"
 #include "common/frame.h"
+#include "compare/noise_stats.h"
 
 namespace mrr {
 
@@ -61,9 +62,12 @@ std::ostream& operator<<(std::ostream& o, const DiffFigures& f);
 
 // One check of a row: the rule, and the figures against it.
 struct StageCheck {
-  std::string rule;  // a stage of common/tolerance.h
+  std::string rule;  // a stage of common/tolerance.h, or "noise" (the noise-aware test, kNoiseRule)
   DiffFigures figures;
   bool pass = true;
+  // The noise-aware test's own figures (compare/noise.h); then `figures` holds its summary: pixels
+  // tested, |Δ| of the worst pixel from the seeds' mean, the share rejected, |bias| over the frame.
+  std::optional<NoiseFigures> noise;
 };
 
 struct StageRow {

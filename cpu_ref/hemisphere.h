@@ -16,12 +16,14 @@ struct SampleFrame {
   glm::vec3 apply(const glm::vec3& k) const { return t * k.x + b * k.y + n * k.z; }
 };
 
-inline SampleFrame sampleFrame(const glm::vec3& n, int x, int y, int level) {
+// `seed`: the sampling seed (--seed; 0 = mrr's own rotations), common/hash.h rotationHash.
+inline SampleFrame sampleFrame(const glm::vec3& n, int x, int y, int level, uint32_t seed = 0) {
   constexpr float kTwoPi = 6.28318530717958647692f;
   SampleFrame f;
   f.n = n;
-  // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
-  f.angle = kTwoPi * hashToUnit(pixelHash(static_cast<uint32_t>(x), static_cast<uint32_t>(y), static_cast<uint32_t>(level)));
+  // 1. per-pixel rotation about the normal from the integer hash of (x, y, level, seed)
+  f.angle = kTwoPi * hashToUnit(rotationHash(static_cast<uint32_t>(x), static_cast<uint32_t>(y),
+                                             static_cast<uint32_t>(level), seed));
   glm::vec3 r(std::cos(f.angle), std::sin(f.angle), 0.0f);
   glm::vec3 t = r - n * glm::dot(r, n);
   if (glm::dot(t, t) < 1e-6f) {  // r ∥ n: take the perpendicular in-plane direction

@@ -38,8 +38,11 @@ class OracleFrame final : public FrameBackend {
 
   void gbuffer(FrameResult& f) override { f.levels[0].gbuffer = renderGBuffer(rays_, f.view, f.constants.levels[0]); }
   void subsampleGBuffer(FrameResult& f, int l) override {
-    f.levels[static_cast<size_t>(l)].gbuffer =
-        mrr::subsampleGBuffer(f.levels[0].gbuffer, f.constants.levels[static_cast<size_t>(l)]);
+    const LevelConstants& level = f.constants.levels[static_cast<size_t>(l)];
+    // SPEC §1: --coarse-gbuffer render casts a ray at each level pixel's centre ((x+½)s, (y+½)s)
+    f.levels[static_cast<size_t>(l)].gbuffer = f.constants.renderCoarseGBuffer
+                                                   ? renderGBuffer(rays_, f.view, level)
+                                                   : mrr::subsampleGBuffer(f.levels[0].gbuffer, level);
   }
   void shadowMap(FrameResult& f) override {
     f.shadowMap = renderShadowMap(rays_, scene_.light, scene_.bounds(), f.constants.ssm.shadowMapSize);

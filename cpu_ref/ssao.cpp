@@ -73,7 +73,7 @@ float ssaoEval(const GBuffer& g, const OccluderPlanes& planes, const View& view,
   const glm::vec3 p = g.positionAt(x, y);
   const glm::vec3 n = g.normalAt(x, y);
   // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
-  const SampleFrame frame = sampleFrame(n, x, y, level.index);
+  const SampleFrame frame = sampleFrame(n, x, y, level.index, ssao.seed);
   // 2. hemisphere samples: occluded when the occluder is in front by more than the bias
   const float invScale = 1.0f / static_cast<float>(level.scale);
   const float width = static_cast<float>(g.width), height = static_cast<float>(g.height);

@@ -47,7 +47,7 @@ glm::vec3 ssgiAt(const GBuffer& g, const ImageF& direct, const View& view, const
   if (!g.hit.at(x, y)) return glm::vec3(0.0f);
   const glm::vec3 p = g.positionAt(x, y);
   // 1. the hemisphere frame, rotated per pixel (shared with SSAO)
-  const SampleFrame frame = sampleFrame(g.normalAt(x, y), x, y, level.index);
+  const SampleFrame frame = sampleFrame(g.normalAt(x, y), x, y, level.index, ssgi.seed);
   const float invScale = 1.0f / static_cast<float>(level.scale);
   const float width = static_cast<float>(g.width), height = static_cast<float>(g.height);
   glm::vec3 sum(0.0f);

@@ -8,6 +8,12 @@ bug in another renderer would, and writes the result as a new stages EXR:
           difference of 1/z): edges.depth is 0 everywhere and E is the OR of the others.
   raw     SSAO normalised by N - 1 instead of N (AO = 1 - occluded / (N - 1)) at every
           level, where the level was shaded (S = 1).
+  dark    SSAO 3% too dark: AO x 0.97 at every level where S = 1 (a constant folded in twice,
+          a falloff slightly off). Within the exact rules' noise, and no single pixel shows it:
+          `compare --noise-aware` names the bias at raw.L0.
+  shift   every G-buffer half a pixel off (rays through pixel corners, not centres: the classic
+          half-pixel offset), the effect computed from it: position, normal and depth of each
+          level averaged with the right and lower neighbours (bilinear at +1/2, +1/2).
 
 Every other part is copied as it is, so `mrr compare --against OUT` (with the options the
 stages were rendered with) names the altered stage on its last line.
@@ -75,15 +81,57 @@ def ssao_over_n_minus_1(parts, samples):
     return altered
 
 
+def stencil_of(parts):
+    return {spec.getattribute("name").split(".")[1]: pixels[:, :, 0] for spec, pixels in parts
+            if spec.getattribute("name").startswith("stencil.")}
+
+
+def ssao_too_dark(parts, factor=0.97):
+    stencils = stencil_of(parts)
+    altered = []
+    for spec, pixels in parts:
+        name = spec.getattribute("name")
+        if name.startswith("raw."):
+            shaded = stencils[name.split(".")[1]] > 0.5
+            pixels[:, :, 0][shaded] *= factor
+            altered.append(name)
+    return altered
+
+
+def half_pixel_shift(parts):
+    altered = []
+    for spec, pixels in parts:
+        name = spec.getattribute("name")
+        if not name.startswith("gbuffer."):
+            continue
+        hit = pixels[:, :, channel(spec, "hit")] > 0.5
+        # bilinear at (x + 1/2, y + 1/2): the mean of the 2x2 block, where all four hit
+        right = np.concatenate([pixels[:, 1:], pixels[:, -1:]], axis=1)
+        down = np.concatenate([pixels[1:], pixels[-1:]], axis=0)
+        diag = np.concatenate([right[1:], right[-1:]], axis=0)
+        mean = 0.25 * (pixels + right + down + diag)
+        keep = hit & (right[:, :, channel(spec, "hit")] > 0.5) & (down[:, :, channel(spec, "hit")] > 0.5) & \
+            (diag[:, :, channel(spec, "hit")] > 0.5)
+        moved = [c for c in spec.channelnames if c not in ("hit",) and not c.startswith("albedo")]
+        for c in moved:
+            k = channel(spec, c)
+            pixels[:, :, k][keep] = mean[:, :, k][keep]
+        altered.append(name)
+    return altered
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("stages", help="the oracle's stages EXR (mrr render --stages)")
     parser.add_argument("out", help="the altered stages EXR to write")
-    parser.add_argument("--bug", choices=["edges", "raw"], default="edges", help="which stage to break (default edges)")
+    parser.add_argument("--bug", choices=["edges", "raw", "dark", "shift"], default="edges",
+                        help="which stage to break (default edges)")
     parser.add_argument("--samples", type=int, default=16, help="raw: the SSAO sample count N the stages were made with")
     args = parser.parse_args()
     parts = read_parts(args.stages)
-    altered = drop_depth_edges(parts) if args.bug == "edges" else ssao_over_n_minus_1(parts, args.samples)
+    bugs = {"edges": lambda: drop_depth_edges(parts), "raw": lambda: ssao_over_n_minus_1(parts, args.samples),
+            "dark": lambda: ssao_too_dark(parts), "shift": lambda: half_pixel_shift(parts)}
+    altered = bugs[args.bug]()
     write_parts(args.out, parts)
     print(f"foreign_renderer: wrote {args.out} ({len(parts)} parts; altered: {', '.join(altered)})")
 

@@ -35,6 +35,8 @@ Field bindField(Param param) {
     case Param::Size: return &F::size;
     case Param::Samples: return &F::samples;
     case Param::Threads: return &F::threads;
+    case Param::Seed: return &F::seed;
+    case Param::CoarseGbuffer: return &F::coarseGBuffer;
     case Param::Camera: return &F::camera;
     case Param::Eye: return &F::eye;
     case Param::Target: return &F::target;
@@ -101,6 +103,11 @@ Settings FrameOptions::settings() const {
   s.width = w;
   s.height = h;
   if (samples) s.setSamples(*samples);
+  require(seed >= 0 && seed < (1 << 30), optionName(Param::Seed) + " " + std::to_string(seed) + ": must be in " + paramRange(Param::Seed));
+  s.seed = static_cast<uint32_t>(seed);
+  require(coarseGBuffer == "subsample" || coarseGBuffer == "render",
+          optionName(Param::CoarseGbuffer) + " " + coarseGBuffer + ": expected subsample or render");
+  s.renderCoarseGBuffer = coarseGBuffer == "render";
   if (aoRadius) s.ssao.radius = *aoRadius;
   if (giRadius) s.ssgi.radius = *giRadius;
   if (shadowMapSize) s.ssm.shadowMapSize = *shadowMapSize;
@@ -176,6 +183,8 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
     case Param::Method: return toString(s.mode);
     case Param::Size: return std::to_string(s.width) + "x" + std::to_string(s.height);
     case Param::Samples: return s.samples();
+    case Param::Seed: return s.seed == 0 ? nlohmann::json() : nlohmann::json(s.seed);  // absent: 0, mrr's own
+    case Param::CoarseGbuffer: return s.renderCoarseGBuffer ? nlohmann::json("render") : nlohmann::json();  // absent: subsample
     case Param::Eye: return triple(rs.camera.eye);
     case Param::Target: return triple(rs.camera.target);
     case Param::Up: return triple(rs.camera.up);

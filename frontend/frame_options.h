@@ -31,6 +31,8 @@ struct FrameOptions {
   std::string size = "1280x720";
   std::optional<int> samples;
   int threads = 0;
+  int seed = 0;  // --seed (Settings::seed)
+  std::string coarseGBuffer = "subsample";  // --coarse-gbuffer (Settings::renderCoarseGBuffer)
   std::optional<int> camera;
   std::string eye, target, up, lightDir, frameFile;
   std::string blendMaterials = "opaque";

@@ -117,7 +117,12 @@ class PortFrame final : public FrameBackend {
     keepGBuffer(f, 0);
   }
   void subsampleGBuffer(FrameResult& f, int l) override {
-    gpu::subsampleGBuffer(scene_, *gbuffers_[0], f.constants.levels[static_cast<size_t>(l)], gbufferTarget(f, l));
+    // SPEC §1: --coarse-gbuffer render rasterises the scene at the level's size (the same
+    // full-res projection, so fragments sit at the level pixels' centres ((x+½)s, (y+½)s))
+    if (f.constants.renderCoarseGBuffer)
+      drawGBuffer(scene_, f.view, gbufferTarget(f, l));
+    else
+      gpu::subsampleGBuffer(scene_, *gbuffers_[0], f.constants.levels[static_cast<size_t>(l)], gbufferTarget(f, l));
     keepGBuffer(f, l);
   }
   void shadowMap(FrameResult& f) override {

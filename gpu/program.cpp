@@ -75,7 +75,8 @@ ShaderDirectory loadShaderDirectory(const std::string& dir) {
   loaded.dir = dir;
   for (const std::filesystem::path& path : entries) {
     const std::string name = path.filename().string();
-    if (name.empty() || name[0] == '.' || name == "README.md") continue;  // `shaders export` writes README.md
+    // `shaders export` writes README.md, and mrr's sampling as data into sampling/
+    if (name.empty() || name[0] == '.' || name == "README.md" || name == "sampling") continue;
     if (std::find(known.begin(), known.end(), name) == known.end()) {
       result.unknown.push_back(name);
       continue;
@@ -289,6 +290,9 @@ void checkAgainstBuiltin(GLuint program, const std::string& stage, const std::st
     GLint size = 0;
     GLenum type = 0;
     glGetActiveUniform(reference, static_cast<GLuint>(i), sizeof name, &length, &size, &type, name);
+    // `seed` (--seed) is optional: a shader with its own noise, or one written before the seed,
+    // need not read mrr's (the host sets it only where the program has it).
+    if (std::string(name, static_cast<size_t>(length)) == "seed") continue;
     if (glGetUniformLocation(program, name) < 0) {
       std::string plain(name, static_cast<size_t>(length));
       if (plain.size() > 3 && plain.compare(plain.size() - 3, 3, "[0]") == 0) plain.resize(plain.size() - 3);

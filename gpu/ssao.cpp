@@ -22,6 +22,8 @@ Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned sten
     glUniform1f(uniform(program, "radius"), ssao.radius);
     glUniform1f(uniform(program, "bias"), ssao.bias);
     glUniform1i(uniform(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
+    // Optional: a user's shader written before --seed (or with its own noise) may not read it.
+    if (const int seedAt = glGetUniformLocation(program, "seed"); seedAt >= 0) glUniform1ui(seedAt, ssao.seed);
   }, fillRects);
 }
 

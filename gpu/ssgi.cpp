@@ -48,6 +48,8 @@ Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned dire
     glUniform1f(uniform(program, "radius"), ssgi.radius);
     glUniform1f(uniform(program, "patchArea"), ssgi.patchArea);
     glUniform1f(uniform(program, "minDistance2"), ssgi.minDistance2);
+    // Optional: a user's shader written before --seed (or with its own noise) may not read it.
+    if (const int seedAt = glGetUniformLocation(program, "seed"); seedAt >= 0) glUniform1ui(seedAt, ssgi.seed);
   }, fillRects);
 }
 

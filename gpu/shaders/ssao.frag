@@ -7,6 +7,7 @@ uniform sampler2D normalDepth;  // level G-buffer: view normal, depth
 uniform sampler2D kernel;       // N×1 RGB32F: the host's hemisphere kernel (kernels.h)
 uniform int samples;
 uniform int level;
+uniform uint seed;              // the sampling seed (--seed; 0 = mrr's own)
 uniform float invScale;         // 1 / s_ℓ
 uniform vec3 camera;            // (focal, cx, cy) of the full-res image
 uniform float radius;
@@ -45,7 +46,7 @@ void main() {
   vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
   // 1. per-pixel rotation about the normal from the integer hash of (x, y, level)
   vec3 t, b;
-  sampleFrame(n, pixel, level, t, b);
+  sampleFrame(n, pixel, level, seed, t, b);
   // 2. hemisphere samples: occluded when the occluder is in front by more than the bias
   vec2 size = vec2(textureSize(positionHit, 0));
   float receiverDepth = -p.z;

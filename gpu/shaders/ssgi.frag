@@ -32,6 +32,7 @@ uniform sampler2D direct;       // the level's direct light (the DIRECT_LIGHT va
 uniform sampler2D kernel;       // N×1 RGB32F: the host's hemisphere kernel (kernels.h)
 uniform int samples;
 uniform int level;
+uniform uint seed;              // the sampling seed (--seed; 0 = mrr's own)
 uniform float invScale;         // 1 / s_ℓ
 uniform vec3 camera;            // (focal, cx, cy) of the full-res image
 uniform float radius;           // R
@@ -61,7 +62,7 @@ void main() {
   vec3 n = texelFetch(normalDepth, pixel, 0).xyz;
   // 1. the hemisphere frame, rotated per pixel (shared with SSAO)
   vec3 t, b;
-  sampleFrame(n, pixel, level, t, b);
+  sampleFrame(n, pixel, level, seed, t, b);
   vec2 size = vec2(textureSize(positionHit, 0));
   vec3 sum = vec3(0.0);
   for (int i = 0; i < samples; ++i) {

@@ -49,7 +49,7 @@ std::string exportShaders(const std::string& dir, const std::vector<std::string>
   if (!keep.empty())
     for (const auto& e : fs::directory_iterator(shaders)) {
       const std::string name = e.path().filename().string();
-      if (name != "README.md" && std::find(keep.begin(), keep.end(), name) == keep.end()) fs::remove(e.path());
+      if (name != "README.md" && std::find(keep.begin(), keep.end(), name) == keep.end()) fs::remove_all(e.path());
     }
   return shaders;
 }

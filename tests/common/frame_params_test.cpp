@@ -58,6 +58,8 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   FrameOptions fo;
   fo.size = "64x36";
   fo.flipUp = true;  // flip_up is written only when chosen
+  fo.seed = 5;       // seed only when not 0 (mrr's own sampling)
+  fo.coarseGBuffer = "render";  // coarse_gbuffer only when not subsample
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const nlohmann::json frame = fo.frame(rs, fo.settings());
   std::set<std::string> expected = {"mrr_frame"};

@@ -75,6 +75,24 @@ TEST(Hash, MatchesIndependentUint32Implementation) {
   EXPECT_EQ(pixelHash(3u, 5u, 2u), 2351279509u);
 }
 
+// --seed (issue 40): seed 0 is mrr's own sampling, bit for bit; another seed another draw.
+TEST(Seed, ZeroKeepsTheKernelsAndRotationsOthersMoveThem) {
+  EXPECT_EQ(kernelSeed(kSsaoKernelSeed, 0), kSsaoKernelSeed);
+  EXPECT_EQ(kernelSeed(kSsgiKernelSeed, 0), 0x51a61u);
+  EXPECT_EQ(ssaoKernel(64, kernelSeed(kSsaoKernelSeed, 0)), ssaoKernel(64));
+  EXPECT_NE(ssaoKernel(64, kernelSeed(kSsaoKernelSeed, 1)), ssaoKernel(64));
+  EXPECT_NE(ssaoKernel(64, kernelSeed(kSsaoKernelSeed, 1)), ssaoKernel(64, kernelSeed(kSsaoKernelSeed, 2)));
+  Settings s = defaultSettings(Effect::Ssao);
+  EXPECT_EQ(makeConstants(s, 1.0f).ssao.kernel, ssaoKernel(s.ssao.samples));
+  s.seed = 3;
+  EXPECT_EQ(makeConstants(s, 1.0f).ssao.seed, 3u);
+  EXPECT_EQ(makeConstants(s, 1.0f).ssgi.kernel, ssaoKernel(s.ssgi.samples, kSsgiKernelSeed + 3u * 0x9e3779b9u));
+  // Rotations: seed 0 is pixelHash; test vectors of rotationHash for the docs and foreign renderers.
+  for (uint32_t level = 0; level < 4; ++level) EXPECT_EQ(rotationHash(3u, 5u, level, 0u), pixelHash(3u, 5u, level));
+  EXPECT_EQ(rotationHash(3u, 5u, 2u, 1u), pixelHash(3u, 5u, 6u));
+  EXPECT_NE(rotationHash(3u, 5u, 2u, 1u), rotationHash(3u, 5u, 2u, 0u));
+}
+
 TEST(Hash, UnitIsInHalfOpenRange) {
   EXPECT_EQ(hashToUnit(0u), 0.0f);
   EXPECT_LT(hashToUnit(0xffffffffu), 1.0f);

@@ -1,0 +1,66 @@
+#pragma once
+// The noise-aware verdict (`mrr compare --noise-aware`, docs/spec.md §8.1, issue 40). SSAO's and
+// SSGI's effect is a Monte Carlo estimate: a renderer with its own sampling (another --seed, blue
+// noise, another kernel) draws another sample of the same estimator and cannot match the oracle
+// pixel for pixel. For the stochastic stages (raw.Lℓ, and sub.Lℓ, final, shaded downstream) the
+// oracle renders K frames with independent seeds (kNoiseRule, common/tolerance.h); the subject's
+// stage is then judged by the statistics of compare/noise_stats.h:
+//   - per pixel, Welch's t of the subject's value against the K seeds' mean, the subject's own
+//     spread taken as the seeds' (the same estimator at the same sample count), with Šidák's
+//     family-wise correction over every pixel and channel: a local bug;
+//   - over the frame and its regions (the edge band, each level's stencil), the relative bias of
+//     the subject's sum against the spread of the seeds' own biases: a shift of a few per cent
+//     no single pixel shows.
+// The deterministic stages, and the same-input checks downstream (the bilateral blur and the blend
+// of the subject's own images), keep their exact rules.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/frame.h"
+#include "compare/noise_stats.h"
+#include "compare/parity.h"
+
+namespace mrr {
+
+// Whether the effect's stages are stochastic (SSAO and SSGI; SSM's PCF grid is not).
+bool isStochastic(Effect effect);
+
+// The oracle's stochastic stages over K seeds: "raw.L0" → K images, in the stage's own grid.
+struct NoiseReference {
+  int seeds = 0;
+  int samples = 0;  // N, per pixel
+  std::map<std::string, std::vector<ImageF>> stages;
+};
+
+// Renders the oracle K times (`render(seed)` with kNoiseRule's seeds) and keeps the stochastic
+// stages. `progress(k, K)` is called before each frame.
+NoiseReference buildNoiseReference(const std::function<FrameResult(uint32_t seed)>& render, int samples,
+                                   const std::function<void(int, int)>& progress = {});
+
+// A region of the stage's grid: its name and the pixels in it.
+struct NoiseRegion {
+  std::string name;
+  std::vector<char> mask;
+};
+
+// The noise test of one stage image: the subject against the K seeds' images over the pixels
+// `include` picks; the bias over every region (the first is normally "frame", all included).
+NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, const std::vector<char>& include,
+                       const std::vector<NoiseRegion>& regions, int samples);
+
+// Replaces, in `result`, the end-to-end checks of the stochastic stages by the noise test
+// against `reference` (the raw.Lℓ rows also drop their same-input check, which assumes mrr's own
+// sampling); every other check is kept. `oracle`: the oracle's frame at seed 0 (its stencils,
+// masks, edges and level map give the regions); `subject`: the port's frame or the file's.
+void applyNoiseAware(ParityResult& result, const FrameResult& oracle, const FrameResult& subject,
+                     const NoiseReference& reference);
+
+// `mrr probe --path both --noise-aware`: each stochastic stage at full-res pixel (x, y): the
+// subject's value, the oracle's mean over the K seeds, the interval one draw lands in (this pixel
+// alone, at kNoiseRule.pixelAlpha) and where the value falls in it. One line a stage.
+std::string describeNoisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference,
+                               int x, int y);
+
+}  // namespace mrr

@@ -197,7 +197,7 @@ TEST(CompareReportTest, ShowsEveryStageAndTheWorstPixelWithItsProbeCommand) {
   request.scene = "builtin:demo";
   const ResolvedScene rs = resolveScene(request);
   const Renderer renderer(rs.scene);
-  const FrameResult oracle = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()));
+  const FrameResult oracle = renderer.render(rs.camera, makeConstants(s, rs.framed.size));
   FrameResult port = oracle;
   port.blend.final.at(41, 17) += 0.5f;
   const ParityResult result = compareFrames(oracle, port, rs.scene.light);

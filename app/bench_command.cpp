@@ -212,11 +212,12 @@ void addBenchCommand(CLI::App& app, BenchCommand& c) {
 int runBenchCommand(BenchCommand& c) {
   if (c.quick) applyQuick(*c.command, c.options);
   resolveAndValidate(c);
-  // After validation (a bad option fails before any GL is tried); the bench's sweeps only, not
-  // --calibrate, --rule-sweep or --rule-replay, which keep their own --paths.
+  checkOutputs(c);
+  // After every check (bad input is one line, nothing before it, and fails before any GL is
+  // tried); the bench's sweeps only, not --calibrate, --rule-sweep or --rule-replay, which keep
+  // their own --paths.
   if (c.quick && c.ruleReplayIn.empty() && c.calibrateOut.empty() && c.ruleSweepOut.empty())
     quickPaths(*c.command, c.paths, std::cerr);
-  checkOutputs(c);
   if (!c.ruleReplayIn.empty())  // no path, no GL
     return replayRuleSweep(c.ruleReplayIn, c.ruleCostModelFile, c.options.jsonOut, std::cout);
   // The paths, each behind a RenderFn; the GL context is made once and shared by every scene.

@@ -10,6 +10,7 @@
 #include "compare/rule.h"
 #include "frontend/options.h"
 #include "frontend/renderers.h"
+#include "gpu/context.h"
 
 namespace mrr {
 
@@ -69,7 +70,8 @@ void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
                "replaced by cpu or gpu; default: built in)");
   b.add_flag("--quick", c.quick,
              "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 3 repeats, small sweeps, 8-frame "
-             "paths at 96x54, stress scenes at 160x90");
+             "paths at 96x54, stress scenes at 160x90; the oracle and, where EGL gives GL 3.3 core, the port (it says "
+             "which on stderr; --paths chooses)");
 }
 
 // --quick: defaults for a run of minutes; options given explicitly still win.
@@ -90,6 +92,20 @@ void applyQuick(const CLI::App& b, BenchOptions& o) {
   if (unset("--stability-size")) o.stabilitySize = {96, 54};
   if (unset("--stability-scenes")) o.stabilityScenes = {"builtin:demo"};
   if (unset("--stress-size")) o.stressSize = {160, 90};
+}
+
+// --quick without --paths: the port beside the oracle where a GL 3.3 core context can be made
+// here, and one line on stderr saying which ran (and, for the oracle alone, why).
+void quickPaths(const CLI::App& b, std::vector<std::string>& paths, std::ostream& err) {
+  if (b.count("--paths") != 0) return;
+  std::string why;
+  if (gpu::glAvailable(&why)) {
+    paths = {"cpu", "gpu"};
+    err << "[bench] --quick: both paths, the oracle (cpu) and the port (gpu); --paths cpu for the oracle alone\n";
+  } else {
+    paths = {"cpu"};
+    err << "[bench] --quick: the oracle (cpu) only: the port needs EGL with GL 3.3 core; here: " << why << "\n";
+  }
 }
 
 // The sizes given as text, parsed; every size and sample count in range, every name known.
@@ -199,6 +215,11 @@ int runBenchCommand(BenchCommand& c) {
   if (c.quick) applyQuick(*c.command, c.options);
   resolveAndValidate(c);
   checkOutputs(c);
+  // After every check (bad input is one line, nothing before it, and fails before any GL is
+  // tried); the bench's sweeps only, not --calibrate, --rule-sweep or --rule-replay, which keep
+  // their own --paths.
+  if (c.quick && c.ruleReplayIn.empty() && c.calibrateOut.empty() && c.ruleSweepOut.empty())
+    quickPaths(*c.command, c.paths, std::cerr);
   if (!c.ruleReplayIn.empty())  // no path, no GL
     return replayRuleSweep(c.ruleReplayIn, c.ruleCostModelFile, c.options.jsonOut, std::cout);
   // The paths, each behind a RenderFn; the GL context is made once and shared by every scene.

@@ -127,7 +127,7 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
   std::vector<ComparedFrame> compared;
   const CostModel costs = fo.costModel("cpu");
   for (const Settings& s : settings) {
-    const Constants k = makeConstants(s, rs.scene.bounds().diagonal());
+    const Constants k = makeConstants(s, rs.framed.size);
     auto reference = std::make_unique<FrameResult>(oracle->render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle"), &costs}));
     if (effectIsConstant(*reference)) {  // two black frames agree, and check nothing
       const EffectRange range = effectRange(*reference);

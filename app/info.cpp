@@ -76,6 +76,11 @@ nlohmann::json sceneInfo(const SceneRequest& request) {
   }
   j["view"] = cameraJson(rs.camera);
   j["view"]["source"] = rs.cameraSource;
+  // The automatic radii this view gets (docs/spec.md §6): fractions of what it frames.
+  j["radii"] = {{"framed_size", rs.framed.size},
+                {"median_depth", rs.framed.medianDepth},
+                {"ssao_radius", SsaoSettings::kAutoRadiusFraction * rs.framed.size},
+                {"ssgi_radius", SsgiSettings::kAutoRadiusFraction * rs.framed.size}};
   // The framing a render would choose without the scene's cameras: the suggestion to start from
   // (the view itself where it is that framing).
   const Framing framing = rs.framing ? *rs.framing : frameScene(s, rs.camera.yfov, request.aspect);
@@ -117,6 +122,16 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
     out << "  cutout " << c["width"] << "x" << c["height"] << ", " << 100.0 * c["opaque_share"].get<double>()
         << "% opaque\n";
   out << "view        " << cameraText(j["view"]) << "  (" << j["view"]["source"].get<std::string>() << ")\n";
+  {
+    const auto& r = j["radii"];
+    char radii[256];
+    std::snprintf(radii, sizeof radii,
+                  "automatic: ssao R %.3g, ssgi R %.3g  (%.0f%% and %.0f%% of the framed size %.3g: the view's height "
+                  "at its median surface depth %.3g)",
+                  r["ssao_radius"].get<double>(), r["ssgi_radius"].get<double>(), 100.0 * SsaoSettings::kAutoRadiusFraction,
+                  100.0 * SsgiSettings::kAutoRadiusFraction, r["framed_size"].get<double>(), r["median_depth"].get<double>());
+    out << "radii       " << radii << "\n";
+  }
   out << "suggested   " << cameraText(j["suggested"]) << "  ("
       << (j["suggested"]["interior"].get<bool>() ? "inside: the scene encloses its centre"
                                                  : "from outside, fitted to the frame")

@@ -139,7 +139,7 @@ int runProbeCommand(ProbeCommand& c) {
   requireMemory(memoryEstimate, memoryLimit(fo.memoryLimitGiB), "a " + fo.size + " " + toString(settings.effect) + " frame");
   tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threadCount(fo.threads)));
   const ResolvedScene rs = loadScene(fo);
-  const Constants constants = makeConstants(settings, rs.scene.bounds().diagonal());
+  const Constants constants = makeConstants(settings, rs.framed.size);
   if (fo.path == "both") return probeBothPaths(c, rs, constants, x, y);
   const std::unique_ptr<FrameRenderer> renderer = makeRenderer(fo.path, rs.scene, fo.pathOptions());
   if (!fo.quiet && fo.path == "gpu") std::cerr << "[mrr] GL renderer: " << renderer->device() << "\n";
@@ -156,7 +156,7 @@ int runRenderCommand(RenderCommand& c) {
   const Settings settings = checkedSettings(fo);
   checkRenderOutputs(c);
   // The memory check up front, before the scene is loaded or anything allocated: sizes alone
-  // decide it (the scene's diagonal only scales radii).
+  // decide it (what the view frames only scales radii).
   const bool keepStages = !c.stages.empty();
   int64_t memoryEstimate = estimateFrameBytes(makeConstants(settings, 1.0f), keepStages);
   if (c.reference) memoryEstimate += estimateFrameBytes(makeConstants(fullResolution(settings), 1.0f), false);
@@ -167,7 +167,7 @@ int runRenderCommand(RenderCommand& c) {
   // The frame's pages are faulted in on a spare core while the scene loads (common/pixel_memory.h).
   PixelReservation pages(static_cast<size_t>(memoryEstimate));
   const ResolvedScene rs = loadScene(fo);
-  const Constants constants = makeConstants(settings, rs.scene.bounds().diagonal());
+  const Constants constants = makeConstants(settings, rs.framed.size);
   const std::unique_ptr<FrameRenderer> renderer = makeRenderer(fo.path, rs.scene, fo.pathOptions());
   if (!fo.quiet && fo.path == "gpu") std::cerr << "[mrr] GL renderer: " << renderer->device() << "\n";
   // The per-level blend images are debugging output: kept only when something shows them.
@@ -177,7 +177,7 @@ int runRenderCommand(RenderCommand& c) {
 
   std::optional<FrameErrors> err;
   if (c.reference) {
-    const FrameResult ref = renderer->render(rs.camera, makeConstants(fullResolution(settings), rs.scene.bounds().diagonal()),
+    const FrameResult ref = renderer->render(rs.camera, makeConstants(fullResolution(settings), rs.framed.size),
                                              {false, progressPrinter(fo.quiet, "reference")});
     err = errorVsFull(frame, ref);
   }

@@ -133,9 +133,9 @@ std::string settingsDefault(Param param) {
     case Param::TauN: return number(s.edges.normalThreshold);
     case Param::TauZ: return number(s.edges.depthThreshold);
     case Param::AoRadius:
-      return number(s.ssao.radius) + ": " + number(100.0 * SsaoSettings::kAutoRadiusFraction) + "% of the scene diagonal";
+      return number(s.ssao.radius) + ": " + number(100.0 * SsaoSettings::kAutoRadiusFraction) + "% of the framed size (the view's height at its median surface depth)";
     case Param::GiRadius:
-      return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the scene diagonal";
+      return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the framed size";
     case Param::NeverSlower: return s.neverSlower ? "on" : "off";
     case Param::Sigma2:
       return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });

@@ -164,7 +164,7 @@ void Constants::fallBackToFull() {
   coarsestEnabled = 0;
 }
 
-Constants makeConstants(const Settings& s, float sceneDiagonal) {
+Constants makeConstants(const Settings& s, float framedSize) {
   validateSettings(s);
   Constants c;
   c.width = s.width;
@@ -212,7 +212,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
   c.ssao.samples = s.ssao.samples;
   c.ssao.radius = s.ssao.radius > 0.0f
                       ? s.ssao.radius
-                      : SsaoSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
+                      : SsaoSettings::kAutoRadiusFraction * std::max(framedSize, 1e-6f);
   c.ssao.bias = s.ssao.biasFraction * c.ssao.radius;
   c.ssao.tangentPlaneDepth = s.ssao.tangentPlaneDepth;
   c.ssao.kernel = ssaoKernel(s.ssao.samples, kernelSeed(kSsaoKernelSeed, s.seed));
@@ -227,7 +227,7 @@ Constants makeConstants(const Settings& s, float sceneDiagonal) {
 
   c.ssgi.samples = s.ssgi.samples;
   c.ssgi.radius = s.ssgi.radius > 0.0f ? s.ssgi.radius
-                                       : SsgiSettings::kAutoRadiusFraction * std::max(sceneDiagonal, 1e-6f);
+                                       : SsgiSettings::kAutoRadiusFraction * std::max(framedSize, 1e-6f);
   c.ssgi.patchArea = 3.14159265f * c.ssgi.radius * c.ssgi.radius / static_cast<float>(s.ssgi.samples);
   c.ssgi.minDistance2 = 0.0625f * c.ssgi.radius * c.ssgi.radius;
   c.ssgi.kernel = ssaoKernel(s.ssgi.samples, kernelSeed(kSsgiKernelSeed, s.seed));

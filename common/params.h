@@ -57,12 +57,16 @@ struct EdgeSettings {
 
 struct SsaoSettings {
   int samples = 64;          // N [1, kMaxSsaoSamples]
-  float radius = 0.0f;       // R, world units; 0 = auto: kAutoRadiusFraction × scene diagonal
+  float radius = 0.0f;       // R, world units; 0 = auto: kAutoRadiusFraction × the framed size
   float biasFraction = 0.05f;  // depth bias as a fraction of R [0, 1]
   // Occluder depth from the texel's tangent plane along the sample's ray (docs/spec.md §6.1),
   // not the texel-centre depth: keeps coarse levels from occluding themselves on slopes.
   bool tangentPlaneDepth = true;
-  static constexpr float kAutoRadiusFraction = 0.03f;
+  // The automatic R (docs/spec.md §6): a fraction of what the view frames (framedSize: the
+  // view's height at the median depth of its surface). Before issue 34: 3% of the scene's
+  // diagonal (kDiagonalFractionBefore), which the golden digests keep.
+  static constexpr float kAutoRadiusFraction = 0.15f;
+  static constexpr float kDiagonalFractionBefore = 0.03f;
 };
 
 struct SsmSettings {
@@ -75,8 +79,10 @@ struct SsmSettings {
 
 struct SsgiSettings {
   int samples = 288;             // N [1, kMaxSsgiSamples] (the paper: 24, 80, 288, 1088, 4224)
-  float radius = 0.0f;           // R, world units; 0 = auto: kAutoRadiusFraction × scene diagonal
-  static constexpr float kAutoRadiusFraction = 0.06f;
+  float radius = 0.0f;           // R, world units; 0 = auto: kAutoRadiusFraction × the framed size
+  // Twice SSAO's, as before issue 34 (then 6% of the scene's diagonal).
+  static constexpr float kAutoRadiusFraction = 2.0f * SsaoSettings::kAutoRadiusFraction;
+  static constexpr float kDiagonalFractionBefore = 0.06f;
 };
 
 // mrr-effect only (SPEC §12): how far each level's edge mask is widened by the effect's footprint.
@@ -204,10 +210,12 @@ struct Constants {
   void fallBackToFull();
 };
 
-// Builds the constants for a W×H frame. `sceneDiagonal` resolves the automatic SSAO radius.
+// Builds the constants for a W×H frame. `framedSize` (what the view frames, world units:
+// scenes/default_light.h framedSize, ResolvedScene::framed) resolves the automatic SSAO and
+// SSGI radii.
 // In Mode::Full only level 0 is enabled: the reference runs the same effect code at every
 // full-res pixel. The peers (SPEC §9) enable the levels their strategy shades: uniform-k
 // levels 0 (G-buffer only, for the joint bilateral upsampling) and k; tiles levels 0–2.
-Constants makeConstants(const Settings& settings, float sceneDiagonal);
+Constants makeConstants(const Settings& settings, float framedSize);
 
 }  // namespace mrr

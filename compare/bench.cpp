@@ -141,10 +141,10 @@ class Sweep {
     std::map<std::string, std::map<std::string, std::vector<double>>> stageRuns;
     std::map<std::string, FrameResult> last;
     FrameResult firstFull;
-    const float diagonal = sc.scene->bounds().diagonal();
+    const float framed = framedSize(*sc.scene, camera, static_cast<float>(w) / static_cast<float>(h)).size;
     for (int i = 0; i <= o_.repeats; ++i)
       for (const std::string& m : all) {
-        const Constants c = makeConstants(settingsFor(m, effect, w, h, samples), diagonal);
+        const Constants c = makeConstants(settingsFor(m, effect, w, h, samples), framed);
         FrameResult f = sc.render(camera, c, {false, {}, nullptr});
         if (i == 0) {  // warm-up; full's is kept to check that repeats give the same bits
           if (m == "full") firstFull = std::move(f);
@@ -338,7 +338,9 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
     if (o.frames > 0)
       for (const std::string& sceneName : o.stabilityScenes) {
         const OpenScene sc = openScene(sceneName, path);
-        const float diagonal = sc.scene->bounds().diagonal();
+        // The radii of the path's first view, kept along it (as a camera moving through a scene keeps them).
+        const auto [sw, sh] = o.stabilitySize;
+        const float framed = framedSize(*sc.scene, sc.camera, static_cast<float>(sw) / static_cast<float>(sh)).size;
         for (const std::string& effectName : o.stabilityEffects)
           for (const std::string& kind : cameraPathKinds()) {
             const Effect e = parseEffect(effectName);
@@ -348,11 +350,11 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
             const auto [w, h] = o.stabilitySize;
             for (const Camera& cam : cameraPath(sc.camera, kind, o.frames)) {
               const FrameResult full =
-                  sc.render(cam, makeConstants(settingsFor("full", e, w, h, middleSamples(e)), diagonal), {false, {}, nullptr});
+                  sc.render(cam, makeConstants(settingsFor("full", e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
               for (const std::string& m : o.methods) {
                 if (m == "full") continue;
                 const FrameResult f =
-                    sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), diagonal), {false, {}, nullptr});
+                    sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
                 meters[m].add(f.final(), full.final());
               }
             }

@@ -18,6 +18,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/stages.h"
+#include "scenes/default_light.h"
 
 namespace mrr {
 
@@ -299,7 +300,7 @@ double figure(const std::vector<double>& solved, size_t i, double otherwise = 0.
 
 // Full at both sample counts at the middle size, and at the high count at half and twice it: the
 // shading against what it shades, the per-level-pixel stages and the blend.
-void measureFull(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, float diagonal, Effect e,
+void measureFull(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, float framed, Effect e,
                  int repeats, const std::array<const FrameCounts*, 3>& countsBySize) {
   const auto ei = static_cast<size_t>(e);
   struct FullConfig {
@@ -311,7 +312,7 @@ void measureFull(CalibrationRuns& runs, const OpenScene& sc, const Camera& camer
                                FullConfig{w / 2, h / 2, manySamples(e), countsBySize[0]},
                                FullConfig{2 * w, 2 * h, manySamples(e), countsBySize[2]}}) {
     const Measured full = measure(
-        sc.render, camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), diagonal), repeats);
+        sc.render, camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), framed), repeats);
     const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
     std::vector<double> row = {onGeometry, onGeometry * fc.samples};
     if (e == Effect::Ssm) {
@@ -347,16 +348,16 @@ void addMethodStages(CalibrationRuns& runs, Effect e, const Measured& m) {
 // at both counts (measureFull), into the fits' rows.
 void measureView(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, Effect e, int repeats,
                  const CostModel& counting) {
-  const float diagonal = sc.scene->bounds().diagonal();
   const int w = kCalibrationWidth, h = kCalibrationHeight;
+  const float framed = framedSize(*sc.scene, camera, static_cast<float>(w) / static_cast<float>(h)).size;
   auto method = [&](int width, int height, int samples) {
-    return measure(sc.render, camera, makeConstants(settingsFor("mrr-norule", e, width, height, samples), diagonal),
+    return measure(sc.render, camera, makeConstants(settingsFor("mrr-norule", e, width, height, samples), framed),
                    repeats, &counting);
   };
   const Measured mrr = method(w, h, manySamples(e));
   const Measured small = method(w / 2, h / 2, manySamples(e));
   const Measured large = method(2 * w, 2 * h, manySamples(e));
-  measureFull(runs, sc, camera, diagonal, e, repeats, {&small.last.counts, &mrr.last.counts, &large.last.counts});
+  measureFull(runs, sc, camera, framed, e, repeats, {&small.last.counts, &mrr.last.counts, &large.last.counts});
   // and at the low sample count: where a pixel's fixed part (a; SSM's blocker search) is most
   // of its cost, the stencilled pixel's premium differs from the one at the high count (PCF's taps)
   const Measured few = method(w, h, fewSamples(e));
@@ -662,7 +663,6 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
     for (const std::string& sceneName : o.scenes) {
       std::cerr << "[rule-sweep] " << path.name << ": loading " << sceneName << "\n";
       const OpenScene sc = openScene(sceneName, path);
-      const float diagonal = sc.scene->bounds().diagonal();
       for (const RuleView& view : ruleViews(*sc.scene, sc.camera, 16.0f / 9.0f))
         for (int k = 0; k < o.configsPerView; ++k) {
           const SweepConfig cfg = ruleSweepConfig(path.name, frameIndex++, framesPerPath);
@@ -670,8 +670,10 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           std::cerr << "[rule-sweep] " << ++done << "/" << total << "  " << path.name << " " << sceneName << " " << view.name
                     << " " << cfg.width << "x" << cfg.height << " " << toString(cfg.effect) << "-" << cfg.samples << "  ("
                     << static_cast<int>(seconds) << " s)\n";
+          const float framed =
+              framedSize(*sc.scene, view.camera, static_cast<float>(cfg.width) / static_cast<float>(cfg.height)).size;
           auto constantsFor = [&](const std::string& method) {
-            return makeConstants(settingsFor(method, cfg.effect, cfg.width, cfg.height, cfg.samples), diagonal);
+            return makeConstants(settingsFor(method, cfg.effect, cfg.width, cfg.height, cfg.samples), framed);
           };
           // full and mrr without the rule, alternating (one warm-up each, then medians), and where
           // the rule falls back the frame with it on, in the same rounds (what a user gets, timed
@@ -771,7 +773,7 @@ int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFi
       const Effect effect = parseEffect(f.at("effect").get<std::string>());
       const int width = f.at("width"), height = f.at("height"), samples = f.at("samples");
       // The rule reads the frame's size, its levels and its sample count, never a world-space
-      // constant: the scene's diagonal (the automatic SSAO radius) does not enter it.
+      // constant: the framed size (the automatic radii) does not enter it.
       const Constants c = makeConstants(settingsFor("mrr", effect, width, height, samples), 1.0f);
       const FrameCounts n = countsFromJson(f.at("counts"));
       const RuleOnCounts rule = ruleOnCounts(model, c, n);

@@ -58,11 +58,12 @@ Frame& frame() {
     s.neverSlower = false;
     SceneRequest request;
     request.scene = sceneName;
+    request.aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
     ResolvedScene resolved = resolveScene(request);
     fr->scene = std::make_unique<Scene>(std::move(resolved.scene));
     fr->rays = std::make_unique<RayScene>(*fr->scene);
     fr->renderer = std::make_unique<Renderer>(*fr->scene);
-    fr->f = fr->renderer->render(resolved.camera, makeConstants(s, fr->scene->bounds().diagonal()));
+    fr->f = fr->renderer->render(resolved.camera, makeConstants(s, resolved.framed.size));
     const LevelConstants& l0 = fr->f.constants.levels[0];
     fr->everyPixel = ImageU8(l0.width, l0.height, 1, 1);
     fr->label = sceneName + " " + size + " " + toString(s.effect);

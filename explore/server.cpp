@@ -600,7 +600,8 @@ class Explorer {
       portRenderer_ = renderer->device();
     }
     const Camera camera = requestedCamera(r.scene, *state.scene);
-    const float diagonal = state.scene->bounds().diagonal();
+    // The automatic radii from what this view frames, as render resolves them (the same frame, the same bits).
+    const float framed = framedSize(*state.scene, camera, r.scene.aspect).size;
     // Both paths take the oracle's never-slower costs, as compare does: the same decision.
     const CostModel costs = options_.frame.costModel("cpu");
     const std::string who = path == "cpu" ? "oracle" : "port";
@@ -622,22 +623,22 @@ class Explorer {
     if (!state.warm.count(path)) {
       Settings warm = r.settings;
       warm.setSamples(1);
-      render(makeConstants(referenceSettings(warm), diagonal), false, "warming up (full resolution)");
-      render(makeConstants(warm, diagonal), false, "warming up");
+      render(makeConstants(referenceSettings(warm), framed), false, "warming up (full resolution)");
+      render(makeConstants(warm, framed), false, "warming up");
       state.warm.insert(path);
     }
     job.check();
     RenderedPtr reference = cached("reference " + path + r.referenceKey);
     if (!reference) {
       auto ref = std::make_shared<Rendered>();
-      const Constants full = makeConstants(referenceSettings(r.settings), diagonal);
+      const Constants full = makeConstants(referenceSettings(r.settings), framed);
       ref->bytes = estimateFrameBytes(full, false);
       ref->frame = render(full, false, "full-resolution reference");
       reference = ref;
       remember("reference " + path + r.referenceKey, reference);
     }
     auto out = std::make_shared<Rendered>();
-    const Constants constants = makeConstants(r.settings, diagonal);
+    const Constants constants = makeConstants(r.settings, framed);
     out->frame = render(constants, true,
                         toString(r.settings.mode) + " " + toString(r.settings.effect) + " " + r.options.size);
     out->reference = reference;

@@ -142,6 +142,7 @@ ResolvedScene resolveScene(const SceneRequest& request) {
   out.scene = loadGeometry(request);
   out.camera = requestedCamera(request, out.scene, &out.cameraSource, &out.framing);
   applyRequestedLight(out.scene, request, out.camera);
+  out.framed = framedSize(out.scene, out.camera, request.aspect);
   return out;
 }
 

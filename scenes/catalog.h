@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/scene.h"
+#include "scenes/default_light.h"
 
 namespace mrr {
 
@@ -37,6 +38,9 @@ struct ResolvedScene {
   Camera camera;
   std::string cameraSource;  // where the camera came from, in words: "--eye/--target", "camera 0 of the file", ...
   std::optional<Framing> framing;  // set when the camera is the default framing (frameScene)
+  // What the camera frames, at the request's aspect: makeConstants turns it into the automatic
+  // radii (docs/spec.md §6). framed.size is what to pass it.
+  FramedSize framed;
 };
 ResolvedScene resolveScene(const SceneRequest& request);
 // The two halves of resolveScene, for a caller that keeps the scene and moves the camera

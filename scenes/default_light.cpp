@@ -40,10 +40,12 @@ struct Tri {
   glm::vec3 a, b, c;
 };
 
-std::vector<Tri> allTriangles(const Scene& scene) {
+// `skipBlend`: leave out alphaMode BLEND meshes (glass, light cones), as the default framing does.
+std::vector<Tri> allTriangles(const Scene& scene, bool skipBlend = false) {
   std::vector<Tri> out;
   for (const Mesh& mesh : scene.meshes)
-    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+    if (!(skipBlend && mesh.blend))
+      for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
       out.push_back({mesh.positions[mesh.indices[t]], mesh.positions[mesh.indices[t + 1]],
                      mesh.positions[mesh.indices[t + 2]]});
   return out;
@@ -176,9 +178,17 @@ LitShare litShare(const Scene& scene, const Camera& camera, const glm::vec3& dir
   return shareOf(tris, viewSamples(tris, camera, width, height, bounds.diagonal()), bounds, direction, size);
 }
 
+namespace {
+constexpr int kProbeHeight = 72;
+// The probe G-buffer's width for an image of aspect W/H, kProbeHeight high.
+int probeWidth(float aspect) {
+  return std::clamp(static_cast<int>(std::lround(kProbeHeight * (std::isfinite(aspect) ? aspect : 1.0f))), 8, 512);
+}
+}  // namespace
+
 DefaultLightChoice chooseDefaultLight(const Scene& scene, const Camera& camera, float aspect) {
-  constexpr int kHeight = 72;
-  const int width = std::clamp(static_cast<int>(std::lround(kHeight * (std::isfinite(aspect) ? aspect : 1.0f))), 8, 512);
+  constexpr int kHeight = kProbeHeight;
+  const int width = probeWidth(aspect);
   const std::vector<Tri> tris = allTriangles(scene);
   const Bounds bounds = scene.bounds();
   const std::vector<Sample> samples = viewSamples(tris, camera, width, kHeight, bounds.diagonal());
@@ -192,6 +202,31 @@ DefaultLightChoice chooseDefaultLight(const Scene& scene, const Camera& camera, 
   for (size_t i = 0; i < candidates.size(); ++i)
     if (out.shares[i] > out.shares[static_cast<size_t>(out.chosen)]) out.chosen = static_cast<int>(i);
   out.direction = candidates[static_cast<size_t>(out.chosen)];
+  return out;
+}
+
+FramedSize framedSize(const Scene& scene, const Camera& camera, float aspect) {
+  FramedSize out;
+  out.diagonal = scene.bounds().diagonal();
+  const std::vector<Tri> tris = allTriangles(scene, /*skipBlend=*/true);
+  const std::vector<Sample> samples = viewSamples(tris, camera, probeWidth(aspect), kProbeHeight, out.diagonal);
+  out.surface = static_cast<int>(samples.size());
+  if (samples.empty()) {
+    out.size = out.diagonal;  // nothing in view: the old basis (no pixel is shaded anyway)
+    return out;
+  }
+  // 1. each visible point's depth along the view direction
+  const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+  std::vector<float> depths;
+  depths.reserve(samples.size());
+  for (const Sample& s : samples) depths.push_back(glm::dot(s.position - camera.eye, forward));
+  // 2. the median (the lower of the middle two)
+  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>((depths.size() - 1) / 2);
+  std::nth_element(depths.begin(), middle, depths.end());
+  out.medianDepth = *middle;
+  // 3. the height of the view at that depth
+  out.size = 2.0f * out.medianDepth * std::tan(0.5f * camera.yfov);
+  if (!(std::isfinite(out.size) && out.size > 0.0f)) out.size = out.diagonal;
   return out;
 }
 

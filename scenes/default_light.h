@@ -38,4 +38,18 @@ struct DefaultLightChoice {
 };
 DefaultLightChoice chooseDefaultLight(const Scene& scene, const Camera& camera, float aspect);
 
+// What the view frames (docs/spec.md §6, the automatic radii): the height of the view at the
+// median depth of the surface it sees, 2 z̃ tan(fov_y / 2), z̃ the median (the lower middle) of
+// the depths along the view direction of the covered pixels of the same 72-high G-buffer (BLEND
+// surfaces left out, as the framing leaves them). makeConstants scales it into the automatic
+// SSAO and SSGI radii. Resolved here on the host, single-threaded float32: both paths read the
+// radii it gives. A view that sees no surface gets the scene's diagonal.
+struct FramedSize {
+  float size = 0.0f;         // the framed size, world units
+  float medianDepth = 0.0f;  // z̃; 0 when the view sees no surface
+  int surface = 0;           // covered probe pixels
+  float diagonal = 0.0f;     // the scene's bounding diagonal (the basis before issue 34)
+};
+FramedSize framedSize(const Scene& scene, const Camera& camera, float aspect);
+
 }  // namespace mrr

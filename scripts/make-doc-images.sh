@@ -78,4 +78,10 @@ if [ -d "${MRR_SCENES_DIR:-$here/../shared/scenes}" ]; then
     oiiotool "$work/$s.png" "$work/${s}_prev/edges.png" "$work/${s}_prev/levelmap.png" --mosaic:pad=4 3x1 -d uint8 -o "$img/scene_$s.png"
   done
 fi
+if [ -d "${MRR_SCENES_DIR:-$here/../shared/scenes}" ]; then
+  # The automatic SSAO radius before and after issue 34 (docs/scenes.md): made by matplotlib.
+  echo "[docs] ao-before-after" >&2
+  MRR="$mrr" /usr/bin/python3 "$here/scripts/ao-before-after.py" "$img/ao-before-after.png" \
+    builtin:demo cornell arcade apartment
+fi
 echo "[docs] wrote $(ls "$img" | wc -l) images to $img" >&2

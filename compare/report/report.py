@@ -88,10 +88,20 @@ class Chart:
                            ha="right" if len(categories) > 4 else "center")
         self.ax.set_ylim(bottom=0)
 
+    def legend_entries(self):
+        """The (handles, labels) of every axes of the figure (a twin axis too), in drawing order."""
+        handles, labels = [], []
+        for ax in self.fig.axes:
+            h, l = ax.get_legend_handles_labels()
+            handles += h
+            labels += l
+        return handles, labels
+
     def save(self, folder):
         """SVG and PNG, each written under a temporary name and renamed into place."""
-        if self.ax.get_legend_handles_labels()[0]:
-            self.ax.legend(fontsize=9)
+        handles, labels = self.legend_entries()
+        if handles:
+            self.ax.legend(handles, labels, fontsize=9)
         self.fig.tight_layout()
         for ext in ("svg", "png"):
             path = os.path.join(folder, self.name + "." + ext)
@@ -140,9 +150,23 @@ def speed_vs_rms(path, effect, runs, device, key="rms"):
     return c
 
 
+def shares_axis(ours, theirs):
+    """Whether the paper's x values can share our axis: where at least half of our span (in
+    octaves; a single value: the value itself) lies inside the paper's. Otherwise (a --quick
+    bench at 54 and 90 pixels against the paper's 720 to 2160) ours would be squeezed into a
+    corner of an axis drawn for theirs, and the paper gets its own."""
+    lo, hi = min(ours), max(ours)
+    inside_lo, inside_hi = max(lo, min(theirs)), min(hi, max(theirs))
+    if hi <= lo:
+        return inside_lo <= inside_hi
+    return inside_hi > inside_lo and math.log2(inside_hi / inside_lo) >= 0.5 * math.log2(hi / lo)
+
+
 def sweep(figure, path, effect, runs, paper, device):
     """The paper's Fig. 6 (speedup against samples), 7 (against resolution) or 9 (RMS against
-    resolution), with the paper's own figures drawn beside ours (green, hollow, dashed)."""
+    resolution), with the paper's own figures drawn beside ours (green, hollow, dashed). By
+    resolution, where our heights and the paper's hardly overlap, the paper's curve has its own
+    x axis along the top (green): each curve then spans the chart, read against its own axis."""
     first = runs[0]
     by_samples, rms = figure == "fig6", figure == "fig9"
     x_of = (lambda r: r["samples"]) if by_samples else (lambda r: r["height"])
@@ -173,10 +197,22 @@ def sweep(figure, path, effect, runs, paper, device):
     theirs = sorted((p for p in paper if p["figure"] == figure and p["effect"] == effect),
                     key=lambda p: p["samples"] if by_samples else p["height"])
     if theirs:
-        c.ax.plot([p["samples"] if by_samples else p["height"] for p in theirs],
-                  [p["rms"] if rms else p["speedup"] for p in theirs], color=PAPER_COLOR, linestyle="--", marker="D",
-                  markerfacecolor="white",
-                  label="paper, Fig. %s (GTX 1080%s)" % (figure[3:], ", at 4K" if by_samples else ""))
+        their_x = [p["samples"] if by_samples else p["height"] for p in theirs]
+        own_axis = not by_samples and not shares_axis([x_of(r) for r in runs], their_x)
+        ax = c.ax
+        if own_axis:
+            ax = c.ax.twiny()  # the same y (speedup or RMS), the paper's heights along the top
+            ax.set_xlabel("the paper's image height (pixels): its own axis", color=PAPER_COLOR)
+            ax.tick_params(axis="x", colors=PAPER_COLOR)
+            c.ax.set_xlabel("our image height (pixels)")
+            c.caption += (" The paper's heights (%d to %d) hardly overlap ours (%d to %d): its curve is read "
+                          "against the green axis along the top." % (min(their_x), max(their_x),
+                                                                      min(x_of(r) for r in runs),
+                                                                      max(x_of(r) for r in runs)))
+        ax.plot(their_x, [p["rms"] if rms else p["speedup"] for p in theirs], color=PAPER_COLOR, linestyle="--",
+                marker="D", markerfacecolor="white",
+                label="paper, Fig. %s (GTX 1080%s%s)" % (figure[3:], ", at 4K" if by_samples else "",
+                                                        ", top axis" if own_axis else ""))
     if by_samples:
         c.ax.set_xscale("log")
     if not rms:

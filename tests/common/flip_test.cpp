@@ -164,6 +164,10 @@ std::vector<Pair> framePairs() {
     s.setSamples(16);
     s.neverSlower = false;  // the method itself, not its fall-back to full
     s.mode = Mode::Mrr;
+    // The radii the reference tool's frames were rendered with (before issue 34's view-framed default).
+    const float diagonal = makeBuiltinScene("demo").bounds().diagonal();
+    s.ssao.radius = SsaoSettings::kDiagonalFractionBefore * diagonal;
+    s.ssgi.radius = SsgiSettings::kDiagonalFractionBefore * diagonal;
     const test::Rendered mrr = test::renderScene("builtin:demo", s);
     s.mode = Mode::Full;
     const test::Rendered full = test::renderScene("builtin:demo", s);

@@ -155,9 +155,9 @@ TEST(BenchReportTest, DrawsEveryChartAsSvgAndPngAndThePageShowsThemWithTheTables
     EXPECT_EQ(png->spec().height, 560) << name;
   }
   // matplotlib writes each text of an SVG (drawn as paths) as a comment: the legends are there.
-  EXPECT_NE(readFile(out / "charts" / "fig7-cpu-ssao.svg").find("paper, Fig. 7 (GTX 1080)"), std::string::npos);
+  EXPECT_NE(readFile(out / "charts" / "fig7-cpu-ssao.svg").find("paper, Fig. 7 (GTX 1080, top axis)"), std::string::npos);
   EXPECT_NE(readFile(out / "charts" / "fig6-cpu-ssao.svg").find("paper, Fig. 6 (GTX 1080, at 4K)"), std::string::npos);
-  EXPECT_NE(readFile(out / "charts" / "fig9-cpu-ssao.svg").find("paper, Fig. 9 (GTX 1080)"), std::string::npos);
+  EXPECT_NE(readFile(out / "charts" / "fig9-cpu-ssao.svg").find("paper, Fig. 9 (GTX 1080, top axis)"), std::string::npos);
   EXPECT_NE(readFile(out / "charts" / "speed-vs-rms-cpu-ssao.svg").find("Pareto front"), std::string::npos);
   EXPECT_NE(readFile(out / "charts" / "stress-cpu-ssao.svg").find("mrr-norule"), std::string::npos);
   EXPECT_NE(readFile(out / "charts" / "flicker-cpu-flip.svg").find("FLIP flicker"), std::string::npos);
@@ -211,7 +211,7 @@ TEST(CompareReportTest, ShowsEveryStageAndTheWorstPixelWithItsProbeCommand) {
   request.scene = "builtin:demo";
   const ResolvedScene rs = resolveScene(request);
   const Renderer renderer(rs.scene);
-  const FrameResult oracle = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()));
+  const FrameResult oracle = renderer.render(rs.camera, makeConstants(s, rs.framed.size));
   FrameResult port = oracle;
   port.blend.final.at(41, 17) -= 0.5f;  // down: an unoccluded 1 + 0.5 would clamp to 1, invisible to FLIP
   const ParityResult result = compareFrames(oracle, port, rs.scene.light);

@@ -32,7 +32,7 @@ FenceView squareOn() {
   s.ssao.samples = 4;
   s.mode = Mode::Full;
   s.neverSlower = false;
-  v.constants = makeConstants(s, v.scene.bounds().diagonal());
+  v.constants = makeConstants(s, framedSize(v.scene, v.camera, 320.0f / 180.0f).size);
   return v;
 }
 

@@ -38,7 +38,7 @@ LitPlane litPlane(float degrees, bool fromBehind = false) {
   s.height = 720;
   s.mode = Mode::Full;
   s.neverSlower = false;
-  p.constants = makeConstants(s, p.scene.bounds().diagonal());
+  p.constants = makeConstants(s, resolved.framed.size);  // SSM: no radius enters it
   return p;
 }
 

@@ -533,7 +533,7 @@ struct BothPaths {
 BothPaths renderBoth(const std::string& spec, const Settings& s, const CostModel& model) {
   BothPaths b;
   b.oracle = test::renderScene(spec, s);
-  const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());
+  const Constants k = makeConstants(s, b.oracle.framedSize);
   // the rule's counts (SSM: its PCF sample) also where the rule is off: both predictions are compared
   b.cpu = b.oracle.renderer->render(b.oracle.camera, k, {true, {}, &model, true});
   const gpu::GpuRenderer port(*b.oracle.scene);
@@ -769,7 +769,7 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
               counts * static_cast<double>(b.cpu.counts.searchedFootprint));
   // The port's own model prices PCF as well; a model that does not (e = 0) never draws the sample.
   const gpu::GpuRenderer port(*b.oracle.scene);
-  const Constants k = makeConstants(s, b.oracle.scene->bounds().diagonal());
+  const Constants k = makeConstants(s, b.oracle.framedSize);
   const CostModel portModel = CostModel::defaults("gpu");
   ASSERT_GT(portModel.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample, 0.0);
   const FrameResult own = port.render(b.oracle.camera, k, {false, {}, &portModel, true});
@@ -855,7 +855,7 @@ TEST(GpuNeverSlower, ADifferentDecisionFailsAtTheFallbackRow) {
   Settings s = peerSettings(Effect::Ssao, Mode::Mrr, 97, 61);
   s.neverSlower = true;
   const auto r = test::renderScene("builtin:demo", s);
-  const Constants k = makeConstants(s, r.scene->bounds().diagonal());
+  const Constants k = makeConstants(s, r.framedSize);
   const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &staysMultires});
   const gpu::GpuRenderer port(*r.scene);
   const FrameResult gpu = port.render(r.camera, k, {true, {}, &fallsBack});
@@ -896,7 +896,7 @@ TEST(GpuPeerFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     const Settings s = peerSettings(Effect::Ssao, fc.mode, 161, 97);
     const CostModel model = CostModel::defaults("cpu");
     const auto r = test::renderScene("builtin:" + fc.scene, s);
-    const Constants k = makeConstants(s, r.scene->bounds().diagonal());
+    const Constants k = makeConstants(s, r.framedSize);
     const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
     {
       const gpu::GpuRenderer clean(*r.scene);

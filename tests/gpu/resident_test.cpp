@@ -68,7 +68,7 @@ TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
   Settings s = smallFrame(k.effect, k.width, k.height, false);
   s.mode = k.mode;
   if (k.disabledLevel >= 0) s.levels[static_cast<size_t>(k.disabledLevel)].enabled = false;
-  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const Constants c = makeConstants(s, rs.framed.size);
   const FrameResult kept = port.render(rs.camera, c, {true, {}, nullptr});
   const FrameResult resident = port.render(rs.camera, c, {false, {}, nullptr});
   EXPECT_EQ(resident.final().data, kept.final().data) << "final image";
@@ -119,7 +119,7 @@ TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
   const Settings s = smallFrame(Effect::Ssao, 160, 90, true);
   CostModel model = CostModel::defaults("gpu");
   model.nsPerBlendPixel *= 1e6;  // the method's own overheads dwarf any saving
-  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const Constants c = makeConstants(s, rs.framed.size);
   const FrameResult kept = port.render(rs.camera, c, {true, {}, &model});
   const FrameResult resident = port.render(rs.camera, c, {false, {}, &model});
   ASSERT_TRUE(kept.fallback.fellBack);
@@ -138,7 +138,7 @@ TEST(GpuNeverSlower, CountsTheSameFrameAsTheOracle) {
   const gpu::GpuRenderer port(rs.scene);
   const Renderer oracle(rs.scene);
   Settings s = smallFrame(Effect::Ssao, 160, 90, false);
-  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
+  const Constants c = makeConstants(s, rs.framed.size);
   const CostModel model = CostModel::defaults("gpu");
   const FrameResult p = port.render(rs.camera, c, {false, {}, &model});
   const FrameResult o = oracle.render(rs.camera, c, {false, {}, &model});
@@ -152,7 +152,7 @@ TEST(GpuNeverSlower, CountsTheSameFrameAsTheOracle) {
   CostModel dearCopies = model;
   dearCopies.nsPerCoarseGbufferPixel = 1e6;
   s.neverSlower = true;
-  const Constants on = makeConstants(s, rs.scene.bounds().diagonal());
+  const Constants on = makeConstants(s, rs.framed.size);
   const FrameResult pf = port.render(rs.camera, on, {false, {}, &dearCopies});
   const FrameResult of = oracle.render(rs.camera, on, {false, {}, &dearCopies});
   EXPECT_TRUE(pf.fallback.fellBack && pf.fallback.early);

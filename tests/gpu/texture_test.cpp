@@ -14,6 +14,7 @@
 #include "compare/parity.h"
 #include "cpu_ref/pipeline.h"
 #include "gpu/pipeline.h"
+#include "scenes/default_light.h"
 #include "tests/common/gltf_builder.h"
 #include "tests/gpu/gl_test.h"
 
@@ -114,14 +115,14 @@ int expectedTexel(double t, int wrap) {
   return static_cast<int>(k < kTexels ? k : 2 * kTexels - 1 - k);
 }
 
-Constants frameConstants(Effect effect, int w, int h, float diagonal) {
+Constants frameConstants(Effect effect, int w, int h, float framed) {
   Settings s = defaultSettings(effect);
   s.width = w;
   s.height = h;
   s.mode = Mode::Mrr;
   s.neverSlower = false;
   s.ssgi.samples = 16;
-  return makeConstants(s, diagonal);
+  return makeConstants(s, framed);
 }
 
 struct Tally {
@@ -210,7 +211,7 @@ TEST(Texture, OracleAlbedoIsTheTexelTimesTheFactor) {
     const Scene scene = loadGltf(writeScene(c, dir));
     const Renderer renderer(scene);
     const Camera camera = lookAt({1.0f, 1.0f, kEyeZ}, {1.0f, 1.0f, 0.0f}, 45.0f);
-    expectExact(c, check(c, renderer.render(camera, frameConstants(Effect::Ssao, 320, 180, scene.bounds().diagonal()))),
+    expectExact(c, check(c, renderer.render(camera, frameConstants(Effect::Ssao, 320, 180, framedSize(scene, camera, 320.0f / 180.0f).size))),
                 "oracle");
   }
 }
@@ -222,7 +223,7 @@ TEST(Texture, WithoutItTheAlbedoIsTheFactor) {
   scene.meshes.at(0).texture = -1;
   const Renderer renderer(scene);
   const Camera camera = lookAt({1.0f, 1.0f, kEyeZ}, {1.0f, 1.0f, 0.0f}, 45.0f);
-  const Tally t = check(c, renderer.render(camera, frameConstants(Effect::Ssao, 320, 180, scene.bounds().diagonal())));
+  const Tally t = check(c, renderer.render(camera, frameConstants(Effect::Ssao, 320, 180, framedSize(scene, camera, 320.0f / 180.0f).size)));
   EXPECT_EQ(t.wrong, t.checked);
 }
 
@@ -233,7 +234,7 @@ TEST(Texture, PortAlbedoIsTheTexelTimesTheFactor) {
     const Scene scene = loadGltf(writeScene(c, dir));
     const gpu::GpuRenderer renderer(scene);
     const Camera camera = lookAt({1.0f, 1.0f, kEyeZ}, {1.0f, 1.0f, 0.0f}, 45.0f);
-    expectExact(c, check(c, renderer.render(camera, frameConstants(Effect::Ssao, 320, 180, scene.bounds().diagonal()))),
+    expectExact(c, check(c, renderer.render(camera, frameConstants(Effect::Ssao, 320, 180, framedSize(scene, camera, 320.0f / 180.0f).size))),
                 "port");
   }
 }
@@ -262,7 +263,7 @@ TEST(Texture, PortMatchesTheOracleOnATexturedFrame) {
   scene.light.direction = glm::normalize(glm::vec3(-0.3f, -0.6f, -1.0f));
   const Camera camera = lookAt({2.6f, 1.6f, 3.2f}, {0.8f, 0.9f, 0.0f}, 50.0f);
   for (Effect effect : {Effect::Ssgi, Effect::Ssao}) {
-    const Constants k = frameConstants(effect, 161, 97, scene.bounds().diagonal());
+    const Constants k = frameConstants(effect, 161, 97, framedSize(scene, camera, 161.0f / 97.0f).size);
     const Renderer oracle(scene);
     const gpu::GpuRenderer port(scene);
     const RenderOptions keep{true, {}, nullptr};

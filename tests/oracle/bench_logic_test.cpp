@@ -211,7 +211,7 @@ TEST(TimedStages, EveryNameAnOracleFrameRecordsIsInTheStageList) {
         s.ssm.shadowMapSize = 128;
         s.neverSlower = variant > 0;
         RenderOptions options{false, {}, variant == 2 ? &dear : nullptr, true};
-        const FrameResult f = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()), options);
+        const FrameResult f = renderer.render(rs.camera, makeConstants(s, rs.framed.size), options);
         const std::string what = toString(effect) + " " + toString(mode) + " variant " + std::to_string(variant);
         if (variant == 2) EXPECT_TRUE(f.fallback.fellBack) << what;
         double sum = 0.0;

@@ -27,7 +27,7 @@ double renderedLitShare(const Scene& scene, const Camera& camera) {
   s.mode = Mode::Full;
   s.neverSlower = false;
   const Renderer renderer(scene);
-  const FrameResult f = renderer.render(camera, makeConstants(s, scene.bounds().diagonal()));
+  const FrameResult f = renderer.render(camera, makeConstants(s, framedSize(scene, camera, 320.0f / 180.0f).size));
   const GBuffer& g = f.levels[0].gbuffer;
   int64_t surface = 0, lit = 0;
   for (int y = 0; y < s.height; ++y)
@@ -161,6 +161,69 @@ TEST(ConstantEffect, AFlatPlanesAoIsConstantAndTheDemosIsNot) {
   EXPECT_LT(r.hi - r.lo, kConstantEffectRange);
   const test::Rendered demo = test::renderScene("builtin:demo", test::ssaoSettings(96, 54, 8));
   EXPECT_FALSE(effectIsConstant(demo.frame));
+}
+
+}  // namespace
+}  // namespace mrr
+
+namespace mrr {
+namespace {
+
+// The automatic radii's basis (docs/spec.md §6): a wall square-on at distance d, filling the view,
+// frames 2 d tan(fov/2); a second wall behind the first changes nothing (it is hidden); a view
+// that sees no surface falls back to the scene's diagonal; and the radii are those fractions of it.
+TEST(FramedSize, IsTheViewsHeightAtTheMedianDepthOfWhatItSees) {
+  Scene s = makeBuiltinScene("plane");
+  s.meshes.clear();
+  s.cameras.clear();
+  auto wall = [&](float z, float half) {
+    Mesh m;
+    m.name = "wall";
+    m.positions = {{-half, -half, z}, {half, -half, z}, {half, half, z}, {-half, half, z}};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    computeVertexNormals(m);
+    s.meshes.push_back(std::move(m));
+  };
+  wall(0.0f, 50.0f);
+  const Camera camera = lookAt({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 60.0f);
+  const FramedSize f = framedSize(s, camera, 16.0f / 9.0f);
+  EXPECT_EQ(f.surface, 128 * 72);
+  EXPECT_NEAR(f.medianDepth, 4.0f, 1e-4f);
+  EXPECT_NEAR(f.size, 8.0f * std::tan(glm::radians(30.0f)), 1e-4f);
+  wall(-3.0f, 60.0f);  // hidden behind the first: the same median
+  EXPECT_NEAR(framedSize(s, camera, 16.0f / 9.0f).medianDepth, 4.0f, 1e-4f);
+  // Half the view on a nearer wall (x < 0 at depth 2): the median is the lower middle, on the
+  // far wall's side only when more than half of the pixels are there.
+  Mesh near;
+  near.name = "near";
+  near.positions = {{-50.0f, -50.0f, 2.0f}, {-0.001f, -50.0f, 2.0f}, {-0.001f, 50.0f, 2.0f}, {-50.0f, 50.0f, 2.0f}};
+  near.indices = {0, 1, 2, 0, 2, 3};
+  computeVertexNormals(near);
+  s.meshes.push_back(near);
+  EXPECT_NEAR(framedSize(s, camera, 16.0f / 9.0f).medianDepth, 2.0f, 1e-4f);
+  // Looking away: nothing in view, the diagonal.
+  const FramedSize away = framedSize(s, lookAt({0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 8.0f}, 60.0f), 16.0f / 9.0f);
+  EXPECT_EQ(away.surface, 0);
+  EXPECT_EQ(away.size, s.bounds().diagonal());
+  // The constants: 15% (SSAO) and 30% (SSGI) of it; an explicit radius wins.
+  Settings settings = defaultSettings(Effect::Ssao);
+  const Constants k = makeConstants(settings, f.size);
+  EXPECT_EQ(k.ssao.radius, SsaoSettings::kAutoRadiusFraction * f.size);
+  EXPECT_EQ(k.ssgi.radius, SsgiSettings::kAutoRadiusFraction * f.size);
+  EXPECT_FLOAT_EQ(k.ssao.radius, 0.15f * f.size);
+  settings.ssao.radius = 0.7f;
+  EXPECT_EQ(makeConstants(settings, f.size).ssao.radius, 0.7f);
+}
+
+// resolveScene carries it, at the request's aspect, for its camera.
+TEST(FramedSize, ResolveSceneGivesTheRequestsView) {
+  SceneRequest req;
+  req.scene = "builtin:corner";
+  const ResolvedScene rs = resolveScene(req);
+  const FramedSize f = framedSize(rs.scene, rs.camera, req.aspect);
+  EXPECT_EQ(rs.framed.size, f.size);
+  EXPECT_GT(rs.framed.surface, 0);
+  EXPECT_LT(rs.framed.size, rs.scene.bounds().diagonal());
 }
 
 }  // namespace

@@ -197,7 +197,7 @@ TEST(Ssgi, NoLightNoIndirectLight) {
   rs.scene.light.color = glm::vec3(0.0f);
   const Renderer renderer(rs.scene);
   const FrameResult f =
-      renderer.render(rs.camera, makeConstants(effectSettings(Effect::Ssgi, 96, 64, 24), rs.scene.bounds().diagonal()));
+      renderer.render(rs.camera, makeConstants(effectSettings(Effect::Ssgi, 96, 64, 24), rs.framed.size));
   for (float v : f.final().data) ASSERT_EQ(v, 0.0f);
 }
 

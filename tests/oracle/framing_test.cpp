@@ -130,7 +130,7 @@ glm::vec3 centreAlbedo(const Scene& scene, const Camera& camera) {
   s.mode = Mode::Full;
   s.neverSlower = false;
   const Renderer renderer(scene);
-  const FrameResult f = renderer.render(camera, makeConstants(s, scene.bounds().diagonal()));
+  const FrameResult f = renderer.render(camera, makeConstants(s, framedSize(scene, camera, 64.0f / 36.0f).size));
   const GBuffer& g = f.levels[0].gbuffer;
   EXPECT_TRUE(g.hit.at(32, 18));
   return {g.albedo.at(32, 18, 0), g.albedo.at(32, 18, 1), g.albedo.at(32, 18, 2)};

@@ -178,8 +178,8 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   const Renderer renderer(rs.scene);
   Settings s = ssaoSettings(96, 64, 8);
   s.neverSlower = true;
-  const Constants c = makeConstants(s, rs.scene.bounds().diagonal());
-  const FrameResult full = renderer.render(rs.camera, makeConstants(method(s, Mode::Full), rs.scene.bounds().diagonal()));
+  const Constants c = makeConstants(s, rs.framed.size);
+  const FrameResult full = renderer.render(rs.camera, makeConstants(method(s, Mode::Full), rs.framed.size));
 
   // The coarse G-buffers dearer than shading every pixel: the least the method could pay is
   // already no gain, so it falls back before its edges.
@@ -236,7 +236,7 @@ TEST(NeverSlower, FallsBackWhenTheOverheadEatsTheGainAndNotOtherwise) {
   EXPECT_NE(kept.final().data, full.final().data);
 
   s.neverSlower = false;
-  const FrameResult off = renderer.render(rs.camera, makeConstants(s, rs.scene.bounds().diagonal()), {true, {}, &costly});
+  const FrameResult off = renderer.render(rs.camera, makeConstants(s, rs.framed.size), {true, {}, &costly});
   EXPECT_FALSE(off.fallback.evaluated);
   EXPECT_GT(off.fallback.predictedMrrMs, off.fallback.predictedFullMs) << "predicted, not applied";
   EXPECT_GT(off.idealSpeedup, 1.2);

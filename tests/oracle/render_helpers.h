@@ -16,6 +16,7 @@ struct Rendered {
   Camera camera;
   std::unique_ptr<Renderer> renderer;
   FrameResult frame;
+  float framedSize = 0.0f;  // what the view frames: the automatic radii's basis (ResolvedScene::framed)
 };
 
 inline Settings ssaoSettings(int w, int h, int samples = 16, Mode mode = Mode::Mrr) {
@@ -37,11 +38,13 @@ inline Rendered renderScene(const std::string& sceneSpec, const Settings& s,
   SceneRequest req;
   req.scene = sceneSpec;
   req.lightToward = lightToward;
+  req.aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
   ResolvedScene rs = resolveScene(req);
   r.scene = std::make_unique<Scene>(std::move(rs.scene));
   r.camera = rs.camera;
   r.renderer = std::make_unique<Renderer>(*r.scene);
-  r.frame = r.renderer->render(r.camera, makeConstants(s, r.scene->bounds().diagonal()));
+  r.framedSize = rs.framed.size;
+  r.frame = r.renderer->render(r.camera, makeConstants(s, r.framedSize));
   return r;
 }
 

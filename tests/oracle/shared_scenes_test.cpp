@@ -58,10 +58,9 @@ TEST(PaperFigures, ArcadeSsao64At720pIsWithinThePapersRms) {
   ResolvedScene rs = resolveScene(req);
   const Renderer renderer(rs.scene);
   Settings s = ssaoSettings(1280, 720, 64);
-  const float diag = rs.scene.bounds().diagonal();
-  const FrameResult multi = renderer.render(rs.camera, makeConstants(s, diag));
+  const FrameResult multi = renderer.render(rs.camera, makeConstants(s, rs.framed.size));
   s.mode = Mode::Full;
-  const FrameResult full = renderer.render(rs.camera, makeConstants(s, diag));
+  const FrameResult full = renderer.render(rs.camera, makeConstants(s, rs.framed.size));
   const double rms = rmsError(multi.final(), full.final());
   RecordProperty("rms", std::to_string(rms));
   RecordProperty("ideal_speedup", std::to_string(multi.idealSpeedup));

@@ -39,10 +39,13 @@ class ChartTest(unittest.TestCase):
         paper = [{"figure": "fig7", "effect": "ssao", "samples": 64, "width": 1280, "height": 720,
                   "speedup": 1.287, "rms": 0}]
         chart = report.sweep("fig7", "cpu", "ssao", runs, paper, "a test machine")
-        labels = chart.ax.get_legend_handles_labels()[1]
-        self.assertEqual(labels, ["mrr measured", "mrr ideal (pixels)", "paper, Fig. 7 (GTX 1080)"])
-        paper_line = chart.ax.get_lines()[2]
+        # ours at 180 and 360, the paper's at 720: no overlap, so the paper has its own axis
+        labels = chart.legend_entries()[1]
+        self.assertEqual(labels, ["mrr measured", "mrr ideal (pixels)", "paper, Fig. 7 (GTX 1080, top axis)"])
+        self.assertEqual(len(chart.fig.axes), 2)
+        paper_line = chart.fig.axes[1].get_lines()[0]
         self.assertEqual(list(paper_line.get_xdata()), [720])
+        self.assertIn("(720 to 720) hardly overlap ours (180 to 360)", chart.caption)
         self.assertEqual(paper_line.get_linestyle(), "--")
         self.assertEqual(paper_line.get_markerfacecolor(), "white")  # hollow
         with tempfile.TemporaryDirectory() as folder:
@@ -53,6 +56,31 @@ class ChartTest(unittest.TestCase):
             self.assertEqual(header[:8], b"\x89PNG\r\n\x1a\n")
             self.assertEqual((int.from_bytes(header[16:20], "big"), int.from_bytes(header[20:24], "big")),
                              (report.WIDTH, report.HEIGHT))
+
+    def test_our_points_span_the_axis_whatever_the_papers_heights(self):
+        # The --quick bench's heights (54, 90) against the paper's 720 to 2160: before, one axis ran
+        # to 2160 and our curves filled its first 4%. Now each curve spans its own axis.
+        runs = [{"path": "cpu", "scene": "builtin:demo", "method": m, "effect": "ssao", "samples": 16, "width": w,
+                 "height": h, "rms": 0.01, "measured_speedup": s, "ideal_speedup": 2 * s}
+                for m, s in (("full", 1.0), ("mrr", 1.2)) for w, h in ((96, 54), (160, 90))]
+        paper = [{"figure": "fig7", "effect": "ssao", "samples": 16, "width": 16 * h // 9, "height": h,
+                  "speedup": 1.0 + h / 2160, "rms": 0} for h in (720, 1080, 1440, 2160)]
+        for figure in ("fig7", "fig9"):
+            chart = report.sweep(figure, "cpu", "ssao", runs, [dict(p, figure=figure) for p in paper], "a machine")
+            ours, theirs = chart.fig.axes
+            lo, hi = ours.get_xlim()
+            self.assertGreater((90 - 54) / (hi - lo), 0.8, figure)  # ours fill their axis
+            lo, hi = theirs.get_xlim()
+            self.assertGreater((2160 - 720) / (hi - lo), 0.8, figure)
+        # Where the heights overlap (the docs' bench: 720 to 2160 both), one shared axis, as before.
+        same = [dict(r, height={54: 720, 90: 1440}[r["height"]]) for r in runs]
+        chart = report.sweep("fig7", "cpu", "ssao", same, paper, "a machine")
+        self.assertEqual(len(chart.fig.axes), 1)
+        self.assertIn("paper, Fig. 7 (GTX 1080)", chart.legend_entries()[1])
+        self.assertTrue(report.shares_axis([720], [720, 2160]))
+        self.assertFalse(report.shares_axis([54, 90], [720, 2160]))
+        self.assertFalse(report.shares_axis([360, 720], [720, 2160]))  # one point of overlap only
+        self.assertTrue(report.shares_axis([720, 1080, 1440], [720, 2160]))
 
     def test_the_hit_ideal_is_drawn_beside_the_pixel_ideal(self):
         runs = [{"path": "cpu", "scene": "builtin:demo", "method": m, "effect": "ssao", "samples": 64, "width": w,

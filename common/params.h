@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,8 @@ Mode parseMode(const std::string& name);  // also accepts "multires", the old na
 bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
 // Throws MrrError (one line: the port does not implement it yet) for mrr-effect on path "gpu".
 void requirePortImplements(Mode mode, const std::string& path);
+// Throws MrrError (one line) for --gaze or --prev-frame on path "gpu": SPEC §13 is the oracle's so far.
+void requirePortImplementsFoveation(bool active, const std::string& path);
 // mrr or mrr-effect: the paper's pipeline (masks from edges, blend coarse to fine, SPEC §11's rule).
 inline bool isMethod(Mode mode) { return mode == Mode::Mrr || mode == Mode::MrrEffect; }
 
@@ -91,6 +94,34 @@ struct EffectMaskSettings {
   static constexpr int kDefaultCap = 8;
 };
 
+// Foveation and motion (issue 37, SPEC §13): a per-pixel level limit from the gaze's eccentricity
+// (Guenter et al. 2012's linear minimum angle of resolution) and from each pixel's screen motion
+// against the previous frame's camera; off unless --gaze or --prev-frame is given.
+struct FoveationSettings {
+  float ppd = 67.0f;            // pixels per degree of visual angle (> 0): a 0.7 m wide 4K display at 0.7 m
+  bool gaze = false;            // --gaze given
+  int gazeX = 0, gazeY = 0;     // the full-res pixel the eye looks at, inside W×H
+  bool foveate = true;          // false: the gaze only measures (eccentricity, rings); the eye limits nothing
+  bool motion = false;          // --prev-frame given
+  // The previous frame's camera (as a frame file records it): eye, target, up, vertical fov (radians).
+  glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
+  float prevYfov = 0.9f;
+  int motionCap = 2;            // the coarsest level motion alone may ask for [0, kLevelCount − 1]
+  float motionScale = 1.0f;     // multiplies the measured motion [0, 16] (explore's knob; 1 = as measured)
+  bool active() const { return gaze || motion; }
+};
+
+// SPEC §13's constants. Guenter et al. 2012 ("Foveated 3D graphics", SIGGRAPH Asia, §3): the
+// minimum angle of resolution grows linearly with eccentricity, ω(e) = m·e + ω0; ω0 = 1/48° (the
+// foveal acuity they assume, 20/20 vision's 1.25 arc minutes), m = 1.32 arc minutes per degree
+// = 0.022°/° (the conservative end of the slopes their user study found, 1.32–1.65'/°).
+inline constexpr double kMar0Degrees = 1.0 / 48.0;
+inline constexpr double kMarSlope = 1.32 / 60.0;
+// mrr: two level pixels per minimum angle of resolution (and per motion blur width): a level's
+// values reach the screen through bilinear upsampling, whose response falls to 0 at its Nyquist
+// frequency, so a level is asked to sample the finest resolvable detail twice.
+inline constexpr double kSamplesPerMar = 2.0;
+
 struct BilateralSettings {
   int radius = 2;              // taps each side [0, 8]; 0 disables the blur
   float sigmaSpatial = 1.5f;   // spatial Gaussian σ, level pixels
@@ -110,6 +141,7 @@ struct Settings {
   SsgiSettings ssgi;
   BilateralSettings bilateral;
   EffectMaskSettings effectMask;  // mode mrr-effect only
+  FoveationSettings foveation;    // modes mrr, mrr-effect and tiles (SPEC §13)
   // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
   bool neverSlower = true;
 
@@ -174,6 +206,24 @@ struct Constants {
     int cap = 0;
     int firstLevel = 1;
   } effectMask;
+  // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before.
+  struct Foveation {
+    bool gaze = false, motion = false;
+    bool foveate = true;  // false: eccentricity is measured, the eye allows level 0 only (a baseline)
+    int gazeX = 0, gazeY = 0;
+    float ppd = 67.0f;
+    double mar0 = 0.0, marSlope = 0.0;  // ω0 (degrees) and m (degrees per degree), Guenter et al. 2012
+    // Step 2: level ℓ ≥ 1 is allowed by the eye where d² ≥ radius2[ℓ] (d the distance to the gaze
+    // in full-res pixels, an integer): exact integer thresholds made on the host.
+    std::array<int64_t, kLevelCount> radius2{};
+    // Step 4: level ℓ ≥ 1 is allowed by motion where (scale·v)² ≥ speed2[ℓ], v in full-res pixels.
+    std::array<float, kLevelCount> speed2{};
+    int motionCap = 2;
+    float motionScale = 1.0f;
+    glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
+    float prevYfov = 0.9f;
+    bool active() const { return gaze || motion; }
+  } foveation;
   struct Bilateral {
     int radius = 0;
     float sigmaDepth = 0.0f;
@@ -196,5 +246,7 @@ struct Constants {
 // full-res pixel. The peers (SPEC §9) enable the levels their strategy shades: uniform-k
 // levels 0 (G-buffer only, for the joint bilateral upsampling) and k; tiles levels 0–2.
 Constants makeConstants(const Settings& settings, float sceneDiagonal);
+// SPEC §13: the foveation's constants (the level thresholds), as makeConstants fills them.
+void makeFoveationConstants(const FoveationSettings& settings, Constants::Foveation& out);
 
 }  // namespace mrr

@@ -259,6 +259,7 @@ class PortFrame final : public FrameBackend {
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
   requirePortImplements(constants.mode, "gpu");
+  requirePortImplementsFoveation(constants.foveation.active(), "gpu");
   PortFrame backend(gpuScene_, scene_, timerQueries_, options);
   return renderFrame(backend, scene_.light, camera, constants, options);
 }

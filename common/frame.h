@@ -144,6 +144,12 @@ struct FrameResult {
   ImageU8 edgeSample;      // mode mrr with the rule: whether each 8×8 block's diagonal holds an edge (SPEC §11)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
+  // SPEC §13 (with --gaze or --prev-frame), on the padded full-res grid: the eccentricity in
+  // degrees, the screen motion |v| in full-res pixels, and the level limit (3 channels: what the
+  // eye allows, what motion allows, ℓ_min). Empty when the term is off.
+  ImageF eccentricity;
+  ImageF motion;
+  ImageU8 levelLimit;
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
   FrameCounts counts;         // what the rule counted (mode mrr)
   std::array<LevelResult, kLevelCount> levels;

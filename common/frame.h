@@ -251,6 +251,16 @@ inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
                        std::min(levelSamplePixel(y, scale), fullResHit.height - 1)) != 0;
 }
 
+// SPEC §13. The level-limit image's channels (step 5): what the eye allows, what motion allows,
+// and the limit ℓ_min, each a level index (cpu_ref/foveation.h makes it; gpu/shaders/limit.frag).
+enum LimitChannel { kLimitFovea = 0, kLimitMotion = 1, kLimitLevel = 2, kLimitChannels = 3 };
+// The previous frame's view (same size and padding as this frame's), from Constants::Foveation.
+View previousView(const Constants& c);
+// Step 6 for tiles (SPEC §9): a tile's rate is max(its content rate, min(2, ℓ_min at its centre
+// pixel (16 t + 8), clamped to the grid)), as VRS combines a foveation rate with a content rate.
+// Both paths' tile rates are host images, so both call this.
+void limitTileRates(ImageU8& rates, const ImageU8& limit);
+
 // The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred
 // sub-images and per-effect scratch; the full-res edges, blend, level map and shaded image;
 // the shadow map), plus the full-res images written out. An estimate made from the sizes

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "common/error.h"
 #include "common/frame_params.h"
@@ -37,12 +38,6 @@ void requirePortImplements(Mode mode, const std::string& path) {
           optionName(Param::Method) + " mrr-effect: the port (" + optionName(Param::Path) +
               " gpu) does not implement it yet; it is the oracle's experiment (docs/spec.md §12): use " +
               optionName(Param::Path) + " cpu");
-}
-
-void requirePortImplementsFoveation(bool active, const std::string& path) {
-  require(!(active && path == "gpu"), optionName(Param::Gaze) + " / " + optionName(Param::PrevFrame) + ": the port (" +
-                                          optionName(Param::Path) + " gpu) does not implement the level limit yet "
-                                          "(docs/spec.md §13): use " + optionName(Param::Path) + " cpu");
 }
 
 Effect parseEffect(const std::string& name) {
@@ -122,7 +117,11 @@ void validateSettings(const Settings& s) {
           "mrr-effect: the first widened level must be in [0, " + std::to_string(kLevelCount - 1) + "]");
   // SPEC §13: viewing conditions, gaze and motion.
   require(std::isfinite(s.foveation.ppd) && s.foveation.ppd > 0.0f,
-          optionName(Param::Ppd) + " " + std::to_string(s.foveation.ppd) + ": must be > 0 pixels per degree");
+          optionName(Param::Ppd) + " " + [&] {
+            char text[32];
+            std::snprintf(text, sizeof text, "%g", static_cast<double>(s.foveation.ppd));
+            return std::string(text);
+          }() + ": must be > 0 pixels per degree");
   require(!s.foveation.gaze || (s.foveation.gazeX >= 0 && s.foveation.gazeX < s.width && s.foveation.gazeY >= 0 &&
                                 s.foveation.gazeY < s.height),
           optionName(Param::Gaze) + " " + std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY) +

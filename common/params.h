@@ -36,8 +36,6 @@ Mode parseMode(const std::string& name);  // also accepts "multires", the old na
 bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
 // Throws MrrError (one line: the port does not implement it yet) for mrr-effect on path "gpu".
 void requirePortImplements(Mode mode, const std::string& path);
-// Throws MrrError (one line) for --gaze or --prev-frame on path "gpu": SPEC §13 is the oracle's so far.
-void requirePortImplementsFoveation(bool active, const std::string& path);
 // mrr or mrr-effect: the paper's pipeline (masks from edges, blend coarse to fine, SPEC §11's rule).
 inline bool isMethod(Mode mode) { return mode == Mode::Mrr || mode == Mode::MrrEffect; }
 

@@ -47,15 +47,6 @@ int motionLevel(const glm::vec2& v, const Constants::Foveation& f) {
   return level;
 }
 
-View previousView(const Constants& c) {
-  Camera prev;
-  prev.eye = c.foveation.prevEye;
-  prev.target = c.foveation.prevTarget;
-  prev.up = c.foveation.prevUp;
-  prev.yfov = c.foveation.prevYfov;
-  return makeView(prev, c.width, c.height, c.paddedWidth, c.paddedHeight);
-}
-
 LevelLimit levelLimit(const GBuffer& g, const View& view, const Constants& c) {
   const Constants::Foveation& f = c.foveation;
   const int w = c.paddedWidth, h = c.paddedHeight;
@@ -99,16 +90,6 @@ void applyLevelLimit(Masks& masks, const ImageU8& limit, const Constants& c) {
         if (l < limit.at(levelSamplePixel(x, lc.scale), py, kLimitLevel)) m.at(x, y) = 0;
     });
   }
-}
-
-void limitTileRates(ImageU8& rates, const ImageU8& limit) {
-  for (int ty = 0; ty < rates.height; ++ty)
-    for (int tx = 0; tx < rates.width; ++tx) {
-      const int px = std::min(tx * kTileSize + kTileSize / 2, limit.width - 1);
-      const int py = std::min(ty * kTileSize + kTileSize / 2, limit.height - 1);
-      const uint8_t eye = std::min<uint8_t>(2, limit.at(px, py, kLimitLevel));
-      rates.at(tx, ty) = std::max(rates.at(tx, ty), eye);
-    }
 }
 
 }  // namespace mrr

@@ -12,10 +12,6 @@
 
 namespace mrr {
 
-// The level-limit image's channels (SPEC §13 step 5): what the eye allows, what motion allows,
-// and the limit, each a level index.
-enum LimitChannel { kLimitFovea = 0, kLimitMotion = 1, kLimitLevel = 2, kLimitChannels = 3 };
-
 // Step 1: the eccentricity of full-res pixel (x, y), in degrees: d / ppd with d the distance from
 // the gaze pixel in full-res pixels (both pixel centres). 0 without a gaze.
 float eccentricityAt(int x, int y, const Constants::Foveation& f);
@@ -31,9 +27,6 @@ inline constexpr float kMotionBehind = 1.0e9f;
 // (a box blur of width |v| holds k = 2 level pixels of level ℓ).
 int motionLevel(const glm::vec2& v, const Constants::Foveation& f);
 
-// The previous frame's view (same size and padding as this frame's).
-View previousView(const Constants& c);
-
 struct LevelLimit {
   ImageF eccentricity;  // step 1, degrees, padded full-res grid (empty without a gaze)
   ImageF motion;        // step 3, |v| in full-res pixels (empty without a previous frame)
@@ -45,8 +38,6 @@ LevelLimit levelLimit(const GBuffer& g, const View& view, const Constants& c);
 // Step 6: M_ℓ(q) = 0 for every enabled level ℓ below the coarsest where ℓ < ℓ_min at the full-res
 // pixel q holds (levelSamplePixel). Before the blur (cpu_ref/masks.cpp: buildMasks).
 void applyLevelLimit(Masks& masks, const ImageU8& limit, const Constants& c);
-// Step 6 for tiles (SPEC §9): a tile's rate is max(its content rate, min(2, ℓ_min at its centre
-// pixel (16 t + 8), clamped to the grid)), as VRS combines a foveation rate with a content rate.
-void limitTileRates(ImageU8& rates, const ImageU8& limit);
+// Step 6 for tiles: limitTileRates (common/frame.h), shared with the port.
 
 }  // namespace mrr

@@ -171,7 +171,6 @@ Settings FrameOptions::settings() const {
     require(prev.contains(fovKey) && prev[fovKey].is_number(), where + ": has no \"" + fovKey + "\"");
     s.foveation.prevYfov = glm::radians(prev[fovKey].get<float>());
   }
-  requirePortImplementsFoveation(s.foveation.active(), path);
   for (int l : disabledLevels) {
     require(l >= 1 && l < kLevelCount, optionName(Param::DisableLevel) + " " + std::to_string(l) + ": must be 1, 2 or 3");
     s.levels[static_cast<size_t>(l)].enabled = false;

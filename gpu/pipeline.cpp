@@ -145,14 +145,24 @@ class PortFrame final : public FrameBackend {
     if (keep_) f.edges = readEdges(*edges_);
   }
   Masks methodMasks(FrameResult& f) override {
-    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), f.constants);
+    const unsigned limit = levelLimit(f);
+    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), f.constants, limit);
     Masks masks = readMasks(*maskTargets_, f.constants, !keep_);
-    if (keep_) masks[0].mask = f.edges.combined;  // M_0 = E
+    if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (M'_0 with SPEC §13's limit)
     return masks;
   }
   Masks tileMasks(FrameResult& f) override {
     f.tileRates = tileRates(scene_, edges_->texture(0), edgeChannel(!keep_), edges_->width(), edges_->height());
+    if (levelLimit(f)) limitTileRates(f.tileRates, f.levelLimit);  // SPEC §13, the same host step as the oracle's
     return gpu::tileMasks(scene_, f.tileRates, f.constants);
+  }
+  // SPEC §13: limit.frag when a term is on, read back into f (the report, tiles, --stages); its
+  // texture, or 0.
+  unsigned levelLimit(FrameResult& f) {
+    if (!f.constants.foveation.active()) return 0;
+    limit_ = drawLevelLimit(scene_, *gbuffers_[0], f.view, f.constants);
+    readLevelLimit(*limit_, f.constants, f.eccentricity, f.motion, f.levelLimit);
+    return limit_->texture(0);
   }
   void useMasks(FrameResult& f, const Masks& masks, const StageFn& stage) override {
     if (!maskTargets_ || !maskTargets_->drawn || f.fallback.fellBack)  // host stencils: to the GPU
@@ -254,12 +264,12 @@ class PortFrame final : public FrameBackend {
   std::array<unsigned, kLevelCount> subTexture_{};
   TextureSet unshaded_;
   GpuImage final_;
+  Target limit_;  // SPEC §13's level limit (limit.frag), when a term is on
 };
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
   requirePortImplements(constants.mode, "gpu");
-  requirePortImplementsFoveation(constants.foveation.active(), "gpu");
   PortFrame backend(gpuScene_, scene_, timerQueries_, options);
   return renderFrame(backend, scene_.light, camera, constants, options);
 }

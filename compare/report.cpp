@@ -118,7 +118,8 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                                {"pixels", pixels[i]},
                                {"shaded_level_pixels", shaded[i]},
                                {"shaded_share", pixels[i] ? static_cast<double>(shaded[i]) / static_cast<double>(pixels[i]) : 0.0}};
-        if (err && i < err->ringRms.size()) ring["rms_vs_full"] = err->ringRms[i];
+        if (err && i < err->ringRms.size())
+          ring["rms_vs_full"] = pixels[i] ? nlohmann::json(err->ringRms[i]) : nlohmann::json(nullptr);
         rings.push_back(ring);
       }
       fj["rings"] = rings;

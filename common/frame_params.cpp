@@ -77,8 +77,8 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::Weights, "weights", "", K::PerLevel, "",
      "the blend weight w per level, w0,w1,w2,w3, each >= 0: alpha = min(a w, 1)", kFile, kPage},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
-     "viewing conditions: pixels per degree of visual angle (67: a 0.7 m wide 4K display seen from 0.7 m); "
-     "sets the eccentricity of --gaze",
+     "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
+     "sets the eccentricity of --gaze and the reports' FLIP",
      kFile, kPage},
     {Param::Gaze, "gaze", "", K::Text, "full-res pixel",
      "X,Y: the pixel the eye looks at; the periphery may use coarser levels (foveation, docs/spec.md section 13)",

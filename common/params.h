@@ -96,7 +96,9 @@ struct EffectMaskSettings {
 // (Guenter et al. 2012's linear minimum angle of resolution) and from each pixel's screen motion
 // against the previous frame's camera; off unless --gaze or --prev-frame is given.
 struct FoveationSettings {
-  float ppd = 67.0f;            // pixels per degree of visual angle (> 0): a 0.7 m wide 4K display at 0.7 m
+  // Pixels per degree of visual angle (> 0): a 0.7 m wide 4K display seen from 0.7 m, 3840·π/180 =
+  // 67.02 (FLIP's default, compare/flip.h kFlipDefaultPpd, which the reports' FLIP takes from here).
+  float ppd = static_cast<float>(3840.0 * 3.14159265358979323846 / 180.0);
   bool gaze = false;            // --gaze given
   int gazeX = 0, gazeY = 0;     // the full-res pixel the eye looks at, inside W×H
   bool foveate = true;          // false: the gaze only measures (eccentricity, rings); the eye limits nothing

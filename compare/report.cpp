@@ -9,10 +9,13 @@
 namespace mrr {
 
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
+  // FLIP's viewing conditions are --ppd's (SPEC §13); its default is FLIP's own, kept in double.
+  const float ppdSet = frame.constants.foveation.ppd;
+  const double ppd = ppdSet == FoveationSettings{}.ppd ? kFlipDefaultPpd : static_cast<double>(ppdSet);
   FrameErrors e{compareToReference(frame.final(), reference.final(), frame.blend.levelMap),
                 compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap),
-                flip(reference.final(), frame.final()).stats,  // flip() clamps: the PNG preview's values
-                flip(linearToDisplay(reference.shaded), linearToDisplay(frame.shaded)).stats,
+                flip(reference.final(), frame.final(), ppd).stats,  // flip() clamps: the PNG preview's values
+                flip(linearToDisplay(reference.shaded), linearToDisplay(frame.shaded), ppd).stats,
                 {}};
   if (!frame.eccentricity.empty()) {  // SPEC §13: RMS per eccentricity ring, in double, in order
     std::vector<double> sum(kRingCount, 0.0);

@@ -388,4 +388,23 @@ int64_t estimateFrameBytes(const Constants& c, bool keepStages) {
   return bytes;
 }
 
+View previousView(const Constants& c) {
+  Camera prev;
+  prev.eye = c.foveation.prevEye;
+  prev.target = c.foveation.prevTarget;
+  prev.up = c.foveation.prevUp;
+  prev.yfov = c.foveation.prevYfov;
+  return makeView(prev, c.width, c.height, c.paddedWidth, c.paddedHeight);
+}
+
+void limitTileRates(ImageU8& rates, const ImageU8& limit) {
+  for (int ty = 0; ty < rates.height; ++ty)
+    for (int tx = 0; tx < rates.width; ++tx) {
+      const int px = std::min(tx * kTileSize + kTileSize / 2, limit.width - 1);
+      const int py = std::min(ty * kTileSize + kTileSize / 2, limit.height - 1);
+      const uint8_t eye = std::min<uint8_t>(2, limit.at(px, py, kLimitLevel));
+      rates.at(tx, ty) = std::max(rates.at(tx, ty), eye);
+    }
+}
+
 }  // namespace mrr

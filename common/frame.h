@@ -144,6 +144,12 @@ struct FrameResult {
   ImageU8 edgeSample;      // mode mrr with the rule: whether each 8×8 block's diagonal holds an edge (SPEC §11)
   EdgeImages edges;        // on the padded full-res grid (modes mrr and tiles)
   ImageU8 tileRates;       // tiles: each 16×16 tile's level, 0 (1×1), 1 (2×2) or 2 (4×4)
+  // SPEC §13 (with --gaze or --prev-frame), on the padded full-res grid: the eccentricity in
+  // degrees, the screen motion |v| in full-res pixels, and the level limit (3 channels: what the
+  // eye allows, what motion allows, ℓ_min). Empty when the term is off.
+  ImageF eccentricity;
+  ImageF motion;
+  ImageU8 levelLimit;
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
   FrameCounts counts;         // what the rule counted (mode mrr)
   std::array<LevelResult, kLevelCount> levels;
@@ -244,6 +250,16 @@ inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
   return fullResHit.at(std::min(levelSamplePixel(x, scale), fullResHit.width - 1),
                        std::min(levelSamplePixel(y, scale), fullResHit.height - 1)) != 0;
 }
+
+// SPEC §13. The level-limit image's channels (step 5): what the eye allows, what motion allows,
+// and the limit ℓ_min, each a level index (cpu_ref/foveation.h makes it; gpu/shaders/limit.frag).
+enum LimitChannel { kLimitFovea = 0, kLimitMotion = 1, kLimitLevel = 2, kLimitChannels = 3 };
+// The previous frame's view (same size and padding as this frame's), from Constants::Foveation.
+View previousView(const Constants& c);
+// Step 6 for tiles (SPEC §9): a tile's rate is max(its content rate, min(2, ℓ_min at its centre
+// pixel (16 t + 8), clamped to the grid)), as VRS combines a foveation rate with a content rate.
+// Both paths' tile rates are host images, so both call this.
+void limitTileRates(ImageU8& rates, const ImageU8& limit);
 
 // The bytes one rendered FrameResult holds (every level's G-buffer, masks, raw and blurred
 // sub-images and per-effect scratch; the full-res edges, blend, level map and shaded image;

@@ -85,6 +85,20 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "the mask blur's variance per level, s0,s1,s2,s3, each in [0, 64]", kFile, kPage},
     {Param::Weights, "weights", "", K::PerLevel, "",
      "the blend weight w per level, w0,w1,w2,w3, each >= 0: alpha = min(a w, 1)", kFile, kPage},
+    {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
+     "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
+     "sets the eccentricity of --gaze and the reports' FLIP",
+     kFile, kPage},
+    {Param::Gaze, "gaze", "", K::Text, "full-res pixel",
+     "X,Y: the pixel the eye looks at; the periphery may use coarser levels (foveation, docs/spec.md section 13)",
+     kFile, kPage},
+    {Param::Foveate, "foveate", "", K::Text, "",
+     "with --gaze: on coarsens the periphery; off only measures (eccentricity, the report's rings), the baseline",
+     kFile, kPage},
+    {Param::PrevFrame, "prev_frame", "", K::Text, "",
+     "the previous frame, a frame file as render --frame-out writes it (same scene and size): pixels that move "
+     "on screen may use coarser levels (docs/spec.md section 13)",
+     kFile, kNoPage},
     {Param::MemoryLimit, "memory_limit", "", K::Number, "GiB",
      "what the run may plan to use; unset: MRR_MEMORY_LIMIT, else 3/4 of physical memory", kNoFile, kNoPage},
     {Param::Quiet, "quiet", "-q", K::Flag, "", "no progress lines on stderr", kNoFile, kNoPage},
@@ -137,6 +151,7 @@ std::string settingsDefault(Param param) {
     case Param::GiRadius:
       return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the framed size";
     case Param::NeverSlower: return s.neverSlower ? "on" : "off";
+    case Param::Ppd: return number(s.foveation.ppd);
     case Param::Sigma2:
       return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });
     case Param::Weights:
@@ -182,6 +197,7 @@ std::string paramRange(Param param) {
              std::to_string(kMaxSsmSamples) + ", ssgi [1, " + std::to_string(kMaxSsgiSamples) + "]";
     case Param::ShadowMapSize: return "[16, " + std::to_string(kMaxShadowMapSize) + "]";
     case Param::LightAngle: return "(0, 0.5]";
+    case Param::Ppd: return "> 0";
     case Param::TauN: return "[0, 2]";
     case Param::TauZ:
     case Param::AoRadius:

@@ -1,6 +1,8 @@
 #include "common/params.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "common/error.h"
 #include "common/frame_params.h"
@@ -110,6 +112,22 @@ void validateSettings(const Settings& s) {
           "mrr-effect: the a-posteriori term's finest level must be a level");
   require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
           "mrr-effect: the first widened level must be in [0, " + std::to_string(kLevelCount - 1) + "]");
+  // SPEC §13: viewing conditions, gaze and motion.
+  require(std::isfinite(s.foveation.ppd) && s.foveation.ppd > 0.0f,
+          optionName(Param::Ppd) + " " + [&] {
+            char text[32];
+            std::snprintf(text, sizeof text, "%g", static_cast<double>(s.foveation.ppd));
+            return std::string(text);
+          }() + ": must be > 0 pixels per degree");
+  require(!s.foveation.gaze || (s.foveation.gazeX >= 0 && s.foveation.gazeX < s.width && s.foveation.gazeY >= 0 &&
+                                s.foveation.gazeY < s.height),
+          optionName(Param::Gaze) + " " + std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY) +
+              ": outside the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " frame (x in [0, " +
+              std::to_string(s.width - 1) + "], y in [0, " + std::to_string(s.height - 1) + "])");
+  require(s.foveation.motionCap >= 0 && s.foveation.motionCap < kLevelCount,
+          "motion cap: must be in [0, " + std::to_string(kLevelCount - 1) + "]");
+  require(std::isfinite(s.foveation.motionScale) && s.foveation.motionScale >= 0.0f && s.foveation.motionScale <= 16.0f,
+          "motion scale: must be in [0, 16]");
   require(sizeOk(s.width) && sizeOk(s.height),
           optionName(Param::Size) + " " + std::to_string(s.width) + "x" + std::to_string(s.height) +
               ": each side must be in [1, " + std::to_string(kMaxImageSize) + "]");
@@ -164,6 +182,33 @@ void Constants::fallBackToFull() {
   coarsestEnabled = 0;
 }
 
+void makeFoveationConstants(const FoveationSettings& s, Constants::Foveation& f) {
+  f.gaze = s.gaze;
+  f.foveate = s.foveate;
+  f.motion = s.motion;
+  f.gazeX = s.gazeX;
+  f.gazeY = s.gazeY;
+  f.ppd = s.ppd;
+  f.mar0 = kMar0Degrees;
+  f.marSlope = kMarSlope;
+  f.motionCap = s.motionCap;
+  f.motionScale = s.motionScale;
+  f.prevEye = s.prevEye;
+  f.prevTarget = s.prevTarget;
+  f.prevUp = s.prevUp;
+  f.prevYfov = s.prevYfov;
+  for (int l = 0; l < kLevelCount; ++l) {
+    // Step 2: level ℓ's pixel, s_ℓ/ppd degrees, at most ω(e)/k: e ≥ e_ℓ = (k s_ℓ/ppd − ω0)/m,
+    // r_ℓ = e_ℓ·ppd full-res pixels; d² ≥ ⌈r_ℓ²⌉ ⇔ d ≥ r_ℓ for a whole d² (double on the host).
+    const double scale = static_cast<double>(1 << l);
+    const double e = (kSamplesPerMar * scale / static_cast<double>(s.ppd) - kMar0Degrees) / kMarSlope;
+    const double r = std::max(e, 0.0) * static_cast<double>(s.ppd);
+    f.radius2[static_cast<size_t>(l)] = l == 0 ? 0 : static_cast<int64_t>(std::ceil(std::min(r * r, 4.0e18)));
+    // Step 4: level ℓ where the box blur of the motion v is at least k level pixels wide: v ≥ k s_ℓ.
+    f.speed2[static_cast<size_t>(l)] = l == 0 ? 0.0f : static_cast<float>((kSamplesPerMar * scale) * (kSamplesPerMar * scale));
+  }
+}
+
 Constants makeConstants(const Settings& s, float framedSize) {
   validateSettings(s);
   Constants c;
@@ -207,6 +252,7 @@ Constants makeConstants(const Settings& s, float framedSize) {
   c.effectMask.firstLevel = s.effectMask.firstLevel;
   c.effectMask.posterior = s.effectMask.posterior;
   c.effectMask.posteriorFinest = s.effectMask.posteriorFinest;
+  makeFoveationConstants(s.foveation, c.foveation);
 
   c.renderCoarseGBuffer = s.renderCoarseGBuffer;
   c.ssao.samples = s.ssao.samples;

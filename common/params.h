@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,36 @@ struct EffectMaskSettings {
   static constexpr int kDefaultCap = 8;
 };
 
+// Foveation and motion (issue 37, SPEC §13): a per-pixel level limit from the gaze's eccentricity
+// (Guenter et al. 2012's linear minimum angle of resolution) and from each pixel's screen motion
+// against the previous frame's camera; off unless --gaze or --prev-frame is given.
+struct FoveationSettings {
+  // Pixels per degree of visual angle (> 0): a 0.7 m wide 4K display seen from 0.7 m, 3840·π/180 =
+  // 67.02 (FLIP's default, compare/flip.h kFlipDefaultPpd, which the reports' FLIP takes from here).
+  float ppd = static_cast<float>(3840.0 * 3.14159265358979323846 / 180.0);
+  bool gaze = false;            // --gaze given
+  int gazeX = 0, gazeY = 0;     // the full-res pixel the eye looks at, inside W×H
+  bool foveate = true;          // false: the gaze only measures (eccentricity, rings); the eye limits nothing
+  bool motion = false;          // --prev-frame given
+  // The previous frame's camera (as a frame file records it): eye, target, up, vertical fov (radians).
+  glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
+  float prevYfov = 0.9f;
+  int motionCap = 2;            // the coarsest level motion alone may ask for [0, kLevelCount − 1]
+  float motionScale = 1.0f;     // multiplies the measured motion [0, 16] (explore's knob; 1 = as measured)
+  bool active() const { return gaze || motion; }
+};
+
+// SPEC §13's constants. Guenter et al. 2012 ("Foveated 3D graphics", SIGGRAPH Asia, §3): the
+// minimum angle of resolution grows linearly with eccentricity, ω(e) = m·e + ω0; ω0 = 1/48° (the
+// foveal acuity they assume, 20/20 vision's 1.25 arc minutes), m = 1.32 arc minutes per degree
+// = 0.022°/° (the conservative end of the slopes their user study found, 1.32–1.65'/°).
+inline constexpr double kMar0Degrees = 1.0 / 48.0;
+inline constexpr double kMarSlope = 1.32 / 60.0;
+// mrr: two level pixels per minimum angle of resolution (and per motion blur width): a level's
+// values reach the screen through bilinear upsampling, whose response falls to 0 at its Nyquist
+// frequency, so a level is asked to sample the finest resolvable detail twice.
+inline constexpr double kSamplesPerMar = 2.0;
+
 struct BilateralSettings {
   int radius = 2;              // taps each side [0, 8]; 0 disables the blur
   float sigmaSpatial = 1.5f;   // spatial Gaussian σ, level pixels
@@ -118,6 +149,7 @@ struct Settings {
   SsgiSettings ssgi;
   BilateralSettings bilateral;
   EffectMaskSettings effectMask;  // mode mrr-effect only
+  FoveationSettings foveation;    // modes mrr, mrr-effect and tiles (SPEC §13)
   // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
   bool neverSlower = true;
   // SPEC §7: the sampling seed of SSAO's and SSGI's kernels and per-pixel rotations; 0 is mrr's
@@ -193,6 +225,24 @@ struct Constants {
     float posterior = 0.0f;
     int posteriorFinest = 0;
   } effectMask;
+  // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before.
+  struct Foveation {
+    bool gaze = false, motion = false;
+    bool foveate = true;  // false: eccentricity is measured, the eye allows level 0 only (a baseline)
+    int gazeX = 0, gazeY = 0;
+    float ppd = 67.0f;
+    double mar0 = 0.0, marSlope = 0.0;  // ω0 (degrees) and m (degrees per degree), Guenter et al. 2012
+    // Step 2: level ℓ ≥ 1 is allowed by the eye where d² ≥ radius2[ℓ] (d the distance to the gaze
+    // in full-res pixels, an integer): exact integer thresholds made on the host.
+    std::array<int64_t, kLevelCount> radius2{};
+    // Step 4: level ℓ ≥ 1 is allowed by motion where (scale·v)² ≥ speed2[ℓ], v in full-res pixels.
+    std::array<float, kLevelCount> speed2{};
+    int motionCap = 2;
+    float motionScale = 1.0f;
+    glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
+    float prevYfov = 0.9f;
+    bool active() const { return gaze || motion; }
+  } foveation;
   struct Bilateral {
     int radius = 0;
     float sigmaDepth = 0.0f;
@@ -217,5 +267,7 @@ struct Constants {
 // full-res pixel. The peers (SPEC §9) enable the levels their strategy shades: uniform-k
 // levels 0 (G-buffer only, for the joint bilateral upsampling) and k; tiles levels 0–2.
 Constants makeConstants(const Settings& settings, float framedSize);
+// SPEC §13: the foveation's constants (the level thresholds), as makeConstants fills them.
+void makeFoveationConstants(const FoveationSettings& settings, Constants::Foveation& out);
 
 }  // namespace mrr

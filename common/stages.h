@@ -49,6 +49,9 @@ enum class Part {
   ShadowMap,   //    the light's shadow map (SSM, SSGI)
   ShadowTest,  //    the one-tap shadow test at full res (SSM, SSGI)
   Edges,       // 2. edge kinds and E
+  Eccentricity,  // 3. SPEC §13: eccentricity from the gaze, degrees
+  Motion,        // 3. SPEC §13: screen motion against the previous frame, pixels
+  LevelLimit,    // 3. SPEC §13: the levels the eye and motion allow, and ℓ_min
   TileRates,   // 3. tiles peer: each tile's rate
   Mask,        // 3. M_ℓ
   Alpha,       // 3. a_ℓ
@@ -86,6 +89,12 @@ inline constexpr PartInfo kParts[] = {
      "shadowtest.same_input", "the one-tap shadow test at full res (1 = lit)"},
     {Part::Edges, "edges", false, 2, Timed::Edges, "edges.frag", "normal depth background E shadow", "edges",
      "edges.same_input", "each edge kind (SSM adds shadow) and E, their OR"},
+    {Part::Eccentricity, "eccentricity", false, 3, Timed::Masking, "limit.frag", "e", "eccentricity", "",
+     "foveation: the angle from the gaze, degrees (d / ppd)"},
+    {Part::Motion, "motion", false, 3, Timed::Masking, "limit.frag", "v", "motion", "motion.same_input",
+     "motion: how far the pixel's surface point moved on screen since the previous frame, pixels"},
+    {Part::LevelLimit, "levellimit", false, 3, Timed::Masking, "limit.frag", "fovea motion limit",
+     "levellimit", "levellimit.same_input", "the coarsest level the eye allows, the coarsest motion allows, and the limit l_min (M_l = 0 below it)"},
     {Part::TileRates, "tilerates", false, 3, Timed::Masking, "peers.frag", "rate", "stencil", "masks.same_input",
      "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)"},
     {Part::Mask, "mask", true, 3, Timed::Masking, "masks.frag effect_masks.frag", "M", "", "masks.same_input",

@@ -79,6 +79,9 @@ void putPart(FrameResult& f, Part part, int level, const ImageF& image) {
       break;
     }
     case Part::TileRates: f.tileRates = toBytes(image); break;
+    case Part::Eccentricity: f.eccentricity = image; break;  // SPEC §13
+    case Part::Motion: f.motion = image; break;
+    case Part::LevelLimit: f.levelLimit = toBytes(image); break;
     case Part::Mask: lr.masks.mask = toBytes(image); break;
     case Part::Alpha: lr.masks.alpha = image; break;
     case Part::Stencil: lr.masks.stencil = toBytes(image); break;

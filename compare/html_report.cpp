@@ -325,6 +325,9 @@ StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& 
       if (sub == "shadow") return binaryView(o.edges.shadow, p.edges.shadow, "shadow edges (one-tap test differs)");
       return binaryView(o.edges.combined, p.edges.combined, "edge image E (the OR of the kinds)");
     case Part::TileRates: return binaryView(o.tileRates, p.tileRates, "tile rates (0 = 1x1)");
+    case Part::Eccentricity: return valueView(o.eccentricity, p.eccentricity, "eccentricity (degrees)");
+    case Part::Motion: return valueView(o.motion, p.motion, "screen motion |v| (pixels)");
+    case Part::LevelLimit: return binaryView(o.levelLimit, p.levelLimit, "level limit (the eye's, motion's, l_min)");
     case Part::Mask: return binaryView(ol.masks.mask, pl.masks.mask, "mask M_ℓ");
     case Part::Stencil: return binaryView(ol.masks.stencil, pl.masks.stencil, "stencil S_ℓ");
     case Part::Alpha: return valueView(ol.masks.alpha, pl.masks.alpha, "a_ℓ");

@@ -11,6 +11,7 @@
 #include "common/stages.h"
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/effect_masks.h"
+#include "cpu_ref/foveation.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
 #include "cpu_ref/ssgi.h"
@@ -201,6 +202,7 @@ struct Rows {
   void gbufferRows(int l);
   void shadowRows();
   void edgeRows();
+  void limitRows();
   bool decisionAndMaskRows();  // false where the paths decided differently
   void effectRows(const DirectionalLight& light);
   std::optional<StageCheck> blendRows();  // the final image's same-input check
@@ -298,6 +300,24 @@ void Rows::edgeRows() {
   }
 }
 
+// SPEC §13: the eccentricity (no input), the motion and the level limit, end to end and on the
+// port's own G-buffer.
+void Rows::limitRows() {
+  if (p.levelLimit.empty() || o.levelLimit.empty()) return;
+  const LevelLimit same = levelLimit(p.levels[0].gbuffer, p.view, c);
+  if (!p.eccentricity.empty() && !o.eccentricity.empty())
+    add({partName(Part::Eccentricity), -1, 1,
+         check(endToEndRule(Part::Eccentricity),
+               diffImages(p.eccentricity, o.eccentricity, tolerance(endToEndRule(Part::Eccentricity)).pixelThreshold, {})),
+         {}});
+  if (!p.motion.empty() && !o.motion.empty())
+    add({partName(Part::Motion), -1, 1,
+         check(endToEndRule(Part::Motion), diffImages(p.motion, o.motion, tolerance(endToEndRule(Part::Motion)).pixelThreshold, {})),
+         check("motion.same_input", diffImages(p.motion, same.motion, tolerance("motion.same_input").pixelThreshold, {}))});
+  add({partName(Part::LevelLimit), -1, 1, check(endToEndRule(Part::LevelLimit), diffImages(p.levelLimit, o.levelLimit)),
+       check("levellimit.same_input", diffImages(p.levelLimit, same.limit))});
+}
+
 // The decision comes right after the masks in the pipeline, but it chooses the stencils the
 // frame keeps: when the paths decide differently, their frames differ in kind from here on
 // and nothing later can be compared.
@@ -312,15 +332,18 @@ bool Rows::decisionAndMaskRows() {
   // The oracle's stage-3 function of the frame's mode, on the port's own inputs.
   const bool multires = isMethod(c.mode) && !o.fallback.fellBack;
   std::array<MaskLevel, kLevelCount> masks;
+  const ImageU8* limit = p.levelLimit.empty() ? nullptr : &p.levelLimit;
   if (multires && c.mode == Mode::MrrEffect) {  // SPEC §12: the footprint from the port's own G-buffer
     const ImageF footprint = effectFootprint(p.levels[0].gbuffer, p.edges.combined, p.view,
                                              c.needsShadowMap() ? &p.shadowMap : nullptr, c);
-    masks = buildMasks(p.edges.combined, c, &footprint);
+    masks = buildMasks(p.edges.combined, c, &footprint, limit);
   } else if (multires) {
-    masks = buildMasks(p.edges.combined, c);
+    masks = buildMasks(p.edges.combined, c, nullptr, limit);
   } else if (c.mode == Mode::Tiles) {
+    ImageU8 sameRates = tileRates(p.edges.combined);
+    if (!p.levelLimit.empty()) limitTileRates(sameRates, p.levelLimit);  // SPEC §13
     add({partName(Part::TileRates), -1, kTileSize, check(endToEndRule(Part::Stencil), diffImages(p.tileRates, o.tileRates)),
-         check("masks.same_input", diffImages(p.tileRates, tileRates(p.edges.combined)))});
+         check("masks.same_input", diffImages(p.tileRates, sameRates))});
     masks = tileMasks(p.tileRates, c);
   } else if (c.mode == Mode::Uniform1 || c.mode == Mode::Uniform2) {
     masks = uniformMasks(c);
@@ -463,6 +486,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   rows.gbufferRows(0);
   rows.shadowRows();
   rows.edgeRows();
+  rows.limitRows();
   if (!rows.decisionAndMaskRows()) return result;
   for (int l = 1; l < kLevelCount; ++l) rows.gbufferRows(l);
   rows.effectRows(light);

@@ -156,6 +156,11 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
   const std::string gbuffer = partName(Part::GBuffer), edges = partName(Part::Edges), final = partName(Part::Final);
   flatten(rows, gbuffer, at(o, gbuffer), at(p, gbuffer), {"hit", "depth", "position", "normal", "albedo"});
   flatten(rows, edges, at(o, edges), at(p, edges), {"normal", "depth", "background", "shadow", "E"});
+  const std::string limit = partName(Part::LevelLimit);  // SPEC §13, with a gaze or a previous frame
+  if (o.contains(limit) || p.contains(limit))
+    flatten(rows, limit, at(o, limit), at(p, limit),
+            {"gaze", "ppd", "foveate", "eccentricity_degrees", "fovea_level", "motion_pixels", "motion_cap", "motion_level",
+             "limit"});
   const json lo = at(o, "levels"), lp = at(p, "levels");
   const size_t levels = std::max(lo.size(), lp.size());
   auto level = [&](const json& doc, size_t l) { return l < doc.size() ? doc[l] : json(); };
@@ -201,6 +206,7 @@ Section sectionOf(const std::string& key, const std::string& effect) {
   if (key.rfind("gbuffer.", 0) == 0) return {"1. The G-buffer at full resolution (" + shader(Part::GBuffer) + ")", rest(8)};
   if (key.rfind("shadow", 0) == 0) return {"1. The light's shadow map and test (" + shader(Part::ShadowMap) + ")", key};
   if (key.rfind("edges.", 0) == 0) return {"2. Edges (" + shader(Part::Edges) + ")", rest(6)};
+  if (key.rfind("levellimit.", 0) == 0) return {"3. The level limit (" + shader(Part::LevelLimit) + ")", rest(11)};
   if (key.size() > 3 && key[0] == 'L' && std::isdigit(static_cast<unsigned char>(key[1])) && key[2] == '.') {
     const std::string level = key.substr(1, 1), what = key.substr(3);
     const std::string field = what.substr(0, what.find_first_of(".["));

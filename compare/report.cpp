@@ -9,10 +9,32 @@
 namespace mrr {
 
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
-  return {compareToReference(frame.final(), reference.final(), frame.blend.levelMap),
-          compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap),
-          flip(reference.final(), frame.final()).stats,  // flip() clamps: the PNG preview's values
-          flip(linearToDisplay(reference.shaded), linearToDisplay(frame.shaded)).stats};
+  // FLIP's viewing conditions are --ppd's (SPEC §13); its default is FLIP's own, kept in double.
+  const float ppdSet = frame.constants.foveation.ppd;
+  const double ppd = ppdSet == FoveationSettings{}.ppd ? kFlipDefaultPpd : static_cast<double>(ppdSet);
+  FrameErrors e{compareToReference(frame.final(), reference.final(), frame.blend.levelMap),
+                compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap),
+                flip(reference.final(), frame.final(), ppd).stats,  // flip() clamps: the PNG preview's values
+                flip(linearToDisplay(reference.shaded), linearToDisplay(frame.shaded), ppd).stats,
+                {}};
+  if (!frame.eccentricity.empty()) {  // SPEC §13: RMS per eccentricity ring, in double, in order
+    std::vector<double> sum(kRingCount, 0.0);
+    std::vector<int64_t> count(kRingCount, 0);
+    const ImageF& a = frame.final();
+    const ImageF& b = reference.final();
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        const int ring = eccentricityRing(frame.eccentricity.at(x, y));
+        for (int ch = 0; ch < a.channels; ++ch) {
+          const double d = static_cast<double>(a.at(x, y, ch)) - static_cast<double>(b.at(x, y, ch));
+          sum[static_cast<size_t>(ring)] += d * d;
+          ++count[static_cast<size_t>(ring)];
+        }
+      }
+    for (int r = 0; r < kRingCount; ++r)
+      e.ringRms.push_back(count[static_cast<size_t>(r)] ? std::sqrt(sum[static_cast<size_t>(r)] / static_cast<double>(count[static_cast<size_t>(r)])) : 0.0);
+  }
+  return e;
 }
 
 namespace {
@@ -59,6 +81,54 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
     j["tiles"] = {{"size", kTileSize}, {"rate_1x1", tiles[0]}, {"rate_2x2", tiles[1]}, {"rate_4x4", tiles[2]}};
   }
   auto vec3 = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+  if (c.foveation.active()) {  // SPEC §13: the viewing conditions, the terms and what they allowed
+    const Constants::Foveation& fv = c.foveation;
+    nlohmann::json fj = {{"ppd", fv.ppd},
+                         {"gaze", fv.gaze ? nlohmann::json::array({fv.gazeX, fv.gazeY}) : nlohmann::json(nullptr)},
+                         {"foveate", fv.gaze && fv.foveate},
+                         {"mar0_degrees", fv.mar0},
+                         {"mar_slope", fv.marSlope},
+                         {"motion", fv.motion}};
+    if (fv.motion)
+      fj["prev_camera"] = {{"eye", vec3(fv.prevEye)}, {"target", vec3(fv.prevTarget)}, {"up", vec3(fv.prevUp)},
+                           {"yfov_degrees", glm::degrees(fv.prevYfov)}, {"motion_cap", fv.motionCap},
+                           {"motion_scale", fv.motionScale}};
+    if (!f.levelLimit.empty()) {  // full-res pixels of W×H by ℓ_min
+      std::array<int64_t, kLevelCount> byLimit{};
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) ++byLimit[f.levelLimit.at(x, y, 2)];
+      fj["pixels_by_level_limit"] = byLimit;
+    }
+    if (!f.eccentricity.empty()) {  // per eccentricity ring: its pixels and the level pixels shaded there
+      std::vector<int64_t> pixels(kRingCount, 0), shaded(kRingCount, 0);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) ++pixels[static_cast<size_t>(eccentricityRing(f.eccentricity.at(x, y)))];
+      for (int l = 0; l < kLevelCount; ++l) {
+        const ImageU8& s = f.levels[static_cast<size_t>(l)].masks.stencil;
+        const int scale = 1 << l;
+        for (int y = 0; y < s.height; ++y)
+          for (int x = 0; x < s.width; ++x) {
+            const int px = levelSamplePixel(x, scale), py = levelSamplePixel(y, scale);
+            if (!s.at(x, y) || px >= c.width || py >= c.height) continue;
+            ++shaded[static_cast<size_t>(eccentricityRing(f.eccentricity.at(px, py)))];
+          }
+      }
+      nlohmann::json rings = nlohmann::json::array();
+      for (int r = 0; r < kRingCount; ++r) {
+        const size_t i = static_cast<size_t>(r);
+        nlohmann::json ring = {{"from_degrees", r * kRingDegrees},
+                               {"to_degrees", r + 1 < kRingCount ? nlohmann::json(r * kRingDegrees + kRingDegrees) : nlohmann::json(nullptr)},
+                               {"pixels", pixels[i]},
+                               {"shaded_level_pixels", shaded[i]},
+                               {"shaded_share", pixels[i] ? static_cast<double>(shaded[i]) / static_cast<double>(pixels[i]) : 0.0}};
+        if (err && i < err->ringRms.size())
+          ring["rms_vs_full"] = pixels[i] ? nlohmann::json(err->ringRms[i]) : nlohmann::json(nullptr);
+        rings.push_back(ring);
+      }
+      fj["rings"] = rings;
+    }
+    j["foveation"] = fj;
+  }
   j["camera"] = {{"eye", vec3(f.camera.eye)},
                  {"target", vec3(f.camera.target)},
                  {"up", vec3(f.camera.up)},
@@ -162,6 +232,13 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
     if (!shadow) names.pop_back();
     parts.push_back({partName(Part::Edges), edges, names});
   }
+  // SPEC §13, with --gaze or --prev-frame: the eccentricity, the motion and the level limit.
+  if (!f.eccentricity.empty())
+    parts.push_back({partName(Part::Eccentricity), crop(f.eccentricity, c.width, c.height), partChannels(Part::Eccentricity)});
+  if (!f.motion.empty())
+    parts.push_back({partName(Part::Motion), crop(f.motion, c.width, c.height), partChannels(Part::Motion)});
+  if (!f.levelLimit.empty())
+    parts.push_back({partName(Part::LevelLimit), toFloat(crop(f.levelLimit, c.width, c.height)), partChannels(Part::LevelLimit)});
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];

@@ -3,6 +3,7 @@
 // against the full-res reference. Shared by `mrr render`, `mrr bench` and the tests.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,7 +35,14 @@ struct FrameErrors {
   ErrorFigures shaded;
   FlipStats effectFlip;
   FlipStats shadedFlip;
+  // SPEC §13, with a gaze: the effect's RMS against full in each eccentricity ring (kRingDegrees).
+  std::vector<double> ringRms;
 };
+// The eccentricity rings the report and the bench give figures in: [0, 5), [5, 10), ... degrees,
+// the last open.
+inline constexpr double kRingDegrees = 5.0;
+inline constexpr int kRingCount = 6;
+inline int eccentricityRing(float degrees) { return std::min(kRingCount - 1, static_cast<int>(degrees / kRingDegrees)); }
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference);
 // {"mean", "median", "q1", "q3", "max"}: how every report writes FLIP's figures.
 

@@ -2,6 +2,7 @@
 
 #include "common/parallel.h"
 #include "cpu_ref/effect_masks.h"
+#include "cpu_ref/foveation.h"
 
 #include <algorithm>
 
@@ -81,7 +82,8 @@ ImageF maxPoolF(const ImageF& src) {
 }
 }  // namespace
 
-std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint) {
+std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint,
+                                              const ImageU8* levelLimit) {
   std::array<MaskLevel, kLevelCount> levels;
   // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), built through disabled levels too.
   levels[0].mask = edges;
@@ -98,6 +100,8 @@ std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Consta
       ml.mask = dilateByReach(ml.mask, levelReach(ml.mask, fl, lc.scale, c.effectMask.cap));
     }
   }
+  // 1c. foveation and motion (SPEC §13): M_ℓ = 0 where ℓ < ℓ_min, the pyramid already built.
+  if (levelLimit) applyLevelLimit(levels, *levelLimit, c);
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     MaskLevel& ml = levels[static_cast<size_t>(l)];

@@ -17,7 +17,9 @@ ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights);
 // The whole of SPEC §3 for multires mode. `edges` is E on the padded full-res grid.
 // mrr-effect (SPEC §12): `footprint` (cpu_ref/effect_masks.h) widens each enabled level's M_ℓ
 // but the coarsest before its blur; null: the paper's masks, untouched.
+// Foveation and motion (SPEC §13): `levelLimit` (cpu_ref/foveation.h) clears M_ℓ where ℓ < ℓ_min,
+// after the pyramid and the widening, before the blur; null: no limit.
 std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& constants,
-                                              const ImageF* footprint = nullptr);
+                                              const ImageF* footprint = nullptr, const ImageU8* levelLimit = nullptr);
 
 }  // namespace mrr

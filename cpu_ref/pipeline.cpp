@@ -8,6 +8,7 @@
 #include "common/stages.h"
 #include "cpu_ref/bilateral.h"
 #include "cpu_ref/effect_masks.h"
+#include "cpu_ref/foveation.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/shade.h"
 #include "cpu_ref/ssgi.h"
@@ -62,15 +63,26 @@ class OracleFrame final : public FrameBackend {
     f.edges = detectEdges(f.levels[0].gbuffer, f.constants.edges, shadowEdges);
   }
   Masks methodMasks(FrameResult& f) override {
-    if (f.constants.mode != Mode::MrrEffect) return buildMasks(f.edges.combined, f.constants);
+    const ImageU8* limit = levelLimitOf(f);
+    if (f.constants.mode != Mode::MrrEffect) return buildMasks(f.edges.combined, f.constants, nullptr, limit);
     // SPEC §12: the effect's footprint at the edges, then the paper's masks from widened M_ℓ.
     const ImageF footprint = effectFootprint(f.levels[0].gbuffer, f.edges.combined, f.view,
                                              f.constants.needsShadowMap() ? &f.shadowMap : nullptr, f.constants);
-    return buildMasks(f.edges.combined, f.constants, &footprint);
+    return buildMasks(f.edges.combined, f.constants, &footprint, limit);
   }
   Masks tileMasks(FrameResult& f) override {
     f.tileRates = tileRates(f.edges.combined);
+    if (const ImageU8* limit = levelLimitOf(f)) limitTileRates(f.tileRates, *limit);  // SPEC §13
     return mrr::tileMasks(f.tileRates, f.constants);
+  }
+  // SPEC §13: the eccentricity, motion and level limit into f, when a term is on; null otherwise.
+  static const ImageU8* levelLimitOf(FrameResult& f) {
+    if (!f.constants.foveation.active()) return nullptr;
+    LevelLimit ll = levelLimit(f.levels[0].gbuffer, f.view, f.constants);
+    f.eccentricity = std::move(ll.eccentricity);
+    f.motion = std::move(ll.motion);
+    f.levelLimit = std::move(ll.limit);
+    return &f.levelLimit;
   }
 
   void shadeLevel(FrameResult& f, int l, const StageFn& stage) override {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "cpu_ref/foveation.h"
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
@@ -149,6 +150,23 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     levels.push_back(lj);
   }
   j["levels"] = levels;
+  if (!f.levelLimit.empty()) {  // SPEC §13: what the eye and motion allow here, and the limit
+    const Constants::Foveation& fv = c.foveation;
+    nlohmann::json lj = {{"ppd", fv.ppd},
+                         {"fovea_level", f.levelLimit.at(x, y, kLimitFovea)},
+                         {"motion_level", f.levelLimit.at(x, y, kLimitMotion)},
+                         {"limit", f.levelLimit.at(x, y, kLimitLevel)}};
+    if (fv.gaze) {
+      lj["gaze"] = {fv.gazeX, fv.gazeY};
+      lj["foveate"] = fv.foveate;
+      lj["eccentricity_degrees"] = eccentricityAt(x, y, fv);
+    }
+    if (fv.motion) {
+      lj["motion_pixels"] = f.motion.at(x, y);
+      lj["motion_cap"] = fv.motionCap;
+    }
+    j[partName(Part::LevelLimit)] = lj;
+  }
   j["finest_contributing_level"] = f.blend.levelMap.at(x, y);
   j[partName(Part::Final)] = scalarOrVec(f.blend.final, x, y);
   return j;
@@ -173,6 +191,19 @@ std::string formatProbe(const nlohmann::json& j) {
       << "              background " << e["background"]["edge"] << "  (background 4-neighbour: "
       << e["background"]["background_neighbour"] << ")\n"
       << "              E = " << e["E"] << "\n";
+  }
+  if (j.contains(partName(Part::LevelLimit))) {
+    const auto& l = j[partName(Part::LevelLimit)];
+    o << "level limit   ";
+    if (l.contains("gaze"))
+      o << "eccentricity " << fmt(l["eccentricity_degrees"]) << " deg (gaze " << fmt(l["gaze"]) << ", ppd "
+        << fmt(l["ppd"]) << ") -> the eye allows level " << l["fovea_level"]
+        << (l["foveate"].get<bool>() ? "" : " (--foveate off: measured only)") << "\n              ";
+    if (l.contains("motion_pixels"))
+      o << "motion " << fmt(l["motion_pixels"]) << " px since the previous frame -> "
+        << "motion allows level " << l["motion_level"] << " (cap " << l["motion_cap"] << ")\n              ";
+    const int limit = l["limit"].get<int>();
+    o << "l_min " << limit << (limit == 0 ? ": nothing cleared here" : ": M_l cleared here for l < " + std::to_string(limit)) << "\n";
   }
   o << "levels, fine to coarse (the blend runs coarse to fine: c'_l = alpha * c_hat_l + (1 - alpha) * c'_coarser)\n";
   for (const auto& l : j["levels"]) {

@@ -92,6 +92,9 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
     names.push_back(e);
   }
   if (!f.tileRates.empty()) names.push_back(partName(Part::TileRates));
+  if (!f.eccentricity.empty()) names.push_back(partName(Part::Eccentricity));  // SPEC §13
+  if (!f.motion.empty()) names.push_back(partName(Part::Motion));
+  if (!f.levelLimit.empty()) names.push_back(partName(Part::LevelLimit));
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     const size_t li = static_cast<size_t>(l);
@@ -279,6 +282,34 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
       out.hi = 3.0f;
       out.caption = "each 16x16 tile's rate: 0 = 1x1, 1 = 2x2, 2 = 4x4";
       break;
+    case Part::Eccentricity:
+    case Part::Motion: {  // SPEC §13
+      const bool ecc = part == Part::Eccentricity;
+      const ImageF& img = ecc ? f.eccentricity : f.motion;
+      require(!img.empty(), "no layer " + name);
+      out.kind = LayerKind::Scalar;
+      out.values = crop(img, f.constants.width, f.constants.height);
+      for (float& v : out.values.data) v = std::min(v, ecc ? 30.0f : 16.0f);
+      out.channels = {ecc ? "e" : "v"};
+      out.lo = 0.0f;
+      out.hi = ecc ? 30.0f : 16.0f;
+      out.caption = ecc ? "eccentricity from the gaze, degrees, on the ramp over [0, 30]"
+                        : "screen motion since the previous frame, pixels, on the ramp over [0, 16]";
+      break;
+    }
+    case Part::LevelLimit: {
+      require(!f.levelLimit.empty(), "no layer " + name);
+      const ImageU8 cropped = crop(f.levelLimit, f.constants.width, f.constants.height);
+      out.kind = LayerKind::Levels;
+      out.values = ImageF(cropped.width, cropped.height, 1);
+      for (int y = 0; y < cropped.height; ++y)
+        for (int x = 0; x < cropped.width; ++x) out.values.at(x, y) = static_cast<float>(cropped.at(x, y, 2));
+      out.channels = {"limit"};
+      out.lo = 0.0f;
+      out.hi = 3.0f;
+      out.caption = "the level limit l_min: the finest level the eye and motion leave (masks below it cleared)";
+      break;
+    }
     case Part::Mask: binary(lr.masks.mask, "the max-pooled edge mask M"); break;
     case Part::Stencil: binary(lr.masks.stencil, "the stencil S: shaded at this level"); break;
     case Part::Alpha:

@@ -3,12 +3,14 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <type_traits>
 #include <variant>
 
 #include "frontend/frame_file.h"
 #include "frontend/options.h"
 #include "common/error.h"
+#include "common/image_io.h"
 #include "gpu/pipeline.h"
 #include "scenes/builtin.h"
 
@@ -57,6 +59,10 @@ Field bindField(Param param) {
     case Param::DisableLevel: return &F::disabledLevels;
     case Param::Sigma2: return &F::sigma2;
     case Param::Weights: return &F::weights;
+    case Param::Ppd: return &F::ppd;
+    case Param::Gaze: return &F::gaze;
+    case Param::Foveate: return &F::foveate;
+    case Param::PrevFrame: return &F::prevFrame;
     case Param::MemoryLimit: return &F::memoryLimitGiB;
     case Param::Quiet: return &F::quiet;
   }
@@ -132,6 +138,45 @@ Settings FrameOptions::settings() const {
            [&](size_t l, float v) { s.levels[l].sigma2 = v; });
   perLevel(weights, Param::Weights, "weight must be >= 0", [](float v) { return v >= 0.0f; },
            [&](size_t l, float v) { s.levels[l].weight = v; });
+  // SPEC §13: viewing conditions, the gaze and the previous frame.
+  if (ppd) s.foveation.ppd = *ppd;
+  if (!gaze.empty()) {
+    int gx = 0, gy = 0;
+    char comma = 0, rest = 0;
+    require(std::sscanf(gaze.c_str(), "%d%c%d%c", &gx, &comma, &gy, &rest) == 3 && comma == ',',
+            optionName(Param::Gaze) + " " + gaze + ": expected X,Y, a full-res pixel (whole numbers)");
+    s.foveation.gaze = true;
+    s.foveation.gazeX = gx;
+    s.foveation.gazeY = gy;
+  }
+  require(foveate == "on" || foveate == "off", optionName(Param::Foveate) + " " + foveate + ": expected on or off");
+  s.foveation.foveate = foveate == "on";
+  if (!prevFrame.empty()) {
+    const std::string where = optionName(Param::PrevFrame) + " " + prevFrame;
+    const nlohmann::json prev = readJsonObjectFile(prevFrame, optionName(Param::PrevFrame));
+    frameArgs(prev, where);  // its keys and values, as --frame checks them
+    const auto text = [&](Param p) {
+      const std::string key(paramInfo(p).key);
+      require(prev.contains(key) && prev[key].is_string(), where + ": has no \"" + key + "\" (write it with render --frame-out)");
+      return prev[key].get<std::string>();
+    };
+    require(text(Param::Scene) == scene, where + ": its scene " + text(Param::Scene) + " is not this frame's " + scene);
+    const std::string prevSize = text(Param::Size);
+    require(parseSize(prevSize) == parseSize(size), where + ": its size " + prevSize + " is not this frame's " + size);
+    const auto vec = [&](Param p) {
+      const std::string key(paramInfo(p).key);
+      require(prev.contains(key), where + ": has no \"" + key + "\" (write it with render --frame-out)");
+      const nlohmann::json& v = prev[key];
+      return glm::vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
+    };
+    s.foveation.motion = true;
+    s.foveation.prevEye = vec(Param::Eye);
+    s.foveation.prevTarget = vec(Param::Target);
+    s.foveation.prevUp = vec(Param::Up);
+    const std::string fovKey(paramInfo(Param::Fov).key);
+    require(prev.contains(fovKey) && prev[fovKey].is_number(), where + ": has no \"" + fovKey + "\"");
+    s.foveation.prevYfov = glm::radians(prev[fovKey].get<float>());
+  }
   for (int l : disabledLevels) {
     require(l >= 1 && l < kLevelCount, optionName(Param::DisableLevel) + " " + std::to_string(l) + ": must be 1, 2 or 3");
     s.levels[static_cast<size_t>(l)].enabled = false;
@@ -207,6 +252,12 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
     }
     case Param::NeverSlower: return s.neverSlower ? "on" : "off";
     case Param::BlendMaterials: return fo.blendMaterials;
+    case Param::Ppd: return s.foveation.ppd;
+    case Param::Gaze:
+      return s.foveation.gaze ? nlohmann::json(std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY))
+                              : nlohmann::json();
+    case Param::Foveate: return s.foveation.gaze ? nlohmann::json(s.foveation.foveate ? "on" : "off") : nlohmann::json();
+    case Param::PrevFrame: return fo.prevFrame.empty() ? nlohmann::json() : nlohmann::json(fo.prevFrame);
     case Param::FlipUp: return fo.flipUp || fo.noFlipUp ? nlohmann::json(fo.flipUp) : nlohmann::json();
     default: throw MrrError("internal: " + optionName(param) + " is marked for frame files but has no value there");
   }

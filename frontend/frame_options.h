@@ -48,6 +48,10 @@ struct FrameOptions {
   std::optional<double> memoryLimitGiB;
   bool quiet = false;
   std::vector<float> sigma2, weights;  // per level (empty: the effect's defaults, Table 1)
+  std::optional<float> ppd;            // SPEC §13: viewing conditions
+  std::string gaze;                    // "X,Y", a full-res pixel (empty: no foveation)
+  std::string foveate = "on";          // on|off: off measures only
+  std::string prevFrame;               // a frame file (empty: no motion term)
 
   // Registers every row of the frame-parameter table on `app` (a subcommand) as an option.
   void add(CLI::App& app);

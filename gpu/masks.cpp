@@ -26,6 +26,8 @@ struct Pass {
     const std::vector<float>* weights = nullptr;
     bool withStencil = false;
     const std::vector<glm::ivec4>* rects = nullptr;  // null: every pixel
+    unsigned limit = 0;  // step 5: limit.frag's target
+    int level = 0;       // step 5: ℓ
   };
   // The step's program, compiled once per pass shape: its parameters are constants in the
   // shader (masks.frag), so its loops unroll.
@@ -36,10 +38,11 @@ struct Pass {
                                 "\n#define DIRECTION ivec2(" + std::to_string(in.direction.x) + ", " +
                                 std::to_string(in.direction.y) + ")\n#define SOURCE_CHANNEL " +
                                 std::to_string(in.sourceChannel) + "\n#define WITH_STENCIL " +
-                                (in.withStencil ? "1" : "0") + "\n";
+                                (in.withStencil ? "1" : "0") + "\n#define LEVEL " + std::to_string(in.level) + "\n";
     const std::string name = "masks." + std::to_string(step) + "." + std::to_string(in.factor) + "." +
                              std::to_string(radius) + "." + std::to_string(in.direction.x) + "." +
-                             std::to_string(in.sourceChannel) + "." + (in.withStencil ? "s" : "-");
+                             std::to_string(in.sourceChannel) + "." + (in.withStencil ? "s" : "-") + "." +
+                             std::to_string(in.level);
     return scene.program(name, "fullscreen.vert", "masks.frag", defines);
   }
   // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
@@ -52,6 +55,7 @@ struct Pass {
       glUniform1fv(uniform(prog, "weights"), static_cast<GLsizei>(in.weights->size()), in.weights->data());
     bindTextures(prog, {{"source", in.source}});
     if (step == 4) bindTextures(prog, {{"previous", in.previous}}, 1);
+    if (step == 5) bindTextures(prog, {{"limit", in.limit}}, 1);
     if (in.rects) {
       const float zero[4] = {0, 0, 0, 0};
       for (size_t i = 0; i < formats.size(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
@@ -119,7 +123,7 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 }
 
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c,
-                                       unsigned footprint) {
+                                       unsigned footprint, unsigned limit) {
   const Pass pass{scene};
   auto out = std::make_unique<MaskTargets>();
   out->drawn = true;
@@ -198,6 +202,15 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     Pass::Inputs horizontal;
     horizontal.source = l == 0 && !widened[i] ? edges : mask[i]->texture(0);
     horizontal.sourceChannel = l == 0 && !widened[i] ? edgeChannel : 0;
+    if (limit) {  // 5. SPEC §13: M'_ℓ = M_ℓ where ℓ ≥ ℓ_min, over the whole level; the blur reads it
+      Pass::Inputs limited = horizontal;
+      limited.factor = lc.scale;
+      limited.limit = limit;
+      limited.level = l;
+      out->limitedTarget[i] = pass.run(5, {Texel::R8}, lc.width, lc.height, limited);
+      horizontal.source = out->limitedTarget[i]->texture(0);
+      horizontal.sourceChannel = 0;
+    }
     horizontal.weights = &lc.gaussian;
     horizontal.rects = widened[i] ? nullptr : &rows;
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
@@ -240,10 +253,66 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   return out;
 }
 
+Target drawLevelLimit(const GpuScene& scene, const Framebuffer& gbuffer0, const View& view, const Constants& c) {
+  const Constants::Foveation& f = c.foveation;
+  const unsigned program = scene.program("limit", "fullscreen.vert", "limit.frag", "");
+  Target target = scene.target(c.paddedWidth, c.paddedHeight, 1, false, Texel::Rgba32f);
+  target->bind();
+  glUseProgram(program);
+  bindTextures(program, {{"positionHit", gbuffer0.texture(0)}});
+  glUniform1i(uniform(program, "gaze"), f.gaze ? 1 : 0);
+  glUniform1i(uniform(program, "foveate"), f.foveate ? 1 : 0);
+  glUniform1i(uniform(program, "motion"), f.motion ? 1 : 0);
+  glUniform2i(uniform(program, "gazePixel"), f.gazeX, f.gazeY);
+  glUniform1f(uniform(program, "ppd"), f.ppd);
+  int radius2[kLevelCount];
+  for (size_t l = 0; l < kLevelCount; ++l)  // d² < 2³¹ on any allowed grid: a larger radius is never reached
+    radius2[l] = static_cast<int>(std::min<int64_t>(f.radius2[l], int64_t{0x7fffffff}));
+  glUniform1iv(uniform(program, "radius2"), kLevelCount, radius2);
+  glUniform1fv(uniform(program, "speed2"), kLevelCount, f.speed2.data());
+  glUniform1i(uniform(program, "motionCap"), f.motionCap);
+  glUniform1i(uniform(program, "coarsest"), c.coarsestEnabled);
+  glUniform1f(uniform(program, "motionScale"), f.motionScale);
+  const auto vec3 = [&](const char* name, const glm::vec3& v) { glUniform3f(uniform(program, name), v.x, v.y, v.z); };
+  vec3("viewEye", view.eye);
+  vec3("viewRight", view.right);
+  vec3("viewUp", view.up);
+  vec3("viewForward", view.forward);
+  const View prev = f.motion ? previousView(c) : view;
+  vec3("prevEye", prev.eye);
+  vec3("prevRight", prev.right);
+  vec3("prevUp", prev.up);
+  vec3("prevForward", prev.forward);
+  glUniform1f(uniform(program, "prevFocal"), prev.focal);
+  glUniform1f(uniform(program, "prevCx"), prev.cx);
+  glUniform1f(uniform(program, "prevCy"), prev.cy);
+  scene.drawFullscreen();
+  checkGl("limit");
+  return target;
+}
+
+void readLevelLimit(const Framebuffer& target, const Constants& c, ImageF& eccentricity, ImageF& motion, ImageU8& limit) {
+  const ImageF all = target.read(0);
+  const int w = all.width, h = all.height;
+  eccentricity = c.foveation.gaze ? ImageF::uninitialised(w, h) : ImageF();
+  motion = c.foveation.motion ? ImageF::uninitialised(w, h) : ImageF();
+  limit = ImageU8(w, h, kLimitChannels);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (c.foveation.gaze) eccentricity.at(x, y) = all.at(x, y, 0);
+      if (c.foveation.motion) motion.at(x, y) = all.at(x, y, 1);
+      const int packed = static_cast<int>(all.at(x, y, 2));
+      limit.at(x, y, kLimitFovea) = static_cast<uint8_t>(packed % 4);
+      limit.at(x, y, kLimitMotion) = static_cast<uint8_t>(packed / 4);
+      limit.at(x, y, kLimitLevel) = static_cast<uint8_t>(all.at(x, y, 3));
+    }
+}
+
 std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Constants& c, bool stencilsOnly) {
   std::array<MaskLevel, kLevelCount> out;
   for (size_t l = 0; l < kLevelCount; ++l) {
-    if (!stencilsOnly && masks.maskTarget[l]) out[l].mask = masks.maskTarget[l]->readBinary(0);  // ℓ ≥ 1
+    if (!stencilsOnly && masks.limitedTarget[l]) out[l].mask = masks.limitedTarget[l]->readBinary(0);  // SPEC §13
+    else if (!stencilsOnly && masks.maskTarget[l]) out[l].mask = masks.maskTarget[l]->readBinary(0);  // ℓ ≥ 1
     if (!c.levels[l].enabled) continue;
     out[l].stencil = masks.stencilTarget[l] ? masks.stencilTarget[l]->readBinary(0)
                                             : masks.alphaTarget[l]->readBinary(1);

@@ -17,6 +17,9 @@ struct MaskTargets {
   // Drawn: M_ℓ (R8, ℓ ≥ 1; M_0 is E); a_ℓ (R32F) with S_ℓ (R8) as its second target, or S_ℓ in
   // stencilTarget where the closure or the coarsest level made it.
   std::array<Target, kLevelCount> maskTarget, alphaTarget, stencilTarget;
+  // SPEC §13: M'_ℓ, M_ℓ after the level limit (R8), for the levels it drew; the blur reads these
+  // and readMasks reports them as M_ℓ (M'_0 too, where M_0 is otherwise E).
+  std::array<Target, kLevelCount> limitedTarget;
   TextureSet uploaded;                                                       // or uploaded
   std::array<unsigned, kLevelCount> alpha{}, stencil{};
   bool drawn = false;  // false: uploaded from host masks (uploadMasks)
@@ -28,9 +31,18 @@ struct MaskTargets {
 
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).
 // mrr-effect (SPEC §12): `footprint` is F on the padded full-res grid (R32F, gpu/effect_masks.h:
-// drawFootprint), which widens M_ℓ before the blur; 0: the paper's masks.
+// drawFootprint), which widens M_ℓ before the blur; 0: the paper's masks. `limit`: limit.frag's
+// target texture (drawLevelLimit), or 0 without SPEC §13's terms.
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel,
-                                       const Constants& constants, unsigned footprint = 0);
+                                       const Constants& constants, unsigned footprint = 0, unsigned limit = 0);
+
+// SPEC §13 steps 1–5 (limit.frag) on the padded full-res grid from the level-0 G-buffer:
+// RGBA32F (e, |v|, fovea + 4·motion, ℓ_min).
+Target drawLevelLimit(const GpuScene& scene, const Framebuffer& gbuffer0, const View& view, const Constants& constants);
+// Its target read back as the frame's eccentricity (with a gaze), motion (with a previous frame)
+// and level limit (kLimitChannels bytes).
+void readLevelLimit(const Framebuffer& target, const Constants& constants, ImageF& eccentricity, ImageF& motion,
+                    ImageU8& limit);
 
 // Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
 // unless `stencilsOnly`.

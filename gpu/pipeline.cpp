@@ -157,14 +157,25 @@ class PortFrame final : public FrameBackend {
       footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
                                 c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,
                                 f.view, c);
-    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, footprint ? footprint->texture(0) : 0);
+    const unsigned limit = levelLimit(f);
+    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, footprint ? footprint->texture(0) : 0,
+                             limit);
     Masks masks = readMasks(*maskTargets_, c, !keep_);
-    if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (mrr-effect may widen it)
+    if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (M'_0: mrr-effect, SPEC §13)
     return masks;
   }
   Masks tileMasks(FrameResult& f) override {
     f.tileRates = tileRates(scene_, edges_->texture(0), edgeChannel(!keep_), edges_->width(), edges_->height());
+    if (levelLimit(f)) limitTileRates(f.tileRates, f.levelLimit);  // SPEC §13, the same host step as the oracle's
     return gpu::tileMasks(scene_, f.tileRates, f.constants);
+  }
+  // SPEC §13: limit.frag when a term is on, read back into f (the report, tiles, --stages); its
+  // texture, or 0.
+  unsigned levelLimit(FrameResult& f) {
+    if (!f.constants.foveation.active()) return 0;
+    limit_ = drawLevelLimit(scene_, *gbuffers_[0], f.view, f.constants);
+    readLevelLimit(*limit_, f.constants, f.eccentricity, f.motion, f.levelLimit);
+    return limit_->texture(0);
   }
   void useMasks(FrameResult& f, const Masks& masks, const StageFn& stage) override {
     if (!maskTargets_ || !maskTargets_->drawn || f.fallback.fellBack)  // host stencils: to the GPU
@@ -266,6 +277,7 @@ class PortFrame final : public FrameBackend {
   std::array<unsigned, kLevelCount> subTexture_{};
   TextureSet unshaded_;
   GpuImage final_;
+  Target limit_;  // SPEC §13's level limit (limit.frag), when a term is on
 };
 }  // namespace
 

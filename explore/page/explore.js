@@ -125,6 +125,7 @@ function changed(ev) {
     $('#samples').value = '';
   }
   if (el.id === 'scene') clearCamera();
+  if (el.id === 'gaze_click' && !el.checked) delete state.params.gaze;  // off: no gaze, mrr's masks again
   readControls();
   if (el.id === 'effect') delete state.params.samples;
   render();
@@ -427,6 +428,11 @@ function click(ev) {
   const px = pixelOf(ev, ev.currentTarget);
   if (!px) return;
   state.pixel = px;
+  if ($('#gaze_click').checked) {  // foveation (SPEC §13): the eye looks here; render, then probe
+    state.params.gaze = `${px[0]},${px[1]}`;
+    render();
+    return;
+  }
   probe().catch((e) => say(e.message, true));
 }
 

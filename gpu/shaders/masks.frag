@@ -10,10 +10,16 @@
 //   STEP 2 blur: one separable Gaussian pass along DIRECTION, clamp-to-edge (a_ℓ = G ∗ M_ℓ);
 //     3. with WITH_STENCIL (the vertical pass) it also writes the stencil S_ℓ = [a_ℓ > 0]
 //   STEP 4 closure: S_next ∨= max-pool(S_ℓ) over the FACTOR×FACTOR block
+//   STEP 5 the level limit (SPEC §13 step 6, with --gaze or --prev-frame): M'_ℓ = M_ℓ where
+//     LEVEL ≥ ℓ_min at the full-res pixel the level pixel holds (p·FACTOR + FACTOR/2, FACTOR = s_ℓ),
+//     else 0; the blur then reads M'_ℓ (the pyramid above stays E's own)
 // The passes are drawn only over the blocks near an edge (gpu/masks.cpp); elsewhere a_ℓ and
 // S_ℓ keep their cleared 0, which is what the blur gives there.
 uniform sampler2D source;    // the pass's input (channel SOURCE_CHANNEL)
 uniform sampler2D previous;  // step 4: the coarser level's own stencil
+#if STEP == 5
+uniform sampler2D limit;     // limit.frag's output: ℓ_min in .a, padded full-res
+#endif
 #if STEP == 2
 uniform float weights[2 * RADIUS + 1];  // the host's normalised Gaussian weights (kernels.h)
 #endif
@@ -24,7 +30,7 @@ layout(location = 1) out vec4 stencil;  // 3. S_ℓ
 
 float valueAt(ivec2 q) { return texelFetch(source, q, 0)[SOURCE_CHANNEL]; }
 
-#if STEP != 2
+#if STEP != 2 && STEP != 5
 float blockMax(ivec2 p) {
   float m = 0.0;
   for (int j = 0; j < FACTOR; ++j)
@@ -45,6 +51,9 @@ void main() {
   // 3. S_ℓ = [a_ℓ > 0]
   stencil = vec4(value > 0.0 ? 1.0 : 0.0, 0.0, 0.0, 1.0);
 #endif
+#elif STEP == 5
+  int lmin = int(texelFetch(limit, p * FACTOR + FACTOR / 2, 0).a);
+  value = LEVEL >= lmin ? valueAt(p) : 0.0;
 #else
   value = max(texelFetch(previous, p, 0).r, blockMax(p));
 #endif

@@ -225,6 +225,10 @@ void writeBadInputs(const std::string& in) {
   writeFile(path("no-view.json"), R"({"scene": "builtin:demo", "eye": [1, 2, 3], "target": [1, 2, 3]})");
   writeFile(path("negative-size.json"), R"({"scene": "builtin:demo", "size": "-64x48"})");
   writeFile(path("not-a-frame.json"), "[1, 2, 3]");
+  // previous frames (--prev-frame, SPEC §13) of another scene or size than the 32x24 builtin:demo frame
+  const std::string camera = R"("eye": [0, 1, 5], "target": [0, 1, 0], "up": [0, 1, 0], "fov": 60)";
+  writeFile(path("prev-other-scene.json"), R"({"scene": "builtin:corner", "size": "32x24", )" + camera + "}");
+  writeFile(path("prev-other-size.json"), R"({"scene": "builtin:demo", "size": "64x48", )" + camera + "}");
   // an EXR that is not a stages file (compare --against): one part named like no stage
   writeMultiPartExr(path("beauty.exr"), {{"beauty", ImageF(32, 24, 3, 0.5f), {"R", "G", "B"}}}, 32, 24);
   writeFile(path("badindex.gltf"), TriangleGltf(kTriangle, {0, 1, 7}).gltfText());
@@ -844,6 +848,15 @@ std::vector<std::string> demoWith(std::vector<std::string> extra) {
 const std::vector<BadCase> kBadCases = {
     // scene files
     {"MissingSceneFile", renderArgs("{in}/missing.gltf"), "missing.gltf"},
+    // foveation and motion (SPEC §13)
+    {"GazeOutsideTheFrame", renderArgs("builtin:demo", {"--gaze", "32,5"}), "--gaze 32,5: outside the 32x24 frame"},
+    {"GazeNotAPixel", renderArgs("builtin:demo", {"--gaze", "3"}), "--gaze 3: expected X,Y"},
+    {"PpdZero", renderArgs("builtin:demo", {"--ppd", "0", "--gaze", "3,3"}), "--ppd 0: must be > 0"},
+    {"PpdNegative", renderArgs("builtin:demo", {"--ppd=-2"}), "--ppd -2: must be > 0"},
+    {"PrevFrameOtherScene", renderArgs("builtin:demo", {"--prev-frame", "{in}/prev-other-scene.json"}),
+     "its scene builtin:corner is not this frame's builtin:demo"},
+    {"PrevFrameOtherSize", renderArgs("builtin:demo", {"--prev-frame", "{in}/prev-other-size.json"}),
+     "its size 64x48 is not this frame's 32x24"},
     {"DirectoryAsScene", renderArgs("{in}/folder.gltf"), "folder.gltf"},
     {"EmptyGltf", renderArgs("{in}/empty.gltf"), "empty.gltf"},
     {"GlbWrongMagic", renderArgs("{in}/magic.glb"), "magic.glb"},

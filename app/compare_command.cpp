@@ -163,7 +163,7 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
           [&](uint32_t seed) {
             Settings seeded = s;
             seeded.seed = seed;
-            return oracle->render(rs.camera, makeConstants(seeded, rs.scene.bounds().diagonal()), {true, {}, &costs});
+            return oracle->render(rs.camera, makeConstants(seeded, rs.framed.size), {true, {}, &costs});
           },
           k.samples(), [&](int i, int n) {
             if (!fo.quiet) std::cerr << "[mrr] noise-aware: oracle seed " << i + 1 << "/" << n << "\n";

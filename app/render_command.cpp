@@ -82,7 +82,7 @@ int probeBothPaths(const ProbeCommand& c, const ResolvedScene& rs, const Constan
     const NoiseReference noise = buildNoiseReference(
         [&](uint32_t seed) {
           settings.seed = seed;
-          return oracle->render(rs.camera, makeConstants(settings, rs.scene.bounds().diagonal()), {true, {}, &costs});
+          return oracle->render(rs.camera, makeConstants(settings, rs.framed.size), {true, {}, &costs});
         },
         constants.samples(), [&](int i, int n) {
           if (!fo.quiet) std::cerr << "[mrr] noise-aware: oracle seed " << i + 1 << "/" << n << "\n";

@@ -85,6 +85,13 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "the mask blur's variance per level, s0,s1,s2,s3, each in [0, 64]", kFile, kPage},
     {Param::Weights, "weights", "", K::PerLevel, "",
      "the blend weight w per level, w0,w1,w2,w3, each >= 0: alpha = min(a w, 1)", kFile, kPage},
+    {Param::EffectCap, "effect_cap", "", K::Int, "level pixels",
+     "mrr-effect: the widest a level's edge mask is widened by the effect's footprint (docs/spec.md section 12)",
+     kFile, kPage},
+    {Param::EffectFirstLevel, "effect_first_level", "", K::Int, "",
+     "mrr-effect: the finest level widened; finer ones keep mrr's masks", kFile, kPage},
+    {Param::EffectScale, "effect_scale", "", K::Number, "",
+     "mrr-effect: the footprint's multiplier (0: mrr's masks exactly)", kFile, kPage},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
      "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
      "sets the eccentricity of --gaze and the reports' FLIP",
@@ -151,6 +158,9 @@ std::string settingsDefault(Param param) {
     case Param::GiRadius:
       return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the framed size";
     case Param::NeverSlower: return s.neverSlower ? "on" : "off";
+    case Param::EffectCap: return std::to_string(s.effectMask.cap);
+    case Param::EffectFirstLevel: return std::to_string(s.effectMask.firstLevel);
+    case Param::EffectScale: return number(s.effectMask.scale);
     case Param::Ppd: return number(s.foveation.ppd);
     case Param::Sigma2:
       return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });
@@ -197,6 +207,9 @@ std::string paramRange(Param param) {
              std::to_string(kMaxSsmSamples) + ", ssgi [1, " + std::to_string(kMaxSsgiSamples) + "]";
     case Param::ShadowMapSize: return "[16, " + std::to_string(kMaxShadowMapSize) + "]";
     case Param::LightAngle: return "(0, 0.5]";
+    case Param::EffectCap: return "[0, 64]";
+    case Param::EffectFirstLevel: return "[0, 3]";
+    case Param::EffectScale: return "[0, 16]";
     case Param::Ppd: return "> 0";
     case Param::TauN: return "[0, 2]";
     case Param::TauZ:

@@ -104,14 +104,18 @@ int squareRoot(int n) {
 
 void validateSettings(const Settings& s) {
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
-  require(s.effectMask.scale >= 0.0f && s.effectMask.scale <= 16.0f, "mrr-effect: the footprint scale must be in [0, 16]");
-  require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, "mrr-effect: the widening cap must be in [0, 64] level pixels");
+  require(s.effectMask.scale >= 0.0f && s.effectMask.scale <= 16.0f,
+          optionName(Param::EffectScale) + ": must be in " +
+              paramRange(Param::EffectScale));
+  require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, optionName(Param::EffectCap) + ": must be in " +
+                                                               paramRange(Param::EffectCap));
   require(s.effectMask.posterior >= 0.0f && s.effectMask.posterior <= 100.0f,
           "mrr-effect: the a-posteriori threshold must be in [0, 100]");
   require(s.effectMask.posteriorFinest >= 0 && s.effectMask.posteriorFinest < kLevelCount,
           "mrr-effect: the a-posteriori term's finest level must be a level");
   require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
-          "mrr-effect: the first widened level must be in [0, " + std::to_string(kLevelCount - 1) + "]");
+          optionName(Param::EffectFirstLevel) + ": must be in " +
+              paramRange(Param::EffectFirstLevel));
   // SPEC §13: viewing conditions, gaze and motion.
   require(std::isfinite(s.foveation.ppd) && s.foveation.ppd > 0.0f,
           optionName(Param::Ppd) + " " + [&] {

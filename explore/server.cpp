@@ -664,7 +664,7 @@ class Explorer {
         {"budget_m", budget_ / 1e6},
         {"max_samples", r.mostSamples}};
     const FallbackDecision& rule = out->frame.fallback;
-    if (r.settings.mode == Mode::Mrr && !rule.evaluated)  // the rule is off: what it would have decided
+    if (isMethod(r.settings.mode) && !rule.evaluated)  // the rule is off: what it would have decided
       out->report["explore"]["rule_off"] = {{"would_fall_back", rule.wouldFallBack},
                                             {"predicted_full_ms", rule.predictedFullMs},
                                             {"predicted_mrr_ms", rule.predictedMrrMs}};

@@ -64,8 +64,8 @@ std::vector<std::string> frameArgs(const nlohmann::json& frame, const std::strin
         words.push_back(option + "=" + v.get<std::string>());
         break;
       case ParamKind::Int:
-        require(v.is_number_integer() && v.get<int64_t>() > 0 && v.get<int64_t>() <= 1 << 20,
-                where + ": expected a positive whole number");
+        require(v.is_number_integer() && v.get<int64_t>() >= 0 && v.get<int64_t>() <= 1 << 20,
+                where + ": expected a whole number >= 0");  // each parameter's own range: validateSettings
         words.push_back(option + "=" + std::to_string(v.get<int64_t>()));
         break;
       case ParamKind::Number:

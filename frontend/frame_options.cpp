@@ -59,6 +59,9 @@ Field bindField(Param param) {
     case Param::DisableLevel: return &F::disabledLevels;
     case Param::Sigma2: return &F::sigma2;
     case Param::Weights: return &F::weights;
+    case Param::EffectCap: return &F::effectCap;
+    case Param::EffectFirstLevel: return &F::effectFirstLevel;
+    case Param::EffectScale: return &F::effectScale;
     case Param::Ppd: return &F::ppd;
     case Param::Gaze: return &F::gaze;
     case Param::Foveate: return &F::foveate;
@@ -119,6 +122,9 @@ Settings FrameOptions::settings() const {
   if (shadowMapSize) s.ssm.shadowMapSize = *shadowMapSize;
   if (lightAngle) s.ssm.lightAngle = *lightAngle;
   s.ssao.tangentPlaneDepth = !texelDepth;
+  if (effectCap) s.effectMask.cap = *effectCap;
+  if (effectFirstLevel) s.effectMask.firstLevel = *effectFirstLevel;
+  if (effectScale) s.effectMask.scale = *effectScale;
   if (tauN) s.edges.normalThreshold = *tauN;
   if (tauZ) s.edges.depthThreshold = *tauZ;
   // One number per level, as CLI11 split them at the commas.
@@ -252,6 +258,11 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
     }
     case Param::NeverSlower: return s.neverSlower ? "on" : "off";
     case Param::BlendMaterials: return fo.blendMaterials;
+    // mrr-effect's widening: in the files of that method only
+    case Param::EffectCap: return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.cap) : nlohmann::json();
+    case Param::EffectFirstLevel:
+      return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.firstLevel) : nlohmann::json();
+    case Param::EffectScale: return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.scale) : nlohmann::json();
     case Param::Ppd: return s.foveation.ppd;
     case Param::Gaze:
       return s.foveation.gaze ? nlohmann::json(std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY))

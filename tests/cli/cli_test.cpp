@@ -314,6 +314,35 @@ TEST_F(CliRenderTest, FrameOutAndFrameReproduceTheBits) {
   }
 }
 
+// mrr-effect's widening as frame parameters (SPEC §12): a frame file carries them (level 0 and a
+// small cap, so 0 must be a valid whole number in a file) and reproduces the bits on both paths;
+// the two paths shade the same pixels; mrr's own files do not name them.
+TEST_F(CliRenderTest, MrrEffectsWideningTravelsInFrameFiles) {
+  std::map<std::string, int64_t> shaded;
+  for (const std::string path : {"cpu", "gpu"}) {
+    if (path == "gpu" && !glAvailable(dir)) continue;
+    const RunResult a = runMrr({"render", "--scene", "builtin:demo", "--method", "mrr-effect", "--effect-cap", "3",
+                                "--effect-first-level", "0", "--size", "96x64", "--samples", "8", "-q", "--path", path,
+                                "--out", at(path + "e.exr"), "--report", at(path + "e.json"), "--frame-out",
+                                at(path + "ef.json")},
+                               dir);
+    ASSERT_EQ(a.status, 0) << describe(a);
+    const json frame = json::parse(readFile(at(path + "ef.json")));
+    EXPECT_EQ(frame["effect_cap"], 3);
+    EXPECT_EQ(frame["effect_first_level"], 0);
+    const RunResult b = runMrr({"render", "--frame", at(path + "ef.json"), "-q", "--path", path, "--out", at(path + "f.exr")}, dir);
+    ASSERT_EQ(b.status, 0) << describe(b);
+    EXPECT_EQ(readFile(at(path + "e.exr")), readFile(at(path + "f.exr"))) << path << ": not the same bits";
+    shaded[path] = json::parse(readFile(at(path + "e.json")))["shaded_pixels_total"].get<int64_t>();
+  }
+  if (shaded.count("gpu")) EXPECT_EQ(shaded["gpu"], shaded["cpu"]);
+  const RunResult m = runMrr({"render", "--scene", "builtin:demo", "--size", "32x32", "--samples", "4", "-q", "--out",
+                              at("m.exr"), "--frame-out", at("mf.json")},
+                             dir);
+  ASSERT_EQ(m.status, 0) << describe(m);
+  EXPECT_FALSE(json::parse(readFile(at("mf.json"))).contains("effect_cap"));
+}
+
 // mrr info: what a scene holds and the view a render would take, as text and JSON (issue 19).
 TEST_F(CliRenderTest, InfoTellsWhatASceneHolds) {
   const RunResult text = runMrr({"info", "builtin:fence"}, dir);
@@ -923,6 +952,9 @@ const std::vector<BadCase> kBadCases = {
     {"GpuNoEglVendor", renderArgs("builtin:demo", {"--path", "gpu"}), "no EGL device", {.env = {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl_vendor.json"}}},
     {"GpuNoEglVendorProbe", {"probe", "--scene", "builtin:demo", "--size", "32x24", "--samples", "4", "-q",
                              "--path", "gpu", "--pixel", "5,5"}, "no EGL device", {.env = {"__EGL_VENDOR_LIBRARY_DIRS=/nonexistent"}}},
+    {"EffectCapOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
+                                      "--effect-cap", "99"}),
+     "--effect-cap: must be in [0, 64]"},
     {"GpuTimingUnknown", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--path", "gpu", "--gpu-timing", "tsc"}),
      "--gpu-timing tsc"},
     {"BenchGpuTimingUnknown", {"bench", "--paths", "gpu", "--gpu-timing", "tsc"}, "--gpu-timing tsc"},

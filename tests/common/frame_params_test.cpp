@@ -61,6 +61,7 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   fo.seed = 5;       // seed only when not 0 (mrr's own sampling)
   fo.coarseGBuffer = "render";  // coarse_gbuffer only when not subsample
   fo.gaze = "3,4";   // so are the gaze and foveate
+  fo.mode = "mrr-effect";  // and mrr-effect's widening (effect_cap, effect_first_level, effect_scale)
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const nlohmann::json frame = fo.frame(rs, fo.settings());
   std::set<std::string> expected = {"mrr_frame"};

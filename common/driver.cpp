@@ -109,8 +109,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // 4. Sub-images: the effect at stencilled pixels only, then SSAO's bilateral blur (SPEC §4).
   // mrr-effect's a-posteriori term (SPEC §12.2): coarse to fine, each finer level's masks
   // refined from the result of the level just shaded, then shaded.
-  const bool posterior = c.mode == Mode::MrrEffect && c.effectMask.posterior > 0.0f && !fellBackEarly &&
-                         !f.fallback.fellBack;
+  const bool posterior = c.mode == Mode::MrrEffect && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
   if (posterior) {
     for (int l = kLevelCount - 1; l >= 0; --l) {
       if (!c.levels[static_cast<size_t>(l)].enabled) continue;

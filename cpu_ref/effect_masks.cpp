@@ -16,10 +16,12 @@ ImageF effectFootprint(const GBuffer& g, const ImageU8& edges, const View& view,
   if (scale <= 0.0f) return f;  // the ablation's "geometry only": M' = M
   parallelFor(0, f.height, [&](int y) {
     for (int x = 0; x < f.width; ++x) {
+      // 1. an edge pixel on geometry, in front of the camera
       if (!edges.at(x, y) || !g.hit.at(x, y)) continue;
       const float z = g.depth.at(x, y);
       if (!(z > 0.0f)) continue;
-      float reach = 0.0f;  // world units, on the receiver
+      // 2. the effect's reach on the receiver, world units
+      float reach = 0.0f;
       switch (c.effect) {
         case Effect::Ssao: reach = c.ssao.radius; break;
         case Effect::Ssgi: reach = c.ssgi.radius; break;
@@ -33,6 +35,7 @@ ImageF effectFootprint(const GBuffer& g, const ImageU8& edges, const View& view,
           break;
         }
       }
+      // 3. projected at the pixel's depth, full-res pixels
       f.at(x, y) = scale * (reach * view.focal / z);
     }
   });

@@ -128,9 +128,12 @@ class OracleFrame final : public FrameBackend {
     const int next = c.nextCoarserEnabled(l);
     const LevelResult& coarser = f.levels[static_cast<size_t>(next)];
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    const ImageU8 marks = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit, 1 << (next - l),
-                                          lr.masks.mask.width, lr.masks.mask.height, c.effectMask.posterior);
-    mrr::refineMasks(lr.masks, marks, c.levels[static_cast<size_t>(l)]);
+    Masks marks;  // level l's marks alone, so that SPEC §13's limit clears them as it cleared M_l
+    marks[static_cast<size_t>(l)].mask =
+        refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit, 1 << (next - l), lr.masks.mask.width,
+                        lr.masks.mask.height, c.effectMask.posterior);
+    if (!f.levelLimit.empty()) applyLevelLimit(marks, f.levelLimit, c);
+    mrr::refineMasks(lr.masks, marks[static_cast<size_t>(l)].mask, c.levels[static_cast<size_t>(l)]);
   }
 
   void blend(FrameResult& f) override {

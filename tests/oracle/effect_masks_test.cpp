@@ -4,6 +4,7 @@
 
 #include "common/error.h"
 #include "cpu_ref/effect_masks.h"
+#include "cpu_ref/foveation.h"
 #include "tests/oracle/render_helpers.h"
 
 namespace mrr {
@@ -63,6 +64,47 @@ TEST(EffectMasks, ShadesASupersetOfMrrsPixels) {
     else EXPECT_EQ(e0, l0);
     EXPECT_GT(countSet(eff.frame.levels[1].masks.stencil), countSet(mrr.frame.levels[1].masks.stencil)) << "first " << first;
   }
+}
+
+// SPEC §12.2, the a-posteriori term: its stencils contain the a priori ones at every level and
+// shade more; a τ above any range (AO lies in [0, 1]) is mrr-effect bit for bit; with a gaze
+// (§13), no level-0 pixel the limit clears is marked back (without the limit on the marks, the
+// demo at ppd 150 gets marks at 62,12 where the limit is 1).
+TEST(EffectMasks, APosterioriTermRefinesAndKeepsTheLevelLimit) {
+  Settings s = ssaoSettings(160, 96, 8);
+  s.mode = Mode::MrrEffect;
+  s.neverSlower = false;
+  const auto prior = renderScene("builtin:demo", s);
+  s.effectMask.posterior = 2.0f;  // no 3×3 range of AO exceeds it
+  const auto none = renderScene("builtin:demo", s);
+  EXPECT_EQ(none.frame.blend.final.data, prior.frame.blend.final.data);
+  s.effectMask.posterior = 0.05f;
+  const auto post = renderScene("builtin:demo", s);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const ImageU8& a = prior.frame.levels[static_cast<size_t>(l)].masks.stencil;
+    const ImageU8& b = post.frame.levels[static_cast<size_t>(l)].masks.stencil;
+    ASSERT_EQ(a.data.size(), b.data.size());
+    for (size_t i = 0; i < a.data.size(); ++i) ASSERT_LE(a.data[i], b.data[i]) << "level " << l << " pixel " << i;
+  }
+  EXPECT_GT(post.frame.shadedPixelsTotal, prior.frame.shadedPixelsTotal);
+  // With a gaze at a corner and a high ppd, the periphery's level 0 is cleared; the term marks none of it back.
+  s.foveation.gaze = true;
+  s.foveation.gazeX = 0;
+  s.foveation.gazeY = 0;
+  s.foveation.ppd = 150.0f;  // level 1 allowed from 40 px out: most of the frame
+  const auto foveated = renderScene("builtin:demo", s);
+  const ImageU8& limit = foveated.frame.levelLimit;
+  ASSERT_FALSE(limit.empty());
+  const ImageU8& m0 = foveated.frame.levels[0].masks.mask;
+  int64_t limited = 0;
+  for (int y = 0; y < m0.height; ++y)
+    for (int x = 0; x < m0.width; ++x)
+      if (limit.at(x, y, kLimitLevel) > 0) {
+        ++limited;
+        ASSERT_EQ(m0.at(x, y), 0) << "a posteriori mark at " << x << "," << y << " where the limit is "
+                                  << int(limit.at(x, y, kLimitLevel));
+      }
+  EXPECT_GT(limited, 0) << "the gaze limited nothing";
 }
 
 // With no footprint (scale 0, or an AO radius under half a pixel everywhere), mrr-effect's

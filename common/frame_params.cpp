@@ -70,6 +70,8 @@ const std::vector<FrameParamInfo> kFrameParams = {
      kPage},
     {Param::AoRadius, "ao_radius", "", K::Number, "world units", "ssao: the sample radius R (0 = automatic)", kFile,
      kPage},
+    {Param::AoBias, "ao_bias", "", K::Number, "a fraction of R",
+     "ssao: the depth bias; an occluder counts when it is in front of the sample by more than this", kFile, kPage},
     {Param::ShadowMapSize, "shadow_map_size", "", K::Int, "texels", "ssm/ssgi: shadow map texels per side", kFile,
      kPage},
     {Param::LightAngle, "light_angle", "", K::Number, "radians", "ssm: the light's angular diameter", kFile, kPage},
@@ -155,6 +157,7 @@ std::string settingsDefault(Param param) {
     case Param::TauZ: return number(s.edges.depthThreshold);
     case Param::AoRadius:
       return number(s.ssao.radius) + ": " + number(100.0 * SsaoSettings::kAutoRadiusFraction) + "% of the framed size (the view's height at its median surface depth)";
+    case Param::AoBias: return number(s.ssao.biasFraction);
     case Param::GiRadius:
       return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the framed size";
     case Param::NeverSlower: return s.neverSlower ? "on" : "off";
@@ -212,6 +215,7 @@ std::string paramRange(Param param) {
     case Param::EffectScale: return "[0, 16]";
     case Param::Ppd: return "> 0";
     case Param::TauN: return "[0, 2]";
+    case Param::AoBias: return "[0, 1]";
     case Param::TauZ:
     case Param::AoRadius:
     case Param::GiRadius: return ">= 0";

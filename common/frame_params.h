@@ -19,7 +19,7 @@ namespace mrr {
 enum class Param {
   Scene, Effect, Method, NeverSlower, CostModel, Path, GlDevice, GpuTiming, Size, Samples, Threads,
   Seed, CoarseGbuffer, Camera, Eye, Target, Up, Fov, Frame, BlendMaterials, LightDir, FlipUp, NoFlipUp, AoRadius,
-  ShadowMapSize, LightAngle, GiRadius, AoTexelDepth, TauN, TauZ, DisableLevel, Sigma2, Weights,
+  AoBias, ShadowMapSize, LightAngle, GiRadius, AoTexelDepth, TauN, TauZ, DisableLevel, Sigma2, Weights,
   EffectCap, EffectFirstLevel, EffectScale,  // mrr-effect's widening (issue 35, SPEC §12)
   Ppd, Gaze, Foveate, PrevFrame,  // viewing conditions, foveation and motion (issue 37, SPEC §13)
   MemoryLimit, Quiet,

@@ -154,7 +154,7 @@ void validateSettings(const Settings& s) {
   require(std::isfinite(s.ssao.radius) && s.ssao.radius >= 0.0f,
           optionName(Param::AoRadius) + ": must be a finite value >= 0 (0 = automatic)");
   require(s.ssao.biasFraction >= 0.0f && s.ssao.biasFraction <= 1.0f,
-          "--ao-bias: must be in [0, 1] (a fraction of the radius)");
+          optionName(Param::AoBias) + ": must be in [0, 1] (a fraction of the radius)");
   require(s.edges.normalThreshold >= 0.0f && s.edges.normalThreshold <= 2.0f,
           optionName(Param::TauN) + ": must be in " + paramRange(Param::TauN));
   require(std::isfinite(s.edges.depthThreshold) && s.edges.depthThreshold >= 0.0f,

@@ -59,7 +59,10 @@ struct EdgeSettings {
 struct SsaoSettings {
   int samples = 64;          // N [1, kMaxSsaoSamples]
   float radius = 0.0f;       // R, world units; 0 = auto: kAutoRadiusFraction × the framed size
-  float biasFraction = 0.05f;  // depth bias as a fraction of R [0, 1]
+  // Depth bias as a fraction of R [0, 1] (docs/spec.md §6). 5% before issue 34 (kBiasFractionBefore,
+  // which the golden digests keep); 2% lets an object's small creases darken.
+  float biasFraction = 0.02f;
+  static constexpr float kBiasFractionBefore = 0.05f;
   // Occluder depth from the texel's tangent plane along the sample's ray (docs/spec.md §6.1),
   // not the texel-centre depth: keeps coarse levels from occluding themselves on slopes.
   bool tangentPlaneDepth = true;

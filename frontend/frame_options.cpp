@@ -50,6 +50,7 @@ Field bindField(Param param) {
     case Param::FlipUp: return &F::flipUp;
     case Param::NoFlipUp: return &F::noFlipUp;
     case Param::AoRadius: return &F::aoRadius;
+    case Param::AoBias: return &F::aoBias;
     case Param::ShadowMapSize: return &F::shadowMapSize;
     case Param::LightAngle: return &F::lightAngle;
     case Param::GiRadius: return &F::giRadius;
@@ -118,6 +119,7 @@ Settings FrameOptions::settings() const {
           optionName(Param::CoarseGbuffer) + " " + coarseGBuffer + ": expected subsample or render");
   s.renderCoarseGBuffer = coarseGBuffer == "render";
   if (aoRadius) s.ssao.radius = *aoRadius;
+  if (aoBias) s.ssao.biasFraction = *aoBias;
   if (giRadius) s.ssgi.radius = *giRadius;
   if (shadowMapSize) s.ssm.shadowMapSize = *shadowMapSize;
   if (lightAngle) s.ssm.lightAngle = *lightAngle;
@@ -244,6 +246,7 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
     case Param::LightAngle: return s.ssm.lightAngle;
     case Param::ShadowMapSize: return s.ssm.shadowMapSize;
     case Param::AoRadius: return s.ssao.radius;
+    case Param::AoBias: return s.ssao.biasFraction;
     case Param::GiRadius: return s.ssgi.radius;
     case Param::AoTexelDepth: return !s.ssao.tangentPlaneDepth;
     case Param::TauN: return s.edges.normalThreshold;

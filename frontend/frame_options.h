@@ -39,6 +39,7 @@ struct FrameOptions {
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
   std::optional<float> aoRadius;
+  std::optional<float> aoBias;
   bool texelDepth = false;
   std::optional<int> shadowMapSize;
   std::optional<float> lightAngle;

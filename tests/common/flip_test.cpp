@@ -167,6 +167,7 @@ std::vector<Pair> framePairs() {
     // The radii the reference tool's frames were rendered with (before issue 34's view-framed default).
     const float diagonal = makeBuiltinScene("demo").bounds().diagonal();
     s.ssao.radius = SsaoSettings::kDiagonalFractionBefore * diagonal;
+    s.ssao.biasFraction = SsaoSettings::kBiasFractionBefore;
     s.ssgi.radius = SsgiSettings::kDiagonalFractionBefore * diagonal;
     const test::Rendered mrr = test::renderScene("builtin:demo", s);
     s.mode = Mode::Full;

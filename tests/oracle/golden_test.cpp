@@ -91,6 +91,7 @@ json renderAll() {
       // so the digests keep the method's bits while the automatic radius follows the view.
       const float diagonal = makeBuiltinScene(scene).bounds().diagonal();
       s.ssao.radius = SsaoSettings::kDiagonalFractionBefore * diagonal;
+      s.ssao.biasFraction = SsaoSettings::kBiasFractionBefore;
       s.ssgi.radius = SsgiSettings::kDiagonalFractionBefore * diagonal;
       const test::Rendered r = test::renderScene("builtin:" + scene, s);
       all[scene + "/" + toString(effect)] = stageDigests(r.frame);

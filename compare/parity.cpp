@@ -122,7 +122,7 @@ std::vector<char> stencilGuardBand(const ImageF& alpha) {
 StageCheck check(const std::string& rule, DiffFigures figures) {
   const bool pass = figures.within(tolerance(rule));
   if (pass) figures.deltaMap = {};  // only a failing check's map is shown
-  return {rule, std::move(figures), pass};
+  return {rule, std::move(figures), pass, std::nullopt};
 }
 
 }  // namespace

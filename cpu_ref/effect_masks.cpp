@@ -122,9 +122,36 @@ ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, co
   return marks;
 }
 
-void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
+void refineMasksReference(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
+  // 1. M_ℓ ∨= marks
   for (size_t i = 0; i < level.mask.data.size(); ++i) level.mask.data[i] = level.mask.data[i] | marks.data[i];
+  // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ
   level.alpha = blurMask(level.mask, lc.gaussian);
+  // 3. S_ℓ ∨= [a_ℓ > 0]
+  for (size_t i = 0; i < level.alpha.data.size(); ++i)
+    level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] | (level.alpha.data[i] > 0.0f));
+}
+
+void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
+  const int w = level.mask.width, h = level.mask.height;
+  // 1. M_ℓ ∨= marks, noting the rows and the span of columns where a bit is new
+  std::vector<uint8_t> changedRows(static_cast<size_t>(h), 0);
+  std::vector<int> rowX0(static_cast<size_t>(h), w), rowX1(static_cast<size_t>(h), 0);
+  parallelFor(0, h, [&](int y) {
+    uint8_t* m = &level.mask.at(0, y);
+    const uint8_t* k = &marks.at(0, y);
+    for (int x = 0; x < w; ++x)
+      if (k[x] && !m[x]) {
+        m[x] = 1;
+        changedRows[static_cast<size_t>(y)] = 1;
+        rowX0[static_cast<size_t>(y)] = std::min(rowX0[static_cast<size_t>(y)], x);
+        rowX1[static_cast<size_t>(y)] = x + 1;
+      }
+  });
+  const int x0 = *std::min_element(rowX0.begin(), rowX0.end()), x1 = *std::max_element(rowX1.begin(), rowX1.end());
+  // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ, recomputed only where a new bit reaches (blurMask's own sums)
+  reblurMaskRegion(level.mask, lc.gaussian, changedRows, x0, x1, level.alpha);
+  // 3. S_ℓ ∨= [a_ℓ > 0]
   for (size_t i = 0; i < level.alpha.data.size(); ++i)
     level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] | (level.alpha.data[i] > 0.0f));
 }

@@ -32,6 +32,10 @@ ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, co
 
 // SPEC §12.2 step 2: M_ℓ ∨= marks; a_ℓ = G(σ_ℓ²) ∗ M_ℓ again; S_ℓ ∨= [a_ℓ > 0] (what the closure
 // gave S_ℓ from finer levels is kept). Not for the coarsest enabled level (a ≡ 1).
+// `refineMasksReference` is the readable rule (the whole level blurred again); `refineMasks`, the
+// one the pipeline runs, blurs again only where a new bit of M_ℓ reaches, with blurMask's own
+// per-pixel sums: the same bits (EffectMasks.RefineMasksFastPathMatchesTheReference).
+void refineMasksReference(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc);
 void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc);
 
 }  // namespace mrr

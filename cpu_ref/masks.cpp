@@ -29,44 +29,82 @@ ImageU8 maxPool(const ImageU8& src, int factor) {
   return out;
 }
 
-ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
+namespace {
+// blurMask's step 1 for row y over columns [x0, x1): Σ_i w_i·M(x+i) from i = −r up, starting at 0,
+// clamp-to-edge. Away from the border it is accumulated a tap at a time over the span (which
+// vectorises); the clamp is needed only within r of either end. Each pixel's sum is the same
+// whichever way, and whatever span it is computed in.
+void blurRowHorizontal(const ImageU8& mask, const std::vector<float>& weights, int y, int x0, int x1, float* dst) {
   const int r = static_cast<int>(weights.size() / 2);
+  const int w = mask.width;
+  const uint8_t* row = &mask.at(0, y);
+  std::vector<float> m(row, row + w);  // M as float
+  auto clamped = [&](int x) {
+    float sum = 0.0f;
+    for (int i = -r; i <= r; ++i) sum += weights[static_cast<size_t>(i + r)] * m[static_cast<size_t>(std::clamp(x + i, 0, w - 1))];
+    return sum;
+  };
+  const int inner0 = std::clamp(r, x0, x1), inner1 = std::clamp(w - r, inner0, x1);
+  for (int x = x0; x < inner0; ++x) dst[x] = clamped(x);
+  for (int x = inner1; x < x1; ++x) dst[x] = clamped(x);
+  for (int x = inner0; x < inner1; ++x) dst[x] = 0.0f;
+  for (int i = -r; i <= r; ++i) {
+    const float wi = weights[static_cast<size_t>(i + r)];
+    const float* src = m.data() + i;
+    for (int x = inner0; x < inner1; ++x) dst[x] += wi * src[x];
+  }
+}
+
+// blurMask's step 2 for row y over columns [x0, x1): Σ_i w_i·H(y+i), clamp-to-edge, a row at a
+// time so the inner loop runs along memory.
+void blurRowVertical(const ImageF& horizontal, const std::vector<float>& weights, int y, int x0, int x1, float* dst) {
+  const int r = static_cast<int>(weights.size() / 2);
+  for (int x = x0; x < x1; ++x) dst[x] = 0.0f;
+  for (int i = -r; i <= r; ++i) {
+    const float wi = weights[static_cast<size_t>(i + r)];
+    const float* src = &horizontal.at(0, std::clamp(y + i, 0, horizontal.height - 1));
+    for (int x = x0; x < x1; ++x) dst[x] += wi * src[x];
+  }
+}
+}  // namespace
+
+ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights) {
   const int w = mask.width, h = mask.height;
   ImageF horizontal = ImageF::uninitialised(w, h), out = ImageF::uninitialised(w, h);
-  // 1. horizontal pass, clamp-to-edge. Each pixel's sum is Σ_i w_i·M(x+i) from i = −r up,
-  // starting at 0, whichever way it is computed. Away from the border it is accumulated a
-  // tap at a time over the whole row (which vectorises); the clamp is needed only within r
-  // of either end.
-  parallelFor(0, h, [&](int y) {
-    const uint8_t* row = &mask.at(0, y);
-    float* dst = &horizontal.at(0, y);
-    std::vector<float> m(row, row + w);  // M as float
-    auto clamped = [&](int x) {
-      float sum = 0.0f;
-      for (int i = -r; i <= r; ++i) sum += weights[static_cast<size_t>(i + r)] * m[static_cast<size_t>(std::clamp(x + i, 0, w - 1))];
-      return sum;
-    };
-    const int inner0 = std::min(r, w), inner1 = std::max(w - r, inner0);
-    for (int x = 0; x < inner0; ++x) dst[x] = clamped(x);
-    for (int x = inner1; x < w; ++x) dst[x] = clamped(x);
-    for (int x = inner0; x < inner1; ++x) dst[x] = 0.0f;
-    for (int i = -r; i <= r; ++i) {
-      const float wi = weights[static_cast<size_t>(i + r)];
-      const float* src = m.data() + i;
-      for (int x = inner0; x < inner1; ++x) dst[x] += wi * src[x];
-    }
-  });
-  // 2. vertical pass, clamp-to-edge, a row at a time so the inner loop runs along memory
-  parallelFor(0, h, [&](int y) {
-    float* dst = &out.at(0, y);
-    for (int x = 0; x < w; ++x) dst[x] = 0.0f;
-    for (int i = -r; i <= r; ++i) {
-      const float wi = weights[static_cast<size_t>(i + r)];
-      const float* src = &horizontal.at(0, std::clamp(y + i, 0, h - 1));
-      for (int x = 0; x < w; ++x) dst[x] += wi * src[x];
-    }
-  });
+  // 1. horizontal pass, clamp-to-edge
+  parallelFor(0, h, [&](int y) { blurRowHorizontal(mask, weights, y, 0, w, &horizontal.at(0, y)); });
+  // 2. vertical pass, clamp-to-edge
+  parallelFor(0, h, [&](int y) { blurRowVertical(horizontal, weights, y, 0, w, &out.at(0, y)); });
   return out;
+}
+
+void reblurMaskRegion(const ImageU8& mask, const std::vector<float>& weights, const std::vector<uint8_t>& changedRows,
+                      int changedX0, int changedX1, ImageF& alpha) {
+  const int r = static_cast<int>(weights.size() / 2);
+  const int w = mask.width, h = mask.height;
+  if (changedX0 >= changedX1) return;
+  // The rows of a that a change reaches (within r of a changed row) and the rows of H they read
+  // (within 2r); the columns within r of the changed span (the vertical pass keeps to its column).
+  auto within = [&](int reach) {
+    std::vector<int> diff(static_cast<size_t>(h) + 1, 0);
+    for (int y = 0; y < h; ++y)
+      if (changedRows[static_cast<size_t>(y)]) {
+        ++diff[static_cast<size_t>(std::max(0, y - reach))];
+        --diff[static_cast<size_t>(std::min(h, y + reach + 1))];
+      }
+    std::vector<uint8_t> rows(static_cast<size_t>(h));
+    for (int y = 0, open = 0; y < h; ++y) rows[static_cast<size_t>(y)] = (open += diff[static_cast<size_t>(y)]) > 0;
+    return rows;
+  };
+  const std::vector<uint8_t> outRows = within(r), hRows = within(2 * r);
+  const int x0 = std::max(0, changedX0 - r), x1 = std::min(w, changedX1 + r);
+  ImageF horizontal = ImageF::uninitialised(w, h);
+  parallelFor(0, h, [&](int y) {
+    if (hRows[static_cast<size_t>(y)]) blurRowHorizontal(mask, weights, y, x0, x1, &horizontal.at(0, y));
+  });
+  parallelFor(0, h, [&](int y) {
+    if (outRows[static_cast<size_t>(y)]) blurRowVertical(horizontal, weights, y, x0, x1, &alpha.at(0, y));
+  });
 }
 
 namespace {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "common/error.h"
+#include "common/hash.h"
+#include "common/kernels.h"
 #include "cpu_ref/effect_masks.h"
 #include "cpu_ref/foveation.h"
 #include "tests/oracle/render_helpers.h"
@@ -105,6 +107,44 @@ TEST(EffectMasks, APosterioriTermRefinesAndKeepsTheLevelLimit) {
                                   << int(limit.at(x, y, kLimitLevel));
       }
   EXPECT_GT(limited, 0) << "the gaze limited nothing";
+}
+
+// SPEC §12.2 step 2's fast path (blur again only where a new mask bit reaches) gives the readable
+// rule's bits: masks and marks of every density, bits at the borders, kernels wider than the level.
+TEST(EffectMasks, RefineMasksFastPathMatchesTheReference) {
+
+  for (const float sigma2 : {0.0f, 1.0f, 4.0f, 16.0f, 64.0f})
+    for (const auto [w, h] : {std::pair{37, 23}, std::pair{96, 54}, std::pair{9, 70}})
+      for (int pattern = 0; pattern < 6; ++pattern) {
+        LevelConstants lc;
+        lc.gaussian = gaussianWeights(sigma2);
+        ImageU8 mask(w, h), marks(w, h);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            const uint32_t r = pcgHash(static_cast<uint32_t>(x + w * y + 7919 * pattern));
+            mask.at(x, y) = r % 23 == 0;
+            switch (pattern) {
+              case 0: break;                                                     // no marks
+              case 1: marks.at(x, y) = r % 97 == 0; break;                       // sparse
+              case 2: marks.at(x, y) = (r >> 8) % 3 == 0; break;                 // dense
+              case 3: marks.at(x, y) = x == 0 || y == h - 1; break;              // the borders
+              case 4: marks.at(x, y) = (x == w - 1 && y == 0) || (x == w / 2 && y == h / 2); break;
+              case 5: marks.at(x, y) = mask.at(x, y); break;                     // nothing new
+            }
+          }
+        MaskLevel fast;
+        fast.mask = mask;
+        fast.alpha = blurMask(mask, lc.gaussian);
+        fast.stencil = ImageU8(w, h);
+        for (size_t i = 0; i < fast.alpha.data.size(); ++i) fast.stencil.data[i] = fast.alpha.data[i] > 0.0f;
+        fast.stencil.at(0, 0) = 1;  // a bit the closure gave: both keep it
+        MaskLevel reference = fast;
+        refineMasks(fast, marks, lc);
+        refineMasksReference(reference, marks, lc);
+        ASSERT_EQ(fast.mask.data, reference.mask.data) << "sigma2 " << sigma2 << " pattern " << pattern;
+        ASSERT_EQ(fast.alpha.data, reference.alpha.data) << "sigma2 " << sigma2 << " " << w << "x" << h << " pattern " << pattern;
+        ASSERT_EQ(fast.stencil.data, reference.stencil.data) << "sigma2 " << sigma2 << " pattern " << pattern;
+      }
 }
 
 // With no footprint (scale 0, or an AO radius under half a pixel everywhere), mrr-effect's

@@ -42,7 +42,7 @@ void addProbeCommand(CLI::App& app, ProbeCommand& c) {
   addAgainstOption(*c.command, c.against);
   c.command->add_flag("--noise-aware", c.noiseAware,
                       "with --path both, ssao/ssgi: also each stochastic stage's mean over the oracle's independent "
-                      "seeds, the interval one draw lands in, and where the value falls in it (compare --noise-aware)");
+                      "seeds, the interval compare --noise-aware accepts one draw in, and where the value falls in it");
 }
 
 namespace {

@@ -108,22 +108,23 @@ SeedStats seedStats(const std::vector<ImageF>& seeds, size_t i) {
   return st;
 }
 
-// The stage's scale: the mean |seeds' mean| over the included pixels and channels (the floor's unit).
-double frameScaleOf(const std::vector<ImageF>& seeds, const std::vector<char>& include, size_t channels) {
-  double sum = 0.0;
-  int64_t count = 0;
-  for (size_t i = 0; i < include.size() * channels; ++i) {
-    if (!include[i / channels]) continue;
-    sum += std::fabs(seedStats(seeds, i).mean);
-    ++count;
-  }
-  return count ? sum / static_cast<double>(count) : 0.0;
+// What one sample may be worth on the stage: the largest |value| any seed shows at any included
+// pixel and channel. A pixel's value is a mean of N samples, so a sample brighter than the
+// brightest pixel seen exists; where the K seeds happen to draw none, SSGI's heavy-tailed samples
+// (a lit surface reached once) would otherwise look like a bug.
+double sampleScaleOf(const std::vector<ImageF>& seeds, const std::vector<char>& include, size_t channels) {
+  double top = 0.0;
+  for (const ImageF& s : seeds)
+    for (size_t i = 0; i < include.size() * channels; ++i)
+      if (include[i / channels]) top = std::max(top, std::fabs(static_cast<double>(s.data[i])));
+  return top;
 }
 
-// One draw's variance at a pixel: the seeds' own, plus one sample's worth (kNoiseRule.sampleFloor)
-// so that a pixel whose seeds barely vary does not reject a rare sample.
-double drawVariance(const SeedStats& st, double frameScale, int samples) {
-  const double floorSd = kNoiseRule.sampleFloor * std::max(st.top, frameScale) / std::max(samples, 1);
+// One draw's variance at a pixel: the seeds' own, plus one sample's worth (kNoiseRule.sampleFloor
+// samples of the stage's sample scale, over N), so that a pixel whose seeds barely vary does not
+// reject a rare sample.
+double drawVariance(const SeedStats& st, double sampleScale, int samples) {
+  const double floorSd = kNoiseRule.sampleFloor * std::max(st.top, sampleScale) / std::max(samples, 1);
   return st.var + floorSd * floorSd;
 }
 
@@ -165,7 +166,7 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
             "internal: the noise reference's stage differs in size from the subject's");
   require(K >= 3, "internal: the noise test needs at least 3 seeds");
   const double k = K;
-  const double frameScale = frameScaleOf(seeds, include, ch);
+  const double sampleScale = sampleScaleOf(seeds, include, ch);
   // 1. Per pixel: Welch's t against the seeds' mean, each spread at least one sample's worth.
   for (size_t p = 0; p < n; ++p) f.pixels += include[p] != 0;
   f.tests = f.pixels * static_cast<int64_t>(ch);
@@ -179,7 +180,7 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
       const size_t i = p * ch + c;
       const SeedStats st = seedStats(seeds, i);
       mean[i] = st.mean;
-      const double own = drawVariance(st, frameScale, samples);
+      const double own = drawVariance(st, sampleScale, samples);
       const WelchResult w = pixelTest(subject.data[i], st, own, k);
       rejected = rejected || w.p < f.pixelLevel;
       if (w.p < worstP || (w.p == worstP && std::fabs(w.t) > std::fabs(f.worstT))) {
@@ -282,7 +283,7 @@ NoisePixel noisePixel(const FrameResult& oracle, const FrameResult& subject, con
     st.shaded = in[p] != 0;
     if (st.shaded) {
       const double k = static_cast<double>(seeds->second.size());
-      const double frameScale = frameScaleOf(seeds->second, in, ch);
+      const double sampleScale = sampleScaleOf(seeds->second, in, ch);
       double farthest = -1.0;
       for (size_t c = 0; c < ch; ++c) {
         const size_t i = p * ch + c;
@@ -295,7 +296,7 @@ NoisePixel noisePixel(const FrameResult& oracle, const FrameResult& subject, con
         const MeanInterval m = meanInterval(values, 0.95);
         nc.meanLo = m.lo;
         nc.meanHi = m.hi;
-        const double own = drawVariance(s, frameScale, reference.samples);
+        const double own = drawVariance(s, sampleScale, reference.samples);
         nc.sd = std::sqrt(own);
         const WelchResult w = pixelTest(nc.value, s, own, k);
         nc.t = w.t;

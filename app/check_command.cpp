@@ -2,7 +2,8 @@
 // `compare` of its frame (app/compare_command.cpp: compareFrame): the oracle against the port,
 // the port with --shaders SDIR, or --against ADIR's stages (ADIR/CASE.exr or ADIR/CASE/). One
 // verdict: exit 0 when every case passes, 1 when one fails, 2 when one could not run (or on a
-// usage error). --shard I/N runs the cases whose name hashes to shard I; --json writes the
+// usage error). --noise-aware judges each SSAO/SSGI case's stochastic stages as `compare
+// --noise-aware` does. --shard I/N runs the cases whose name hashes to shard I; --json writes the
 // results, and `check --merge R1.json R2.json …` joins shards' results into one summary, JUnit
 // file and report (compare/suite.h holds everything that does not render).
 //
@@ -25,6 +26,7 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/tolerance.h"
 #include "compare/report_python.h"
 #include "compare/suite.h"
 #include "frontend/frame_file.h"
@@ -51,6 +53,9 @@ void addCheckCommand(CLI::App& app, CheckCommand& c) {
   c.command->add_option(optionName(Param::GlDevice), c.glDevice, paramHelp(Param::GlDevice));
   c.command->add_option("--merge", c.merge, "join the --json results of shards (R1.json R2.json ...) instead of running DIR")
       ->expected(1, -1);
+  c.command->add_flag("--noise-aware", c.noiseAware,
+                      "ssao/ssgi cases: judge the stochastic stages against the oracle's independent seeds, as "
+                      "compare --noise-aware does (for a renderer with its own noise)");
   c.command->add_flag("-q,--quiet", c.quiet, "no progress lines on stderr");
 }
 
@@ -110,6 +115,7 @@ CaseResult runCase(const CaseRun& run, const std::string& name, std::string& sub
     compare.frame.threads = run.threadsPerJob;
     compare.frame.glDevice = c.glDevice;
     if (!c.against.empty()) compare.against = caseStages(c.against, name);
+    compare.noiseAware = c.noiseAware;
     const std::vector<Settings> settings = prepareCompare(compare);
     if (!c.reportDir.empty()) {
       compare.reportDir = (fs::path(c.reportDir) / name).string();
@@ -168,8 +174,9 @@ int finish(const CheckCommand& c, const SuiteResults& results) {
 
 int runMerge(const CheckCommand& c) {
   require(c.dir.empty(), "check: a folder or --merge, not both (--merge joins results already run)");
-  require(c.against.empty() && c.shard.empty() && c.shaders.empty(),
-          "check --merge: --against, --shard and --shaders are for running a suite, not for merging results");
+  require(c.against.empty() && c.shard.empty() && c.shaders.empty() && !c.noiseAware,
+          "check --merge: --against, --shard, --shaders and --noise-aware are for running a suite, not for merging "
+          "results");
   std::vector<SuiteResults> parts;
   for (const std::string& f : c.merge) parts.push_back(resultsFromJson(readJsonObjectFile(f, "--merge"), "--merge " + f));
   const SuiteResults merged = mergeResults(parts, c.merge);
@@ -211,9 +218,10 @@ int runCheckCommand(CheckCommand& c) {
   const int jobs = std::max(1, std::min<int>(c.jobs, static_cast<int>(names.size())));
   std::mutex portLock, printLock;
   const CaseRun shared{c, std::max(1, threads / jobs), jobs > 1 ? &portLock : nullptr};
-  const std::string what = !c.against.empty() ? "--against " + c.against
-                           : !c.shaders.empty() ? "the port with --shaders " + c.shaders
-                                                : "the port";
+  const std::string what = (!c.against.empty() ? "--against " + c.against
+                            : !c.shaders.empty() ? "the port with --shaders " + c.shaders
+                                                 : std::string("the port")) +
+                           (c.noiseAware ? ", noise-aware" : "");
   if (!c.quiet)
     std::cerr << "[mrr] check " << c.dir << ": " << names.size() << " of " << all.size() << " cases"
               << (shard.count > 1 ? " (shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) + ")" : "")
@@ -249,9 +257,12 @@ int runCheckCommand(CheckCommand& c) {
   worker();
   for (std::thread& t : workers) t.join();
 
-  results.subject = !c.against.empty() ? "--against " + c.against
-                    : "the GL port" + (c.shaders.empty() ? std::string() : " with --shaders " + c.shaders) +
-                          (subject.empty() ? "" : " (" + subject + ")");
+  results.subject = (!c.against.empty() ? "--against " + c.against
+                     : "the GL port" + (c.shaders.empty() ? std::string() : " with --shaders " + c.shaders) +
+                           (subject.empty() ? "" : " (" + subject + ")")) +
+                    (c.noiseAware ? ", noise-aware (the stochastic stages against the oracle's " +
+                                        std::to_string(kNoiseRule.seeds) + " seeds)"
+                                  : "");
   return finish(c, results);
 }
 

@@ -94,6 +94,7 @@ struct CheckCommand {
   std::string shaders;              // --shaders SDIR (main.cpp loads them; named in the summary)
   int jobs = 1, threads = 0, glDevice = -1;
   bool quiet = false;
+  bool noiseAware = false;          // --noise-aware: each case's stochastic stages judged statistically (compare/noise.h)
 };
 void addCheckCommand(CLI::App& app, CheckCommand& c);
 int runCheckCommand(CheckCommand& c);

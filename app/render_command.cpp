@@ -42,7 +42,7 @@ void addProbeCommand(CLI::App& app, ProbeCommand& c) {
   addAgainstOption(*c.command, c.against);
   c.command->add_flag("--noise-aware", c.noiseAware,
                       "with --path both, ssao/ssgi: also each stochastic stage's mean over the oracle's independent "
-                      "seeds, the interval one draw lands in, and where the value falls in it (compare --noise-aware)");
+                      "seeds, the interval compare --noise-aware accepts one draw in, and where the value falls in it");
 }
 
 namespace {
@@ -76,8 +76,9 @@ int probeBothPaths(const ProbeCommand& c, const ResolvedScene& rs, const Constan
   const FrameResult p = port ? port->render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port"), &costs})
                              : readForeignStages(c.against, o).frame;
   const nlohmann::json jo = probePixel(o, x, y), jp = probePixel(p, x, y);
-  std::cout << (c.json ? probeBothJson(jo, jp).dump(2) + "\n" : formatProbeSideBySide(jo, jp, port ? port->device() : c.against));
-  if (c.noiseAware && isStochastic(constants.effect) && !c.json) {
+  nlohmann::json both = probeBothJson(jo, jp);
+  std::string text = c.json ? "" : formatProbeSideBySide(jo, jp, port ? port->device() : c.against);
+  if (c.noiseAware && isStochastic(constants.effect)) {
     Settings settings = fo.settings();
     const NoiseReference noise = buildNoiseReference(
         [&](uint32_t seed) {
@@ -87,8 +88,13 @@ int probeBothPaths(const ProbeCommand& c, const ResolvedScene& rs, const Constan
         constants.samples(), [&](int i, int n) {
           if (!fo.quiet) std::cerr << "[mrr] noise-aware: oracle seed " << i + 1 << "/" << n << "\n";
         });
-    std::cout << describeNoisePixel(o, p, noise, x, y);
+    const NoisePixel pixel = noisePixel(o, p, noise, x, y);
+    both["noise_aware"] = noisePixelJson(pixel);
+    text += "\n" + formatNoisePixel(pixel, port ? "the port's" : "the file's");
+  } else if (c.noiseAware && !fo.quiet) {
+    std::cerr << "[mrr] noise-aware: " << toString(constants.effect) << " has no stochastic stage; every value exact\n";
   }
+  std::cout << (c.json ? both.dump(2) + "\n" : text);
   return 0;
 }
 

@@ -89,6 +89,56 @@ std::vector<NoiseRegion> regionsOf(const FrameResult& oracle, int level, const I
   return regions;
 }
 
+// One pixel-channel's statistics over the K seeds: their mean, their variance, the largest |value|.
+struct SeedStats {
+  double mean = 0.0, var = 0.0, top = 0.0;
+};
+
+SeedStats seedStats(const std::vector<ImageF>& seeds, size_t i) {
+  SeedStats st;
+  const double k = static_cast<double>(seeds.size());
+  for (const ImageF& s : seeds) {
+    st.mean += s.data[i];
+    st.top = std::max(st.top, std::fabs(static_cast<double>(s.data[i])));
+  }
+  st.mean /= k;
+  double ss = 0.0;
+  for (const ImageF& s : seeds) ss += (s.data[i] - st.mean) * (s.data[i] - st.mean);
+  st.var = ss / (k - 1.0);
+  return st;
+}
+
+// What one sample may be worth on the stage: the largest |value| any seed shows at any included
+// pixel and channel. A pixel's value is a mean of N samples, so a sample brighter than the
+// brightest pixel seen exists; where the K seeds happen to draw none, SSGI's heavy-tailed samples
+// (a lit surface reached once) would otherwise look like a bug.
+double sampleScaleOf(const std::vector<ImageF>& seeds, const std::vector<char>& include, size_t channels) {
+  double top = 0.0;
+  for (const ImageF& s : seeds)
+    for (size_t i = 0; i < include.size() * channels; ++i)
+      if (include[i / channels]) top = std::max(top, std::fabs(static_cast<double>(s.data[i])));
+  return top;
+}
+
+// One draw's variance at a pixel: the seeds' own, plus one sample's worth (kNoiseRule.sampleFloor
+// samples of the stage's sample scale, over N), so that a pixel whose seeds barely vary does not
+// reject a rare sample.
+double drawVariance(const SeedStats& st, double sampleScale, int samples) {
+  const double floorSd = kNoiseRule.sampleFloor * std::max(st.top, sampleScale) / std::max(samples, 1);
+  return st.var + floorSd * floorSd;
+}
+
+// The per-pixel test: Welch's t of the subject's one value (its variance one draw's, df K − 1)
+// against the seeds' mean (variance one draw's / K, df K − 1).
+WelchResult pixelTest(double value, const SeedStats& st, double own, double k) {
+  return welchTest(value, own, k - 1.0, st.mean, own / k, k - 1.0);
+}
+
+// The half-width of the interval one draw is accepted in at the per-test level `level`.
+double acceptedHalfWidth(const WelchResult& w, double own, double k, double level) {
+  return studentTCritical(level, w.df) * std::sqrt(own + own / k);
+}
+
 }  // namespace
 
 NoiseReference buildNoiseReference(const std::function<FrameResult(uint32_t seed)>& render, int samples,
@@ -116,41 +166,22 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
             "internal: the noise reference's stage differs in size from the subject's");
   require(K >= 3, "internal: the noise test needs at least 3 seeds");
   const double k = K;
-  // Per pixel and channel: the seeds' mean and variance.
-  std::vector<double> mean(n * ch, 0.0), var(n * ch, 0.0), top(n * ch, 0.0);
-  double scaleSum = 0.0;
-  int64_t scaleCount = 0;
-  for (size_t i = 0; i < n * ch; ++i) {
-    if (!include[i / ch]) continue;
-    double m = 0.0, mx = 0.0;
-    for (const ImageF& s : seeds) {
-      m += s.data[i];
-      mx = std::max(mx, std::fabs(static_cast<double>(s.data[i])));
-    }
-    m /= k;
-    double ss = 0.0;
-    for (const ImageF& s : seeds) ss += (s.data[i] - m) * (s.data[i] - m);
-    mean[i] = m;
-    var[i] = ss / (k - 1.0);
-    top[i] = mx;
-    scaleSum += std::fabs(m);
-    ++scaleCount;
-  }
-  const double frameScale = scaleCount ? scaleSum / static_cast<double>(scaleCount) : 0.0;
-  // 1. Per pixel: Welch's t of the subject's one value (its variance the seeds', df K − 1) against
-  // the seeds' mean (variance s²/K, df K − 1), each spread at least one sample's worth.
+  const double sampleScale = sampleScaleOf(seeds, include, ch);
+  // 1. Per pixel: Welch's t against the seeds' mean, each spread at least one sample's worth.
   for (size_t p = 0; p < n; ++p) f.pixels += include[p] != 0;
   f.tests = f.pixels * static_cast<int64_t>(ch);
   f.pixelLevel = sidakLevel(rule.pixelAlpha, std::max<int64_t>(f.tests, 1));
+  std::vector<double> mean(n * ch, 0.0);
   double worstP = 2.0;
   for (size_t p = 0; p < n; ++p) {
     if (!include[p]) continue;
     bool rejected = false;
     for (size_t c = 0; c < ch; ++c) {
       const size_t i = p * ch + c;
-      const double floorSd = rule.sampleFloor * std::max(top[i], frameScale) / std::max(samples, 1);
-      const double own = var[i] + floorSd * floorSd;
-      const WelchResult w = welchTest(subject.data[i], own, k - 1.0, mean[i], own / k, k - 1.0);
+      const SeedStats st = seedStats(seeds, i);
+      mean[i] = st.mean;
+      const double own = drawVariance(st, sampleScale, samples);
+      const WelchResult w = pixelTest(subject.data[i], st, own, k);
       rejected = rejected || w.p < f.pixelLevel;
       if (w.p < worstP || (w.p == worstP && std::fabs(w.t) > std::fabs(f.worstT))) {
         worstP = w.p;
@@ -160,10 +191,10 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
         f.worstY = static_cast<int>(p / static_cast<size_t>(subject.width));
         f.worstChannel = static_cast<int>(c);
         f.worstValue = subject.data[i];
-        f.worstMean = mean[i];
-        const double half = studentTCritical(f.pixelLevel, w.df) * std::sqrt(own + own / k);
-        f.worstLo = mean[i] - half;
-        f.worstHi = mean[i] + half;
+        f.worstMean = st.mean;
+        const double half = acceptedHalfWidth(w, own, k, f.pixelLevel);
+        f.worstLo = st.mean - half;
+        f.worstHi = st.mean + half;
       }
     }
     f.rejected += rejected;
@@ -215,40 +246,172 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
   return f;
 }
 
-std::string describeNoisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference,
-                               int x, int y) {
-  std::string out = "noise-aware: the stochastic stages at " + std::to_string(x) + "," + std::to_string(y) +
-                    " against the oracle's " + std::to_string(reference.seeds) + " seeds (docs/spec.md 8)\n";
+bool NoisePixel::inside() const {
+  for (const NoisePixelStage& s : stages)
+    for (const NoiseChannel& c : s.channels)
+      if (s.shaded && !c.inside) return false;
+  return true;
+}
+
+NoisePixel noisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference, int x, int y) {
+  NoisePixel out;
+  out.x = x;
+  out.y = y;
+  out.seeds = reference.seeds;
+  out.samples = reference.samples;
+  out.firstSeed = kNoiseRule.firstSeed;
   for (const auto& [stage, image] : stochasticImages(subject)) {
     const auto seeds = reference.stages.find(stage);
-    if (seeds == reference.stages.end() || seeds->second.empty()) continue;
+    if (seeds == reference.stages.end() || seeds->second.size() < 3) continue;
+    NoisePixelStage st;
+    st.stage = stage;
     const size_t at = stage.find(".L");
-    const int level = at == std::string::npos ? -1 : std::stoi(stage.substr(at + 2));
-    const int scale = level < 0 ? 1 : oracle.constants.levels[static_cast<size_t>(level)].scale;
-    const int lx = x / scale, ly = y / scale;
-    char text[400];
-    if (lx >= image->width || ly >= image->height) continue;
-    const size_t p = static_cast<size_t>(ly) * image->width + lx;
-    if (level >= 0) {
-      const ImageU8& s = oracle.levels[static_cast<size_t>(level)].masks.stencil;
-      if (s.data.size() == image->pixelCount() && !s.data[p]) {
-        std::snprintf(text, sizeof text, "  %-8s not shaded at level pixel %d,%d\n", stage.c_str(), lx, ly);
-        out += text;
-        continue;
+    st.level = at == std::string::npos ? -1 : std::stoi(stage.substr(at + 2));
+    Part part;
+    if (partOf(stage, part)) st.shader = std::string(partInfo(part).shader);
+    if (st.shader.find(' ') != std::string::npos) st.shader = toString(oracle.constants.effect) + ".frag";  // raw: the effect's
+    const int scale = st.level < 0 ? 1 : oracle.constants.levels[static_cast<size_t>(st.level)].scale;
+    st.x = x / scale;
+    st.y = y / scale;
+    if (st.x >= image->width || st.y >= image->height) continue;
+    const size_t p = static_cast<size_t>(st.y) * image->width + st.x;
+    // The verdict's family: the stage's tested pixels, as compare --noise-aware takes them.
+    const std::vector<char> in = includedPixels(oracle, subject, st.level, *image);
+    const size_t ch = static_cast<size_t>(image->channels);
+    st.stagePixels = std::count(in.begin(), in.end(), char{1});
+    st.pixelLevel = sidakLevel(kNoiseRule.pixelAlpha, std::max<int64_t>(st.stagePixels * static_cast<int64_t>(ch), 1));
+    st.shaded = in[p] != 0;
+    if (st.shaded) {
+      const double k = static_cast<double>(seeds->second.size());
+      const double sampleScale = sampleScaleOf(seeds->second, in, ch);
+      double farthest = -1.0;
+      for (size_t c = 0; c < ch; ++c) {
+        const size_t i = p * ch + c;
+        const SeedStats s = seedStats(seeds->second, i);
+        NoiseChannel nc;
+        nc.value = image->data[i];
+        nc.mean = s.mean;
+        std::vector<double> values;
+        for (const ImageF& seed : seeds->second) values.push_back(seed.data[i]);
+        const MeanInterval m = meanInterval(values, 0.95);
+        nc.meanLo = m.lo;
+        nc.meanHi = m.hi;
+        const double own = drawVariance(s, sampleScale, reference.samples);
+        nc.sd = std::sqrt(own);
+        const WelchResult w = pixelTest(nc.value, s, own, k);
+        nc.t = w.t;
+        nc.p = w.p;
+        const double half = acceptedHalfWidth(w, own, k, st.pixelLevel);
+        nc.lo = s.mean - half;
+        nc.hi = s.mean + half;
+        nc.halfWidths = half > 0.0 ? std::fabs(nc.value - s.mean) / half : (nc.value == s.mean ? 0.0 : INFINITY);
+        nc.inside = w.p >= st.pixelLevel;  // the verdict's own test: the same as lo ≤ value ≤ hi
+        if (nc.halfWidths > farthest) {
+          farthest = nc.halfWidths;
+          st.farthest = static_cast<int>(c);
+        }
+        st.channels.push_back(nc);
       }
     }
-    std::vector<char> one(image->pixelCount(), 0);
-    one[p] = 1;
-    const NoiseFigures f = noiseTest(*image, seeds->second, one, {}, reference.samples);
-    const bool inside = f.worstValue >= f.worstLo && f.worstValue <= f.worstHi;
-    std::snprintf(text, sizeof text,
-                  "  %-8s %.6g; the oracle's mean %.6g, one draw in [%.6g, %.6g] (%.3g%%, this pixel alone): %s, t = %.3g%s\n",
-                  stage.c_str(), f.worstValue, f.worstMean, f.worstLo, f.worstHi, 100.0 * (1.0 - f.pixelLevel),
-                  inside ? "inside" : "OUTSIDE", f.worstT,
-                  image->channels > 1 ? (" (channel " + std::to_string(f.worstChannel) + ", the farthest)").c_str() : "");
-    out += text;
+    out.stages.push_back(std::move(st));
   }
   return out;
+}
+
+namespace {
+
+std::string number(double v, const char* format = "%.4g") {
+  char text[48];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+
+// "inside, 0.31 of the way to the edge" / "OUTSIDE, 2.4 half-widths below the mean".
+std::string whereItFalls(const NoiseChannel& c) {
+  if (c.inside) return "inside (" + number(c.halfWidths, "%.2f") + " of the half-width from the mean)";
+  return "OUTSIDE (" + number(c.halfWidths, "%.3g") + " half-widths " + (c.value < c.mean ? "below" : "above") +
+         " the mean)";
+}
+
+}  // namespace
+
+std::string formatNoisePixel(const NoisePixel& px, const std::string& whose) {
+  std::string out = "noise-aware: pixel " + std::to_string(px.x) + "," + std::to_string(px.y) + ", each stochastic stage against the oracle's " +
+                    std::to_string(px.seeds) + " frames with independent seeds (--seed " + std::to_string(px.firstSeed) +
+                    "..." + std::to_string(px.firstSeed + static_cast<uint32_t>(px.seeds) - 1) + ", " +
+                    std::to_string(px.samples) + " samples a pixel; docs/spec.md §8)\n";
+  out += "  mean: the seeds' mean here, +- its 95% t interval; sd: one draw's spread (the seeds', at least one sample's "
+         "worth);\n  accepted: where compare --noise-aware accepts one draw, Welch's t at the stage's Sidak level "
+         "(1% false alarms over its pixels);\n  t: " + whose + " value's distance from the mean in draws' sd\n";
+  size_t name = 6, value = 8;
+  for (const NoisePixelStage& s : px.stages) name = std::max(name, s.stage.size() + s.shader.size() + 3);
+  char line[512];
+  auto row = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d,
+                 const std::string& e, const std::string& f, const std::string& g, const std::string& h) {
+    std::snprintf(line, sizeof line, "  %-*s %-9s %-*s %-19s %-9s %-34s %-7s %s", static_cast<int>(name), a.c_str(),
+                  b.c_str(), static_cast<int>(value + 2), c.c_str(), d.c_str(), e.c_str(), f.c_str(), g.c_str(), h.c_str());
+    std::string text = line;
+    text.erase(text.find_last_not_of(' ') + 1);
+    out += text + "\n";
+  };
+  const std::string valueHead = whose == "the port's" ? "port" : whose == "the file's" ? "file" : "value";
+  row("stage", "pixel", valueHead, "mean +- 95%", "sd", "accepted (Sidak level, pixels)", "t", "where it falls");
+  std::vector<std::string> outside;
+  for (const NoisePixelStage& s : px.stages) {
+    const std::string label = s.stage + " (" + s.shader + ")";
+    const std::string where = std::to_string(s.x) + "," + std::to_string(s.y);
+    if (!s.shaded) {
+      row(label, where, "-", "", "", "", "",
+          s.level >= 0 ? "not shaded here: level " + std::to_string(s.level) + "'s stencil leaves it to another level"
+                       : "the background: no estimate");
+      continue;
+    }
+    const NoiseChannel& c = s.channels[static_cast<size_t>(s.farthest)];
+    const std::string channel = s.channels.size() > 1 ? " [channel " + std::to_string(s.farthest) + ", the farthest]" : "";
+    row(label, where, number(c.value), number(c.mean) + " +- " + number(0.5 * (c.meanHi - c.meanLo), "%.2g"),
+        number(c.sd, "%.3g"),
+        "[" + number(c.lo) + ", " + number(c.hi) + "] (" + number(s.pixelLevel, "%.1e") + ", " +
+            std::to_string(s.stagePixels) + ")",
+        number(c.t, "%+.3g"), whereItFalls(c) + channel);
+    if (!c.inside) outside.push_back(s.stage);
+  }
+  if (outside.empty()) {
+    out += "at this pixel " + whose + " values lie inside every accepted interval: as far as this pixel shows, a draw of "
+           "the oracle's estimator\n";
+  } else {
+    std::string list;
+    for (const std::string& s : outside) list += (list.empty() ? "" : ", ") + s;
+    out += "at this pixel " + whose + " value lies OUTSIDE the accepted interval at " + list +
+           ": compare --noise-aware rejects this pixel there\n";
+  }
+  out += "(one pixel's interval is wide: it must hold every correct pixel of the frame; a shift of a few per cent "
+         "shows in compare --noise-aware's bias over the frame and its regions, not at one pixel)\n";
+  return out;
+}
+
+nlohmann::json noisePixelJson(const NoisePixel& px) {
+  nlohmann::json stages = nlohmann::json::array();
+  for (const NoisePixelStage& s : px.stages) {
+    nlohmann::json channels = nlohmann::json::array();
+    for (const NoiseChannel& c : s.channels)
+      channels.push_back({{"value", c.value}, {"mean", c.mean}, {"mean_interval_95", {c.meanLo, c.meanHi}}, {"sd", c.sd},
+                          {"accepted", {c.lo, c.hi}}, {"t", c.t}, {"p", c.p},
+                          {"half_widths", std::isfinite(c.halfWidths) ? nlohmann::json(c.halfWidths) : nlohmann::json()},
+                          {"inside", c.inside}});
+    stages.push_back({{"stage", s.stage}, {"shader", s.shader}, {"level", s.level}, {"pixel", {s.x, s.y}},
+                      {"shaded", s.shaded}, {"stage_pixels", s.stagePixels}, {"sidak_level", s.pixelLevel},
+                      {"farthest_channel", s.farthest}, {"channels", channels}});
+  }
+  return {{"pixel", {px.x, px.y}},
+          {"seeds", px.seeds},
+          {"first_seed", px.firstSeed},
+          {"samples", px.samples},
+          {"interval",
+           "accepted: where compare --noise-aware accepts one draw (Welch's t of the value against the seeds' mean, at "
+           "the stage's Sidak level: a 1% family-wise false-alarm rate over its pixels x channels); mean_interval_95: "
+           "the t interval of the seeds' mean"},
+          {"inside", px.inside()},
+          {"stages", stages}};
 }
 
 void applyNoiseAware(ParityResult& result, const FrameResult& oracle, const FrameResult& subject,

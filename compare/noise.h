@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "common/frame.h"
 #include "compare/noise_stats.h"
 #include "compare/parity.h"
@@ -57,10 +59,48 @@ NoiseFigures noiseTest(const ImageF& subject, const std::vector<ImageF>& seeds, 
 void applyNoiseAware(ParityResult& result, const FrameResult& oracle, const FrameResult& subject,
                      const NoiseReference& reference);
 
-// `mrr probe --path both --noise-aware`: each stochastic stage at full-res pixel (x, y): the
-// subject's value, the oracle's mean over the K seeds, the interval one draw lands in (this pixel
-// alone, at kNoiseRule.pixelAlpha) and where the value falls in it. One line a stage.
-std::string describeNoisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference,
-                               int x, int y);
+// One channel of one stochastic stage at one pixel (`probe --noise-aware`, explore's probe panel).
+struct NoiseChannel {
+  double value = 0.0;                // the subject's
+  double mean = 0.0;                 // the K seeds' mean
+  double meanLo = 0.0, meanHi = 0.0; // the mean's own t interval at 95% (where the estimator's mean lies)
+  double sd = 0.0;                   // one draw's spread: the seeds' standard deviation, at least kNoiseRule.sampleFloor samples' worth
+  double lo = 0.0, hi = 0.0;         // the interval the verdict accepts one draw in: Welch's t at the stage's Šidák level
+  double t = 0.0, p = 1.0;           // the subject's Welch t against the mean, and its two-sided p
+  double halfWidths = 0.0;           // |value − mean| in half-widths of [lo, hi]: ≤ 1 inside
+  bool inside = true;
+};
+
+// One stochastic stage at one pixel.
+struct NoisePixelStage {
+  std::string stage;   // "raw.L0", "sub.L2", "final", "shaded"
+  std::string shader;  // the port's shader that computes it
+  int level = -1;      // -1: a full-res stage
+  int x = 0, y = 0;    // the pixel in the stage's own grid
+  bool shaded = true;  // false: the level's stencil leaves this pixel to another level (no estimate here)
+  int64_t stagePixels = 0;  // the pixels the verdict tests on this stage (the Šidák family, × channels)
+  double pixelLevel = 0.0;  // the per-test level the verdict uses: Šidák over stagePixels × channels
+  int farthest = 0;         // the channel farthest from its mean, in half-widths
+  std::vector<NoiseChannel> channels;
+};
+
+// Each stochastic stage at full-res pixel (x, y): the subject's value against the K seeds.
+struct NoisePixel {
+  int x = 0, y = 0;
+  int seeds = 0, samples = 0;
+  uint32_t firstSeed = 0;
+  std::vector<NoisePixelStage> stages;
+  bool inside() const;  // every shaded stage's every channel inside its accepted interval
+};
+
+NoisePixel noisePixel(const FrameResult& oracle, const FrameResult& subject, const NoiseReference& reference, int x, int y);
+
+// `mrr probe --path both --noise-aware`: the story of one pixel's stochastic stages, a line a stage
+// (the seeds' mean ± its 95% interval, one draw's spread, the interval the verdict accepts, the
+// subject's value and where it falls in it), then a verdict. `whose`: "the file's", "the port's".
+std::string formatNoisePixel(const NoisePixel& pixel, const std::string& whose);
+
+// The same as JSON (probe --json --noise-aware, explore's /api/noise).
+nlohmann::json noisePixelJson(const NoisePixel& pixel);
 
 }  // namespace mrr

@@ -23,6 +23,9 @@
 namespace mrr::explore {
 
 inline constexpr double kDefaultBudgetM = 500.0;  // --budget, in millions of sample-pixels
+// A noise-aware probe (issue 40: /api/noise) renders the oracle's frame once per seed
+// (kNoiseRule.seeds, without references): it may take this many requests' budget.
+inline constexpr double kNoiseBudgetRequests = 4.0;
 inline constexpr double kPerPixel = 150.0;
 inline constexpr double kPerShadowTexel = 4.0;
 

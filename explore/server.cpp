@@ -36,6 +36,7 @@
 #include "common/stages.h"
 #include "common/tolerance.h"
 #include "compare/false_colour.h"
+#include "compare/noise.h"
 #include "compare/probe_both.h"
 #include "compare/report.h"
 #include "cpu_ref/probe.h"
@@ -391,6 +392,40 @@ class Explorer {
     return *out;
   }
 
+  // Issue 40: the oracle's stochastic stages over kNoiseRule.seeds independent seeds for the
+  // request's frame (compare --noise-aware's reference), rendered one seed after another on the
+  // render thread ("oracle: noise-aware seed k/K" in /api/progress), cancelled as a frame is, and
+  // kept for the last kCachedNoise frames. Bounded: the seeds' estimated work may be at most
+  // kNoiseBudgetRequests requests' budget (400 naming size or samples otherwise).
+  struct Noise {
+    std::shared_ptr<const NoiseReference> reference;
+    double seconds = 0.0;  // what rendering the seeds took (0 when cached)
+    bool cached = false;
+  };
+  Noise noise(const FrameRequest& r, const Watch& watch = {}) {
+    checkNoiseBudget(r);
+    const std::string key = "noise " + r.key;
+    if (auto hit = cachedNoise(key)) return {hit, 0.0, true};
+    auto out = std::make_shared<Noise>();
+    runOnWorker([this, r, key, out](const Job& job) { *out = noiseOnWorker(r, key, job); }, watch, key);
+    return *out;
+  }
+
+  void checkNoiseBudget(const FrameRequest& r) const {
+    const Settings& s = r.settings;
+    const double work = kNoiseRule.seeds * frameWork(s).at(s.samples()), most = kNoiseBudgetRequests * budget_;
+    if (work <= most) return;
+    const auto key = [](Param p) { return std::string(paramInfo(p).key); };
+    const bool fewer = kNoiseRule.seeds * frameWork(s).at(1.0) <= most;
+    throw ApiError{400,
+                   "noise-aware: the oracle's " + std::to_string(kNoiseRule.seeds) + " seeds of this frame are an "
+                       "estimated " + millions(work) + " M sample-pixels of work, over " +
+                       millions(kNoiseBudgetRequests * 1e6) + " x this server's budget (" + millions(most) +
+                       " M); choose " + (fewer ? "fewer samples" : "a smaller size"),
+                   key(fewer ? Param::Samples : Param::Size),
+                   {{"budget_m", most / 1e6}, {"work_m", work / 1e6}}};
+  }
+
   // Loads the command line's scene and builds its BVH before the first request: a scene that
   // cannot be read is one line and exit 2, not a page that fails.
   void preload() {
@@ -672,6 +707,59 @@ class Explorer {
     return out;
   }
 
+  std::shared_ptr<const NoiseReference> cachedNoise(const std::string& key) {
+    std::lock_guard lock(cacheMutex_);
+    for (auto it = noiseCache_.begin(); it != noiseCache_.end(); ++it)
+      if (it->first == key) {
+        noiseCache_.splice(noiseCache_.begin(), noiseCache_, it);
+        return it->second;
+      }
+    return nullptr;
+  }
+
+  Noise noiseOnWorker(const FrameRequest& r, const std::string& key, const Job& job) {
+    if (auto hit = cachedNoise(key)) return {hit, 0.0, true};  // made while this one queued
+    const auto start = std::chrono::steady_clock::now();
+    {
+      std::lock_guard lock(progressMutex_);
+      busy_ = true;
+      started_ = start;
+    }
+    struct NotBusy {
+      Explorer* self;
+      ~NotBusy() {
+        std::lock_guard lock(self->progressMutex_);
+        self->busy_ = false;
+        self->stage_.clear();
+      }
+    } notBusy{this};
+    SceneState& state = sceneFor(r);
+    FrameRenderer& oracle = *state.renderers.at("cpu");
+    const Camera camera = requestedCamera(r.scene, *state.scene);
+    const float framed = framedSize(*state.scene, camera, r.scene.aspect).size;
+    const CostModel costs = options_.frame.costModel("cpu");
+    const ProgressFn progress = [this, &job](const std::string& stage) {
+      if (stage.find('%') == std::string::npos) job.check();
+      setProgress("", stage);
+    };
+    Settings seeded = r.settings;
+    auto reference = std::make_shared<NoiseReference>(buildNoiseReference(
+        [&](uint32_t seed) {
+          job.check();
+          seeded.seed = seed;
+          return oracle.render(camera, makeConstants(seeded, framed), {true, progress, &costs, /*sampleWithRuleOff=*/true});
+        },
+        makeConstants(r.settings, framed).samples(), [&](int k, int n) {
+          setProgress("oracle: noise-aware seed " + std::to_string(k + 1) + "/" + std::to_string(n), "");
+        }));
+    {
+      std::lock_guard lock(cacheMutex_);
+      noiseCache_.emplace_front(key, reference);
+      while (noiseCache_.size() > kCachedNoise) noiseCache_.pop_back();
+    }
+    return {reference, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), false};
+  }
+
   // docs/method.md's paragraphs marked `<!-- teach: part ... -->`, per stage in pipeline order.
   static json teachSteps() {
     std::string method;
@@ -717,6 +805,7 @@ class Explorer {
   }
 
   static constexpr size_t kCachedFrames = 12;
+  static constexpr size_t kCachedNoise = 2;  // noise references (K frames' stochastic stages each)
 
   ServerOptions options_;
   int64_t cacheBudget_ = 0;
@@ -735,6 +824,7 @@ class Explorer {
 
   std::mutex cacheMutex_;
   std::list<std::pair<std::string, RenderedPtr>> cache_;
+  std::list<std::pair<std::string, std::shared_ptr<const NoiseReference>>> noiseCache_;
 
   mutable std::mutex progressMutex_;
   bool busy_ = false;
@@ -999,6 +1089,28 @@ int serve(const ServerOptions& options) {
                if (path != "both") return sendJson(res, probePixel(explorer.frame(r, path, {&req, {}})->frame, x, y));
                const RenderedPtr o = explorer.frame(r, "cpu", {&req, {}}), p = explorer.frame(r, "gpu", {&req, {}});
                sendJson(res, probeBothJson(probePixel(o->frame, x, y), probePixel(p->frame, x, y)));
+             }));
+  // Issue 40: the probe's stochastic stages at a pixel against the oracle's independent seeds
+  // (compare --noise-aware's numbers): the subject is the frame on `path` (both: the port).
+  server.Get("/api/noise", guarded([&](const httplib::Request& req, httplib::Response& res) {
+               const FrameRequest r = explorer.parse(req, {"path", "x", "y"});
+               const std::string path = Explorer::pathParameter(req, true);
+               const int x = intParameter(req, "x", 0, r.settings.width - 1);
+               const int y = intParameter(req, "y", 0, r.settings.height - 1);
+               if (!isStochastic(r.settings.effect))
+                 throw ApiError{400, "effect " + toString(r.settings.effect) +
+                                         ": no stochastic stage (its PCF grid is exact); noise-aware is for ssao and ssgi",
+                                std::string(paramInfo(Param::Effect).key)};
+               const RenderedPtr o = explorer.frame(r, "cpu", {&req, {}});
+               const RenderedPtr subject = path == "cpu" ? o : explorer.frame(r, "gpu", {&req, {}});
+               const Explorer::Noise noise = explorer.noise(r, {&req, {}});
+               json j = noisePixelJson(noisePixel(o->frame, subject->frame, *noise.reference, x, y));
+               j["subject"] = path == "cpu" ? "the oracle's frame at --seed " + std::to_string(r.settings.seed)
+                                            : "the port (" + explorer.portRenderer() + ")";
+               j["path"] = path == "both" ? "gpu" : path;
+               j["reference_seconds"] = noise.seconds;
+               j["reference_cached"] = noise.cached;
+               sendJson(res, j);
              }));
   server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // a handler's own error

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Regenerates every image in docs/images from mrr's own output (the README's stage picture,
 # the method walk-through in docs/method.md, and the shared scenes in docs/scenes.md).
-# Usage: scripts/make-doc-images.sh   (after scripts/build.sh; needs ../shared/scenes for the
+# Usage: [MRR=path/to/mrr] scripts/make-doc-images.sh   (after scripts/build.sh; needs ../shared/scenes for the
 # scene thumbnails, and fonts-dejavu-core for the labels)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-mrr="$here/build/mrr"
+mrr="${MRR:-$here/build/mrr}"  # MRR: another binary (a copy, while build/ is rebuilt)
 img="$here/docs/images"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT

@@ -508,6 +508,83 @@ async function probe() {
   } finally {
     busy(-1);
   }
+  if ($('#probe-noise').checked) await noiseProbe();
+  else $('#noise-section').hidden = true;
+}
+
+// Issue 40: the probed pixel's stochastic stages against the oracle's independent seeds (GET
+// /api/noise: the same numbers as `mrr probe --path both --noise-aware`). The first request for a
+// frame renders the seeds (progress in the bar); later pixels of the same frame read its cache.
+async function noiseProbe() {
+  const section = $('#noise-section');
+  section.hidden = false;
+  section.dataset.pixel = '';
+  if (!state.pixel) return;
+  const [x, y] = state.pixel;
+  const head = $('#noise thead'), body = $('#noise tbody');
+  head.replaceChildren();
+  body.replaceChildren();
+  const effect = state.params.effect || (state.info.defaults || {}).effect;
+  if (effect === 'ssm') {
+    $('#noise-note').textContent = 'ssm has no stochastic stage (its PCF grid is fixed): every value is judged exactly.';
+    $('#noise-verdict').textContent = '';
+    section.dataset.pixel = `${x},${y}`;
+    return;
+  }
+  $('#noise-note').textContent = 'rendering the oracle with 16 independent seeds…';
+  const path = $('#probe-path').value;
+  busy(+1);
+  let j;
+  try {
+    j = await api(`/api/noise?${query()}&x=${x}&y=${y}&path=${path}`);
+  } catch (e) {
+    $('#noise-note').textContent = 'noise-aware: ' + e.message;
+    section.dataset.pixel = `${x},${y}`;
+    throw e;
+  } finally {
+    busy(-1);
+  }
+  const last = j.first_seed + j.seeds - 1;
+  $('#noise-note').textContent =
+    `${j.subject} at pixel ${x},${y} against the oracle's ${j.seeds} frames with independent seeds ` +
+    `(--seed ${j.first_seed}…${last}, ${j.samples} samples a pixel${j.reference_cached ? ', cached' : `, rendered in ${fmt(j.reference_seconds)} s`}). ` +
+    'mean: the seeds\' mean here ± its 95% t interval; sd: one draw\'s spread; accepted: where compare --noise-aware accepts ' +
+    'one draw (Welch\'s t at the stage\'s Šidák level: 1% false alarms over its pixels); t: the value\'s distance from the mean in sd.';
+  const row = (cells, tag = 'td') => {
+    const tr = document.createElement('tr');
+    for (const c of cells) {
+      const td = document.createElement(tag);
+      td.textContent = c;
+      tr.appendChild(td);
+    }
+    return tr;
+  };
+  head.appendChild(row(['stage', 'pixel', j.path === 'gpu' ? 'port' : 'value', 'mean ± 95%', 'sd', 'accepted (Šidák level, px)', 't', 'where it falls'], 'th'));
+  const outside = [];
+  for (const s of j.stages) {
+    const label = `${s.stage} (${s.shader})`;
+    if (!s.shaded) {
+      const tr = row([label, s.pixel.join(','), '–', '', '', '', '', s.level >= 0 ? `not shaded here: level ${s.level}'s stencil leaves it to another level` : 'the background: no estimate']);
+      tr.classList.add('unshaded');
+      body.appendChild(tr);
+      continue;
+    }
+    const c = s.channels[s.farthest_channel];
+    const where = c.inside ? `inside (${c.half_widths.toFixed(2)} of the half-width from the mean)`
+      : `OUTSIDE (${c.half_widths === null ? '∞' : fmt(c.half_widths)} half-widths ${c.value < c.mean ? 'below' : 'above'} the mean)`;
+    const tr = row([label, s.pixel.join(','), fmt(c.value, 4), `${fmt(c.mean, 4)} ± ${fmt((c.mean_interval_95[1] - c.mean_interval_95[0]) / 2, 2)}`,
+      fmt(c.sd), `[${fmt(c.accepted[0], 4)}, ${fmt(c.accepted[1], 4)}] (${s.sidak_level.toExponential(1)}, ${s.stage_pixels})`,
+      (c.t >= 0 ? '+' : '') + fmt(c.t), where + (s.channels.length > 1 ? ` [channel ${s.farthest_channel}, the farthest]` : '')]);
+    tr.dataset.stage = s.stage;
+    if (!c.inside) { tr.classList.add('outside'); outside.push(s.stage); }
+    body.appendChild(tr);
+  }
+  $('#noise-verdict').textContent = outside.length
+    ? `OUTSIDE the accepted interval at ${outside.join(', ')}: compare --noise-aware rejects this pixel there`
+    : 'inside every accepted interval: as far as this pixel shows, a draw of the oracle\'s estimator ' +
+      '(a shift of a few per cent shows in compare --noise-aware\'s bias over the frame, not at one pixel)';
+  $('#noise-verdict').className = outside.length ? 'bad' : 'good';
+  section.dataset.pixel = `${x},${y}`;
 }
 
 function drawFootprint() {
@@ -654,6 +731,7 @@ async function start() {
     v.addEventListener('click', click);
   }
   $('#probe-path').addEventListener('change', () => probe().catch((e) => say(e.message, true)));
+  $('#probe-noise').addEventListener('change', () => probe().catch((e) => say(e.message, true)));
   for (const b of $$('[data-orbit]')) {
     const [yaw, pitch] = b.dataset.orbit.split(',').map(Number);
     b.addEventListener('click', () => moveCamera(yaw, pitch, 1));

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/image_io.h"
 #include "tests/cli/run_mrr.h"
 #include "tests/test_support.h"
 
@@ -206,6 +207,58 @@ TEST(Check, AgainstAFolderOfStages) {
       << r.out;
 }
 
+// check --noise-aware (issue 40): a renderer with its own noise (here the oracle's stages drawn
+// with --seed 7) fails every SSAO case exactly and passes them noise-aware; the same 3% too dark
+// fails noise-aware at raw.L0, and SSM (no stochastic stage) is judged as without the flag.
+TEST(Check, NoiseAwareJudgesOwnNoiseStatistically) {
+  const std::string dir = test::scratchDir();
+  const fs::path frames = fs::path(dir) / "frames", stages = fs::path(dir) / "stages", dark = fs::path(dir) / "dark";
+  for (const fs::path& p : {frames, stages, dark}) fs::create_directories(p);
+  const std::vector<std::string> common = {"--size", "96x54", "--never-slower", "off", "-q"};
+  for (const auto& [name, scene, effect, samples] : std::vector<std::tuple<std::string, std::string, std::string, std::string>>{
+           {"demo-ssao", "builtin:demo", "ssao", "8"}, {"boxes-ssao", "builtin:boxes", "ssao", "8"},
+           {"demo-ssm", "builtin:demo", "ssm", "9"}}) {
+    std::vector<std::string> frame = {"render", "--scene", scene, "--effect", effect, "--samples", samples};
+    frame.insert(frame.end(), common.begin(), common.end());
+    std::vector<std::string> file = frame;
+    file.insert(file.end(), {"--frame-out", (frames / (name + ".json")).string()});
+    ASSERT_EQ(mrr(file, dir).status, 0);
+    std::vector<std::string> theirs = frame;
+    theirs.insert(theirs.end(), {"--seed", "7", "--stages", (stages / (name + ".exr")).string()});
+    ASSERT_EQ(mrr(theirs, dir).status, 0);
+    std::vector<ExrPart> parts = readParts((stages / (name + ".exr")).string());
+    for (ExrPart& p : parts)
+      if (p.name.rfind("raw.L", 0) == 0 && effect == "ssao")
+        for (float& v : p.image.data) v *= 0.97f;
+    writeMultiPartExr((dark / (name + ".exr")).string(), parts, 96, 54);
+  }
+  Ran r = mrr({"check", frames.string(), "--against", stages.string(), "-q"}, dir);
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  std::map<std::string, std::string> got = rows(r.out);
+  EXPECT_EQ(got["demo-ssao"], "ssao mrr FAIL raw.L0") << r.out;
+  EXPECT_EQ(got["boxes-ssao"], "ssao mrr FAIL raw.L0") << r.out;
+  EXPECT_EQ(got["demo-ssm"], "ssm mrr PASS -") << r.out;
+
+  const std::string results = (fs::path(dir) / "noise.json").string();
+  r = mrr({"check", frames.string(), "--against", stages.string(), "--noise-aware", "-q", "--json", results}, dir);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  got = rows(r.out);
+  EXPECT_EQ(got["demo-ssao"], "ssao mrr PASS -") << r.out;
+  EXPECT_EQ(got["boxes-ssao"], "ssao mrr PASS -") << r.out;
+  EXPECT_EQ(got["demo-ssm"], "ssm mrr PASS -") << r.out;
+  EXPECT_NE(test::readFile(results).find("noise-aware (the stochastic stages against the oracle's 16 seeds)"),
+            std::string::npos);
+
+  r = mrr({"check", frames.string(), "--against", dark.string(), "--noise-aware", "-q"}, dir);
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  got = rows(r.out);
+  EXPECT_EQ(got["demo-ssao"], "ssao mrr FAIL raw.L0") << r.out;
+  EXPECT_EQ(got["demo-ssm"], "ssm mrr PASS -") << r.out;
+  const size_t line = r.out.find("demo-ssao: FAIL: first failing stage raw.L0: ");
+  ASSERT_NE(line, std::string::npos) << r.out;
+  EXPECT_NE(r.out.substr(line, r.out.find('\n', line) - line).find("bias -"), std::string::npos) << r.out;
+}
+
 // --report: the index links each case's compare page, and a FAIL's stage.
 TEST(Check, ReportIndexLinksEveryCasePage) {
   const std::string dir = test::scratchDir();
@@ -241,6 +294,8 @@ TEST(Check, UsageErrorsAreOneLine) {
             "--json frames/r.json: inside the suite's folder frames, it would be read as a case; write it elsewhere"},
            {{"check", "frames", "--merge", "r.json"}, "check: a folder or --merge, not both (--merge joins results already run)"},
            {{"check", "--merge", "r.json"}, "--merge r.json: cannot read the file"},
+           {{"check", "--merge", "r.json", "--noise-aware"},
+            "check --merge: --against, --shard, --shaders and --noise-aware are for running a suite, not for merging results"},
        }) {
     const Ran r = mrr(args, dir);
     EXPECT_EQ(r.status, 2) << args.back();

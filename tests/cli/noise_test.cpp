@@ -4,6 +4,8 @@
 // --noise-aware the comparison is exactly today's.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -203,36 +205,82 @@ TEST(NoiseAware, TheOwnNoiseExampleThroughThePort) {
   }
 }
 
-// probe --path both --noise-aware: a stochastic pixel's mean over the oracle's seeds, the interval
-// one draw lands in, and where the file's value falls: inside for another seed, OUTSIDE for a
-// pixel planted at 0.
-TEST(NoiseAware, ProbeShowsThePixelsMeanAndInterval) {
+// probe --path both --noise-aware (issue 40's "Probe and explore show a stochastic pixel's mean, its
+// interval, and where the user's value falls in it"): inside for another seed; a pixel planted at 0
+// is OUTSIDE, below the mean by more than a half-width; its interval is the one compare
+// --noise-aware accepts (the same worst pixel, the same bounds), at Šidák's level over the stage's
+// shaded pixels.
+TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
   const std::string dir = test::scratchDir();
   std::vector<ExrPart> parts = readParts(stages(dir, "seed7.exr", {"--seed", "7"}));
   int px = -1, py = -1;
+  int64_t shaded = 0;
   for (const ExrPart& p : parts)
     if (p.name == "stencil.L0")
-      for (int y = 20; y < p.image.height && px < 0; ++y)
-        for (int x = 20; x < p.image.width && px < 0; ++x)
-          if (p.image.at(x, y) > 0.5f) px = x, py = y;
+      for (int y = 0; y < p.image.height; ++y)
+        for (int x = 0; x < p.image.width; ++x)
+          if (p.image.at(x, y) > 0.5f) {
+            ++shaded;
+            if (px < 0 && x >= 20 && y >= 20) px = x, py = y;
+          }
   ASSERT_GE(px, 0);
   const std::string pixel = std::to_string(px) + "," + std::to_string(py);
+  auto lineOf = [](const std::string& text, const std::string& head) {
+    const size_t at = text.find("\n" + head);
+    return at == std::string::npos ? std::string() : text.substr(at + 1, text.find('\n', at + 1) - at - 1);
+  };
   Ran r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against",
                     (fs::path(dir) / "seed7.exr").string()}, kFrame), dir);
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("noise-aware: the stochastic stages at " + pixel), std::string::npos) << r.out;
-  const size_t raw = r.out.find("\n  raw.L0   ");
-  ASSERT_NE(raw, std::string::npos) << r.out;
-  EXPECT_NE(r.out.substr(raw, r.out.find('\n', raw + 1) - raw).find(": inside"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("noise-aware: pixel " + pixel + ", each stochastic stage against the oracle's 16 frames"),
+            std::string::npos) << r.out;
+  EXPECT_NE(lineOf(r.out, "  raw.L0 (ssao.frag)").find(" inside ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("at this pixel the file's values lie inside every accepted interval"), std::string::npos) << r.out;
+
   for (ExrPart& p : parts)
     if (p.name == "raw.L0") p.image.at(px, py) = 0.0f;
   const std::string planted = (fs::path(dir) / "planted.exr").string();
   writeMultiPartExr(planted, parts, 160, 90);
   r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against", planted}, kFrame), dir);
   ASSERT_EQ(r.status, 0) << r.err;
-  const size_t at = r.out.find("\n  raw.L0   0;");
-  ASSERT_NE(at, std::string::npos) << r.out;
-  EXPECT_NE(r.out.substr(at, r.out.find('\n', at + 1) - at).find("OUTSIDE"), std::string::npos) << r.out;
+  const std::string raw = lineOf(r.out, "  raw.L0 (ssao.frag)");
+  EXPECT_NE(raw.find(" OUTSIDE ("), std::string::npos) << r.out;
+  EXPECT_NE(raw.find("half-widths below the mean"), std::string::npos) << r.out;
+  EXPECT_NE(lineOf(r.out, "  sub.L0 (bilateral.frag)").find(" inside ("), std::string::npos) << r.out;  // the file's own, untouched
+  EXPECT_NE(r.out.find("value lies OUTSIDE the accepted interval at raw.L0:"), std::string::npos) << r.out;
+
+  // The same as JSON, and against the verdict's own figures.
+  r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--json", "--against", planted}, kFrame), dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out).at("noise_aware");
+  EXPECT_EQ(j.at("seeds"), 16);
+  EXPECT_FALSE(j.at("inside").get<bool>());
+  nlohmann::json stage;
+  for (const nlohmann::json& s : j.at("stages"))
+    if (s.at("stage") == "raw.L0") stage = s;
+  ASSERT_FALSE(stage.is_null()) << j.dump(1);
+  EXPECT_TRUE(stage.at("shaded").get<bool>());
+  EXPECT_EQ(stage.at("stage_pixels").get<int64_t>(), shaded);
+  EXPECT_NEAR(stage.at("sidak_level").get<double>(), -std::expm1(std::log1p(-0.01) / static_cast<double>(shaded)), 1e-15);
+  const nlohmann::json& c = stage.at("channels").at(0);
+  EXPECT_EQ(c.at("value").get<double>(), 0.0);
+  EXPECT_FALSE(c.at("inside").get<bool>());
+  const double lo = c.at("accepted")[0], hi = c.at("accepted")[1], mean = c.at("mean");
+  EXPECT_LT(lo, mean);
+  EXPECT_LT(mean, hi);
+  EXPECT_GT(lo, 0.0);  // 0 lies below the interval
+  EXPECT_GT(c.at("half_widths").get<double>(), 1.0);
+  EXPECT_NEAR(c.at("half_widths").get<double>(), mean / (mean - lo), 1e-9);
+  EXPECT_LE(c.at("mean_interval_95")[0].get<double>(), mean);
+  EXPECT_GE(c.at("mean_interval_95")[1].get<double>(), mean);
+  // compare --noise-aware names the planted pixel raw.L0's worst and accepts it in the same interval.
+  r = mrr(with({"compare", "--against", planted, "--noise-aware"}, kFrame), dir);
+  EXPECT_EQ(r.status, 1) << r.out;
+  const std::string verdict = lineOf(r.out, "  raw.L0 FAIL: ");
+  char bounds[64];
+  std::snprintf(bounds, sizeof bounds, "accepted in [%.4g, %.4g]", lo, hi);
+  EXPECT_NE(verdict.find("worst pixel " + pixel + " (full res): 0 against"), std::string::npos) << verdict;
+  EXPECT_NE(verdict.find(bounds), std::string::npos) << bounds << "\n" << verdict;
 }
 
 // --coarse-gbuffer render (docs/spec.md §1, the paper's convention) on both paths: `compare`

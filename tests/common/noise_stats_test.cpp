@@ -146,5 +146,51 @@ TEST(NoiseImageTest, FalseAlarmsStayRare) {
   EXPECT_LE(failed, 3);
 }
 
+// Heavy-tailed samples, as SSGI's: each sample is worth 2 (a lit surface reached) with
+// probability 0.9 in a bright patch and 0.002 elsewhere, else 0. Most dark pixels see no hit in
+// any of the K seeds; another draw that hits there once (2/N) is no bug: one sample is worth as
+// much as the stage's brightest pixel (docs/spec.md §8), not the dark pixel's seeds or the stage's
+// mean. A blow-up patch is still rejected.
+ImageF heavyTailedFrame(std::mt19937& rng, int w, int h, int n) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  ImageF image(w, h, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double hit = x < 4 && y < 8 ? 0.9 : 0.002;
+      double sum = 0.0;
+      for (int i = 0; i < n; ++i) sum += u(rng) < hit ? 2.0 : 0.0;
+      image.at(x, y) = static_cast<float>(sum / n);
+    }
+  return image;
+}
+
+TEST(NoiseImageTest, HeavyTailedSamplesAreNoBug) {
+  std::mt19937 rng(77);
+  const int w = 32, h = 24, n = 8;
+  std::vector<ImageF> seeds;
+  for (int k = 0; k < kNoiseRule.seeds; ++k) seeds.push_back(heavyTailedFrame(rng, w, h, n));
+  const std::vector<char> all(static_cast<size_t>(w) * h, 1);
+  int rareHits = 0, passed = 0;
+  for (int draw = 0; draw < 5; ++draw) {
+    const ImageF subject = heavyTailedFrame(rng, w, h, n);
+    for (size_t i = 0; i < subject.data.size(); ++i) {
+      bool seedsDark = true;
+      for (const ImageF& seed : seeds) seedsDark = seedsDark && seed.data[i] == 0.0f;
+      rareHits += seedsDark && subject.data[i] > 0.0f;  // what the pixel's own seeds never showed
+    }
+    const NoiseFigures f = noiseTest(subject, seeds, all, {{"the frame", all}}, n);
+    EXPECT_EQ(f.rejected, 0) << f.describe();
+    passed += f.rejected == 0;
+  }
+  EXPECT_GE(rareHits, 10);  // the case is exercised: without the stage-wide sample scale these are rejected
+  EXPECT_EQ(passed, 5);
+  ImageF blowUp = heavyTailedFrame(rng, w, h, n);
+  for (int y = 12; y < 14; ++y)
+    for (int x = 20; x < 22; ++x) blowUp.at(x, y) = 8.0f;
+  const NoiseFigures bad = noiseTest(blowUp, seeds, all, {{"the frame", all}}, n);
+  EXPECT_GE(bad.rejected, 4) << bad.describe();
+  EXPECT_FALSE(bad.pass());
+}
+
 }  // namespace
 }  // namespace mrr

@@ -197,6 +197,76 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual(report["path"], "gpu")
         self.assertIn("renderer", report)
 
+    # -- issue 40: a probed pixel's stochastic stages against the oracle's seeds ---------------
+    def test_noise_probe_mean_interval_and_where_the_value_falls(self):
+        frame = "effect=ssao&samples=12&size=320x180"  # a frame no other test renders: its seeds are not cached
+        seen, done = set(), threading.Event()
+
+        def watch():  # the seeds show in the progress while they render
+            while not done.is_set():
+                _, p = self.server.json("api/progress")
+                if "noise-aware seed" in (p.get("job") or ""):
+                    seen.add(p["job"])
+                time.sleep(0.03)
+
+        watcher = threading.Thread(target=watch)
+        watcher.start()
+        try:
+            status, j = self.server.json("api/noise?x=160&y=90&path=cpu&" + frame)
+        finally:
+            done.set()
+            watcher.join()
+        self.assertEqual(status, 200, j)
+        self.assertTrue(any(s.startswith("oracle: noise-aware seed ") and s.endswith("/16") for s in seen), seen)
+        self.assertEqual((j["pixel"], j["seeds"], j["samples"], j["path"]), ([160, 90], 16, 12, "cpu"))
+        self.assertFalse(j["reference_cached"])
+        self.assertIn("--seed 0", j["subject"])
+        stages = {s["stage"]: s for s in j["stages"]}
+        self.assertTrue({"raw.L0", "sub.L0", "raw.L3", "final", "shaded"} <= set(stages), sorted(stages))
+        self.assertEqual(stages["raw.L0"]["shader"], "ssao.frag")
+        shaded = [s for s in j["stages"] if s["shaded"]]
+        self.assertIn("final", [s["stage"] for s in shaded])
+        for s in shaded:
+            self.assertGreater(s["stage_pixels"], 0, s)
+            self.assertAlmostEqual(s["sidak_level"], 1 - 0.99 ** (1 / (s["stage_pixels"] * len(s["channels"]))), delta=1e-9)
+            for c in s["channels"]:
+                lo, hi = c["accepted"]
+                self.assertLessEqual(lo, c["mean"], s["stage"])
+                self.assertLessEqual(c["mean"], hi, s["stage"])
+                self.assertLessEqual(c["mean_interval_95"][0], c["mean"])
+                self.assertEqual(c["inside"], lo <= c["value"] <= hi, (s["stage"], c))
+        # The oracle's own frame at seed 0 is another draw of the estimator: inside here.
+        self.assertTrue(j["inside"], j)
+        # The value is the probe's: the same frame.
+        _, probe = self.server.json("api/probe?x=160&y=90&path=cpu&" + frame)
+        self.assertAlmostEqual(stages["final"]["channels"][0]["value"], probe["final"], places=6)
+        # Another pixel of the same frame reads the cached seeds, at once.
+        start = time.monotonic()
+        status, k = self.server.json("api/noise?x=40&y=30&path=cpu&" + frame)
+        self.assertEqual(status, 200, k)
+        self.assertTrue(k["reference_cached"])
+        self.assertLess(time.monotonic() - start, 5.0)
+        # No stochastic stage, or more seeds than the budget allows: 400 naming the parameter.
+        status, e = self.server.json("api/noise?x=1&y=1&effect=ssm&samples=9&size=320x180")
+        self.assertEqual((status, e["parameter"]), (400, "effect"), e)
+        self.assertIn("no stochastic stage", e["error"])
+        status, e = self.server.json("api/noise?x=1&y=1&effect=ssao&samples=64&size=1280x720")
+        self.assertEqual((status, e["parameter"]), (400, "size"), e)
+        self.assertIn("noise-aware: the oracle's 16 seeds of this frame are an estimated", e["error"])
+        status, e = self.server.json("api/noise?x=400&y=1&" + frame)
+        self.assertEqual((status, e["parameter"]), (400, "x"), e)
+
+    def test_noise_probe_of_the_port(self):
+        self.need_port()
+        status, j = self.server.json("api/noise?x=160&y=90&path=both&" + FRAME)
+        self.assertEqual(status, 200, j)
+        self.assertEqual(j["path"], "gpu")
+        self.assertIn("the port (", j["subject"])
+        _, both = self.server.json("api/probe?x=160&y=90&path=both&" + FRAME)
+        final = [s for s in j["stages"] if s["stage"] == "final"][0]["channels"][0]
+        self.assertAlmostEqual(final["value"], both["port"]["final"], places=6)
+        self.assertTrue(j["inside"], j)  # the port draws mrr's own samples: the seed-0 frame, inside
+
     # -- bad input ------------------------------------------------------------------------
     def test_bad_parameters_are_400_naming_the_parameter(self):
         cases = [

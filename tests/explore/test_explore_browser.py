@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """`mrr explore`'s page in a real browser (issue 20): headless Chromium driven by Selenium.
 Loads the page; changes tau_n and sees stencil L0's shaded count change; clicks a pixel and
-reads its probe; switches the probe to the port and sees the same pixel; walks the
-step-through; no console errors. Takes a screenshot (MRR_EXPLORE_SCREENSHOT=path; "" skips).
+reads its probe; switches the probe to the port and sees the same pixel; turns noise-aware on
+and reads the pixel's stochastic stages against the oracle's seeds; walks the step-through; no console errors. Takes a screenshot (MRR_EXPLORE_SCREENSHOT=path; "" skips).
 
     test_explore_browser.py path/to/mrr
 Exit 77 (ctest: skipped) without selenium or chromedriver, unless MRR_REQUIRE_GL=1 (CI), where
@@ -146,6 +146,24 @@ def run(d, server):
         fail("no port")
     else:
         print(f"{TOOL}: SKIP the port's steps: no EGL device here", file=sys.stderr)
+
+    # 4b. Noise-aware (issue 40): the probed pixel's stochastic stages against the oracle's seeds,
+    # their mean, the accepted interval and where the value falls; off again, the table hides.
+    by_id("probe-noise").click()
+    wait.until(lambda _: by_id("noise-section").get_attribute("data-pixel") == pixel
+               and body().get_attribute("data-busy") == "0")
+    noise_rows = d.find_elements(By.CSS_SELECTOR, "#noise tbody tr")
+    stages = {r.get_attribute("data-stage"): r.text for r in noise_rows if r.get_attribute("data-stage")}
+    if "final" not in stages or not any(k.startswith("raw.L") for k in stages):
+        fail(f"the noise-aware table lacks the stochastic stages: {sorted(stages)} ({by_id('noise-note').text!r})")
+    if not all(" inside (" in t or " OUTSIDE (" in t for t in stages.values()):
+        fail(f"a noise-aware row does not say where its value falls: {stages}")
+    if "16 frames with independent seeds" not in by_id("noise-note").text or not by_id("noise-verdict").text:
+        fail(f"the noise-aware panel does not say what it shows: {by_id('noise-note').text!r}")
+    print(f"{TOOL}: noise-aware at {pixel}: {len(stages)} shaded stochastic stages; {by_id('noise-verdict').text[:60]}",
+          file=sys.stderr)
+    by_id("probe-noise").click()
+    wait.until(lambda _: not by_id("noise-section").is_displayed() and body().get_attribute("data-busy") == "0")
 
     # 5. The step-through walks the stages with their text.
     by_id("teach").click()

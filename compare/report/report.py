@@ -278,7 +278,8 @@ def fovea_rings(path, scene, ppd, rings, device, key):
                                                               r0["gaze"][0], r0["gaze"][1]),
               "The %s in each ring of eccentricity around the gaze (SPEC §13). Dashed: the method with the gaze only "
               "measuring (--foveate off), its own decisions; solid: with the gaze foveating (+gaze). The legend gives "
-              "each frame's time less its full-res G-buffer (median of the repeats, the whole frame)." % what,
+              "each frame's time less its full-res G-buffer (median of the repeats, the whole frame).%s" % (
+                  what, "" if key == "shaded_share" else " A ring with no error (0) has no point on the log axis."),
               "eccentricity ring", what + (" (log)" if key != "shaded_share" else ""))
     labels = distinct(ring_label(r) for r in rings)
     for m in distinct(r["method"] for r in rings):
@@ -286,7 +287,9 @@ def fovea_rings(path, scene, ppd, rings, device, key):
             continue  # 0 against itself
         of = [r for r in rings if r["method"] == m]
         color, style, marker = fovea_style(m)
-        c.ax.plot([labels.index(ring_label(r)) for r in of], [r[key] for r in of], color=color, linestyle=style,
+        # On the log axes a ring with no error (tiles' full-rate centre) has no point.
+        ys = [r[key] if key == "shaded_share" or r[key] > 0 else math.nan for r in of]
+        c.ax.plot([labels.index(ring_label(r)) for r in of], ys, color=color, linestyle=style,
                   marker=marker, label="%s (%.0f ms)" % (m, of[0]["effect_ms"]))
     c.ax.set_xticks(range(len(labels)), labels)
     if key == "shaded_share":
@@ -307,8 +310,8 @@ def fovea_motion(path, scene, motion, device):
                                                    " and ".join(distinct(m["camera_path"] for m in motion)), m0["frames"]),
               "Each frame of the camera paths after the first: the mean |v| over pixels on geometry (SPEC §13 step 3, "
               "the previous path frame as --prev-frame) against the share of pixels shaded (filled, left axis) and the "
-              "frame's time less its full-res G-buffer (hollow, right axis, median of the repeats). Dashed: the "
-              "method without the previous frame; solid: with it (+motion).",
+              "frame's time less its full-res G-buffer (hollow, right axis, median of the repeats). Points alone: the "
+              "method without the previous frame (its share follows the frame's content); joined: with it (+motion).",
               "mean screen speed |v| (full-res pixels per frame)", "shaded level pixels / W·H")
     right = c.ax.twinx()
     right.set_ylabel("effect time (ms)")
@@ -316,7 +319,9 @@ def fovea_motion(path, scene, motion, device):
         of = sorted((r for r in motion if r["method"] == m), key=lambda r: r["mean_speed"])
         color, style, marker = fovea_style(m)
         xs = [r["mean_speed"] for r in of]
-        c.ax.plot(xs, [r["shaded_share"] for r in of], color=color, linestyle=style, marker=marker, label=m)
+        # the static method's share follows the frame's content, not the speed: points, no line
+        c.ax.plot(xs, [r["shaded_share"] for r in of], color=color, linestyle="-" if "+motion" in m else "none",
+                  marker=marker, label=m)
         right.plot(xs, [r["effect_ms"] for r in of], color=color, linestyle="none", marker=marker,
                    markerfacecolor="white", alpha=0.7, label=m + " ms")
     c.ax.set_ylim(bottom=0)

@@ -118,7 +118,7 @@ class ExploreApi(unittest.TestCase):
         self.assertNotIn("motion", still["explore"]["layers"])
         status, moved = self.server.json("api/frame?" + FRAME + "&pan=0.3")
         self.assertEqual(status, 200, moved)
-        self.assertEqual(moved["foveation"]["pan"], 0.3)
+        self.assertAlmostEqual(moved["foveation"]["pan"], 0.3, places=6)
         self.assertTrue(moved["foveation"]["motion"])
         self.assertIn("motion", moved["explore"]["layers"])
         self.assertIn("levellimit", moved["explore"]["layers"])

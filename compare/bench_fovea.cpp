@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "common/error.h"
 #include "common/stages.h"
 #include "compare/flip.h"
 #include "compare/report.h"
@@ -215,17 +216,25 @@ void motionOf(const BenchOptions& o, const BenchPath& path, const OpenScene& sc,
       variants.push_back({m + "+motion", s});
     }
     const Measured meas = measureVariants(sc, cams[t], framed, variants, o.repeats);
-    // The speed: from a +motion frame (every one measures the same |v|); the port keeps the motion
-    // image only with its stages, so it renders once more for it where it did not.
-    double speed = 0.0;
-    for (size_t v = 0; v < variants.size(); ++v)
+    // The speed: from a +motion frame that has the motion image and the level-0 G-buffer (every
+    // one measures the same |v|). A frame the never-slower rule shaded at full res has no motion
+    // image, and the port keeps the G-buffer only with its stages: where no frame has both, the
+    // first +motion variant once more, rule off, stages kept (untimed).
+    const auto hasSpeed = [](const FrameResult& f) {
+      const Constants& c = f.constants;
+      return f.motion.width >= c.width && f.motion.height >= c.height && f.levels[0].gbuffer.hit.width >= c.width &&
+             f.levels[0].gbuffer.hit.height >= c.height;
+    };
+    double speed = -1.0;
+    for (size_t v = 0; v < variants.size() && speed < 0.0; ++v)
+      if (variants[v].settings.foveation.motion && hasSpeed(meas.frames[v])) speed = meanSpeed(meas.frames[v]);
+    for (size_t v = 0; v < variants.size() && speed < 0.0; ++v)
       if (variants[v].settings.foveation.motion) {
-        if (!meas.frames[v].motion.empty()) {
-          speed = meanSpeed(meas.frames[v]);
-        } else {
-          speed = meanSpeed(sc.render(cams[t], makeConstants(variants[v].settings, framed), {true, {}, nullptr}));
-        }
-        break;
+        Settings ruleOff = variants[v].settings;
+        ruleOff.neverSlower = false;
+        const FrameResult f = sc.render(cams[t], makeConstants(ruleOff, framed), {true, {}, nullptr});
+        if (!hasSpeed(f)) throw MrrError("bench fovea: a frame with --prev-frame has no motion image");
+        speed = meanSpeed(f);
       }
     for (size_t v = 0; v < variants.size(); ++v) {
       const FrameResult& f = meas.frames[v];

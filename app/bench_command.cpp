@@ -1,5 +1,6 @@
 // `mrr bench`: speed against accuracy, every method against full side by side (compare/bench.h);
 // and the never-slower rule's calibration, sweep and replay (compare/rule.h).
+#include <cmath>
 #include <iostream>
 #include <thread>
 
@@ -15,6 +16,28 @@
 namespace mrr {
 
 namespace {
+
+// The foveation group (issue 37, SPEC §13; compare/bench_fovea.h).
+void addFoveaOptions(CLI::App& b, BenchCommand& c) {
+  BenchOptions& o = c.options;
+  b.add_flag("--no-fovea", c.noFovea, "skip the foveation group");
+  b.add_flag("--fovea-only", o.foveaOnly, "run the foveation group alone (no main sweep, sweeps, paths or stress)");
+  b.add_option("--fovea-scenes", o.foveaScenes, "scenes of the foveation group")->capture_default_str();
+  b.add_option("--fovea-size", c.foveaSize, "size of the foveation group's rings (default 1280x720)");
+  b.add_option("--fovea-motion-size", c.foveaMotionSize, "size of the foveation group's camera paths (default 640x360)");
+  b.add_option("--fovea-ppd", o.foveaPpds,
+               "pixels per degree of the rings, gaze at the image centre (default 30 and 67.02, the viewing default)");
+  b.add_option("--fovea-methods", o.foveaMethods,
+               "methods with and without the gaze and the previous frame: mrr, mrr-effect (and its +variants), tiles")
+      ->capture_default_str();
+  b.add_option("--fovea-effect", o.foveaEffect, "effect of the foveation group (the paper's middle sample count)")
+      ->capture_default_str();
+  b.add_option("--fovea-samples", o.foveaSamples, "sample count of the foveation group (0: the paper's middle count)")
+      ->capture_default_str();
+  b.add_option("--fovea-frames", o.foveaFrames,
+               "frames per camera path of the motion runs, each with the path's previous frame (0: none)")
+      ->capture_default_str();
+}
 
 void addSweepOptions(CLI::App& b, BenchCommand& c) {
   BenchOptions& o = c.options;
@@ -42,6 +65,7 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--stress-scenes", o.stressScenes, "stress scenes")->capture_default_str();
   b.add_flag("--no-stress", c.noStress, "skip the stress scenes");
   b.add_option("--stress-size", c.stressSize, "size of the stress runs (default 1280x720)");
+  addFoveaOptions(b, c);
 }
 
 void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
@@ -70,7 +94,7 @@ void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
                "replaced by cpu or gpu; default: built in)");
   b.add_flag("--quick", c.quick,
              "minutes on 2 cores: builtin:demo and the arcade at 320x180, 2 cameras, 3 repeats, small sweeps, 8-frame "
-             "paths at 96x54, stress scenes at 160x90; the oracle and, where EGL gives GL 3.3 core, the port (it says "
+             "paths at 96x54, stress scenes at 160x90, the foveation group on builtin:demo (rings at 640x360, ppd 30; 4-frame paths at 160x90); the oracle and, where EGL gives GL 3.3 core, the port (it says "
              "which on stderr; --paths chooses)");
 }
 
@@ -92,6 +116,14 @@ void applyQuick(const CLI::App& b, BenchOptions& o) {
   if (unset("--stability-size")) o.stabilitySize = {96, 54};
   if (unset("--stability-scenes")) o.stabilityScenes = {"builtin:demo"};
   if (unset("--stress-size")) o.stressSize = {160, 90};
+  // The foveation group: rings at a size where ppd 30 reaches level 1 (from 153 px) and, near the
+  // corners, level 2 (from 335 px).
+  if (unset("--fovea-scenes")) o.foveaScenes = {"builtin:demo"};
+  if (unset("--fovea-size")) o.foveaSize = {640, 360};
+  if (unset("--fovea-motion-size")) o.foveaMotionSize = {160, 90};
+  if (unset("--fovea-ppd")) o.foveaPpds = {30.0};
+  if (unset("--fovea-frames")) o.foveaFrames = 4;
+  if (unset("--fovea-samples")) o.foveaSamples = 16;
 }
 
 // --quick without --paths: the port beside the oracle where a GL 3.3 core context can be made
@@ -124,12 +156,31 @@ void resolveAndValidate(BenchCommand& c) {
   if (!c.stressSize.empty()) o.stressSize = parseSize(c.stressSize);
   o.paperSweeps = !c.noSweeps;
   if (c.noStress) o.stressScenes.clear();
+  if (!c.foveaSize.empty()) o.foveaSize = parseSize(c.foveaSize);
+  if (!c.foveaMotionSize.empty()) o.foveaMotionSize = parseSize(c.foveaMotionSize);
+  o.fovea = !c.noFovea;
+  require(!(c.noFovea && o.foveaOnly), "--fovea-only: not with --no-fovea");
+  for (double ppd : o.foveaPpds)
+    require(std::isfinite(ppd) && ppd > 0.0 && ppd <= 1.0e6, "--fovea-ppd " + std::to_string(ppd) + ": must be > 0");
+  require(o.foveaFrames == 0 || (o.foveaFrames >= 2 && o.foveaFrames <= 10000), "--fovea-frames: must be 0 or in [2, 10000]");
+  {
+    Settings fs = defaultSettings(parseEffect(o.foveaEffect));  // validates the name and the count
+    if (o.foveaSamples != 0) {
+      fs.setSamples(o.foveaSamples);
+      validateSettings(fs);
+    }
+  }
+  for (const std::string& m : o.foveaMethods) {
+    const Mode mode = settingsFor(m, Effect::Ssao, 64, 64, 16).mode;  // validates the name
+    require(mode == Mode::Mrr || mode == Mode::MrrEffect || mode == Mode::Tiles,
+            "--fovea-methods " + m + ": the level limit (SPEC §13) applies to mrr, mrr-effect and tiles only");
+  }
   require(o.repeats >= 1 && o.repeats <= 100, "--repeats: must be in [1, 100]");
   require(o.cameras >= 1 && o.cameras <= 64, "--cameras: must be in [1, 64]");
   require(o.frames == 0 || (o.frames >= 2 && o.frames <= 10000), "--frames: must be 0 or in [2, 10000]");
   std::vector<std::pair<int, int>> allSizes = o.sizes;
   allSizes.insert(allSizes.end(), o.resolutions.begin(), o.resolutions.end());
-  for (const auto& sz : {o.sweepSize, o.stabilitySize, o.stressSize}) allSizes.push_back(sz);
+  for (const auto& sz : {o.sweepSize, o.stabilitySize, o.stressSize, o.foveaSize, o.foveaMotionSize}) allSizes.push_back(sz);
   for (const auto& [w, h] : allSizes)
     require(w >= 1 && h >= 1 && w <= kMaxImageSize && h <= kMaxImageSize,
             "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +

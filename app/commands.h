@@ -105,7 +105,8 @@ struct BenchCommand {
   BenchOptions options;
   std::vector<std::string> sizes, resolutions, paths = {"cpu"};
   std::string sweepSize, stabilitySize, stressSize, calibrateOut, ruleSweepOut, ruleReplayIn, ruleCostModelFile;
-  bool quick = false, noSweeps = false, noStress = false;
+  std::string foveaSize, foveaMotionSize;  // the foveation group's (compare/bench_fovea.h)
+  bool quick = false, noSweeps = false, noStress = false, noFovea = false;
   PathOptions path;
 };
 void addBenchCommand(CLI::App& app, BenchCommand& c);

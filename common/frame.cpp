@@ -388,7 +388,12 @@ int64_t estimateFrameBytes(const Constants& c, bool keepStages) {
   return bytes;
 }
 
-View previousView(const Constants& c) {
+View previousView(const Constants& c, const View& current) {
+  if (c.foveation.panned) {  // SPEC §13 step 3: the camera panned by `pan` along its right axis since
+    View prev = current;
+    prev.eye = current.eye - c.foveation.pan * current.right;
+    return prev;
+  }
   Camera prev;
   prev.eye = c.foveation.prevEye;
   prev.target = c.foveation.prevTarget;

@@ -255,7 +255,8 @@ inline bool levelPixelHit(const ImageU8& fullResHit, int x, int y, int scale) {
 // and the limit ℓ_min, each a level index (cpu_ref/foveation.h makes it; gpu/shaders/limit.frag).
 enum LimitChannel { kLimitFovea = 0, kLimitMotion = 1, kLimitLevel = 2, kLimitChannels = 3 };
 // The previous frame's view (same size and padding as this frame's), from Constants::Foveation.
-View previousView(const Constants& c);
+// With --pan, the current view `current` with its eye moved by −pan along its right axis.
+View previousView(const Constants& c, const View& current);
 // Step 6 for tiles (SPEC §9): a tile's rate is max(its content rate, min(2, ℓ_min at its centre
 // pixel (16 t + 8), clamped to the grid)), as VRS combines a foveation rate with a content rate.
 // Both paths' tile rates are host images, so both call this.

@@ -108,6 +108,11 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "the previous frame, a frame file as render --frame-out writes it (same scene and size): pixels that move "
      "on screen may use coarser levels (docs/spec.md section 13)",
      kFile, kNoPage},
+    {Param::Pan, "pan", "", K::Number, "world units",
+     "motion without a file: the previous frame's camera is this one moved X units along its own right axis "
+     "the other way (the camera panned X to the right since; negative: to the left); pixels that move on screen "
+     "may use coarser levels (docs/spec.md section 13); 0 = off; not with --prev-frame",
+     kFile, kPage},
     {Param::MemoryLimit, "memory_limit", "", K::Number, "GiB",
      "what the run may plan to use; unset: MRR_MEMORY_LIMIT, else 3/4 of physical memory", kNoFile, kNoPage},
     {Param::Quiet, "quiet", "-q", K::Flag, "", "no progress lines on stderr", kNoFile, kNoPage},
@@ -214,6 +219,7 @@ std::string paramRange(Param param) {
     case Param::EffectFirstLevel: return "[0, 3]";
     case Param::EffectScale: return "[0, 16]";
     case Param::Ppd: return "> 0";
+    case Param::Pan: return "[-1e6, 1e6]";
     case Param::TauN: return "[0, 2]";
     case Param::AoBias: return "[0, 1]";
     case Param::TauZ:

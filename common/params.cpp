@@ -197,6 +197,8 @@ void makeFoveationConstants(const FoveationSettings& s, Constants::Foveation& f)
   f.marSlope = kMarSlope;
   f.motionCap = s.motionCap;
   f.motionScale = s.motionScale;
+  f.panned = s.panned;
+  f.pan = s.pan;
   f.prevEye = s.prevEye;
   f.prevTarget = s.prevTarget;
   f.prevUp = s.prevUp;

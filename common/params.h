@@ -118,7 +118,11 @@ struct FoveationSettings {
   glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
   float prevYfov = 0.9f;
   int motionCap = 2;            // the coarsest level motion alone may ask for [0, kLevelCount − 1]
-  float motionScale = 1.0f;     // multiplies the measured motion [0, 16] (explore's knob; 1 = as measured)
+  float motionScale = 1.0f;     // multiplies the measured motion [0, 16] (1 = as measured)
+  // --pan X (≠ 0), motion without a file: the previous camera is this frame's, its eye moved by
+  // −X along its own right axis (previousView); the prev* fields above are then unused.
+  bool panned = false;
+  float pan = 0.0f;
   bool active() const { return gaze || motion; }
 };
 
@@ -244,6 +248,8 @@ struct Constants {
     float motionScale = 1.0f;
     glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
     float prevYfov = 0.9f;
+    bool panned = false;  // --pan: the previous view is this frame's, moved by −pan along its right axis
+    float pan = 0.0f;
     bool active() const { return gaze || motion; }
   } foveation;
   struct Bilateral {

@@ -269,6 +269,12 @@ std::string cpuModelName() {
 
 int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths, std::ostream& out) {
   BenchOptions o = optionsIn;
+  if (o.foveaOnly) {  // the foveation group alone
+    o.scenes.clear();
+    o.paperSweeps = false;
+    o.frames = 0;
+    o.stressScenes.clear();
+  }
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int threads = o.threads > 0 ? o.threads : hw;
   if (o.machine.empty()) o.machine = cpuModelName() + ", " + std::to_string(hw) + " hardware threads";
@@ -292,6 +298,7 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
   const size_t stab = o.frames > 0 ? o.stabilityScenes.size() * o.stabilityEffects.size() * cameraPathKinds().size() : 0;
   const size_t stress = o.stressScenes.size() * effects.size();
   progress.total = paths.size() * (perPath + sweeps + stab + stress);
+  FoveaResults fovea;
 
   std::string examplesDone;
   for (const BenchPath& path : paths) {
@@ -374,9 +381,11 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
                       "stress");
       }
     }
+    // 5. Foveation and motion (SPEC §13): compare/bench_fovea.cpp.
+    runFoveaGroup(o, path, fovea);
   }
 
-  BenchResults results{o, devices, records, stability, threads};
+  BenchResults results{o, devices, records, stability, threads, std::move(fovea)};
   const std::vector<std::string> failures = sanityChecks(results);
   const std::string md = benchMarkdown(results, failures);
   out << md;
@@ -384,6 +393,10 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
   if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, benchJson(results, failures).dump(1) + "\n");
   if (!o.csvOut.empty()) writeTextFile(o.csvOut, benchCsv(results));
   if (!o.csvOut.empty() && !stability.empty()) writeTextFile(stabilityCsvPath(o.csvOut), benchStabilityCsv(results));
+  if (!o.csvOut.empty() && !results.fovea.rings.empty())
+    writeTextFile(foveaCsvPath(o.csvOut, "-fovea"), foveaRingsCsv(results.fovea));
+  if (!o.csvOut.empty() && !results.fovea.motion.empty())
+    writeTextFile(foveaCsvPath(o.csvOut, "-fovea-motion"), foveaMotionCsv(results.fovea));
   if (!o.reportDir.empty()) {
     std::cerr << "[bench] writing the report to " << o.reportDir << "\n";
     writeBenchReport(o.reportDir, results, failures);

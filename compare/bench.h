@@ -57,6 +57,18 @@ struct BenchOptions {
   // The stress scenes, each with every method and mrr without the never-slower rule.
   std::vector<std::string> stressScenes = {"builtin:bumpy", "builtin:wires", "builtin:alledges", "builtin:plane"};
   std::pair<int, int> stressSize = {1280, 720};
+  // The foveation group (issue 37, SPEC §13; compare/bench_fovea.h): per eccentricity ring for a
+  // gaze at the image centre, at each ppd, and the shaded share against screen speed along the
+  // camera paths (foveaFrames frames each; 0: none). foveaOnly skips every other group.
+  bool fovea = true, foveaOnly = false;
+  std::vector<std::string> foveaScenes = {"arcade", "builtin:demo"};
+  std::vector<std::string> foveaMethods = {"mrr", "mrr-effect", "tiles"};
+  std::pair<int, int> foveaSize = {1280, 720};        // the rings
+  std::pair<int, int> foveaMotionSize = {640, 360};  // the camera paths
+  std::vector<double> foveaPpds = {30.0, 3840.0 * 3.14159265358979323846 / 180.0};  // 30 and the default, 67.02
+  std::string foveaEffect = "ssao";
+  int foveaSamples = 0;  // 0: the paper's middle count (ssao 64, ssm 196, ssgi 288)
+  int foveaFrames = 8;
   // Single frames as a user renders them: per main-sweep setting, this many fresh `mrr render`
   // processes each of full and mrr, alternating (0: none), their medians beside the warm ones.
   int coldRuns = 0;

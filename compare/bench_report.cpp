@@ -314,6 +314,7 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
                       fixed(r.idealSpeedup, 2) + "x");
     if (r.fellBack && r.error.rms != 0.0) fails.push_back(where + ": fell back to full, yet differs from full");
   }
+  for (const std::string& f : foveaSanityChecks(res.fovea)) fails.push_back(f);
   for (const StabilityRecord& s : res.stability)
     if (!std::isfinite(s.flicker) || s.flicker < 0.0 || !(s.flipFlicker >= 0.0 && s.flipFlicker <= 1.0) ||
         !(s.meanFlip >= 0.0 && s.meanFlip <= 1.0))
@@ -327,6 +328,7 @@ std::string benchMarkdown(const BenchResults& res, const std::vector<std::string
   o << header(res) << "\n";
   if (paper.empty()) o << "(The paper's figures were not found at " << paperFiguresPath() << "; set MRR_PAPER_FIGURES.)\n\n";
   for (const Table& t : tables(res, paper)) o << t.markdown();
+  o << foveaMarkdown(res.fovea);
   o << "### Sanity checks\n\n";
   if (failures.empty()) o << "All passed: full's error is 0 and it shades W·H pixels; no method beats its ideal speedup (where that is above 1); every figure is finite.\n";
   for (const std::string& f : failures) o << "- FAILED: " << f << "\n";
@@ -352,7 +354,8 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"flicker", s.flicker}, {"mean_rms", s.meanRms}, {"flip_flicker", s.flipFlicker},
                     {"mean_flip", s.meanFlip}});
   return {{"machine", res.options.machine}, {"devices", res.devices}, {"threads", res.threads},
-          {"repeats", res.options.repeats}, {"runs", runs}, {"stability", stab}, {"sanity_failures", failures}};
+          {"repeats", res.options.repeats}, {"runs", runs}, {"stability", stab}, {"fovea", foveaJson(res.fovea)},
+          {"sanity_failures", failures}};
 }
 
 std::string benchCsv(const BenchResults& res) {

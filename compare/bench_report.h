@@ -9,6 +9,7 @@
 
 #include "compare/metrics.h"
 #include "compare/bench.h"
+#include "compare/bench_fovea.h"
 
 namespace mrr {
 
@@ -54,6 +55,7 @@ struct BenchResults {
   std::vector<BenchRecord> records;
   std::vector<StabilityRecord> stability;
   int threads = 0;
+  FoveaResults fovea;  // the foveation group (compare/bench_fovea.h)
 };
 
 // The figures' sanity (issue 7's done-when): full's error is 0 (its repeats give the same

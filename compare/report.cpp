@@ -89,10 +89,17 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                          {"mar0_degrees", fv.mar0},
                          {"mar_slope", fv.marSlope},
                          {"motion", fv.motion}};
-    if (fv.motion)
+    if (fv.motion && fv.panned) {  // --pan: this frame's camera, its eye moved along its right axis
+      const View prev = previousView(c, f.view);
+      fj["pan"] = fv.pan;
+      fj["prev_camera"] = {{"eye", vec3(prev.eye)}, {"target", vec3(f.camera.target - fv.pan * prev.right)},
+                           {"up", vec3(f.camera.up)}, {"yfov_degrees", glm::degrees(f.camera.yfov)},
+                           {"motion_cap", fv.motionCap}, {"motion_scale", fv.motionScale}};
+    } else if (fv.motion) {
       fj["prev_camera"] = {{"eye", vec3(fv.prevEye)}, {"target", vec3(fv.prevTarget)}, {"up", vec3(fv.prevUp)},
                            {"yfov_degrees", glm::degrees(fv.prevYfov)}, {"motion_cap", fv.motionCap},
                            {"motion_scale", fv.motionScale}};
+    }
     if (!f.levelLimit.empty()) {  // full-res pixels of W×H by ℓ_min
       std::array<int64_t, kLevelCount> byLimit{};
       for (int y = 0; y < c.height; ++y)

@@ -54,7 +54,7 @@ LevelLimit levelLimit(const GBuffer& g, const View& view, const Constants& c) {
   if (f.gaze) out.eccentricity = ImageF::uninitialised(w, h);
   if (f.motion) out.motion = ImageF::uninitialised(w, h);
   out.limit = ImageU8(w, h, kLimitChannels);
-  const View previous = f.motion ? previousView(c) : View{};
+  const View previous = f.motion ? previousView(c, view) : View{};
   parallelFor(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       // 1–2. the eye

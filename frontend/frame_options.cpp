@@ -67,6 +67,7 @@ Field bindField(Param param) {
     case Param::Gaze: return &F::gaze;
     case Param::Foveate: return &F::foveate;
     case Param::PrevFrame: return &F::prevFrame;
+    case Param::Pan: return &F::pan;
     case Param::MemoryLimit: return &F::memoryLimitGiB;
     case Param::Quiet: return &F::quiet;
   }
@@ -159,6 +160,12 @@ Settings FrameOptions::settings() const {
   }
   require(foveate == "on" || foveate == "off", optionName(Param::Foveate) + " " + foveate + ": expected on or off");
   s.foveation.foveate = foveate == "on";
+  if (pan && *pan != 0.0f) {
+    require(std::isfinite(*pan) && std::abs(*pan) <= 1.0e6f,
+            optionName(Param::Pan) + " " + exactFloat(*pan) + ": must be in " + paramRange(Param::Pan));
+    require(prevFrame.empty(), optionName(Param::Pan) + ": not with " + optionName(Param::PrevFrame) +
+                                   " (each gives the previous camera; give one)");
+  }
   if (!prevFrame.empty()) {
     const std::string where = optionName(Param::PrevFrame) + " " + prevFrame;
     const nlohmann::json prev = readJsonObjectFile(prevFrame, optionName(Param::PrevFrame));
@@ -184,6 +191,11 @@ Settings FrameOptions::settings() const {
     const std::string fovKey(paramInfo(Param::Fov).key);
     require(prev.contains(fovKey) && prev[fovKey].is_number(), where + ": has no \"" + fovKey + "\"");
     s.foveation.prevYfov = glm::radians(prev[fovKey].get<float>());
+  }
+  if (pan && *pan != 0.0f) {  // motion without a file: the previous view is this one, panned (previousView)
+    s.foveation.motion = true;
+    s.foveation.panned = true;
+    s.foveation.pan = *pan;
   }
   for (int l : disabledLevels) {
     require(l >= 1 && l < kLevelCount, optionName(Param::DisableLevel) + " " + std::to_string(l) + ": must be 1, 2 or 3");
@@ -272,6 +284,7 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
                               : nlohmann::json();
     case Param::Foveate: return s.foveation.gaze ? nlohmann::json(s.foveation.foveate ? "on" : "off") : nlohmann::json();
     case Param::PrevFrame: return fo.prevFrame.empty() ? nlohmann::json() : nlohmann::json(fo.prevFrame);
+    case Param::Pan: return s.foveation.panned ? nlohmann::json(s.foveation.pan) : nlohmann::json();
     case Param::FlipUp: return fo.flipUp || fo.noFlipUp ? nlohmann::json(fo.flipUp) : nlohmann::json();
     default: throw MrrError("internal: " + optionName(param) + " is marked for frame files but has no value there");
   }

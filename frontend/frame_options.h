@@ -55,6 +55,7 @@ struct FrameOptions {
   std::string gaze;                    // "X,Y", a full-res pixel (empty: no foveation)
   std::string foveate = "on";          // on|off: off measures only
   std::string prevFrame;               // a frame file (empty: no motion term)
+  std::optional<float> pan;            // --pan: the previous camera moved along its right axis (0: off)
 
   // Registers every row of the frame-parameter table on `app` (a subcommand) as an option.
   void add(CLI::App& app);

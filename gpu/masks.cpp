@@ -278,7 +278,7 @@ Target drawLevelLimit(const GpuScene& scene, const Framebuffer& gbuffer0, const 
   vec3("viewRight", view.right);
   vec3("viewUp", view.up);
   vec3("viewForward", view.forward);
-  const View prev = f.motion ? previousView(c) : view;
+  const View prev = f.motion ? previousView(c, view) : view;
   vec3("prevEye", prev.eye);
   vec3("prevRight", prev.right);
   vec3("prevUp", prev.up);

@@ -254,6 +254,96 @@ def flicker(path, stability, device, key="flicker"):
     return c
 
 
+# ---- The foveation group (issue 37, SPEC §13; compare/bench_fovea.cpp) -----------------------
+
+def fovea_style(method):
+    """A method's colour; its "+gaze" or "+motion" run drawn solid, the method alone dashed."""
+    base = method.split("+gaze")[0].split("+motion")[0]
+    limited = "+gaze" in method or "+motion" in method
+    return COLOR.get(base.split("+")[0], "#000000"), "-" if limited or base == "full" else "--", MARKER.get(base, "o")
+
+
+def ring_label(r):
+    return ("> %g°" % r["from_degrees"]) if r["to_degrees"] is None else "%g–%g°" % (r["from_degrees"], r["to_degrees"])
+
+
+def fovea_rings(path, scene, ppd, rings, device, key):
+    """Per eccentricity ring, one line per method: the shaded share (key "shaded_share"), the RMS
+    ("rms") or the mean FLIP ("flip") against full; each legend entry carries the frame's time."""
+    r0 = rings[0]
+    what = {"shaded_share": "shaded share", "rms": "RMS against full", "flip": "mean FLIP against full"}[key]
+    c = Chart("fovea-%s-%s-%s-ppd%g" % (key.replace("_", "-"), path, scene.replace(":", "-"), round(ppd, 2)),
+              "Foveation, %s per eccentricity ring: %s, ppd %.2f (%s path)" % (what, scene, ppd, path),
+              "%s; %s %s-%d, gaze at the centre (%d, %d)" % (device, size_name(r0), r0["effect"], r0["samples"],
+                                                              r0["gaze"][0], r0["gaze"][1]),
+              "The %s in each ring of eccentricity around the gaze (SPEC §13). Dashed: the method with the gaze only "
+              "measuring (--foveate off), its own decisions; solid: with the gaze foveating (+gaze). The legend gives "
+              "each frame's time less its full-res G-buffer (median of the repeats, the whole frame).%s" % (
+                  what, "" if key == "shaded_share" else " A ring with no error (0) has no point on the log axis."),
+              "eccentricity ring", what + (" (log)" if key != "shaded_share" else ""))
+    labels = distinct(ring_label(r) for r in rings)
+    for m in distinct(r["method"] for r in rings):
+        if key != "shaded_share" and m == "full":
+            continue  # 0 against itself
+        of = [r for r in rings if r["method"] == m]
+        color, style, marker = fovea_style(m)
+        # On the log axes a ring with no error (tiles' full-rate centre) has no point.
+        ys = [r[key] if key == "shaded_share" or r[key] > 0 else math.nan for r in of]
+        c.ax.plot([labels.index(ring_label(r)) for r in of], ys, color=color, linestyle=style,
+                  marker=marker, label="%s (%.0f ms)" % (m, of[0]["effect_ms"]))
+    c.ax.set_xticks(range(len(labels)), labels)
+    if key == "shaded_share":
+        c.ax.set_ylim(bottom=0)
+        c.guide(1.0, "full")
+    else:
+        c.ax.set_yscale("log")
+    return c
+
+
+def fovea_motion(path, scene, motion, device):
+    """Shaded share against the frame's mean screen speed along the camera paths, each method
+    without and with the previous path frame; the time on the right axis, hollow markers."""
+    m0 = motion[0]
+    c = Chart("fovea-motion-%s-%s" % (path, scene.replace(":", "-")),
+              "Motion: shaded share against screen speed, %s (%s path)" % (scene, path),
+              "%s; %s %s-%d, %s, %d frames each" % (device, size_name(m0), m0["effect"], m0["samples"],
+                                                   " and ".join(distinct(m["camera_path"] for m in motion)), m0["frames"]),
+              "Each frame of the camera paths after the first: the mean |v| over pixels on geometry (SPEC §13 step 3, "
+              "the previous path frame as --prev-frame) against the share of pixels shaded (filled, left axis) and the "
+              "frame's time less its full-res G-buffer (hollow, right axis, median of the repeats). Points alone: the "
+              "method without the previous frame (its share follows the frame's content); joined: with it (+motion).",
+              "mean screen speed |v| (full-res pixels per frame)", "shaded level pixels / W·H")
+    right = c.ax.twinx()
+    right.set_ylabel("effect time (ms)")
+    for m in distinct(r["method"] for r in motion):
+        of = sorted((r for r in motion if r["method"] == m), key=lambda r: r["mean_speed"])
+        color, style, marker = fovea_style(m)
+        xs = [r["mean_speed"] for r in of]
+        # the static method's share follows the frame's content, not the speed: points, no line
+        c.ax.plot(xs, [r["shaded_share"] for r in of], color=color, linestyle="-" if "+motion" in m else "none",
+                  marker=marker, label=m)
+        right.plot(xs, [r["effect_ms"] for r in of], color=color, linestyle="none", marker=marker,
+                   markerfacecolor="white", alpha=0.7, label=m + " ms")
+    c.ax.set_ylim(bottom=0)
+    right.set_ylim(bottom=0)
+    return c
+
+
+def fovea_charts(fovea, devices):
+    out = []
+    rings, motion = fovea.get("rings", []), fovea.get("motion", [])
+    for path in distinct(r["path"] for r in rings + motion):
+        device = devices.get(path, path)
+        for scene in distinct(r["scene"] for r in rings if r["path"] == path):
+            for ppd in distinct(r["ppd"] for r in rings if r["path"] == path and r["scene"] == scene):
+                sel = [r for r in rings if r["path"] == path and r["scene"] == scene and r["ppd"] == ppd]
+                out += [fovea_rings(path, scene, ppd, sel, device, k) for k in ("shaded_share", "rms", "flip")]
+        for scene in distinct(r["scene"] for r in motion if r["path"] == path):
+            out.append(fovea_motion(path, scene, [r for r in motion if r["path"] == path and r["scene"] == scene],
+                                    device))
+    return out
+
+
 def bench_charts(results, paper):
     """Every chart, in the order the page shows them."""
     runs, out = results["runs"], []
@@ -277,6 +367,7 @@ def bench_charts(results, paper):
             out.append(flicker(path, stability, device))
             if all("flip_flicker" in s for s in stability):  # bench JSON from before issue 36 has none
                 out.append(flicker(path, stability, device, key="flip_flicker"))
+    out += fovea_charts(results.get("fovea", {}), results["devices"])
     return out
 
 

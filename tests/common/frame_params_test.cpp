@@ -62,6 +62,7 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   fo.coarseGBuffer = "render";  // coarse_gbuffer only when not subsample
   fo.gaze = "3,4";   // so are the gaze and foveate
   fo.mode = "mrr-effect";  // and mrr-effect's widening (effect_cap, effect_first_level, effect_scale)
+  fo.pan = 0.25f;          // and the pan, when not 0
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const nlohmann::json frame = fo.frame(rs, fo.settings());
   std::set<std::string> expected = {"mrr_frame"};

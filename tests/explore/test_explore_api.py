@@ -110,6 +110,31 @@ class ExploreApi(unittest.TestCase):
             self.assertEqual(report["levels"][0]["shaded_pixels"], meta["ones"])
         self.assertNotEqual(counts[0], counts[1])
 
+    def test_pan_is_the_motion_knob(self):
+        """`pan` (SPEC §13, --pan): motion without a file; the page's knob sends it. 0 is no term."""
+        status, still = self.server.json("api/frame?" + FRAME + "&pan=0")
+        self.assertEqual(status, 200, still)
+        self.assertNotIn("foveation", still)
+        self.assertNotIn("motion", still["explore"]["layers"])
+        status, moved = self.server.json("api/frame?" + FRAME + "&pan=0.3")
+        self.assertEqual(status, 200, moved)
+        self.assertAlmostEqual(moved["foveation"]["pan"], 0.3, places=6)
+        self.assertTrue(moved["foveation"]["motion"])
+        self.assertIn("motion", moved["explore"]["layers"])
+        self.assertIn("levellimit", moved["explore"]["layers"])
+        # what moves takes coarser levels: fewer level-0 pixels shaded than the still frame
+        self.assertLess(moved["levels"][0]["shaded_pixels"], still["levels"][0]["shaded_pixels"])
+        by_limit = moved["foveation"]["pixels_by_level_limit"]
+        self.assertEqual(sum(by_limit), 320 * 180)
+        self.assertGreater(sum(by_limit[1:]), 1000)  # moved past level 1's 4 px threshold
+        status, meta = self.server.json("api/stage/motion.json?" + FRAME + "&pan=0.3")
+        self.assertEqual(status, 200, meta)
+        status, bad = self.server.json("api/frame?" + FRAME + "&pan=2e6")
+        self.assertEqual(status, 400, bad)
+        self.assertEqual(bad["parameter"], "pan")
+        status, _, page = self.server.get("")
+        self.assertIn(b'data-param="pan"', page)
+
     def test_every_layer_is_a_png_with_a_legend(self):
         status, report = self.server.json("api/frame?" + FRAME)
         for layer in report["explore"]["layers"]:

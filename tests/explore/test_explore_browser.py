@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """`mrr explore`'s page in a real browser (issue 20): headless Chromium driven by Selenium.
-Loads the page; changes tau_n and sees stencil L0's shaded count change; clicks a pixel and
-reads its probe; switches the probe to the port and sees the same pixel; turns noise-aware on
-and reads the pixel's stochastic stages against the oracle's seeds; walks the step-through; no console errors. Takes a screenshot (MRR_EXPLORE_SCREENSHOT=path; "" skips).
+Loads the page; changes tau_n and sees stencil L0's shaded count change; turns the motion knob
+(pan) and sees the motion layer come and go; clicks a pixel and reads its probe; switches the
+probe to the port and sees the same pixel; turns noise-aware on and reads the pixel's stochastic
+stages against the oracle's seeds; walks the step-through; no console errors. Takes a screenshot
+(MRR_EXPLORE_SCREENSHOT=path; "" skips).
 
     test_explore_browser.py path/to/mrr
 Exit 77 (ctest: skipped) without selenium or chromedriver, unless MRR_REQUIRE_GL=1 (CI), where
@@ -105,6 +107,21 @@ def run(d, server):
     if legend_after == legend_before:
         fail(f"stencil L0's legend did not change with tau_n: {legend_after!r}")
     print(f"{TOOL}: tau_n 0.1 -> 1.5: stencil L0 shades {before} -> {after}", file=sys.stderr)
+
+    # 2b. The motion knob (issue 37, --pan): a pan renders the motion term; 0 takes it away.
+    def layers():
+        return [o.get_attribute("value") for o in Select(by_id("layer")).options]
+    if "motion" in layers():
+        fail("a still frame offers the motion layer")
+    pan = by_id("pan")
+    for value, expect in (("0.3", True), ("0", False)):
+        renders = int(body().get_attribute("data-renders"))
+        pan.send_keys(Keys.CONTROL, "a")
+        pan.send_keys(value, Keys.TAB)
+        rendered(renders + 1)
+        wait.until(lambda _: ("motion" in layers() and "levellimit" in layers()) == expect)
+    print(f"{TOOL}: pan 0.3 -> the motion and levellimit layers; pan 0 -> gone", file=sys.stderr)
+    Select(by_id("layer")).select_by_value("stencil.L0")
 
     # 3. Click a pixel and read its probe (both paths when the port is here).
     view = d.find_element(By.CSS_SELECTOR, "#panel-cpu .view")

@@ -69,5 +69,27 @@ TEST(GpuFoveation, CompareAgreesWithAGazeAndWithAPreviousFrame) {
     }
 }
 
+// --pan on the port: the previous view made on the host (previousView), the same as the oracle's.
+TEST(GpuFoveation, CompareAgreesWithAPan) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  gpu::GlContext context;
+  Settings s = test::ssaoSettings(320, 192, 8, Mode::Mrr);
+  const auto r = test::renderScene("builtin:demo", s);
+  s.foveation.motion = true;
+  s.foveation.panned = true;
+  s.foveation.pan = 0.02f * glm::length(r.camera.target - r.camera.eye);
+  const Constants k = makeConstants(s, r.scene->bounds().diagonal());
+  const FrameResult cpu = r.renderer->render(r.camera, k);
+  const gpu::GpuRenderer port(*r.scene);
+  const FrameResult gpu = port.render(r.camera, k);
+  ASSERT_FALSE(gpu.levelLimit.empty());
+  const ParityResult result = compareFrames(cpu, gpu, r.scene->light);
+  EXPECT_TRUE(result.pass()) << "first failing " << result.firstFailing();
+  int64_t coarse = 0;
+  for (int y = 0; y < 192; ++y)
+    for (int x = 0; x < 320; ++x) coarse += gpu.levelLimit.at(x, y, kLimitLevel) > 0;
+  EXPECT_GT(coarse, 1000);
+}
+
 }  // namespace
 }  // namespace mrr

@@ -223,5 +223,55 @@ TEST(Foveation, APanningCameraCoarsensWhatMoves) {
   EXPECT_LT(countSet(f.levels[0].masks.stencil), countSet(mrr.frame.levels[0].masks.stencil));
 }
 
+// --pan X (motion without a file): the previous view is this one with its eye moved by −X along
+// its right axis. A point at view depth z then moves by focal·X/z pixels along the row: the
+// screen shift of a translating pinhole camera. And the same motion as a previous frame written
+// as that camera (the --prev-frame way), within float rounding.
+TEST(Foveation, APanMovesEachPointByFocalTimesPanOverDepth) {
+  Settings s = ssaoSettings(320, 192, 8);
+  const auto still = renderScene("builtin:demo", s);
+  const float pan = 0.02f * glm::length(still.camera.target - still.camera.eye);
+  s.foveation.motion = true;
+  s.foveation.panned = true;
+  s.foveation.pan = pan;
+  const auto panned = renderScene("builtin:demo", s);
+  const FrameResult& f = panned.frame;
+  ASSERT_FALSE(f.motion.empty());
+  const View& view = f.view;
+  s.foveation.panned = false;
+  s.foveation.prevEye = still.camera.eye - pan * view.right;
+  s.foveation.prevTarget = still.camera.target - pan * view.right;
+  s.foveation.prevUp = still.camera.up;
+  s.foveation.prevYfov = still.camera.yfov;
+  const auto fromFile = renderScene("builtin:demo", s);
+  const GBuffer& g = f.levels[0].gbuffer;
+  int64_t onGeometry = 0, coarsened = 0;
+  for (int y = 0; y < 192; ++y)
+    for (int x = 0; x < 320; ++x) {
+      if (!g.hit.at(x, y)) {
+        ASSERT_EQ(f.motion.at(x, y), 0.0f) << x << "," << y << ": the background does not move";
+        continue;
+      }
+      const float z = -g.positionAt(x, y).z;
+      const float expected = view.focal * pan / z;
+      ASSERT_NEAR(f.motion.at(x, y), expected, 1e-3f + 1e-4f * expected) << x << "," << y;
+      ASSERT_NEAR(f.motion.at(x, y), fromFile.frame.motion.at(x, y), 1e-3f + 1e-4f * expected) << x << "," << y;
+      ++onGeometry;
+      coarsened += f.levelLimit.at(x, y, kLimitMotion) > 0;
+    }
+  EXPECT_GT(onGeometry, 10000);
+  EXPECT_GT(coarsened, 1000) << "the pan is large enough to coarsen";
+  EXPECT_LT(countSet(f.levels[0].masks.stencil), countSet(still.frame.levels[0].masks.stencil));
+  // The other way: the same |v| up to float rounding (SPEC §13's levels read |v| only), so the same
+  // level limit but at a pixel whose |v| sits on a threshold.
+  s.foveation.panned = true;
+  s.foveation.pan = -pan;
+  const auto left = renderScene("builtin:demo", s);
+  ASSERT_EQ(left.frame.levelLimit.data.size(), f.levelLimit.data.size());
+  int64_t differ = 0;
+  for (size_t i = 0; i < f.levelLimit.data.size(); ++i) differ += left.frame.levelLimit.data[i] != f.levelLimit.data[i];
+  EXPECT_LE(differ, 64);
+}
+
 }  // namespace
 }  // namespace mrr

@@ -9,6 +9,7 @@
 #include "common/stages.h"
 #include "compare/false_colour.h"
 #include "compare/flip.h"
+#include "cpu_ref/probe.h"
 
 namespace mrr::explore {
 
@@ -99,6 +100,15 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     const size_t li = static_cast<size_t>(l);
     if (!lr.masks.mask.empty()) names.push_back(partName(Part::Mask, l));
+    // SPEC §12.3's arms (mrr, mrr-effect): the mask from edges alone, the footprint, the marks, and why
+    const bool arms = !f.edges.combined.empty() && (c.mode == Mode::Mrr || c.mode == Mode::MrrEffect) &&
+                      c.levels[li].enabled && !lr.masks.stencil.empty();
+    if (arms && l != c.coarsestEnabled && c.mode == Mode::MrrEffect) {
+      names.push_back(partName(Part::Mask, l) + ".geometry");
+      names.push_back(partName(Part::Mask, l) + ".footprint");
+      if (c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest) names.push_back(partName(Part::Mask, l) + ".marks");
+    }
+    if (arms) names.push_back(partName(Part::Mask, l) + ".why");
     if (!lr.masks.alpha.empty()) names.push_back(partName(Part::Alpha, l));
     if (!lr.masks.stencil.empty()) names.push_back(partName(Part::Stencil, l));
     if (!lr.raw.empty() && c.levels[li].shaded) names.push_back(partName(Part::Raw, l));
@@ -310,7 +320,47 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
       out.caption = "the level limit l_min: the finest level the eye and motion leave (masks below it cleared)";
       break;
     }
-    case Part::Mask: binary(lr.masks.mask, "the max-pooled edge mask M"); break;
+    case Part::Mask: {
+      const std::string sub = tokens.size() == 3 ? tokens[2] : "";
+      if (sub.empty()) {
+        binary(lr.masks.mask, f.constants.mode == Mode::MrrEffect ? "the mask M' the blur reads (widened, with any marks)"
+                                                                  : "the max-pooled edge mask M");
+        break;
+      }
+      const CoverageArms arms = coverageArms(f);  // SPEC §12.3
+      require(arms.active, "no layer " + name);
+      if (sub == "geometry") {
+        binary(arms.stages.geometry[li], "the mask from edges alone (mrr's M, before the effect's widening)");
+      } else if (sub == "marks") {
+        require(!arms.marks[li].empty(), "no layer " + name);
+        binary(arms.marks[li], "the a-posteriori marks: the next coarser result varies by more than tau over 3x3");
+      } else if (sub == "footprint") {
+        require(!arms.stages.footprintMax[li].empty(), "no layer " + name);
+        out.kind = LayerKind::Scalar;
+        out.values = arms.stages.footprintMax[li];
+        out.channels = {"F"};
+        finiteRange(out.values, out.lo, out.hi);
+        out.caption = "the effect's footprint F at edge pixels (max over each level pixel's block), full-res pixels, on "
+                      "the ramp; its reach K = min(cap, round(F / s)) level pixels";
+      } else if (sub == "why") {
+        const int w = lr.masks.stencil.width, h = lr.masks.stencil.height;
+        out.kind = LayerKind::Scalar;
+        out.values = ImageF(w, h, 1);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
+        out.channels = {"why"};
+        out.lo = 0.0f;
+        out.hi = static_cast<float>(Coverage::Limit);
+        std::string caption = "why this level covers each pixel (SPEC 12.3), on the ramp:";
+        for (int k = 0; k <= static_cast<int>(Coverage::Limit); ++k)
+          caption += std::string(k ? ", " : " ") + std::to_string(k) + " " + coverageName(static_cast<Coverage>(k));
+        out.caption = caption;
+      } else {
+        throw MrrError("no layer " + name);
+      }
+      break;
+    }
     case Part::Stencil: binary(lr.masks.stencil, "the stencil S: shaded at this level"); break;
     case Part::Alpha:
       out.kind = LayerKind::Scalar;

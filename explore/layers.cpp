@@ -61,12 +61,18 @@ const char* kindName(LayerKind k) {
     case LayerKind::Colour: return "colour";
     case LayerKind::Levels: return "levels";
     case LayerKind::Flip: return "flip";
+    case LayerKind::Reason: return "reason";
   }
   return "?";
 }
 
 // How a Colour layer maps its values: 0.5 + 0.5 v (normals), v / hi (positions), sRGB (shaded).
 enum class ColourMap { Signed, Scaled, Plain, Srgb };
+// SPEC §12.3's reasons, by Coverage: none black, geometry white, effect cyan, marks orange,
+// closure blue-grey, coarsest dark grey, fallback dark red, limit red.
+constexpr uint8_t kReasonColours[][3] = {{0, 0, 0},     {255, 255, 255}, {0, 200, 230}, {255, 160, 40},
+                                         {90, 110, 150}, {60, 60, 60},   {120, 20, 20}, {230, 40, 40}};
+
 ColourMap colourMapOf(const LayerImage& l) {
   if (l.name.find(".normal") != std::string::npos) return ColourMap::Signed;
   if (l.name.find(".position") != std::string::npos) return ColourMap::Scaled;
@@ -344,7 +350,7 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
                       "the ramp; its reach K = min(cap, round(F / s)) level pixels";
       } else if (sub == "why") {
         const int w = lr.masks.stencil.width, h = lr.masks.stencil.height;
-        out.kind = LayerKind::Scalar;
+        out.kind = LayerKind::Reason;
         out.values = ImageF(w, h, 1);
         for (int y = 0; y < h; ++y)
           for (int x = 0; x < w; ++x)
@@ -352,10 +358,9 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
         out.channels = {"why"};
         out.lo = 0.0f;
         out.hi = static_cast<float>(Coverage::Limit);
-        std::string caption = "why this level covers each pixel (SPEC 12.3), on the ramp:";
-        for (int k = 0; k <= static_cast<int>(Coverage::Limit); ++k)
-          caption += std::string(k ? ", " : " ") + std::to_string(k) + " " + coverageName(static_cast<Coverage>(k));
-        out.caption = caption;
+        out.caption = "why this level covers each pixel (docs/spec.md 12.3): white an edge (geometry), cyan the "
+                      "effect's footprint, orange the a-posteriori marks, blue-grey the closure (a finer level "
+                      "shades inside), dark grey the coarsest level; not covered: black nothing, red the level limit";
       } else {
         throw MrrError("no layer " + name);
       }
@@ -431,6 +436,11 @@ ImageU8 colourise(const LayerImage& l) {
         break;
       case LayerKind::Scalar: rampColour((first - l.lo) / span, rgb); break;
       case LayerKind::Levels: rampColour(0.15 + 0.8 * first / 3.0, rgb); break;
+      case LayerKind::Reason: {
+        const size_t k = std::min<size_t>(static_cast<size_t>(std::max(first, 0.0f)), std::size(kReasonColours) - 1);
+        for (size_t c = 0; c < 3; ++c) rgb[c] = kReasonColours[k][c];
+        break;
+      }
       case LayerKind::Flip: flipMagma(first, rgb); break;
       case LayerKind::Colour:
         for (size_t c = 0; c < 3; ++c) {
@@ -493,6 +503,16 @@ nlohmann::json layerMeta(const LayerImage& l) {
       swatches.push_back("rgb(" + std::to_string(rgb[0]) + "," + std::to_string(rgb[1]) + "," + std::to_string(rgb[2]) + ")");
     }
     j["swatches"] = swatches;
+  }
+  if (l.kind == LayerKind::Reason) {  // SPEC §12.3: a swatch and a name per reason
+    nlohmann::json swatches = nlohmann::json::array(), names = nlohmann::json::array();
+    for (size_t k = 0; k < std::size(kReasonColours); ++k) {
+      const uint8_t* rgb = kReasonColours[k];
+      swatches.push_back("rgb(" + std::to_string(rgb[0]) + "," + std::to_string(rgb[1]) + "," + std::to_string(rgb[2]) + ")");
+      names.push_back(coverageName(static_cast<Coverage>(k)));
+    }
+    j["swatches"] = swatches;
+    j["names"] = names;
   }
   return j;
 }

@@ -327,6 +327,11 @@ function legend(el, meta) {
     const names = meta.name === 'tilerates' ? ['1×1', '2×2', '4×4', ''] : ['L0 full', 'L1 ½', 'L2 ¼', 'L3 ⅛'];
     labels.append(...names.map(span));
     labels.classList.add('four');
+  } else if (meta.kind === 'reason') {  // SPEC §12.3: one swatch per reason
+    const n = meta.swatches.length;
+    bar.style.background = 'linear-gradient(to right, ' + meta.swatches.map((c, i) => `${c} ${(i * 100) / n}%, ${c} ${((i + 1) * 100) / n}%`).join(', ') + ')';
+    labels.append(...meta.names.map(span));
+    labels.classList.add('four');
   } else if (meta.kind === 'colour') {
     bar.style.display = 'none';
   } else {

@@ -208,7 +208,13 @@ std::string frameKey(const Settings& s, const SceneRequest& r) {
                               opt(r.fovDegrees), optVec(r.lightToward), r.skipBlendMaterials, toString(s.effect),
                               toString(s.mode), s.neverSlower, s.width, s.height, s.samples(), s.ssao.radius,
                               s.ssao.tangentPlaneDepth, s.ssgi.radius, s.ssm.shadowMapSize, s.ssm.lightAngle,
-                              s.edges.normalThreshold, s.edges.depthThreshold, levels});
+                              s.edges.normalThreshold, s.edges.depthThreshold, levels,
+                              // what mrr-effect's knobs choose (SPEC §12), the gaze (§13), the seed and
+                              // the AO bias: before, a frame that differed only in them came from the cache
+                              s.effectMask.scale, s.effectMask.cap, s.effectMask.firstLevel, s.effectMask.posterior,
+                              s.effectMask.posteriorFinest, s.effectMask.effectOnly, s.foveation.gaze, s.foveation.gazeX,
+                              s.foveation.gazeY, s.foveation.foveate, s.foveation.ppd, s.foveation.motion,
+                              s.foveation.motionScale, s.foveation.motionCap, s.seed, s.ssao.biasFraction});
   return k.dump();
 }
 

@@ -196,6 +196,15 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual((meta["kind"], meta["names"][:3]), ("reason", ["none", "geometry", "effect"]))
         self.assertEqual(len(meta["swatches"]), len(reasons))
         self.assertTrue({"geometry", "coarsest"} <= seen, seen)
+        # each knob of mrr-effect is a different frame, not the cached one
+        base = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off"
+        shaded = set()
+        for knob in ("", "&effect_only=1", "&effect_cap=2", "&effect_scale=0.5", "&effect_first_level=2",
+                     "&effect_posterior=0.05"):
+            status, frame = self.server.json("api/frame?" + base + knob)
+            self.assertEqual(status, 200, frame)
+            shaded.add((knob, frame["shaded_pixels_total"]))
+        self.assertEqual(len({n for _, n in shaded}), len(shaded), shaded)
         status, mrr = self.server.json("api/frame?effect=ssao&method=mrr&samples=8&size=160x90&never_slower=off")
         self.assertIn("mask.L1.why", mrr["explore"]["layers"])
         self.assertNotIn("mask.L1.footprint", mrr["explore"]["layers"])

@@ -46,7 +46,7 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--effects", o.effects, "effects: ssao ssm ssgi")->capture_default_str();
   b.add_option("--samples", o.samples,
                "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
-  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect (the oracle only; +cN, +fN, +xF, +noblur: its variants)")->capture_default_str();
+  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect (+cN, +fN, +xF, +noblur, +pT, +lN: its variants; +e: the ablation's effect-only arm, the oracle's alone)")->capture_default_str();
   b.add_option("--cameras", o.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   b.add_option("--repeats", o.repeats, "timed repeats per configuration")->capture_default_str();
   b.add_option("--threads", o.threads, "the oracle's threads (0 = all cores)");
@@ -187,10 +187,15 @@ void resolveAndValidate(BenchCommand& c) {
                 std::to_string(kMaxImageSize) + "]");
   for (const std::string& m : o.methods) settingsFor(m, Effect::Ssao, 64, 64, 16);  // validates the name
   // mrr-effect's a-posteriori term (+pT, SPEC §12.2) is the oracle's experiment alone.
-  for (const std::string& m : o.methods)
-    if (settingsFor(m, Effect::Ssao, 64, 64, 16).effectMask.posterior > 0.0f)
+  for (const std::string& m : o.methods) {
+    const Settings s = settingsFor(m, Effect::Ssao, 64, 64, 16);
+    if (s.effectMask.posterior > 0.0f)
       for (const std::string& p : c.paths)
         require(p != "gpu", "--methods " + m + ": the a-posteriori term (+p) is the oracle's alone; use --paths cpu");
+    if (s.effectMask.effectOnly)  // SPEC §12.3: the ablation's effect-only arm
+      for (const std::string& p : c.paths)
+        require(p != "gpu", "--methods " + m + ": the effect-only arm (+e) is the oracle's alone; use --paths cpu");
+  }
   for (const std::string& e : o.stabilityEffects) parseEffect(e);  // validates the name
   // Every sample count in its effect's range: the main sweep's for each chosen effect, and
   // each effect's samples sweep.

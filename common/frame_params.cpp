@@ -94,6 +94,16 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "mrr-effect: the finest level widened; finer ones keep mrr's masks", kFile, kPage},
     {Param::EffectScale, "effect_scale", "", K::Number, "",
      "mrr-effect: the footprint's multiplier (0: mrr's masks exactly)", kFile, kPage},
+    {Param::EffectPosterior, "effect_posterior", "", K::Number, "the effect's units",
+     "mrr-effect: the a-posteriori threshold tau: a level pixel is refined where its next coarser level's "
+     "result varies by more than tau over 3x3 (0: off; docs/spec.md section 12.2; the oracle's alone)",
+     kFile, kPage},
+    {Param::EffectPosteriorFinest, "effect_posterior_finest", "", K::Int, "",
+     "mrr-effect: the finest level the a-posteriori term refines", kFile, kPage},
+    {Param::EffectOnly, "effect_only", "", K::Flag, "",
+     "mrr-effect: the ablation's effect-only arm: each level keeps only the pixels the footprint's widening adds, "
+     "none of the edges' own (docs/spec.md section 12.3; the oracle's alone)",
+     kFile, kPage},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
      "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
      "sets the eccentricity of --gaze and the reports' FLIP",
@@ -169,6 +179,8 @@ std::string settingsDefault(Param param) {
     case Param::EffectCap: return std::to_string(s.effectMask.cap);
     case Param::EffectFirstLevel: return std::to_string(s.effectMask.firstLevel);
     case Param::EffectScale: return number(s.effectMask.scale);
+    case Param::EffectPosterior: return number(s.effectMask.posterior);
+    case Param::EffectPosteriorFinest: return std::to_string(s.effectMask.posteriorFinest);
     case Param::Ppd: return number(s.foveation.ppd);
     case Param::Sigma2:
       return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });
@@ -218,6 +230,8 @@ std::string paramRange(Param param) {
     case Param::EffectCap: return "[0, 64]";
     case Param::EffectFirstLevel: return "[0, 3]";
     case Param::EffectScale: return "[0, 16]";
+    case Param::EffectPosterior: return "[0, 100]";
+    case Param::EffectPosteriorFinest: return "[0, 3]";
     case Param::Ppd: return "> 0";
     case Param::Pan: return "[-1e6, 1e6]";
     case Param::TauN: return "[0, 2]";

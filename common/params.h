@@ -100,6 +100,9 @@ struct EffectMaskSettings {
   // which a level pixel is refined, in the effect's units [0, 100]; 0 = off.
   float posterior = 0.0f;
   int posteriorFinest = 0;  // the finest level the a-posteriori term refines [0, kLevelCount − 1]
+  // The ablation's "effect only" arm (SPEC §12.3, bench variant +e): each widened level keeps only
+  // the pixels the widening adds (M'_ℓ ∧ ¬M_ℓ), each level below firstLevel nothing; the oracle's alone.
+  bool effectOnly = false;
   static constexpr int kDefaultCap = 8;
 };
 
@@ -231,6 +234,7 @@ struct Constants {
     int firstLevel = 1;
     float posterior = 0.0f;
     int posteriorFinest = 0;
+    bool effectOnly = false;
   } effectMask;
   // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before.
   struct Foveation {

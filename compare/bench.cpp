@@ -41,7 +41,9 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
   s.setSamples(samples);
   s.neverSlower = method != "mrr-norule";
   // mrr-effect's ablation variants (SPEC §12): "mrr-effect" then any of "+cN" (the cap, level
-  // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale) and "+noblur" (σ_ℓ² = 0: the footprint alone widens).
+  // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale), "+noblur" (σ_ℓ² = 0:
+  // the footprint alone widens), "+pT"/"+lN" (the a-posteriori τ and finest level) and "+e" (the
+  // ablation's effect-only arm, SPEC §12.3: the widening's pixels without the geometry's).
   const size_t plus = method.find('+');
   const std::string base = method.substr(0, plus);
   s.mode = parseMode(base == "mrr-norule" ? "mrr" : base);
@@ -52,6 +54,8 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
     try {
       if (v == "noblur") {
         for (LevelSettings& ls : s.levels) ls.sigma2 = 0.0f;
+      } else if (v == "e") {
+        s.effectMask.effectOnly = true;
       } else if (v.size() > 1 && v[0] == 'c') {
         s.effectMask.cap = std::stoi(v.substr(1));
       } else if (v.size() > 1 && v[0] == 'f') {
@@ -66,7 +70,7 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
         throw MrrError("");
       }
     } catch (const std::exception&) {
-      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN or +noblur)");
+      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN, +e or +noblur)");
     }
     at = next;
   }

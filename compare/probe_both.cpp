@@ -172,7 +172,7 @@ std::vector<ProbeRow> probeSideBySide(const json& o, const json& p) {
     return out;
   };
   // Masks and the effect, fine to coarse (each level is independent there).
-  const std::vector<std::string> maskKeys = {"M", "a", "S", "c_raw", "ssao", "ssm", "ssgi", "c"};
+  const std::vector<std::string> maskKeys = {"M", "a", "S", "why", "c_raw", "ssao", "ssm", "ssgi", "c"};
   for (size_t l = 0; l < levels; ++l)
     flatten(rows, levelLabel(l), pick(level(lo, l), maskKeys), pick(level(lp, l), maskKeys), maskKeys);
   // The blend, coarse to fine, as it runs.
@@ -210,7 +210,7 @@ Section sectionOf(const std::string& key, const std::string& effect) {
   if (key.size() > 3 && key[0] == 'L' && std::isdigit(static_cast<unsigned char>(key[1])) && key[2] == '.') {
     const std::string level = key.substr(1, 1), what = key.substr(3);
     const std::string field = what.substr(0, what.find_first_of(".["));
-    if (field == "M" || field == "a" || field == "S")
+    if (field == "M" || field == "a" || field == "S" || field == "why")
       return {"3. Masks and stencil, level " + level + " (" + shader(Part::Mask) + ")", what};
     if (field == "c_raw" || field == effect)
       return {"4. The effect, level " + level + " (" + effect + ".frag)", what};

@@ -90,28 +90,37 @@ ImageU8 dilateByReach(const ImageU8& mask, const Image<int16_t>& reach) {
   return out;
 }
 
+ImageU8 wideningOnly(const ImageU8& widened, const ImageU8& geometry) {
+  ImageU8 out = ImageU8::uninitialised(widened.width, widened.height);
+  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = static_cast<uint8_t>(widened.data[i] && !geometry.data[i]);
+  return out;
+}
+
+float localRange(const ImageF& c, const ImageU8& stencil, const ImageU8& hit, int x, int y) {
+  const int w = c.width, h = c.height;
+  if (!stencil.at(x, y) || !hit.at(x, y)) return -1.0f;
+  float range = 0.0f;
+  for (int ch = 0; ch < c.channels; ++ch) {
+    float lo = c.at(x, y, ch), hi = lo;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx < 0 || yy < 0 || xx >= w || yy >= h || !stencil.at(xx, yy) || !hit.at(xx, yy)) continue;
+        lo = std::min(lo, c.at(xx, yy, ch));
+        hi = std::max(hi, c.at(xx, yy, ch));
+      }
+    range = std::max(range, hi - lo);
+  }
+  return range;
+}
+
 ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, const ImageU8& coarserHit, int ratio,
                         int finerWidth, int finerHeight, float tau) {
-  const int w = coarser.width, h = coarser.height, channels = coarser.channels;
+  const int w = coarser.width, h = coarser.height;
   // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
   ImageU8 varies(w, h, 1, 0);
   parallelFor(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      if (!coarserStencil.at(x, y) || !coarserHit.at(x, y)) continue;
-      float range = 0.0f;
-      for (int ch = 0; ch < channels; ++ch) {
-        float lo = coarser.at(x, y, ch), hi = lo;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int xx = x + dx, yy = y + dy;
-            if (xx < 0 || yy < 0 || xx >= w || yy >= h || !coarserStencil.at(xx, yy) || !coarserHit.at(xx, yy)) continue;
-            lo = std::min(lo, coarser.at(xx, yy, ch));
-            hi = std::max(hi, coarser.at(xx, yy, ch));
-          }
-        range = std::max(range, hi - lo);
-      }
-      varies.at(x, y) = range > tau;
-    }
+    for (int x = 0; x < w; ++x) varies.at(x, y) = localRange(coarser, coarserStencil, coarserHit, x, y) > tau;
   });
   // 2. each finer pixel takes its coarser parent's mark
   ImageU8 marks = ImageU8::uninitialised(finerWidth, finerHeight);

@@ -23,6 +23,13 @@ Image<int16_t> levelReach(const ImageU8& mask, const ImageF& footprintMax, int s
 // axes (a square of side 2K(q) + 1 around q), clipped to the level. Exact, made separably.
 ImageU8 dilateByReach(const ImageU8& mask, const Image<int16_t>& reach);
 
+// SPEC §12.3, the ablation's effect-only arm: the pixels the widening adds, M'_ℓ ∧ ¬M_ℓ.
+ImageU8 wideningOnly(const ImageU8& widened, const ImageU8& geometry);
+
+// SPEC §12.2 step 1's v(q): the range of c over q's 3×3 neighbourhood of S = 1 hit pixels, the
+// largest over the channels; −1 where q itself is not such a pixel (never marked).
+float localRange(const ImageF& c, const ImageU8& stencil, const ImageU8& hit, int x, int y);
+
 // SPEC §12.2, a posteriori, step 1: the marks at a finer level from its next coarser level's
 // result c (SSAO: after the bilateral blur): the local range v(q) = max − min of c over q's 3×3
 // neighbourhood of shaded (S = 1) hit pixels, the largest over the channels; a finer pixel p is

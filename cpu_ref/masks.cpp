@@ -120,24 +120,39 @@ ImageF maxPoolF(const ImageF& src) {
 }
 }  // namespace
 
+MaskStages maskStages(const ImageU8& edges, const Constants& c, const ImageF* footprint) {
+  MaskStages st;
+  // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), built through disabled levels too.
+  st.geometry[0] = edges;
+  for (int l = 1; l < kLevelCount; ++l) st.geometry[static_cast<size_t>(l)] = maxPool(st.geometry[static_cast<size_t>(l - 1)], 2);
+  // 1b. mrr-effect (SPEC §12): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's M_ℓ but the
+  // coarsest (whose a ≡ 1) is widened by its reach. The pyramid above stays E's own.
+  if (!footprint) return st;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const size_t li = static_cast<size_t>(l);
+    st.footprintMax[li] = l == 0 ? *footprint : maxPoolF(st.footprintMax[li - 1]);
+    const LevelConstants& lc = c.levels[li];
+    const ImageU8& m = st.geometry[li];
+    if (!lc.enabled || l == c.coarsestEnabled) {
+      st.widened[li] = m;
+    } else if (l < c.effectMask.firstLevel) {
+      // SPEC §12.3, the ablation's effect-only arm: a level the effect does not widen holds nothing
+      st.widened[li] = c.effectMask.effectOnly ? ImageU8(m.width, m.height, 1, 0) : m;
+    } else {
+      st.reach[li] = levelReach(m, st.footprintMax[li], lc.scale, c.effectMask.cap);
+      st.widened[li] = dilateByReach(m, st.reach[li]);
+      if (c.effectMask.effectOnly) st.widened[li] = wideningOnly(st.widened[li], m);  // SPEC §12.3: M'_ℓ ∧ ¬M_ℓ
+    }
+  }
+  return st;
+}
+
 std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint,
                                               const ImageU8* levelLimit) {
   std::array<MaskLevel, kLevelCount> levels;
-  // 1. mask pyramid: M_0 = E, M_ℓ = maxpool2(M_{ℓ−1}), built through disabled levels too.
-  levels[0].mask = edges;
-  for (int l = 1; l < kLevelCount; ++l) levels[static_cast<size_t>(l)].mask = maxPool(levels[static_cast<size_t>(l - 1)].mask, 2);
-  // 1b. mrr-effect (SPEC §12): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's M_ℓ but the
-  // coarsest (whose a ≡ 1) is widened by its reach. The pyramid above stays E's own.
-  if (footprint) {
-    ImageF fl = *footprint;
-    for (int l = 0; l < kLevelCount; ++l) {
-      if (l > 0) fl = maxPoolF(fl);
-      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.firstLevel) continue;
-      MaskLevel& ml = levels[static_cast<size_t>(l)];
-      ml.mask = dilateByReach(ml.mask, levelReach(ml.mask, fl, lc.scale, c.effectMask.cap));
-    }
-  }
+  // 1, 1b. the pyramid of E, widened by the effect's footprint (mrr-effect)
+  MaskStages st = maskStages(edges, c, footprint);
+  for (size_t l = 0; l < levels.size(); ++l) levels[l].mask = std::move(footprint ? st.widened[l] : st.geometry[l]);
   // 1c. foveation and motion (SPEC §13): M_ℓ = 0 where ℓ < ℓ_min, the pyramid already built.
   if (levelLimit) applyLevelLimit(levels, *levelLimit, c);
   for (int l = 0; l < kLevelCount; ++l) {

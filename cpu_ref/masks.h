@@ -21,6 +21,18 @@ ImageF blurMask(const ImageU8& mask, const std::vector<float>& weights);
 void reblurMaskRegion(const ImageU8& mask, const std::vector<float>& weights, const std::vector<uint8_t>& changedRows,
                       int changedX0, int changedX1, ImageF& alpha);
 
+// SPEC §3 step 1 and §12's widening, with what they are made of (SPEC §12.3, for `probe`'s and
+// `explore`'s "why"): `geometry` is M_ℓ from E alone (the paper's pyramid, every level); with a
+// footprint, `footprintMax` is F_ℓ (the footprint's 2×2 max-pool chain), `reach` K_ℓ at the
+// widened levels (empty elsewhere) and `widened` the masks buildMasks blurs (M'_ℓ; the
+// effect-only arm's M'_ℓ ∧ ¬M_ℓ), all empty without one (then M_ℓ = geometry). No level limit.
+struct MaskStages {
+  std::array<ImageU8, kLevelCount> geometry, widened;
+  std::array<ImageF, kLevelCount> footprintMax;
+  std::array<Image<int16_t>, kLevelCount> reach;
+};
+MaskStages maskStages(const ImageU8& edges, const Constants& constants, const ImageF* footprint);
+
 // The whole of SPEC §3 for multires mode. `edges` is E on the padded full-res grid.
 // mrr-effect (SPEC §12): `footprint` (cpu_ref/effect_masks.h) widens each enabled level's M_ℓ
 // but the coarsest before its blur; null: the paper's masks, untouched.

@@ -8,12 +8,94 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "cpu_ref/effect_masks.h"
 #include "cpu_ref/foveation.h"
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
 
 namespace mrr {
+
+const char* coverageName(Coverage c) {
+  switch (c) {
+    case Coverage::None: return "none";
+    case Coverage::Geometry: return "geometry";
+    case Coverage::Effect: return "effect";
+    case Coverage::Marks: return "marks";
+    case Coverage::Closure: return "closure";
+    case Coverage::Coarsest: return "coarsest";
+    case Coverage::Fallback: return "fallback";
+    case Coverage::Limit: return "limit";
+  }
+  return "?";
+}
+
+CoverageArms coverageArms(const FrameResult& f) {
+  CoverageArms arms;
+  const Constants& c = f.constants;
+  const bool effect = c.mode == Mode::MrrEffect;
+  if (f.edges.combined.empty() || !(c.mode == Mode::Mrr || effect)) return arms;
+  arms.active = true;
+  if (effect)
+    arms.footprint = effectFootprint(f.levels[0].gbuffer, f.edges.combined, f.view,
+                                     c.needsShadowMap() ? &f.shadowMap : nullptr, c);
+  arms.stages = maskStages(f.edges.combined, c, effect ? &arms.footprint : nullptr);
+  // 1. the arms: geometry (E's pyramid; nothing in the effect-only arm), widened (M'_ℓ) and the
+  // a-posteriori marks (from the frame's own coarser results, as refineMasks made them)
+  Masks geometry, marks;
+  for (size_t l = 0; l < kLevelCount; ++l) {
+    const ImageU8& g = arms.stages.geometry[l];
+    geometry[l].mask = effect && c.effectMask.effectOnly ? ImageU8(g.width, g.height, 1, 0) : g;
+    arms.widened[l].mask = effect ? arms.stages.widened[l] : g;
+  }
+  const bool posterior = effect && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const int next = c.nextCoarserEnabled(l);
+    if (!posterior || !c.levels[static_cast<size_t>(l)].enabled || next < 0 || l < c.effectMask.posteriorFinest) continue;
+    const LevelResult& coarser = f.levels[static_cast<size_t>(next)];
+    const ImageU8& m = arms.widened[static_cast<size_t>(l)].mask;
+    marks[static_cast<size_t>(l)].mask = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit,
+                                                         1 << (next - l), m.width, m.height, c.effectMask.posterior);
+  }
+  // 2. their blurs, before and after SPEC §13's limit
+  arms.limited = !f.levelLimit.empty();
+  Masks geometryLimited = geometry, widenedLimited = arms.widened, marksLimited = marks;
+  if (arms.limited)
+    for (Masks* m : {&geometryLimited, &widenedLimited, &marksLimited}) applyLevelLimit(*m, f.levelLimit, c);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const size_t li = static_cast<size_t>(l);
+    const LevelConstants& lc = c.levels[li];
+    if (!lc.enabled || l == c.coarsestEnabled) continue;
+    arms.aGeometry[li] = blurMask(geometryLimited[li].mask, lc.gaussian);
+    arms.aWidened[li] = blurMask(widenedLimited[li].mask, lc.gaussian);
+    if (arms.limited) {
+      arms.aGeometryUnlimited[li] = blurMask(geometry[li].mask, lc.gaussian);
+      arms.aWidenedUnlimited[li] = blurMask(arms.widened[li].mask, lc.gaussian);
+    }
+    if (!marks[li].mask.empty()) {
+      arms.marks[li] = marks[li].mask;
+      ImageU8 both = widenedLimited[li].mask;
+      for (size_t i = 0; i < both.data.size(); ++i) both.data[i] = both.data[i] | marksLimited[li].mask.data[i];
+      arms.aMarks[li] = blurMask(both, lc.gaussian);
+    }
+  }
+  return arms;
+}
+
+Coverage coverageReason(const CoverageArms& arms, const FrameResult& f, int l, int qx, int qy) {
+  const Constants& c = f.constants;
+  const size_t li = static_cast<size_t>(l);
+  if (l == c.coarsestEnabled) return f.fallback.fellBack ? Coverage::Fallback : Coverage::Coarsest;
+  if (arms.aGeometry[li].at(qx, qy) > 0.0f) return Coverage::Geometry;
+  if (arms.aWidened[li].at(qx, qy) > 0.0f) return Coverage::Effect;
+  if (!arms.aMarks[li].empty() && arms.aMarks[li].at(qx, qy) > 0.0f) return Coverage::Marks;
+  const ImageU8& s = f.levels[li].masks.stencil;
+  if (!s.empty() && s.at(qx, qy)) return Coverage::Closure;
+  if (arms.limited &&
+      (arms.aGeometryUnlimited[li].at(qx, qy) > 0.0f || arms.aWidenedUnlimited[li].at(qx, qy) > 0.0f))
+    return Coverage::Limit;
+  return Coverage::None;
+}
 
 namespace {
 nlohmann::json vec(const ImageF& img, int x, int y) {
@@ -36,6 +118,74 @@ std::string fmt(const nlohmann::json& v) {
     return buf;
   }
   return v.dump();
+}
+// SPEC §12.3: why each level covers (x, y), for modes mrr and mrr-effect; null for a disabled
+// level (and for other modes). The arms are the oracle's, on the frame's own inputs; S is the frame's.
+std::array<nlohmann::json, kLevelCount> coverageWhy(const FrameResult& f, int x, int y) {
+  std::array<nlohmann::json, kLevelCount> why{};
+  const Constants& c = f.constants;
+  const CoverageArms arms = coverageArms(f);
+  if (!arms.active) return why;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const size_t li = static_cast<size_t>(l);
+    const LevelConstants& lc = c.levels[li];
+    if (!lc.enabled) continue;
+    const int qx = x / lc.scale, qy = y / lc.scale;
+    nlohmann::json j;
+    const Coverage reason = coverageReason(arms, f, l, qx, qy);
+    j["reason"] = coverageName(reason);
+    j["M_geometry"] = arms.stages.geometry[li].at(qx, qy);
+    if (!arms.stages.reach[li].empty()) {
+      j["footprint"] = arms.stages.footprintMax[li].at(qx, qy);
+      j["reach"] = arms.stages.reach[li].at(qx, qy);
+    }
+    j["M_widened"] = arms.widened[li].mask.at(qx, qy);
+    if (arms.limited) j["l_min"] = f.levelLimit.at(levelSamplePixel(qx, lc.scale), levelSamplePixel(qy, lc.scale), kLimitLevel);
+    if (l != c.coarsestEnabled) {
+      j["a_geometry"] = arms.aGeometry[li].at(qx, qy);
+      j["a_widened"] = arms.aWidened[li].at(qx, qy);
+    }
+    if (!arms.marks[li].empty()) {
+      const int next = c.nextCoarserEnabled(l), ratio = 1 << (next - l);
+      const LevelResult& coarser = f.levels[static_cast<size_t>(next)];
+      const int px = std::min(qx / ratio, coarser.sub.width - 1), py = std::min(qy / ratio, coarser.sub.height - 1);
+      j["mark"] = arms.marks[li].at(qx, qy);
+      j["mark_parent"] = {next, px, py};
+      j["mark_range"] = localRange(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit, px, py);
+      j["tau"] = c.effectMask.posterior;
+      j["a_marks"] = arms.aMarks[li].at(qx, qy);
+    }
+    if (reason == Coverage::Effect && arms.widened[li].mask.at(qx, qy) && !arms.stages.reach[li].empty()) {
+      // the nearest edge pixel whose square of side 2K + 1 holds q (SPEC §12 step 3)
+      const Image<int16_t>& k = arms.stages.reach[li];
+      bool found = false;
+      for (int d = 0; d <= c.effectMask.cap && !found; ++d)
+        for (int v = qy - d; v <= qy + d && !found; ++v)
+          for (int u = qx - d; u <= qx + d && !found; ++u) {
+            if (std::max(std::abs(u - qx), std::abs(v - qy)) != d || u < 0 || v < 0 || u >= k.width || v >= k.height) continue;
+            if (k.at(u, v) >= d) {
+              j["reached_from"] = {u, v};
+              j["reached_from_reach"] = k.at(u, v);
+              found = true;
+            }
+          }
+    }
+    if (reason == Coverage::Closure)  // the next finer enabled level with S = 1 inside q's block
+      for (int k = l - 1; k >= 0; --k) {
+        if (!c.levels[static_cast<size_t>(k)].enabled) continue;
+        const int ratio = 1 << (l - k);
+        const ImageU8& s = f.levels[static_cast<size_t>(k)].masks.stencil;
+        bool any = false;
+        for (int v = qy * ratio; v < std::min((qy + 1) * ratio, s.height) && !any; ++v)
+          for (int u = qx * ratio; u < std::min((qx + 1) * ratio, s.width) && !any; ++u) any = s.at(u, v) != 0;
+        if (any) {
+          j["closure_from"] = k;
+          break;
+        }
+      }
+    why[li] = j;
+  }
+  return why;
 }
 }  // namespace
 
@@ -78,6 +228,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     je["E"] = own(f.edges.combined);
   }
 
+  const std::array<nlohmann::json, kLevelCount> why = coverageWhy(f, x, y);
   nlohmann::json levels = nlohmann::json::array();
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -94,6 +245,7 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
     if (!lr.masks.mask.empty()) lj["M"] = lr.masks.mask.at(lx, ly);
     lj["a"] = lr.masks.alpha.at(lx, ly);
     lj["S"] = lr.masks.stencil.at(lx, ly);
+    if (!why[static_cast<size_t>(l)].is_null()) lj["why"] = why[static_cast<size_t>(l)];
     lj["sigma2"] = lc.sigma2;
     lj["w"] = lc.weight;
     if (lr.masks.stencil.at(lx, ly)) {
@@ -172,6 +324,46 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
   return j;
 }
 
+std::string formatWhy(const nlohmann::json& w) {
+  const std::string reason = w["reason"].get<std::string>();
+  std::ostringstream o;
+  if (reason == "coarsest") {
+    o << "coarsest: the coarsest enabled level covers every pixel (a = 1)";
+  } else if (reason == "fallback") {
+    o << "fallback: the never-slower rule fell back to full";
+  } else if (reason == "geometry") {
+    o << "geometry: "
+      << (w["M_geometry"].get<int>() ? "an edge inside this pixel's block (M 1)"
+                                     : "within the blur of an edge block (a from edges alone " + fmt(w["a_geometry"]) + ")");
+  } else if (reason == "effect") {
+    o << "effect: no edge within the blur (a from edges alone 0); ";
+    if (w.contains("reached_from"))
+      o << "within reach of the edge pixel " << fmt(w["reached_from"]) << " (K " << w["reached_from_reach"]
+        << " level pixels) -> M' 1";
+    else
+      o << "within the blur of the widened mask (a " << fmt(w["a_widened"]) << ")";
+  } else if (reason == "marks") {
+    const auto& p = w["mark_parent"];
+    o << "marks: no edge or reach within the blur; "
+      << (w["mark"].get<int>() ? "marked" : "within the blur of a mark") << " (its level-" << p[0] << " parent ("
+      << p[1] << ", " << p[2] << ") varies by " << fmt(w["mark_range"]) << ", tau " << fmt(w["tau"]) << "; a "
+      << fmt(w["a_marks"]) << ")";
+  } else if (reason == "closure") {
+    o << "closure: no edge, reach or mark within the blur; level " << w.value("closure_from", -1)
+      << " shades inside this pixel's block";
+  } else if (reason == "limit") {
+    o << "not covered: the level limit clears M here (l_min " << w["l_min"] << "), which "
+      << (w["M_geometry"].get<int>() || w.value("a_geometry", 0.0) > 0.0 ? "the edges" : "the effect's reach") << " set";
+  } else {
+    o << "not covered: no edge" << (w.contains("reach") ? ", reach" : "") << (w.contains("mark") ? " or mark" : "")
+      << " within the blur";
+  }
+  if (w.contains("mark") && reason != "marks")
+    o << "; a-posteriori range of the level-" << w["mark_parent"][0] << " parent " << fmt(w["mark_range"]) << " (tau "
+      << fmt(w["tau"]) << ")";
+  return o.str();
+}
+
 std::string formatProbe(const nlohmann::json& j) {
   std::ostringstream o;
   o << "pixel " << fmt(j["pixel"]) << " of " << j["size"][0] << "x" << j["size"][1] << ", effect "
@@ -216,6 +408,7 @@ std::string formatProbe(const nlohmann::json& j) {
     if (l["scale"].get<int>() > 1) o << " = full-res " << fmt(l["sample_pixel"]);
     if (l.contains("M")) o << "  M " << l["M"];
     o << "  a " << fmt(l["a"]) << "  S " << l["S"] << "  (sigma2 " << fmt(l["sigma2"]) << ", w " << fmt(l["w"]) << ")\n";
+    if (l.contains("why")) o << "    why: " << formatWhy(l["why"]) << "\n";
     if (l.contains("c")) {
       o << "    shaded: c_raw " << fmt(l["c_raw"]) << " -> c " << fmt(l["c"]) << "   ";
       if (l.contains("ssao")) {

@@ -9,6 +9,7 @@
 #include "common/stages.h"
 #include "compare/false_colour.h"
 #include "compare/flip.h"
+#include "cpu_ref/probe.h"
 
 namespace mrr::explore {
 
@@ -60,12 +61,18 @@ const char* kindName(LayerKind k) {
     case LayerKind::Colour: return "colour";
     case LayerKind::Levels: return "levels";
     case LayerKind::Flip: return "flip";
+    case LayerKind::Reason: return "reason";
   }
   return "?";
 }
 
 // How a Colour layer maps its values: 0.5 + 0.5 v (normals), v / hi (positions), sRGB (shaded).
 enum class ColourMap { Signed, Scaled, Plain, Srgb };
+// SPEC §12.3's reasons, by Coverage: none black, geometry white, effect cyan, marks orange,
+// closure blue-grey, coarsest dark grey, fallback dark red, limit red.
+constexpr uint8_t kReasonColours[][3] = {{0, 0, 0},     {255, 255, 255}, {0, 200, 230}, {255, 160, 40},
+                                         {90, 110, 150}, {60, 60, 60},   {120, 20, 20}, {230, 40, 40}};
+
 ColourMap colourMapOf(const LayerImage& l) {
   if (l.name.find(".normal") != std::string::npos) return ColourMap::Signed;
   if (l.name.find(".position") != std::string::npos) return ColourMap::Scaled;
@@ -99,6 +106,15 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     const size_t li = static_cast<size_t>(l);
     if (!lr.masks.mask.empty()) names.push_back(partName(Part::Mask, l));
+    // SPEC §12.3's arms (mrr, mrr-effect): the mask from edges alone, the footprint, the marks, and why
+    const bool arms = !f.edges.combined.empty() && (c.mode == Mode::Mrr || c.mode == Mode::MrrEffect) &&
+                      c.levels[li].enabled && !lr.masks.stencil.empty();
+    if (arms && l != c.coarsestEnabled && c.mode == Mode::MrrEffect) {
+      names.push_back(partName(Part::Mask, l) + ".geometry");
+      names.push_back(partName(Part::Mask, l) + ".footprint");
+      if (c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest) names.push_back(partName(Part::Mask, l) + ".marks");
+    }
+    if (arms) names.push_back(partName(Part::Mask, l) + ".why");
     if (!lr.masks.alpha.empty()) names.push_back(partName(Part::Alpha, l));
     if (!lr.masks.stencil.empty()) names.push_back(partName(Part::Stencil, l));
     if (!lr.raw.empty() && c.levels[li].shaded) names.push_back(partName(Part::Raw, l));
@@ -310,7 +326,46 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
       out.caption = "the level limit l_min: the finest level the eye and motion leave (masks below it cleared)";
       break;
     }
-    case Part::Mask: binary(lr.masks.mask, "the max-pooled edge mask M"); break;
+    case Part::Mask: {
+      const std::string sub = tokens.size() == 3 ? tokens[2] : "";
+      if (sub.empty()) {
+        binary(lr.masks.mask, f.constants.mode == Mode::MrrEffect ? "the mask M' the blur reads (widened, with any marks)"
+                                                                  : "the max-pooled edge mask M");
+        break;
+      }
+      const CoverageArms arms = coverageArms(f);  // SPEC §12.3
+      require(arms.active, "no layer " + name);
+      if (sub == "geometry") {
+        binary(arms.stages.geometry[li], "the mask from edges alone (mrr's M, before the effect's widening)");
+      } else if (sub == "marks") {
+        require(!arms.marks[li].empty(), "no layer " + name);
+        binary(arms.marks[li], "the a-posteriori marks: the next coarser result varies by more than tau over 3x3");
+      } else if (sub == "footprint") {
+        require(!arms.stages.footprintMax[li].empty(), "no layer " + name);
+        out.kind = LayerKind::Scalar;
+        out.values = arms.stages.footprintMax[li];
+        out.channels = {"F"};
+        finiteRange(out.values, out.lo, out.hi);
+        out.caption = "the effect's footprint F at edge pixels (max over each level pixel's block), full-res pixels, on "
+                      "the ramp; its reach K = min(cap, round(F / s)) level pixels";
+      } else if (sub == "why") {
+        const int w = lr.masks.stencil.width, h = lr.masks.stencil.height;
+        out.kind = LayerKind::Reason;
+        out.values = ImageF(w, h, 1);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
+        out.channels = {"why"};
+        out.lo = 0.0f;
+        out.hi = static_cast<float>(Coverage::Limit);
+        out.caption = "why this level covers each pixel (docs/spec.md 12.3): white an edge (geometry), cyan the "
+                      "effect's footprint, orange the a-posteriori marks, blue-grey the closure (a finer level "
+                      "shades inside), dark grey the coarsest level; not covered: black nothing, red the level limit";
+      } else {
+        throw MrrError("no layer " + name);
+      }
+      break;
+    }
     case Part::Stencil: binary(lr.masks.stencil, "the stencil S: shaded at this level"); break;
     case Part::Alpha:
       out.kind = LayerKind::Scalar;
@@ -381,6 +436,11 @@ ImageU8 colourise(const LayerImage& l) {
         break;
       case LayerKind::Scalar: rampColour((first - l.lo) / span, rgb); break;
       case LayerKind::Levels: rampColour(0.15 + 0.8 * first / 3.0, rgb); break;
+      case LayerKind::Reason: {
+        const size_t k = std::min<size_t>(static_cast<size_t>(std::max(first, 0.0f)), std::size(kReasonColours) - 1);
+        for (size_t c = 0; c < 3; ++c) rgb[c] = kReasonColours[k][c];
+        break;
+      }
       case LayerKind::Flip: flipMagma(first, rgb); break;
       case LayerKind::Colour:
         for (size_t c = 0; c < 3; ++c) {
@@ -443,6 +503,16 @@ nlohmann::json layerMeta(const LayerImage& l) {
       swatches.push_back("rgb(" + std::to_string(rgb[0]) + "," + std::to_string(rgb[1]) + "," + std::to_string(rgb[2]) + ")");
     }
     j["swatches"] = swatches;
+  }
+  if (l.kind == LayerKind::Reason) {  // SPEC §12.3: a swatch and a name per reason
+    nlohmann::json swatches = nlohmann::json::array(), names = nlohmann::json::array();
+    for (size_t k = 0; k < std::size(kReasonColours); ++k) {
+      const uint8_t* rgb = kReasonColours[k];
+      swatches.push_back("rgb(" + std::to_string(rgb[0]) + "," + std::to_string(rgb[1]) + "," + std::to_string(rgb[2]) + ")");
+      names.push_back(coverageName(static_cast<Coverage>(k)));
+    }
+    j["swatches"] = swatches;
+    j["names"] = names;
   }
   return j;
 }

@@ -210,13 +210,16 @@ std::string frameKey(const Settings& s, const SceneRequest& r) {
                               toString(s.mode), s.neverSlower, s.width, s.height, s.samples(), s.ssao.radius,
                               s.ssao.tangentPlaneDepth, s.ssgi.radius, s.ssm.shadowMapSize, s.ssm.lightAngle,
                               s.edges.normalThreshold, s.edges.depthThreshold, levels});
-  // Every other knob the page may turn that changes the frame: the AO bias, mrr-effect's widening
-  // (SPEC §12) and the level limit's viewing conditions, gaze and motion (SPEC §13). Before, a gaze
-  // or a pan after the same frame without one was served the cached frame.
+  // Every other knob the page may turn that changes the frame: the AO bias and the seed,
+  // mrr-effect's widening, a-posteriori term and ablation arm (SPEC §12), and the level limit's
+  // viewing conditions, gaze and motion (SPEC §13). Before, a frame that differed only in them
+  // (a gaze or a pan after the same frame without one) was served from the cache.
   const FoveationSettings& f = s.foveation;
-  const json more = json::array({s.ssao.biasFraction, s.effectMask.scale, s.effectMask.cap, s.effectMask.firstLevel,
-                                 f.ppd, f.gaze, f.gazeX, f.gazeY, f.foveate, f.motion, vec3Json(f.prevEye),
-                                 vec3Json(f.prevTarget), vec3Json(f.prevUp), f.prevYfov, f.panned, f.pan});
+  const EffectMaskSettings& e = s.effectMask;
+  const json more = json::array({s.ssao.biasFraction, s.seed, e.scale, e.cap, e.firstLevel, e.posterior,
+                                 e.posteriorFinest, e.effectOnly, f.ppd, f.gaze, f.gazeX, f.gazeY, f.foveate,
+                                 f.motion, f.motionScale, f.motionCap, vec3Json(f.prevEye), vec3Json(f.prevTarget),
+                                 vec3Json(f.prevUp), f.prevYfov, f.panned, f.pan});
   return k.dump() + more.dump();
 }
 

@@ -50,7 +50,9 @@ struct FrameOptions {
   bool quiet = false;
   std::vector<float> sigma2, weights;  // per level (empty: the effect's defaults, Table 1)
   std::optional<int> effectCap, effectFirstLevel;  // SPEC §12: mrr-effect's widening
-  std::optional<float> effectScale;
+  std::optional<float> effectScale, effectPosterior;  // SPEC §12.2: τ
+  std::optional<int> effectPosteriorFinest;
+  bool effectOnly = false;  // SPEC §12.3
   std::optional<float> ppd;            // SPEC §13: viewing conditions
   std::string gaze;                    // "X,Y", a full-res pixel (empty: no foveation)
   std::string foveate = "on";          // on|off: off measures only

@@ -91,6 +91,8 @@ function readControls() {
   const p = state.params;
   for (const el of $$('[data-param]')) p[el.dataset.param] = el.value;
   p.never_slower = $('#never_slower').checked ? 'on' : 'off';
+  if ($('#effect_only').checked) p.effect_only = '1';  // SPEC §12.3: the ablation's effect-only arm
+  else delete p.effect_only;
   p.disable_level = $$('.enabled').filter((el) => !el.checked).map((el) => el.dataset.level);
 }
 
@@ -325,6 +327,11 @@ function legend(el, meta) {
     const names = meta.name === 'tilerates' ? ['1×1', '2×2', '4×4', ''] : ['L0 full', 'L1 ½', 'L2 ¼', 'L3 ⅛'];
     labels.append(...names.map(span));
     labels.classList.add('four');
+  } else if (meta.kind === 'reason') {  // SPEC §12.3: one swatch per reason
+    const n = meta.swatches.length;
+    bar.style.background = 'linear-gradient(to right, ' + meta.swatches.map((c, i) => `${c} ${(i * 100) / n}%, ${c} ${((i + 1) * 100) / n}%`).join(', ') + ')';
+    labels.append(...meta.names.map(span));
+    labels.classList.add('four');
   } else if (meta.kind === 'colour') {
     bar.style.display = 'none';
   } else {
@@ -502,6 +509,7 @@ async function probe() {
     }
     $('#probe-tolerance').textContent = `Numbers differ when |Δ| > ${state.info.probe_relative_difference} · max(1, |a|, |b|) ` +
       '(common/tolerance.h); everything else must be equal. `mrr probe --path both` prints the same table.';
+    showWhy(path === 'both' ? j.oracle : j, path === 'both' ? j.port : null);
     $('#probe-section').dataset.pixel = `${x},${y}`;
     $('#probe-section').dataset.path = path;
     drawFootprint();
@@ -585,6 +593,38 @@ async function noiseProbe() {
       '(a shift of a few per cent shows in compare --noise-aware\'s bias over the frame, not at one pixel)';
   $('#noise-verdict').className = outside.length ? 'bad' : 'good';
   section.dataset.pixel = `${x},${y}`;
+}
+
+// SPEC §12.3: why each level covers the clicked pixel (mrr, mrr-effect), one line a level; with
+// --path both, the port's reason beside the oracle's where they differ.
+const WHY_TEXT = {
+  coarsest: 'the coarsest level covers every pixel',
+  fallback: 'the never-slower rule fell back to full',
+  geometry: 'an edge (its block, or within the blur of one)',
+  effect: "the effect's footprint: within reach of an edge, out of the edges' blur",
+  marks: 'the a-posteriori marks: the coarser result varies by more than τ',
+  closure: 'a finer level shades inside this pixel',
+  limit: 'not covered: the level limit (foveation, motion) clears it',
+  none: 'not covered: no edge, reach or mark within the blur',
+};
+function showWhy(probe, port) {
+  const list = $('#probe-why');
+  list.replaceChildren();
+  if (!probe || !probe.levels) return;
+  probe.levels.forEach((lv, l) => {
+    if (!lv.why) return;
+    const w = lv.why;
+    let text = `level ${l}: ${w.reason}: ${WHY_TEXT[w.reason] || ''}`;
+    if (w.reached_from) text += ` (edge pixel ${w.reached_from.join(',')}, reach ${w.reached_from_reach})`;
+    if (w.mark_parent) text += ` (level-${w.mark_parent[0]} parent range ${fmt(w.mark_range, 3)}, τ ${w.tau})`;
+    if (w.closure_from !== undefined) text += ` (level ${w.closure_from})`;
+    const pw = port && port.levels && port.levels[l] && port.levels[l].why;
+    if (pw && pw.reason !== w.reason) text += ` — the port: ${pw.reason}`;
+    const li = document.createElement('li');
+    li.textContent = text;
+    li.dataset.reason = w.reason;
+    list.appendChild(li);
+  });
 }
 
 function drawFootprint() {

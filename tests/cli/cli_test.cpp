@@ -341,6 +341,25 @@ TEST_F(CliRenderTest, MrrEffectsWideningTravelsInFrameFiles) {
                              dir);
   ASSERT_EQ(m.status, 0) << describe(m);
   EXPECT_FALSE(json::parse(readFile(at("mf.json"))).contains("effect_cap"));
+  // The a-posteriori term and the ablation's effect-only arm (SPEC §12.2, §12.3, the oracle's
+  // alone) travel too, and reproduce the bits; effect-only shades fewer pixels than the default.
+  int64_t total[2] = {0, 0};
+  for (const bool only : {false, true}) {
+    std::vector<std::string> args = {"render", "--scene", "builtin:demo", "--method", "mrr-effect", "--effect-posterior",
+                                     "0.05", "--size", "96x64", "--samples", "8", "-q", "--never-slower", "off",
+                                     "--out", at("p.exr"), "--report", at("p.json"), "--frame-out", at("pf.json")};
+    if (only) args.push_back("--effect-only");
+    const RunResult p = runMrr(args, dir);
+    ASSERT_EQ(p.status, 0) << describe(p);
+    const json frame = json::parse(readFile(at("pf.json")));
+    EXPECT_NEAR(frame["effect_posterior"].get<double>(), 0.05, 1e-7);
+    EXPECT_EQ(frame["effect_only"], only);
+    total[only] = json::parse(readFile(at("p.json")))["shaded_pixels_total"].get<int64_t>();
+    const RunResult q = runMrr({"render", "--frame", at("pf.json"), "-q", "--out", at("q.exr")}, dir);
+    ASSERT_EQ(q.status, 0) << describe(q);
+    EXPECT_EQ(readFile(at("p.exr")), readFile(at("q.exr"))) << "effect_only " << only << ": not the same bits";
+  }
+  EXPECT_LT(total[1], total[0]);
 }
 
 // mrr info: what a scene holds and the view a render would take, as text and JSON (issue 19).
@@ -958,6 +977,16 @@ const std::vector<BadCase> kBadCases = {
     {"EffectCapOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
                                       "--effect-cap", "99"}),
      "--effect-cap: must be in [0, 64]"},
+    {"EffectPosteriorOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
+                                            "--effect-posterior", "200"}),
+     "--effect-posterior: must be in [0, 100]"},
+    {"EffectPosteriorFinestOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
+                                                  "--effect-posterior-finest", "4"}),
+     "--effect-posterior-finest: must be in [0, 3]"},
+    {"BenchEffectOnlyOnThePort", {"bench", "--paths", "gpu", "--methods", "full", "mrr-effect+e"},
+     "--methods mrr-effect+e: the effect-only arm (+e) is the oracle's alone; use --paths cpu"},
+    {"BenchUnknownVariant", {"bench", "--paths", "cpu", "--methods", "full", "mrr-effect+q"},
+     "--methods mrr-effect+q: unknown variant +q (expected +cN, +fN, +xF, +pT, +lN, +e or +noblur)"},
     {"GpuTimingUnknown", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--path", "gpu", "--gpu-timing", "tsc"}),
      "--gpu-timing tsc"},
     {"BenchGpuTimingUnknown", {"bench", "--paths", "gpu", "--gpu-timing", "tsc"}, "--gpu-timing tsc"},

@@ -61,7 +61,7 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   fo.seed = 5;       // seed only when not 0 (mrr's own sampling)
   fo.coarseGBuffer = "render";  // coarse_gbuffer only when not subsample
   fo.gaze = "3,4";   // so are the gaze and foveate
-  fo.mode = "mrr-effect";  // and mrr-effect's widening (effect_cap, effect_first_level, effect_scale)
+  fo.mode = "mrr-effect";  // and mrr-effect's widening, a-posteriori term and ablation arm (effect_*)
   fo.pan = 0.25f;          // and the pan, when not 0
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const nlohmann::json frame = fo.frame(rs, fo.settings());
@@ -71,10 +71,10 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   std::set<std::string> written;
   for (const auto& [key, value] : frame.items()) written.insert(key);
   EXPECT_EQ(written, expected);
-  // And it reads back: one word per row, less mrr_frame, disable_level (no level disabled) and
-  // ao_texel_depth (a flag left off).
+  // And it reads back: one word per row, less mrr_frame, disable_level (no level disabled),
+  // ao_texel_depth and effect_only (flags left off).
   const std::vector<std::string> words = frameArgs(frame, "test");
-  EXPECT_EQ(words.size(), expected.size() - 3);
+  EXPECT_EQ(words.size(), expected.size() - 4);
   // A key no row has is refused, naming the keys a frame has.
   nlohmann::json bad = frame;
   bad["tau_x"] = 1;

@@ -144,7 +144,7 @@ class ExploreApi(unittest.TestCase):
             self.assertEqual(body[:8], b"\x89PNG\r\n\x1a\n", layer)
             status, meta = self.server.json("api/stage/%s.json?%s" % (layer, FRAME))
             self.assertEqual(status, 200, layer)
-            self.assertIn(meta["kind"], ("binary", "effect", "scalar", "colour", "levels", "flip"))
+            self.assertIn(meta["kind"], ("binary", "effect", "scalar", "colour", "levels", "flip", "reason"))
             self.assertLessEqual(meta["lo"], meta["hi"], layer)
 
     def test_flip_layer_against_full(self):
@@ -192,6 +192,47 @@ class ExploreApi(unittest.TestCase):
                     self.assertEqual((status, ctype), (200, "image/png"), (q, layer, body[:200]))
                 status, both = self.server.json("api/probe?x=80&y=45&path=both&" + q)
                 self.assertEqual(status, 200, (q, both))
+
+    def test_mrr_effect_layers_and_the_why(self):
+        # SPEC 12.3: mrr-effect's arms as layers, and the why layer's code is the probe's reason
+        reasons = ["none", "geometry", "effect", "marks", "closure", "coarsest", "fallback", "limit"]
+        q = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off&effect_posterior=0.05"
+        status, report = self.server.json("api/frame?" + q)
+        self.assertEqual(status, 200, report)
+        layers = report["explore"]["layers"]
+        for layer in ("mask.L1.geometry", "mask.L1.footprint", "mask.L1.marks", "mask.L1.why", "mask.L3.why"):
+            self.assertIn(layer, layers)
+            status, ctype, body = self.server.get("api/stage/%s.png?%s" % (layer, q))
+            self.assertEqual((status, ctype), (200, "image/png"), (layer, body[:200]))
+        self.assertNotIn("mask.L3.geometry", layers)  # the coarsest level is not widened
+        seen = set()
+        for x, y in [(80, 45), (10, 80), (150, 10), (40, 60)]:
+            status, probe = self.server.json("api/probe?x=%d&y=%d&path=cpu&%s" % (x, y, q))
+            self.assertEqual(status, 200, probe)
+            for level in range(4):
+                why = probe["levels"][level]["why"]
+                status, v = self.server.json("api/value?layer=mask.L%d.why&x=%d&y=%d&%s" % (level, x, y, q))
+                self.assertEqual(status, 200, v)
+                self.assertEqual(reasons[int(v["values"]["why"])], why["reason"], (x, y, level))
+                self.assertEqual(why["reason"] not in ("none", "limit"), probe["levels"][level]["S"] == 1)
+                seen.add(why["reason"])
+        self.assertEqual(probe["levels"][3]["why"]["reason"], "coarsest")
+        status, meta = self.server.json("api/stage/mask.L1.why.json?" + q)
+        self.assertEqual((meta["kind"], meta["names"][:3]), ("reason", ["none", "geometry", "effect"]))
+        self.assertEqual(len(meta["swatches"]), len(reasons))
+        self.assertTrue({"geometry", "coarsest"} <= seen, seen)
+        # each knob of mrr-effect is a different frame, not the cached one
+        base = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off"
+        shaded = set()
+        for knob in ("", "&effect_only=1", "&effect_cap=2", "&effect_scale=0.5", "&effect_first_level=2",
+                     "&effect_posterior=0.05"):
+            status, frame = self.server.json("api/frame?" + base + knob)
+            self.assertEqual(status, 200, frame)
+            shaded.add((knob, frame["shaded_pixels_total"]))
+        self.assertEqual(len({n for _, n in shaded}), len(shaded), shaded)
+        status, mrr = self.server.json("api/frame?effect=ssao&method=mrr&samples=8&size=160x90&never_slower=off")
+        self.assertIn("mask.L1.why", mrr["explore"]["layers"])
+        self.assertNotIn("mask.L1.footprint", mrr["explore"]["layers"])
 
     def test_value_under_a_pixel(self):
         status, v = self.server.json("api/value?layer=alpha.L1&x=101&y=51&" + FRAME)

@@ -17,6 +17,7 @@
 #include "compare/parity.h"
 #include "cpu_ref/gbuffer.h"
 #include "cpu_ref/peers.h"
+#include "cpu_ref/probe.h"
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
@@ -664,6 +665,22 @@ TEST_P(GpuEffectMaskParity, WidenedMasksAreExactAndEveryStageMatches) {
       ASSERT_TRUE(row->sameInput);
       EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << (fromLevel0 ? " (level 0, cap 3)" : "");
     }
+    // SPEC §12.3: probe's "why" on each path's own frame: the same reason at every level pixel,
+    // and on the port too, covered exactly where its own S = 1; some pixel is there for the effect.
+    const CoverageArms oracleArms = coverageArms(b.cpu), portArms = coverageArms(b.port);
+    int64_t effect = 0;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const ImageU8& st = b.port.levels[static_cast<size_t>(l)].masks.stencil;
+      if (st.empty()) continue;
+      for (int y = 0; y < st.height; ++y)
+        for (int x = 0; x < st.width; ++x) {
+          const Coverage o = coverageReason(oracleArms, b.cpu, l, x, y), p = coverageReason(portArms, b.port, l, x, y);
+          ASSERT_EQ(coverageName(o), std::string(coverageName(p))) << "level " << l << " " << x << "," << y;
+          ASSERT_EQ(st.at(x, y) != 0, p != Coverage::None && p != Coverage::Limit) << "level " << l << " " << x << "," << y;
+          effect += p == Coverage::Effect;
+        }
+    }
+    EXPECT_GT(effect, 0) << "no pixel covered for the effect" << (fromLevel0 ? " (level 0, cap 3)" : "");
     s.mode = Mode::Mrr;
     const BothPaths paper = renderBoth("builtin:" + pc.scene, s, model);
     int64_t widened = 0, edges = 0;  // M'_ℓ against mrr's M_ℓ, summed over the levels

@@ -94,6 +94,12 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "mrr-effect: the finest level widened; finer ones keep mrr's masks", kFile, kPage},
     {Param::EffectScale, "effect_scale", "", K::Number, "",
      "mrr-effect: the footprint's multiplier (0: mrr's masks exactly)", kFile, kPage},
+    {Param::EffectPosterior, "effect_posterior", "", K::Number, "",
+     "mrr-effect: the a-posteriori threshold tau_v: shade coarse to fine and refine a level where the next coarser "
+     "level's result varies by more than it over 3x3 (docs/spec.md section 12.2; 0: off)",
+     kFile, kNoPage},
+    {Param::EffectPosteriorFinest, "effect_posterior_finest", "", K::Int, "",
+     "mrr-effect: the finest level the a-posteriori term refines", kFile, kNoPage},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
      "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
      "sets the eccentricity of --gaze and the reports' FLIP",
@@ -164,6 +170,8 @@ std::string settingsDefault(Param param) {
     case Param::EffectCap: return std::to_string(s.effectMask.cap);
     case Param::EffectFirstLevel: return std::to_string(s.effectMask.firstLevel);
     case Param::EffectScale: return number(s.effectMask.scale);
+    case Param::EffectPosterior: return number(s.effectMask.posterior);
+    case Param::EffectPosteriorFinest: return std::to_string(s.effectMask.posteriorFinest);
     case Param::Ppd: return number(s.foveation.ppd);
     case Param::Sigma2:
       return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });
@@ -213,6 +221,8 @@ std::string paramRange(Param param) {
     case Param::EffectCap: return "[0, 64]";
     case Param::EffectFirstLevel: return "[0, 3]";
     case Param::EffectScale: return "[0, 16]";
+    case Param::EffectPosterior: return "[0, 100]";
+    case Param::EffectPosteriorFinest: return "[0, 3]";
     case Param::Ppd: return "> 0";
     case Param::TauN: return "[0, 2]";
     case Param::AoBias: return "[0, 1]";

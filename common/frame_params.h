@@ -21,6 +21,7 @@ enum class Param {
   Seed, CoarseGbuffer, Camera, Eye, Target, Up, Fov, Frame, BlendMaterials, LightDir, FlipUp, NoFlipUp, AoRadius,
   AoBias, ShadowMapSize, LightAngle, GiRadius, AoTexelDepth, TauN, TauZ, DisableLevel, Sigma2, Weights,
   EffectCap, EffectFirstLevel, EffectScale,  // mrr-effect's widening (issue 35, SPEC §12)
+  EffectPosterior, EffectPosteriorFinest,     // mrr-effect's a-posteriori term (SPEC §12.2)
   Ppd, Gaze, Foveate, PrevFrame,  // viewing conditions, foveation and motion (issue 37, SPEC §13)
   MemoryLimit, Quiet,
 };

@@ -110,9 +110,9 @@ void validateSettings(const Settings& s) {
   require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, optionName(Param::EffectCap) + ": must be in " +
                                                                paramRange(Param::EffectCap));
   require(s.effectMask.posterior >= 0.0f && s.effectMask.posterior <= 100.0f,
-          "mrr-effect: the a-posteriori threshold must be in [0, 100]");
+          optionName(Param::EffectPosterior) + ": must be in " + paramRange(Param::EffectPosterior));
   require(s.effectMask.posteriorFinest >= 0 && s.effectMask.posteriorFinest < kLevelCount,
-          "mrr-effect: the a-posteriori term's finest level must be a level");
+          optionName(Param::EffectPosteriorFinest) + ": must be in " + paramRange(Param::EffectPosteriorFinest));
   require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
           optionName(Param::EffectFirstLevel) + ": must be in " +
               paramRange(Param::EffectFirstLevel));

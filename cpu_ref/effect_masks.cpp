@@ -123,8 +123,11 @@ ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, co
 }
 
 void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
+  // 1. M_ℓ ∨= marks
   for (size_t i = 0; i < level.mask.data.size(); ++i) level.mask.data[i] = level.mask.data[i] | marks.data[i];
+  // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again
   level.alpha = blurMask(level.mask, lc.gaussian);
+  // 3. S_ℓ ∨= [a_ℓ > 0]
   for (size_t i = 0; i < level.alpha.data.size(); ++i)
     level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] | (level.alpha.data[i] > 0.0f));
 }

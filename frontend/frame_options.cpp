@@ -63,6 +63,8 @@ Field bindField(Param param) {
     case Param::EffectCap: return &F::effectCap;
     case Param::EffectFirstLevel: return &F::effectFirstLevel;
     case Param::EffectScale: return &F::effectScale;
+    case Param::EffectPosterior: return &F::effectPosterior;
+    case Param::EffectPosteriorFinest: return &F::effectPosteriorFinest;
     case Param::Ppd: return &F::ppd;
     case Param::Gaze: return &F::gaze;
     case Param::Foveate: return &F::foveate;
@@ -127,6 +129,8 @@ Settings FrameOptions::settings() const {
   if (effectCap) s.effectMask.cap = *effectCap;
   if (effectFirstLevel) s.effectMask.firstLevel = *effectFirstLevel;
   if (effectScale) s.effectMask.scale = *effectScale;
+  if (effectPosterior) s.effectMask.posterior = *effectPosterior;
+  if (effectPosteriorFinest) s.effectMask.posteriorFinest = *effectPosteriorFinest;
   if (tauN) s.edges.normalThreshold = *tauN;
   if (tauZ) s.edges.depthThreshold = *tauZ;
   // One number per level, as CLI11 split them at the commas.
@@ -266,6 +270,10 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
     case Param::EffectFirstLevel:
       return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.firstLevel) : nlohmann::json();
     case Param::EffectScale: return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.scale) : nlohmann::json();
+    case Param::EffectPosterior:
+      return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.posterior) : nlohmann::json();
+    case Param::EffectPosteriorFinest:
+      return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.posteriorFinest) : nlohmann::json();
     case Param::Ppd: return s.foveation.ppd;
     case Param::Gaze:
       return s.foveation.gaze ? nlohmann::json(std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY))

@@ -51,6 +51,8 @@ struct FrameOptions {
   std::vector<float> sigma2, weights;  // per level (empty: the effect's defaults, Table 1)
   std::optional<int> effectCap, effectFirstLevel;  // SPEC §12: mrr-effect's widening
   std::optional<float> effectScale;
+  std::optional<float> effectPosterior;       // SPEC §12.2: τ_v (0: off)
+  std::optional<int> effectPosteriorFinest;   // SPEC §12.2: ℓ_v
   std::optional<float> ppd;            // SPEC §13: viewing conditions
   std::string gaze;                    // "X,Y", a full-res pixel (empty: no foveation)
   std::string foveate = "on";          // on|off: off measures only

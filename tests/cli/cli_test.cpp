@@ -955,6 +955,12 @@ const std::vector<BadCase> kBadCases = {
     {"EffectCapOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
                                       "--effect-cap", "99"}),
      "--effect-cap: must be in [0, 64]"},
+    {"EffectPosteriorOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
+                                            "--effect-posterior", "101"}),
+     "--effect-posterior: must be in [0, 100]"},
+    {"EffectPosteriorFinestNotALevel", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
+                                                 "--effect-posterior", "0.1", "--effect-posterior-finest", "4"}),
+     "--effect-posterior-finest: must be in [0, 3]"},
     {"GpuTimingUnknown", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--path", "gpu", "--gpu-timing", "tsc"}),
      "--gpu-timing tsc"},
     {"BenchGpuTimingUnknown", {"bench", "--paths", "gpu", "--gpu-timing", "tsc"}, "--gpu-timing tsc"},
@@ -1303,6 +1309,7 @@ struct PlantedFault {
   std::string effect;
   std::string stage;   // the first failing stage compare must name (a prefix: the level may vary)
   std::string method = "mrr";
+  std::vector<std::string> extra = {};  // more options of the compare
 };
 void PrintTo(const PlantedFault& f, std::ostream* os) { *os << f.fault; }
 
@@ -1313,9 +1320,10 @@ TEST_P(CliPlantedFaultTest, CompareFailsAtTheStageWhereTheBugIs) {
   const PlantedFault& f = GetParam();
   const std::string dir = test::scratchDir();
   MRR_REQUIRE_GL_FOR_CLI(dir);
-  const RunResult r = runMrr({"compare", "--scene", "builtin:demo", "--effect", f.effect, "--method", f.method, "--size",
-                              "96x64", "--samples", "16", "-q"},
-                             dir, {.env = {"MRR_GPU_FAULT=" + f.fault}});
+  std::vector<std::string> args = {"compare", "--scene", "builtin:demo", "--effect", f.effect, "--method", f.method,
+                                   "--size", "96x64", "--samples", "16", "-q"};
+  args.insert(args.end(), f.extra.begin(), f.extra.end());
+  const RunResult r = runMrr(args, dir, {.env = {"MRR_GPU_FAULT=" + f.fault}});
   ASSERT_TRUE(r.exited) << describe(r);
   EXPECT_EQ(r.status, 1) << describe(r);
   const std::string marker = "FAIL: first failing stage ";
@@ -1336,7 +1344,11 @@ INSTANTIATE_TEST_SUITE_P(Faults, CliPlantedFaultTest,
                                            PlantedFault{"pcf-one-short", "ssm", "raw.L"},
                                            PlantedFault{"ssgi-no-ndotl", "ssgi", "raw.L"},
                                            PlantedFault{"effect-reach-truncated", "ssao", "mask.L", "mrr-effect"},
-                                           PlantedFault{"effect-dilate-strict", "ssm", "mask.L", "mrr-effect"}),
+                                           PlantedFault{"effect-dilate-strict", "ssm", "mask.L", "mrr-effect"},
+                                           PlantedFault{"marks-2x2", "ssao", "marks.L", "mrr-effect",
+                                                        {"--effect-posterior", "0.05"}},
+                                           PlantedFault{"refine-marks-dropped", "ssgi", "mask.L", "mrr-effect",
+                                                        {"--effect-posterior", "0.02"}}),
                          [](const auto& info) {
                            std::string name = info.param.fault;
                            for (char& c : name)

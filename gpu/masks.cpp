@@ -173,6 +173,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       mask[static_cast<size_t>(l)] = drawDilateByReach(scene, source, l == 0 ? edgeChannel : 0, fl, lc.width,
                                                        lc.height, lc.scale, c.effectMask.cap);
       widened[static_cast<size_t>(l)] = true;
+      out->widenedBy[static_cast<size_t>(l)] = c.effectMask.cap;
     }
   }
   // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)

@@ -34,6 +34,9 @@ struct MaskTargets {
   // the effect passes' stencil fill.
   std::array<std::vector<glm::ivec4>, kLevelCount> supportRects;
   ImageU8 edgeBlocks;  // drawn: M of the coarsest level, read back (which blocks hold an edge)
+  // Drawn, mrr-effect (SPEC §12): the most level pixels each level's M'_ℓ reaches past M_ℓ (its
+  // cap where widened, else 0), for the blend's reach from the edge blocks.
+  std::array<int, kLevelCount> widenedBy{};
 };
 
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).

@@ -265,7 +265,7 @@ class PortFrame final : public FrameBackend {
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture_[l], maskTargets_->stencil[l], maskTargets_->alpha[l]};
     // a refined level's α reaches past the edge blocks' neighbourhood (SPEC §12.2): blended everywhere
     const ImageU8* edgeBlocks = maskTargets_->drawn && !refined_ ? &maskTargets_->edgeBlocks : nullptr;
-    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_);
+    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_, &maskTargets_->widenedBy);
   }
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {

@@ -719,6 +719,7 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
   for (int l = 0; l < kLevelCount; ++l) {
     const std::string L = ".L" + std::to_string(l);
     const StageRow* marks = findRow(r, "marks" + L);
+    if (!c.levels[static_cast<size_t>(l)].enabled) continue;  // SSGI's level 1 (the paper's Table 1)
     if (l == c.coarsestEnabled) {
       EXPECT_EQ(marks, nullptr) << "the coarsest level is shaded first, never refined";
       continue;
@@ -983,7 +984,9 @@ TEST(GpuPeerFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
 // stage the catalogue names, and the same frame without the fault passes. marks-inclusive (>= for
 // >) differs only where a 3×3 range equals τ_v exactly: τ_v is taken from the port's own clean
 // frame, the commonest non-zero range of the coarsest level's result (SSM's PCF fractions k/N
-// repeat exactly), so the fault has pixels to mark.
+// repeat exactly), so the fault has pixels to mark. refine-stencil-replaced drops what the closure
+// gave S_ℓ: with level 1 unblurred (σ_1² = 0) and not widened, S_1 = M_1 ∨ marks, and the closure's
+// max-pool of S_0 (blurred r_0 = 3 full-res pixels past E) reaches past it.
 namespace {
 // The 3×3 ranges of `c` over shaded hit pixels (refinementMarks' v, SPEC §12.2 step 1), each count.
 std::map<float, int> rangeCounts(const LevelResult& level) {
@@ -1029,6 +1032,10 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     Settings s = peerSettings(fc.effect, Mode::MrrEffect, 161, 97);
     s.effectMask.cap = 4;
     s.effectMask.posterior = posteriorTau(fc.effect);
+    if (fc.fault == "refine-stencil-replaced") {
+      s.levels[1].sigma2 = 0.0f;
+      s.effectMask.firstLevel = 2;
+    }
     const CostModel model = CostModel::defaults("cpu");
     const auto r = test::renderScene("builtin:" + fc.scene, s);
     Constants k = makeConstants(s, r.framedSize);

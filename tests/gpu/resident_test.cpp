@@ -109,6 +109,9 @@ std::vector<Case> cases() {
   out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, 1});   // a level disabled
   out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, 3});   // the coarsest disabled
   out.push_back({"shadows", Effect::Ssm, Mode::Mrr, 97, 61, 2});
+  // SPEC §12: widened levels (their α reaches past the edge blocks' neighbourhood by up to the cap)
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) out.push_back({"demo", e, Mode::MrrEffect, 160, 90, -1});
+  out.push_back({"demo", Effect::Ssao, Mode::MrrEffect, 480, 270, -1});
   // SPEC §12.2: refined levels are stencilled and blended whole, also far from any edge block
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
     out.push_back({"demo", e, Mode::MrrEffect, 160, 90, -1, e == Effect::Ssgi ? 0.02f : 0.05f});

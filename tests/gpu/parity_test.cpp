@@ -744,6 +744,35 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
   EXPECT_GT(b.cpu.shadedPixelsTotal, prior.cpu.shadedPixelsTotal);
 }
 
+// With SPEC §13's level limit (a gaze), the port limits its marks as the oracle does (masks.frag
+// STEP 5 on the marks, applyLevelLimit on the oracle's): exact on the port's own inputs, and the
+// limit clears marks the unlimited frame has.
+TEST(GpuPosteriorLimit, MarksObeyTheLevelLimitExactly) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const CostModel model = CostModel::defaults("cpu");
+  Settings s = peerSettings(Effect::Ssao, Mode::MrrEffect, 160, 90);
+  s.effectMask.cap = 4;
+  s.effectMask.posterior = posteriorTau(Effect::Ssao);
+  const BothPaths free = renderBoth("builtin:demo", s, model);
+  s.foveation.gaze = true;
+  s.foveation.gazeX = 30;
+  s.foveation.gazeY = 20;
+  s.foveation.ppd = 150.0f;  // level 1 allowed from a few pixels out: most of level 0's marks are cleared
+  const BothPaths b = renderBoth("builtin:demo", s, model);
+  const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+  EXPECT_TRUE(r.pass()) << "first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+  const StageRow* marks = findRow(r, "marks.L0");
+  ASSERT_NE(marks, nullptr);
+  ASSERT_TRUE(marks->sameInput);
+  EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0);
+  int64_t limited = 0, unlimited = 0;
+  for (uint8_t v : b.port.levels[0].marks.data) limited += v;
+  for (uint8_t v : free.port.levels[0].marks.data) unlimited += v;
+  EXPECT_GT(unlimited, 0);
+  EXPECT_LT(limited, unlimited) << "the limit cleared no mark";
+}
+
 INSTANTIATE_TEST_SUITE_P(Effects, GpuPosteriorParity,
                          ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
                                            PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect},

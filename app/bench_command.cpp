@@ -186,16 +186,10 @@ void resolveAndValidate(BenchCommand& c) {
             "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
                 std::to_string(kMaxImageSize) + "]");
   for (const std::string& m : o.methods) settingsFor(m, Effect::Ssao, 64, 64, 16);  // validates the name
-  // mrr-effect's a-posteriori term (+pT, SPEC §12.2) is the oracle's experiment alone.
-  for (const std::string& m : o.methods) {
-    const Settings s = settingsFor(m, Effect::Ssao, 64, 64, 16);
-    if (s.effectMask.posterior > 0.0f)
-      for (const std::string& p : c.paths)
-        require(p != "gpu", "--methods " + m + ": the a-posteriori term (+p) is the oracle's alone; use --paths cpu");
-    if (s.effectMask.effectOnly)  // SPEC §12.3: the ablation's effect-only arm
+  for (const std::string& m : o.methods)
+    if (settingsFor(m, Effect::Ssao, 64, 64, 16).effectMask.effectOnly)  // SPEC §12.3: the ablation's effect-only arm
       for (const std::string& p : c.paths)
         require(p != "gpu", "--methods " + m + ": the effect-only arm (+e) is the oracle's alone; use --paths cpu");
-  }
   for (const std::string& e : o.stabilityEffects) parseEffect(e);  // validates the name
   // Every sample count in its effect's range: the main sweep's for each chosen effect, and
   // each effect's samples sweep.

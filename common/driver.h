@@ -56,7 +56,8 @@ class FrameBackend {
   // 4. The effect at level ℓ's stencilled pixels, and SSAO's blur (sub-steps named through `stage`).
   virtual void shadeLevel(FrameResult& f, int level, const StageFn& stage) = 0;
   // mrr-effect's a-posteriori term (SPEC §12.2): level ℓ's masks refined where its next coarser
-  // enabled level's result varies, between that level's shading and ℓ's. The oracle only.
+  // enabled level's result varies, between that level's shading and ℓ's (cpu_ref/pipeline.cpp,
+  // gpu/pipeline.cpp); the default refuses in one line.
   virtual void refineMasks(FrameResult& f, int level);
   // 5. Upsample and blend (the peers: their composition); 6. the shaded image.
   virtual void blend(FrameResult& f) = 0;

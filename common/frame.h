@@ -118,7 +118,8 @@ struct BlendResult {
 
 struct LevelResult {
   GBuffer gbuffer;   // empty for disabled levels
-  MaskLevel masks;   // M_ℓ, a_ℓ, S_ℓ
+  MaskLevel masks;   // M_ℓ, a_ℓ, S_ℓ (mrr-effect with τ_v: as refined, SPEC §12.2)
+  ImageU8 marks;     // SPEC §12.2: the a-posteriori marks at this level, after the level limit; empty unless refined
   ImageF raw;        // the effect before the bilateral blur
   ImageF sub;        // c_ℓ, after the bilateral blur
   int64_t shadedPixels = 0;       // |S_ℓ|

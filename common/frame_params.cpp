@@ -96,7 +96,7 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "mrr-effect: the footprint's multiplier (0: mrr's masks exactly)", kFile, kPage},
     {Param::EffectPosterior, "effect_posterior", "", K::Number, "the effect's units",
      "mrr-effect: the a-posteriori threshold tau: a level pixel is refined where its next coarser level's "
-     "result varies by more than tau over 3x3 (0: off; docs/spec.md section 12.2; the oracle's alone)",
+     "result varies by more than tau over 3x3 (0: off; docs/spec.md section 12.2)",
      kFile, kPage},
     {Param::EffectPosteriorFinest, "effect_posterior_finest", "", K::Int, "",
      "mrr-effect: the finest level the a-posteriori term refines", kFile, kPage},

@@ -22,9 +22,9 @@ enum class Mode {
   Uniform1,  // every pixel of level 1 (½), then joint bilateral upsampling
   Uniform2,  // every pixel of level 2 (¼), then joint bilateral upsampling
   Tiles,     // 16×16 VRS-style tiles at 1×1, 2×2 or 4×4 by their edges, broadcast unfiltered
-  // The oracle's experiment (issue 35, SPEC §12): mrr with each level's edge mask widened by the
-  // effect's footprint, known before shading; `--method mrr-effect`. Not one of SPEC §9's five
-  // (kAllModes), and the port does not implement it yet.
+  // Issue 35 (SPEC §12): mrr with each level's edge mask widened by the effect's footprint, known
+  // before shading, and optionally refined a posteriori (§12.2); `--method mrr-effect`, on both
+  // paths. Not one of SPEC §9's five (kAllModes).
   MrrEffect,
 };
 constexpr Mode kAllModes[] = {Mode::Full, Mode::Uniform1, Mode::Uniform2, Mode::Tiles, Mode::Mrr};

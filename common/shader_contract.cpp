@@ -233,6 +233,27 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"composite", "vec4", "c'_l", 2, "LEVEL_STAGES"}},
        "cpu_ref/peers.cpp: tileRates and tileMasks (16x16 tiles at rate 0, 1 or 2), composePeer (uniform-k's joint "
        "bilateral upsampling, tiles' broadcast)."},
+      {"refine_masks.frag", "fragment", "refine_masks.*",
+       "STEP: 1 M_l |= marks, 3 S_l |= [a_l > 0] (step 2, the blur, is masks.frag STEP 2); SOURCE_CHANNEL: M_l's "
+       "channel (step 1)",
+       {{"source", "sampler2D R8", "step 1: M_l as its blur read it; step 3: S_l before the refinement"},
+        {"marks", "sampler2D R8", "the limited a-posteriori marks at level l", -1, "STEP == 1"},
+        {"alpha", "sampler2D R32F", "the refined a_l", -1, "STEP != 1"}},
+       {},
+       {{"result", "vec4 -> R8", "M_l | marks (step 1), S_l | [a_l > 0] (step 3) in r", 0}},
+       "cpu_ref/effect_masks.cpp refineMasks (docs/spec.md §12.2 step 2): M_l |= marks; a_l = G * M_l again; S_l |= "
+       "[a_l > 0], keeping what the closure gave S_l."},
+      {"refinement_marks.frag", "fragment", "refinement_marks.*",
+       "STEP: 1 the range test at the coarser level n, 2 each finer pixel takes its parent's mark; CHANNELS: c_n's "
+       "channels (step 1); RATIO: 2^(n-l) (step 2)",
+       {{"source", "sampler2D R32F, RGBA32F or R8", "step 1: c_n, the coarser level's result; step 2: step 1's marks"},
+        {"stencil", "sampler2D R8", "S_n", -1, "STEP == 1"},
+        {"positionHit", "sampler2D RGBA32F", "level n's G-buffer: view position, hit", -1, "STEP == 1"}},
+       {{"tau", "float", "tau_v, the a-posteriori threshold", -1, "STEP == 1"}},
+       {{"result", "vec4 -> R8", "[v(q) > tau_v] (step 1), the mark at level l (step 2) in r", 0}},
+       "cpu_ref/effect_masks.cpp refinementMarks (docs/spec.md §12.2 step 1): v(q) = max - min of c_n over q's 3x3 "
+       "neighbourhood of shaded hit pixels, the largest over the channels; a level-l pixel p is marked where "
+       "v(floor(p / 2^(n-l))) > tau_v. SPEC §13's limit is then masks.frag STEP 5."},
       {"shade.frag", "fragment", "shade.0, shade.1, shade.2", "EFFECT: 0 SSAO, 1 SSM, 2 SSGI",
        {{"positionHit", "sampler2D RGBA32F", "the level-0 G-buffer: view position, hit"},
         {"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth"},

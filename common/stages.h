@@ -53,6 +53,7 @@ enum class Part {
   Motion,        // 3. SPEC §13: screen motion against the previous frame, pixels
   LevelLimit,    // 3. SPEC §13: the levels the eye and motion allow, and ℓ_min
   TileRates,   // 3. tiles peer: each tile's rate
+  Marks,       // 3. SPEC §12.2: mrr-effect's a-posteriori marks (with τ_v, after the coarser level's shading)
   Mask,        // 3. M_ℓ
   Alpha,       // 3. a_ℓ
   Stencil,     // 3. S_ℓ
@@ -97,8 +98,11 @@ inline constexpr PartInfo kParts[] = {
      "levellimit", "levellimit.same_input", "the coarsest level the eye allows, the coarsest motion allows, and the limit l_min (M_l = 0 below it)"},
     {Part::TileRates, "tilerates", false, 3, Timed::Masking, "peers.frag", "rate", "stencil", "masks.same_input",
      "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)"},
+    {Part::Marks, "marks", true, 3, Timed::Masking, "refinement_marks.frag", "marks", "", "marks.same_input",
+     "mrr-effect with tau_v (SPEC 12.2): where the next coarser level's shaded result varies by more than tau_v over "
+     "3x3 (after the level limit); M_l, a_l and S_l are then refined with them (refine_masks.frag)"},
     {Part::Mask, "mask", true, 3, Timed::Masking, "masks.frag effect_masks.frag", "M", "", "masks.same_input",
-     "the max-pooled edge mask M_l (mrr-effect: widened by the effect's footprint, M'_l)"},
+     "the max-pooled edge mask M_l (mrr-effect: widened by the effect's footprint, M'_l; with tau_v: OR the marks)"},
     {Part::Alpha, "alpha", true, 3, Timed::Masking, "masks.frag", "a", "", "alpha.same_input",
      "the blurred mask a_l (1 at the coarsest level)"},
     {Part::Stencil, "stencil", true, 3, Timed::Masking, "masks.frag", "S", "stencil", "masks.same_input",

@@ -38,6 +38,8 @@ inline constexpr ToleranceRule kTolerances[] = {
      "exact outside the guard band (measures within 1e-4 of τ_n or τ_z, relative), where rounding may flip a pixel"},
     {"masks.same_input", 0.5, 0.0, kNoRms,
      "max-pools and stencils of the same edges are exact; S_ℓ outside its guard band (0 < a_ℓ ≤ 1e-4)"},
+    {"marks.same_input", 0.5, 0.0, kNoRms,
+     "SPEC §12.2: min, max and one subtraction of the same floats, compared with the same τ_v: exact"},
     {"alpha.same_input", 1e-6, 0.0, kNoRms, "the blur sums the same weights in the same order in float"},
     {"stencil", 0.5, 0.05, kNoRms, "one edge pixel moved upstream dilates by r_ℓ in S_ℓ"},
     {"eccentricity", 1e-5, 0.0, kNoRms,

@@ -82,6 +82,7 @@ void putPart(FrameResult& f, Part part, int level, const ImageF& image) {
     case Part::Eccentricity: f.eccentricity = image; break;  // SPEC §13
     case Part::Motion: f.motion = image; break;
     case Part::LevelLimit: f.levelLimit = toBytes(image); break;
+    case Part::Marks: lr.marks = toBytes(image); break;  // SPEC §12.2
     case Part::Mask: lr.masks.mask = toBytes(image); break;
     case Part::Alpha: lr.masks.alpha = image; break;
     case Part::Stencil: lr.masks.stencil = toBytes(image); break;
@@ -106,6 +107,13 @@ std::vector<std::string> sameInputSources(Part part, int level, const Constants&
     case Part::Edges: {
       std::vector<std::string> in = {partName(Part::GBuffer, 0)};
       if (c.effect == Effect::Ssm) in.push_back(partName(Part::ShadowTest));
+      return in;
+    }
+    case Part::Marks: {  // SPEC §12.2: the next coarser enabled level's result, stencil and G-buffer
+      const int next = c.nextCoarserEnabled(level);
+      std::vector<std::string> in;
+      if (next >= 0) in = {partName(Part::Sub, next), partName(Part::Stencil, next), partName(Part::GBuffer, next)};
+      if (c.foveation.active()) in.push_back(partName(Part::LevelLimit));
       return in;
     }
     case Part::TileRates:

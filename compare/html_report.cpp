@@ -328,6 +328,7 @@ StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& 
     case Part::Eccentricity: return valueView(o.eccentricity, p.eccentricity, "eccentricity (degrees)");
     case Part::Motion: return valueView(o.motion, p.motion, "screen motion |v| (pixels)");
     case Part::LevelLimit: return binaryView(o.levelLimit, p.levelLimit, "level limit (the eye's, motion's, l_min)");
+    case Part::Marks: return binaryView(ol.marks, pl.marks, "a-posteriori marks (SPEC §12.2)");
     case Part::Mask: return binaryView(ol.masks.mask, pl.masks.mask, "mask M_ℓ");
     case Part::Stencil: return binaryView(ol.masks.stencil, pl.masks.stencil, "stencil S_ℓ");
     case Part::Alpha: return valueView(ol.masks.alpha, pl.masks.alpha, "a_ℓ");

@@ -350,8 +350,30 @@ bool Rows::decisionAndMaskRows() {
   } else {  // `full`, or the method fallen back to it
     masks = fullModeMasks(c);
   }
+  // SPEC §12.2, mrr-effect with τ_v: the marks from the port's own coarser result, stencil and
+  // G-buffer, limited by its own level limit; each refined level's masks refined with the port's
+  // own marks (the levels are judged apart: a level's marks read the coarser level as refined).
+  std::array<ImageU8, kLevelCount> sameMarks;
+  const bool posterior = multires && c.mode == Mode::MrrEffect && c.effectMask.posterior > 0.0f;
+  for (int l = 0; posterior && l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.posteriorFinest) continue;
+    const int next = c.nextCoarserEnabled(l);
+    const LevelResult& coarser = p.levels[static_cast<size_t>(next)];
+    Masks marks;
+    marks[static_cast<size_t>(l)].mask = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit,
+                                                         1 << (next - l), lc.width, lc.height, c.effectMask.posterior);
+    if (limit) applyLevelLimit(marks, *limit, c);
+    sameMarks[static_cast<size_t>(l)] = std::move(marks[static_cast<size_t>(l)].mask);
+    const ImageU8& portMarks = p.levels[static_cast<size_t>(l)].marks;
+    if (portMarks.width == lc.width && portMarks.height == lc.height)
+      refineMasks(masks[static_cast<size_t>(l)], portMarks, lc);
+  }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!sameMarks[static_cast<size_t>(l)].empty())
+      add({partName(Part::Marks, l), l, lc.scale, {},
+           check("marks.same_input", diffImages(p.levels[static_cast<size_t>(l)].marks, sameMarks[static_cast<size_t>(l)]))});
     const MaskLevel& pm = p.levels[static_cast<size_t>(l)].masks;
     const MaskLevel& om = o.levels[static_cast<size_t>(l)].masks;
     const MaskLevel& sm = masks[static_cast<size_t>(l)];

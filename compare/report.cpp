@@ -250,6 +250,7 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
+    if (!lr.marks.empty()) parts.push_back({partName(Part::Marks, l), toFloat(lr.marks), partChannels(Part::Marks)});
     if (!lr.masks.mask.empty()) parts.push_back({partName(Part::Mask, l), toFloat(lr.masks.mask), partChannels(Part::Mask)});
     parts.push_back({partName(Part::Alpha, l), lr.masks.alpha, partChannels(Part::Alpha)});
     parts.push_back({partName(Part::Stencil, l), toFloat(lr.masks.stencil), partChannels(Part::Stencil)});

@@ -1,6 +1,8 @@
 #pragma once
-// mrr-effect (issue 35, SPEC §12, the oracle's experiment): the effect's footprint, known before
-// shading, widens each level's edge mask. The port does not implement it yet.
+// mrr-effect (issue 35, SPEC §12): the effect's footprint, known before shading, widens each
+// level's edge mask; §12.2's a-posteriori term refines it from the coarser result. The port
+// mirrors each function: gpu/effect_masks.h, gpu/shaders/effect_masks.frag,
+// refinement_marks.frag and refine_masks.frag.
 #include "common/camera.h"
 #include "common/frame.h"
 #include "common/image.h"

@@ -134,6 +134,7 @@ class OracleFrame final : public FrameBackend {
                         lr.masks.mask.height, c.effectMask.posterior);
     if (!f.levelLimit.empty()) applyLevelLimit(marks, f.levelLimit, c);
     mrr::refineMasks(lr.masks, marks[static_cast<size_t>(l)].mask, c.levels[static_cast<size_t>(l)]);
+    lr.marks = std::move(marks[static_cast<size_t>(l)].mask);
   }
 
   void blend(FrameResult& f) override {

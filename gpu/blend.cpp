@@ -52,7 +52,8 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
 }
 
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                           const Constants& c, const ImageU8* edgeBlocks, GpuImage* finalOnGpu) {
+                           const Constants& c, const ImageU8* edgeBlocks, GpuImage* finalOnGpu,
+                           const std::array<int, kLevelCount>* widenedBy) {
   int fine = 0;  // the enabled levels finer than C, a bit each (the shader's FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
@@ -62,13 +63,15 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
     // Near an edge, every level; far from every edge, the coarsest alone. A finer level's α
     // is > 0 only within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within one
     // level pixel of it (+1 for rounding): beyond the widest such reach each finer α is 0, and
-    // blendStep(0, f, c) = c. (Blocks split by which levels reach them draw more, smaller
+    // blendStep(0, f, c) = c. A level widened by up to K level pixels (mrr-effect, SPEC §12) reaches
+    // K further. (Blocks split by which levels reach them draw more, smaller
     // rectangles, and measured slower on llvmpipe.)
     const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
     int reach = 0;
     for (int l = 0; l < c.coarsestEnabled; ++l) {
       const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      if (lc.enabled) reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + 2) * lc.scale);
+      const int widened = widenedBy ? (*widenedBy)[static_cast<size_t>(l)] : 0;
+      if (lc.enabled) reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + widened + 2) * lc.scale);
     }
     const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
     const std::vector<glm::ivec4> nearRects = blockRects(near, 1, blockSize, c.width, c.height),
@@ -89,8 +92,9 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
 }  // namespace
 
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks, GpuImage* finalOnGpu) {
-  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks, finalOnGpu);
+                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks, GpuImage* finalOnGpu,
+                        const std::array<int, kLevelCount>* widenedBy) {
+  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks, finalOnGpu, widenedBy);
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const Texel color = effectTexel(channels);
   BlendResult r;

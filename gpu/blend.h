@@ -17,10 +17,11 @@ struct LevelTextures {
 // α_ℓ and c'_ℓ read back beside the final image and level map. Without it (the benchmark, a
 // plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), and only the
 // final image and level map leave the GPU, as the oracle keeps only those then. With
-// `edgeBlocks` (MaskTargets::edgeBlocks), that pass blends the finer levels only near edges.
+// `edgeBlocks` (MaskTargets::edgeBlocks), that pass blends the finer levels only near edges;
+// `widenedBy` (MaskTargets::widenedBy, null: none) adds each level's widening (SPEC §12) to the reach.
 // `finalOnGpu`: where the final image stays on the GPU for the passes after (the shaded image).
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
                         const Constants& constants, bool keepStages = true, const ImageU8* edgeBlocks = nullptr,
-                        GpuImage* finalOnGpu = nullptr);
+                        GpuImage* finalOnGpu = nullptr, const std::array<int, kLevelCount>* widenedBy = nullptr);
 
 }  // namespace mrr::gpu

@@ -61,4 +61,34 @@ Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, 
   return widened;
 }
 
+Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
+                           unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau) {
+  int width = 0, height = 0;  // the coarser level's grid
+  glBindTexture(GL_TEXTURE_2D, coarser);
+  glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
+  glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, &height);
+  // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
+  const unsigned varies = scene.program("refinement_marks.1." + std::to_string(channels), "fullscreen.vert",
+                                        "refinement_marks.frag",
+                                        "#define STEP 1\n#define CHANNELS " + std::to_string(channels) + "\n");
+  Target coarse = scene.target(width, height, 1, false, Texel::R8);
+  coarse->bind();
+  glUseProgram(varies);
+  bindTextures(varies, {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
+  glUniform1f(uniform(varies, "tau"), tau);
+  scene.drawFullscreen();
+  checkGl("refinement_marks varies");
+  // 2. each finer pixel takes its coarser parent's mark
+  const unsigned parent = scene.program("refinement_marks.2." + std::to_string(ratio), "fullscreen.vert",
+                                        "refinement_marks.frag",
+                                        "#define STEP 2\n#define RATIO " + std::to_string(ratio) + "\n");
+  Target marks = scene.target(finerWidth, finerHeight, 1, false, Texel::R8);
+  marks->bind();
+  glUseProgram(parent);
+  bindTextures(parent, {{"source", coarse->texture(0)}});
+  scene.drawFullscreen();
+  checkGl("refinement_marks parent");
+  return marks;
+}
+
 }  // namespace mrr::gpu

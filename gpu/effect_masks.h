@@ -2,7 +2,8 @@
 // The port's mrr-effect masks (SPEC §12; gpu/shaders/effect_masks.frag), mirroring
 // cpu_ref/effect_masks.h function by function: the footprint at full res, then each level's
 // reach and its two-pass dilation. gpu/masks.cpp calls the dilation between the pyramid and
-// the blur.
+// the blur. The a-posteriori term (SPEC §12.2): the marks here, the refinement in gpu/masks.h
+// (refineMasks, which reuses masks.frag's blur).
 #include "common/camera.h"
 #include "common/frame.h"
 #include "gpu/gbuffer.h"
@@ -19,5 +20,13 @@ Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigne
 // and F_ℓ (`footprint`, R32F at level ℓ's size), widened by at most `cap` level pixels.
 Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, unsigned footprint, int width,
                          int height, int levelScale, int cap);
+
+// SPEC §12.2 step 1, refinementMarks (gpu/shaders/refinement_marks.frag): the a-posteriori marks
+// (R8, finerWidth × finerHeight) of a finer level from its next coarser enabled level's result
+// `coarser` (its first `channels` channels; SSAO: after the bilateral blur), stencil and
+// G-buffer (`coarserPositionHit`, hit in w); `ratio` = 2^{n−ℓ}, `tau` = τ_v. The level limit
+// (SPEC §13) is the caller's: masks.h drawLevelLimited.
+Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
+                           unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau);
 
 }  // namespace mrr::gpu

@@ -173,6 +173,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       mask[static_cast<size_t>(l)] = drawDilateByReach(scene, source, l == 0 ? edgeChannel : 0, fl, lc.width,
                                                        lc.height, lc.scale, c.effectMask.cap);
       widened[static_cast<size_t>(l)] = true;
+      out->widenedBy[static_cast<size_t>(l)] = c.effectMask.cap;
     }
   }
   // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
@@ -211,6 +212,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       horizontal.source = out->limitedTarget[i]->texture(0);
       horizontal.sourceChannel = 0;
     }
+    out->blurSource[i] = horizontal.source;
+    out->blurSourceChannel[i] = horizontal.sourceChannel;
     horizontal.weights = &lc.gaussian;
     horizontal.rects = widened[i] ? nullptr : &rows;
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
@@ -251,6 +254,56 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       out->stencil[l] = stencilTexture(l);
     }
   return out;
+}
+
+Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigned limit, const Constants& c) {
+  const LevelConstants& lc = c.levels[static_cast<size_t>(level)];
+  Pass::Inputs in;
+  in.source = mask;
+  in.factor = lc.scale;
+  in.limit = limit;
+  in.level = level;
+  return Pass{scene}.run(5, {Texel::R8}, lc.width, lc.height, in);
+}
+
+void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& c) {
+  const size_t i = static_cast<size_t>(level);
+  const LevelConstants& lc = c.levels[i];
+  require(masks.drawn && masks.blurSource[i] != 0, "refineMasks: level " + std::to_string(level) + " has no drawn blur");
+  // The step's program: refine_masks.frag STEP 1 or 3 (SOURCE_CHANNEL: M_ℓ's channel, step 1).
+  const auto step = [&](int n, int channel, std::initializer_list<std::pair<const char*, unsigned>> textures) {
+    const unsigned program =
+        scene.program("refine_masks." + std::to_string(n) + "." + std::to_string(channel), "fullscreen.vert",
+                      "refine_masks.frag",
+                      "#define STEP " + std::to_string(n) + "\n#define SOURCE_CHANNEL " + std::to_string(channel) + "\n");
+    Target target = scene.target(lc.width, lc.height, 1, false, Texel::R8);
+    target->bind();
+    glUseProgram(program);
+    bindTextures(program, textures);
+    scene.drawFullscreen();
+    checkGl("refine_masks");
+    return target;
+  };
+  // 1. M_ℓ ∨= marks
+  masks.refinedTarget[i] = step(1, masks.blurSourceChannel[i], {{"source", masks.blurSource[i]}, {"marks", marks->texture(0)}});
+  masks.marksTarget[i] = std::move(marks);
+  // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again: masks.frag's two passes, over the whole level
+  const Pass pass{scene};
+  Pass::Inputs horizontal;
+  horizontal.source = masks.refinedTarget[i]->texture(0);
+  horizontal.weights = &lc.gaussian;
+  const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
+  Pass::Inputs vertical = horizontal;
+  vertical.source = h->texture(0);
+  vertical.direction = {0, 1};
+  Target alpha = pass.run(2, {Texel::R32f}, lc.width, lc.height, vertical);
+  // 3. S_ℓ ∨= [a_ℓ > 0]
+  Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}});
+  masks.alphaTarget[i] = std::move(alpha);
+  masks.stencilTarget[i] = std::move(stencil);
+  masks.alpha[i] = masks.alphaTarget[i]->texture(0);
+  masks.stencil[i] = masks.stencilTarget[i]->texture(0);
+  masks.supportRects[i].clear();
 }
 
 Target drawLevelLimit(const GpuScene& scene, const Framebuffer& gbuffer0, const View& view, const Constants& c) {
@@ -311,7 +364,8 @@ void readLevelLimit(const Framebuffer& target, const Constants& c, ImageF& eccen
 std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Constants& c, bool stencilsOnly) {
   std::array<MaskLevel, kLevelCount> out;
   for (size_t l = 0; l < kLevelCount; ++l) {
-    if (!stencilsOnly && masks.limitedTarget[l]) out[l].mask = masks.limitedTarget[l]->readBinary(0);  // SPEC §13
+    if (!stencilsOnly && masks.refinedTarget[l]) out[l].mask = masks.refinedTarget[l]->readBinary(0);  // SPEC §12.2
+    else if (!stencilsOnly && masks.limitedTarget[l]) out[l].mask = masks.limitedTarget[l]->readBinary(0);  // SPEC §13
     else if (!stencilsOnly && masks.maskTarget[l]) out[l].mask = masks.maskTarget[l]->readBinary(0);  // ℓ ≥ 1
     if (!c.levels[l].enabled) continue;
     out[l].stencil = masks.stencilTarget[l] ? masks.stencilTarget[l]->readBinary(0)

@@ -20,6 +20,13 @@ struct MaskTargets {
   // SPEC §13: M'_ℓ, M_ℓ after the level limit (R8), for the levels it drew; the blur reads these
   // and readMasks reports them as M_ℓ (M'_0 too, where M_0 is otherwise E).
   std::array<Target, kLevelCount> limitedTarget;
+  // Drawn: the M_ℓ each level's blur read (texture, channel): E for an unwidened level 0, M'_ℓ
+  // after the limit, ... (0: the coarsest or a disabled level). SPEC §12.2 refines it.
+  std::array<unsigned, kLevelCount> blurSource{};
+  std::array<int, kLevelCount> blurSourceChannel{};
+  // SPEC §12.2 (refineMasks): M_ℓ ∨ the marks (R8) and the marks themselves, for the levels
+  // refined; readMasks reports the former as M_ℓ.
+  std::array<Target, kLevelCount> refinedTarget, marksTarget;
   TextureSet uploaded;                                                       // or uploaded
   std::array<unsigned, kLevelCount> alpha{}, stencil{};
   bool drawn = false;  // false: uploaded from host masks (uploadMasks)
@@ -27,6 +34,9 @@ struct MaskTargets {
   // the effect passes' stencil fill.
   std::array<std::vector<glm::ivec4>, kLevelCount> supportRects;
   ImageU8 edgeBlocks;  // drawn: M of the coarsest level, read back (which blocks hold an edge)
+  // Drawn, mrr-effect (SPEC §12): the most level pixels each level's M'_ℓ reaches past M_ℓ (its
+  // cap where widened, else 0), for the blend's reach from the edge blocks.
+  std::array<int, kLevelCount> widenedBy{};
 };
 
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).
@@ -43,6 +53,17 @@ Target drawLevelLimit(const GpuScene& scene, const Framebuffer& gbuffer0, const 
 // and level limit (kLimitChannels bytes).
 void readLevelLimit(const Framebuffer& target, const Constants& constants, ImageF& eccentricity, ImageF& motion,
                     ImageU8& limit);
+
+// SPEC §13 step 6 alone (masks.frag STEP 5): `mask` (R8, level ℓ's size) cleared where ℓ < ℓ_min
+// at the full-res pixel each level pixel holds; `limit` is limit.frag's target texture.
+Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigned limit, const Constants& constants);
+
+// SPEC §12.2 step 2, refineMasks (gpu/shaders/refine_masks.frag, its step 2 masks.frag's blur):
+// level ℓ of drawn masks refined with `marks` (R8, level ℓ's size, already limited): M_ℓ ∨= marks
+// (into refinedTarget[ℓ]), a_ℓ = G(σ_ℓ²) ∗ M_ℓ again and S_ℓ ∨= [a_ℓ > 0] over the whole level;
+// alpha[ℓ], stencil[ℓ] and their targets are replaced, supportRects[ℓ] cleared (the whole level).
+// Not for the coarsest enabled level.
+void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& constants);
 
 // Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
 // unless `stencilsOnly`.

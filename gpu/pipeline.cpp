@@ -230,6 +230,29 @@ class PortFrame final : public FrameBackend {
     }
   }
 
+  // mrr-effect's a-posteriori term (SPEC §12.2): level ℓ's marks from its next coarser enabled
+  // level's result (refinement_marks.frag), limited as M_ℓ was (masks.frag STEP 5), then M_ℓ, a_ℓ
+  // and S_ℓ refined (refine_masks.frag with masks.frag's blur). S_ℓ is read back for |S_ℓ|.
+  void refineMasks(FrameResult& f, int l) override {
+    const Constants& c = f.constants;
+    const int next = c.nextCoarserEnabled(l);
+    const size_t i = static_cast<size_t>(l), n = static_cast<size_t>(next);
+    const LevelConstants& lc = c.levels[i];
+    Target marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
+                                       gbuffers_[n]->texture(0), 1 << (next - l), lc.width, lc.height,
+                                       c.effectMask.posterior);
+    if (limit_) marks = drawLevelLimited(scene_, marks->texture(0), l, limit_->texture(0), c);
+    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c);
+    refined_ = true;
+    MaskLevel& m = f.levels[i].masks;
+    m.stencil = maskTargets_->stencilTarget[i]->readBinary(0);
+    if (keep_) {
+      m.mask = maskTargets_->refinedTarget[i]->readBinary(0);
+      m.alpha = maskTargets_->alphaTarget[i]->read(0, 1);
+      f.levels[i].marks = maskTargets_->marksTarget[i]->readBinary(0);
+    }
+  }
+
   void blend(FrameResult& f) override {
     const Constants& c = f.constants;
     if (isPeer(c.mode)) {
@@ -241,8 +264,9 @@ class PortFrame final : public FrameBackend {
     }
     std::array<LevelTextures, kLevelCount> inputs;
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture_[l], maskTargets_->stencil[l], maskTargets_->alpha[l]};
-    const ImageU8* edgeBlocks = maskTargets_->drawn ? &maskTargets_->edgeBlocks : nullptr;
-    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_);
+    // a refined level's α reaches past the edge blocks' neighbourhood (SPEC §12.2): blended everywhere
+    const ImageU8* edgeBlocks = maskTargets_->drawn && !refined_ ? &maskTargets_->edgeBlocks : nullptr;
+    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_, &maskTargets_->widenedBy);
   }
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {
@@ -279,6 +303,7 @@ class PortFrame final : public FrameBackend {
   TextureSet unshaded_;
   GpuImage final_;
   Target limit_;  // SPEC §13's level limit (limit.frag), when a term is on
+  bool refined_ = false;  // SPEC §12.2 refined a level's masks (refineMasks)
 };
 }  // namespace
 

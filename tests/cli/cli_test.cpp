@@ -362,6 +362,36 @@ TEST_F(CliRenderTest, MrrEffectsWideningTravelsInFrameFiles) {
   EXPECT_LT(total[1], total[0]);
 }
 
+// The a-posteriori term (SPEC §12.2) from the command line, on both paths: it travels in frame
+// files, shades more than the a priori masks alone, and the paths shade alike on this frame.
+TEST_F(CliRenderTest, MrrEffectsPosteriorTermTravelsInFrameFiles) {
+  std::map<std::string, int64_t> shaded, prior;
+  for (const std::string path : {"cpu", "gpu"}) {
+    if (path == "gpu" && !glAvailable(dir)) continue;
+    const std::vector<std::string> frame = {"render", "--scene", "builtin:demo", "--method", "mrr-effect", "--effect-cap",
+                                            "4", "--never-slower", "off", "--size", "96x64", "--samples", "8", "-q",
+                                            "--path", path};
+    std::vector<std::string> refined = frame;
+    refined.insert(refined.end(), {"--effect-posterior", "0.05", "--effect-posterior-finest", "0", "--out",
+                                   at(path + "p.exr"), "--report", at(path + "p.json"), "--frame-out", at(path + "pf.json")});
+    const RunResult a = runMrr(refined, dir);
+    ASSERT_EQ(a.status, 0) << describe(a);
+    const json file = json::parse(readFile(at(path + "pf.json")));
+    EXPECT_FLOAT_EQ(file["effect_posterior"].get<float>(), 0.05f);
+    EXPECT_EQ(file["effect_posterior_finest"], 0);
+    const RunResult b = runMrr({"render", "--frame", at(path + "pf.json"), "-q", "--path", path, "--out", at(path + "q.exr")}, dir);
+    ASSERT_EQ(b.status, 0) << describe(b);
+    EXPECT_EQ(readFile(at(path + "p.exr")), readFile(at(path + "q.exr"))) << path << ": not the same bits";
+    shaded[path] = json::parse(readFile(at(path + "p.json")))["shaded_pixels_total"].get<int64_t>();
+    std::vector<std::string> apriori = frame;
+    apriori.insert(apriori.end(), {"--out", at(path + "a.exr"), "--report", at(path + "a.json")});
+    ASSERT_EQ(runMrr(apriori, dir).status, 0);
+    prior[path] = json::parse(readFile(at(path + "a.json")))["shaded_pixels_total"].get<int64_t>();
+    EXPECT_GT(shaded[path], prior[path]) << path << ": the term refined nothing";
+  }
+  if (shaded.count("gpu")) EXPECT_EQ(shaded["gpu"], shaded["cpu"]);
+}
+
 // mrr info: what a scene holds and the view a render would take, as text and JSON (issue 19).
 TEST_F(CliRenderTest, InfoTellsWhatASceneHolds) {
   const RunResult text = runMrr({"info", "builtin:fence"}, dir);
@@ -1335,6 +1365,7 @@ struct PlantedFault {
   std::string effect;
   std::string stage;   // the first failing stage compare must name (a prefix: the level may vary)
   std::string method = "mrr";
+  std::vector<std::string> extra = {};  // more options of the compare
 };
 void PrintTo(const PlantedFault& f, std::ostream* os) { *os << f.fault; }
 
@@ -1345,9 +1376,10 @@ TEST_P(CliPlantedFaultTest, CompareFailsAtTheStageWhereTheBugIs) {
   const PlantedFault& f = GetParam();
   const std::string dir = test::scratchDir();
   MRR_REQUIRE_GL_FOR_CLI(dir);
-  const RunResult r = runMrr({"compare", "--scene", "builtin:demo", "--effect", f.effect, "--method", f.method, "--size",
-                              "96x64", "--samples", "16", "-q"},
-                             dir, {.env = {"MRR_GPU_FAULT=" + f.fault}});
+  std::vector<std::string> args = {"compare", "--scene", "builtin:demo", "--effect", f.effect, "--method", f.method,
+                                   "--size", "96x64", "--samples", "16", "-q"};
+  args.insert(args.end(), f.extra.begin(), f.extra.end());
+  const RunResult r = runMrr(args, dir, {.env = {"MRR_GPU_FAULT=" + f.fault}});
   ASSERT_TRUE(r.exited) << describe(r);
   EXPECT_EQ(r.status, 1) << describe(r);
   const std::string marker = "FAIL: first failing stage ";
@@ -1368,7 +1400,11 @@ INSTANTIATE_TEST_SUITE_P(Faults, CliPlantedFaultTest,
                                            PlantedFault{"pcf-one-short", "ssm", "raw.L"},
                                            PlantedFault{"ssgi-no-ndotl", "ssgi", "raw.L"},
                                            PlantedFault{"effect-reach-truncated", "ssao", "mask.L", "mrr-effect"},
-                                           PlantedFault{"effect-dilate-strict", "ssm", "mask.L", "mrr-effect"}),
+                                           PlantedFault{"effect-dilate-strict", "ssm", "mask.L", "mrr-effect"},
+                                           PlantedFault{"marks-2x2", "ssao", "marks.L", "mrr-effect",
+                                                        {"--effect-posterior", "0.05"}},
+                                           PlantedFault{"refine-marks-dropped", "ssgi", "mask.L", "mrr-effect",
+                                                        {"--effect-posterior", "0.02"}}),
                          [](const auto& info) {
                            std::string name = info.param.fault;
                            for (char& c : name)

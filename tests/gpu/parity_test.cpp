@@ -5,8 +5,10 @@
 // (cascade awareness), so a shader bug is not hidden by, nor blamed on, upstream noise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <memory>
 
 #include "common/cost_model.h"
@@ -702,6 +704,100 @@ INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectMaskParity,
                            return info.param.scene + "_" + toString(info.param.effect);
                          });
 
+// mrr-effect's a-posteriori term (SPEC §12.2) on both paths: refinement_marks.frag gives the
+// oracle's marks exactly from the port's own coarser result, stencil and G-buffer, and
+// refine_masks.frag (with masks.frag's blur) the oracle's refined M_ℓ, a_ℓ and S_ℓ from the port's
+// own marks; every stage is within its rule. Not vacuous: the port marks pixels at every level it
+// refines, and its refined frame shades more than its a priori one.
+class GpuPosteriorParity : public ::testing::TestWithParam<PeerCase> {
+ protected:
+  void SetUp() override {
+    MRR_REQUIRE_GL_OR_SKIP();
+    context_ = std::make_unique<gpu::GlContext>();
+  }
+  std::unique_ptr<gpu::GlContext> context_;
+};
+
+// τ_v per effect: small enough that each effect marks pixels on these frames at 97×61.
+float posteriorTau(Effect effect) { return effect == Effect::Ssgi ? 0.02f : 0.05f; }
+
+TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
+  const PeerCase& pc = GetParam();
+  const CostModel model = CostModel::defaults("cpu");
+  Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
+  s.ssm.lightAngle = 0.4f;
+  s.effectMask.cap = 4;
+  const BothPaths prior = renderBoth("builtin:" + pc.scene, s, model);
+  s.effectMask.posterior = posteriorTau(pc.effect);
+  const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
+  const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+  EXPECT_TRUE(r.pass()) << "first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+  const Constants& c = b.port.constants;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const std::string L = ".L" + std::to_string(l);
+    const StageRow* marks = findRow(r, "marks" + L);
+    if (!c.levels[static_cast<size_t>(l)].enabled) continue;  // SSGI's level 1 (the paper's Table 1)
+    if (l == c.coarsestEnabled) {
+      EXPECT_EQ(marks, nullptr) << "the coarsest level is shaded first, never refined";
+      continue;
+    }
+    ASSERT_NE(marks, nullptr) << "marks" << L << "\n" << formatParityTable(r);
+    ASSERT_TRUE(marks->sameInput);
+    EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0) << "marks" << L;
+    int64_t marked = 0;
+    for (uint8_t v : b.port.levels[static_cast<size_t>(l)].marks.data) marked += v;
+    EXPECT_GT(marked, 0) << "marks" << L << ": nothing marked, the check would be vacuous";
+    for (const std::string part : {"mask", "stencil"}) {
+      const StageRow* row = findRow(r, part + L);
+      ASSERT_NE(row, nullptr) << part << L;
+      ASSERT_TRUE(row->sameInput);
+      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << part << L;
+    }
+    const StageRow* alpha = findRow(r, "alpha" + L);
+    ASSERT_NE(alpha, nullptr);
+    EXPECT_LE(alpha->sameInput->figures.maxAbs, 1e-6) << "alpha" << L;
+  }
+  EXPECT_GT(b.port.shadedPixelsTotal, prior.port.shadedPixelsTotal) << "the refinement shaded nothing more";
+  EXPECT_GT(b.cpu.shadedPixelsTotal, prior.cpu.shadedPixelsTotal);
+}
+
+// With SPEC §13's level limit (a gaze), the port limits its marks as the oracle does (masks.frag
+// STEP 5 on the marks, applyLevelLimit on the oracle's): exact on the port's own inputs, and the
+// limit clears marks the unlimited frame has.
+TEST(GpuPosteriorLimit, MarksObeyTheLevelLimitExactly) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const CostModel model = CostModel::defaults("cpu");
+  Settings s = peerSettings(Effect::Ssao, Mode::MrrEffect, 160, 90);
+  s.effectMask.cap = 4;
+  s.effectMask.posterior = posteriorTau(Effect::Ssao);
+  const BothPaths free = renderBoth("builtin:demo", s, model);
+  s.foveation.gaze = true;
+  s.foveation.gazeX = 30;
+  s.foveation.gazeY = 20;
+  s.foveation.ppd = 150.0f;  // level 1 allowed from a few pixels out: most of level 0's marks are cleared
+  const BothPaths b = renderBoth("builtin:demo", s, model);
+  const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+  EXPECT_TRUE(r.pass()) << "first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+  const StageRow* marks = findRow(r, "marks.L0");
+  ASSERT_NE(marks, nullptr);
+  ASSERT_TRUE(marks->sameInput);
+  EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0);
+  int64_t limited = 0, unlimited = 0;
+  for (uint8_t v : b.port.levels[0].marks.data) limited += v;
+  for (uint8_t v : free.port.levels[0].marks.data) unlimited += v;
+  EXPECT_GT(unlimited, 0);
+  EXPECT_LT(limited, unlimited) << "the limit cleared no mark";
+}
+
+INSTANTIATE_TEST_SUITE_P(Effects, GpuPosteriorParity,
+                         ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
+                                           PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect},
+                                           PeerCase{"demo", Effect::Ssgi, Mode::MrrEffect}),
+                         [](const ::testing::TestParamInfo<PeerCase>& info) {
+                           return info.param.scene + "_" + toString(info.param.effect);
+                         });
+
 // SPEC §11 on both paths: a cost model whose blend costs more than any saving makes both fall
 // back to full, the same frame; one whose overhead is free makes neither fall back. The
 // decision is the same function (common/cost_model.h) of the same stencils on both.
@@ -914,6 +1010,90 @@ TEST(GpuPeerFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     const CostModel model = CostModel::defaults("cpu");
     const auto r = test::renderScene("builtin:" + fc.scene, s);
     const Constants k = makeConstants(s, r.framedSize);
+    const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
+    {
+      const gpu::GpuRenderer clean(*r.scene);
+      const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
+      EXPECT_TRUE(ok.pass()) << fc.fault << " without the fault\n" << formatParityTable(ok);
+    }
+    const PlantedFaultScope planted(fc.fault);
+    const gpu::GpuRenderer faulty(*r.scene);
+    const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
+    EXPECT_FALSE(bad.pass()) << fc.fault;
+    EXPECT_EQ(bad.firstFailing().rfind(fault->stage, 0), 0u)
+        << fc.fault << ": first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n"
+        << formatParityTable(bad);
+  }
+}
+
+// The a-posteriori term's planted faults (SPEC §12.2): each makes compareFrames fail first at the
+// stage the catalogue names, and the same frame without the fault passes. marks-inclusive (>= for
+// >) differs only where a 3×3 range equals τ_v exactly: τ_v is taken from the port's own clean
+// frame, the commonest non-zero range of the coarsest level's result (SSM's PCF fractions k/N
+// repeat exactly), so the fault has pixels to mark. refine-stencil-replaced drops what the closure
+// gave S_ℓ: with level 1 unblurred (σ_1² = 0) and not widened, S_1 = M_1 ∨ marks, and the closure's
+// max-pool of S_0 (blurred r_0 = 3 full-res pixels past E) reaches past it.
+namespace {
+// The 3×3 ranges of `c` over shaded hit pixels (refinementMarks' v, SPEC §12.2 step 1), each count.
+std::map<float, int> rangeCounts(const LevelResult& level) {
+  std::map<float, int> counts;
+  const ImageF& c = level.sub;
+  const auto shaded = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < c.width && y < c.height && level.masks.stencil.at(x, y) && level.gbuffer.hit.at(x, y);
+  };
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      if (!shaded(x, y)) continue;
+      float range = 0.0f;
+      for (int ch = 0; ch < c.channels; ++ch) {
+        float lo = c.at(x, y, ch), hi = lo;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (shaded(x + dx, y + dy)) {
+              lo = std::min(lo, c.at(x + dx, y + dy, ch));
+              hi = std::max(hi, c.at(x + dx, y + dy, ch));
+            }
+        range = std::max(range, hi - lo);
+      }
+      if (range > 0.0f) ++counts[range];
+    }
+  return counts;
+}
+}  // namespace
+
+TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  struct Case {
+    std::string fault;
+    Effect effect;
+    std::string scene;
+  };
+  for (const Case& fc : {Case{"marks-2x2", Effect::Ssao, "demo"}, Case{"marks-inclusive", Effect::Ssm, "shadows"},
+                         Case{"refine-marks-dropped", Effect::Ssao, "demo"},
+                         Case{"refine-stencil-replaced", Effect::Ssao, "demo"}}) {
+    const gpu::ShaderFault* fault = nullptr;
+    for (const gpu::ShaderFault& f : gpu::shaderFaults())
+      if (f.name == fc.fault) fault = &f;
+    ASSERT_NE(fault, nullptr) << fc.fault;
+    Settings s = peerSettings(fc.effect, Mode::MrrEffect, 161, 97);
+    s.effectMask.cap = 4;
+    s.effectMask.posterior = posteriorTau(fc.effect);
+    if (fc.fault == "refine-stencil-replaced") {
+      s.levels[1].sigma2 = 0.0f;
+      s.effectMask.firstLevel = 2;
+    }
+    const CostModel model = CostModel::defaults("cpu");
+    const auto r = test::renderScene("builtin:" + fc.scene, s);
+    Constants k = makeConstants(s, r.framedSize);
+    if (fc.fault == "marks-inclusive") {
+      const gpu::GpuRenderer clean(*r.scene);
+      const FrameResult probe = clean.render(r.camera, k, {true, {}, &model});
+      const std::map<float, int> counts = rangeCounts(probe.levels[static_cast<size_t>(k.coarsestEnabled)]);
+      ASSERT_FALSE(counts.empty());
+      const auto commonest = std::max_element(counts.begin(), counts.end(),
+                                              [](const auto& a, const auto& b) { return a.second < b.second; });
+      k.effectMask.posterior = commonest->first;
+    }
     const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
     {
       const gpu::GpuRenderer clean(*r.scene);

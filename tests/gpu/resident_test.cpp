@@ -40,11 +40,13 @@ struct Case {
   Mode mode;
   int width, height;
   int disabledLevel;  // -1: none
+  float posterior = 0.0f;  // mrr-effect's τ_v (SPEC §12.2; 0: off)
 };
 
 void PrintTo(const Case& c, std::ostream* os) {
   *os << c.scene << " " << toString(c.effect) << " " << toString(c.mode) << " " << c.width << "x" << c.height;
   if (c.disabledLevel >= 0) *os << " without level " << c.disabledLevel;
+  if (c.posterior > 0.0f) *os << " refined a posteriori, tau " << c.posterior;
 }
 
 std::string caseName(const ::testing::TestParamInfo<Case>& info) {
@@ -52,6 +54,7 @@ std::string caseName(const ::testing::TestParamInfo<Case>& info) {
   std::string name = c.scene + "_" + toString(c.effect) + "_" + toString(c.mode) + "_" + std::to_string(c.width) +
                      "x" + std::to_string(c.height);
   if (c.disabledLevel >= 0) name += "_noL" + std::to_string(c.disabledLevel);
+  if (c.posterior > 0.0f) name += "_posterior";
   for (char& ch : name)
     if (ch == '-') ch = '_';
   return name;
@@ -68,6 +71,7 @@ TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
   Settings s = smallFrame(k.effect, k.width, k.height, false);
   s.mode = k.mode;
   if (k.disabledLevel >= 0) s.levels[static_cast<size_t>(k.disabledLevel)].enabled = false;
+  s.effectMask.posterior = k.posterior;
   const Constants c = makeConstants(s, rs.framed.size);
   const FrameResult kept = port.render(rs.camera, c, {true, {}, nullptr});
   const FrameResult resident = port.render(rs.camera, c, {false, {}, nullptr});
@@ -84,7 +88,7 @@ TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
   EXPECT_TRUE(resident.blend.composite[0].data.empty());
   EXPECT_TRUE(resident.levels[0].raw.data.empty());
   // A frame where finer levels show at all, or the comparison above proves little.
-  if (k.mode == Mode::Mrr) {
+  if (k.mode == Mode::Mrr || k.posterior > 0.0f) {
     ASSERT_FALSE(resident.fallback.fellBack);
     int finer = 0, coarser = 0;
     for (uint8_t v : resident.blend.levelMap.data) {
@@ -105,6 +109,13 @@ std::vector<Case> cases() {
   out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, 1});   // a level disabled
   out.push_back({"demo", Effect::Ssao, Mode::Mrr, 161, 97, 3});   // the coarsest disabled
   out.push_back({"shadows", Effect::Ssm, Mode::Mrr, 97, 61, 2});
+  // SPEC §12: widened levels (their α reaches past the edge blocks' neighbourhood by up to the cap)
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) out.push_back({"demo", e, Mode::MrrEffect, 160, 90, -1});
+  out.push_back({"demo", Effect::Ssao, Mode::MrrEffect, 480, 270, -1});
+  // SPEC §12.2: refined levels are stencilled and blended whole, also far from any edge block
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
+    out.push_back({"demo", e, Mode::MrrEffect, 160, 90, -1, e == Effect::Ssgi ? 0.02f : 0.05f});
+  out.push_back({"demo", Effect::Ssao, Mode::MrrEffect, 480, 270, -1, 0.05f});
   return out;
 }
 

@@ -106,6 +106,7 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
     const LevelResult& lr = f.levels[static_cast<size_t>(l)];
     const size_t li = static_cast<size_t>(l);
     if (!lr.masks.mask.empty()) names.push_back(partName(Part::Mask, l));
+    if (!lr.marks.empty()) names.push_back(partName(Part::Marks, l));
     // SPEC §12.3's arms (mrr, mrr-effect): the mask from edges alone, the footprint, the marks, and why
     const bool arms = !f.edges.combined.empty() && (c.mode == Mode::Mrr || c.mode == Mode::MrrEffect) &&
                       c.levels[li].enabled && !lr.masks.stencil.empty();
@@ -366,6 +367,10 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
       }
       break;
     }
+    case Part::Marks:  // SPEC §12.2: the frame's own marks (the port's, on a port frame)
+      require(!lr.marks.empty(), "no layer " + name);
+      binary(lr.marks, "the a-posteriori marks this frame refined with (after the level limit)");
+      break;
     case Part::Stencil: binary(lr.masks.stencil, "the stencil S: shaded at this level"); break;
     case Part::Alpha:
       out.kind = LayerKind::Scalar;

@@ -130,6 +130,13 @@ CostModel CostModel::defaults(const std::string& path) {
     m.edgeBandFill = {0.9857, 2.788, 6.924};
     m.estimateSpread = 0.1863;
     m.edgesMasksFixedMs = 0.9804;
+    // μ_e, μ_v (issue 35): not from a calibration run but from one loaded bench (2026-11-27, the
+    // 2-core Xeon VM, llvmpipe at 640×360, 4 scenes × 2 cameras): the median of mrr-effect's masks
+    // less mrr's per padded pixel (236 ns), divided by that run's load (full's effect time against
+    // the quiet chart's, median 9.1×; docs/figures.md). The port draws a widened level's blur and
+    // closure over the whole level. No a-posteriori term on the port: μ_v 0.
+    m.nsPerEffectMaskPixel = 26.0;
+    m.nsPerRefinePixel = 0.0;
   } else {
     // cpu: one run (--repeats 5, the same hour and code as the port's).
     m.source =
@@ -156,6 +163,13 @@ CostModel CostModel::defaults(const std::string& path) {
     m.edgeBandFill = {0.9857, 2.788, 6.924};
     m.estimateSpread = 0.253;
     m.edgesMasksFixedMs = 0.07053;
+    // μ_e, μ_v (issue 35): from one loaded bench (2026-11-27, the 2-core Xeon VM, the arcade at
+    // 640×360 and 320×180, every effect): the medians of mrr-effect's masks less mrr's per padded
+    // pixel (13.4 ns) and of mrr-effect+c4+p0.3's less mrr-effect's per refined level pixel
+    // (25.9 ns), divided by that run's load (full's effect time against the quiet chart's, median
+    // 9.1×; docs/figures.md). `bench --calibrate` on a quiet machine replaces both.
+    m.nsPerEffectMaskPixel = 1.5;
+    m.nsPerRefinePixel = 2.9;
   }
   return m;
 }

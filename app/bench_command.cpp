@@ -46,7 +46,8 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--effects", o.effects, "effects: ssao ssm ssgi")->capture_default_str();
   b.add_option("--samples", o.samples,
                "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
-  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect (+cN, +fN, +xF, +noblur, +pT, +lN: its variants; +e: the ablation's effect-only arm, the oracle's alone)")->capture_default_str();
+  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect, and mrr-effect's variants +cN, +fN, +xF, +noblur, "
+               "+pT, +lN (the a-posteriori term), e.g. mrr-effect+c4+p0.3, and +e (the ablation's effect-only arm, the oracle's alone)")->capture_default_str();
   b.add_option("--cameras", o.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   b.add_option("--repeats", o.repeats, "timed repeats per configuration")->capture_default_str();
   b.add_option("--threads", o.threads, "the oracle's threads (0 = all cores)");
@@ -80,7 +81,8 @@ void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
                "{path} replaced)");
   b.add_option("--cold", o.coldRuns,
                "also render each main-sweep frame as a user does, in this many fresh `mrr render` processes per method "
-               "(full and mrr, alternating), and report their speedup beside the warm one")
+               "(full, and tiles, mrr and mrr-effect where --methods has them, alternating), and report their speedup "
+               "and process time (start to exit) beside the warm figures")
       ->check(CLI::Range(0, 100));
   b.add_option("--rule-sweep", c.ruleSweepOut,
                "check the never-slower rule on frames nobody tuned it to (shared, built-in and stress scenes; "

@@ -87,6 +87,14 @@ struct CostModel {
   // draws its blur passes only near edges, so its masks cost what the edges' surroundings cover.
   double nsPerMaskReachPixel = 0.0;
   double edgesMasksFixedMs = 0.0;  // κ: the edges' and masks' passes per frame, whatever its size
+  // μ_e: mrr-effect's masks beyond mrr's (SPEC §12: the footprint, its pyramid and the widening
+  // of each level), per padded full-res pixel. Paid with the masks, before the stencils are known:
+  // the early decision's and the floor's.
+  double nsPerEffectMaskPixel = 0.0;
+  // μ_v: the a-posteriori term (SPEC §12.2, mrr-effect with τ_v > 0: the oracle's), per level pixel
+  // of each level it refines (the range test, the marks, the blur again and the stencil). Paid
+  // after the decision, whatever the stencils: the method's rest and its floor.
+  double nsPerRefinePixel = 0.0;
   // φ_ℓ, ℓ < 3: the most of the edge sample's reach the stencil fills, |S_ℓ| / |R_ℓ| where edges
   // crowd (their bands overlap and fill the blocks between them).
   std::array<double, kLevelCount - 1> stencilFill{};
@@ -166,9 +174,9 @@ double footprintTexels(const LevelConstants& level, const FrameCounts& counts);
 double predictFullMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The method's rest once its stencils are known: Σ_ℓ shaded ((|S_ℓ ∩ searched| (a + b N + ν f_ℓ) +
 // |S_ℓ ∩ pcf| e N) s + |S_ℓ \ searched| c + P_ℓ d) + Σ_{ℓ≥1 enabled} P_ℓ g + W·H (β₀ + β)
-// + |S_j| s_j² β_f + W·H ρ + k.
+// + |S_j| s_j² β_f + W·H ρ + Σ_{ℓ refined} P_ℓ μ_v (mrr-effect's a-posteriori term) + k.
 double predictMrrMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
-// The least the method can still pay before its edges: P_0 (ε + μ) + H ε_h + κ + the coarse G-buffers
+// The least the method can still pay before its edges: P_0 (ε + μ (+ μ_e)) + H ε_h + κ + Σ_{ℓ refined} P_ℓ μ_v + the coarse G-buffers
 // and the blend as above (B_j for |S_j|) + W·H ρ + d over every shaded level + its silhouettes B_ℓ
 // shaded at every level but the coarsest + every pixel of the coarsest enabled level, paying in
 // proportion to H_a and H_p, + k.
@@ -181,7 +189,13 @@ double estimateStencilPixels(double fill, double bandFill, const LevelConstants&
 // coarsest k, |S_ℓ| = estimateStencilPixels, on geometry in the share R_ℓ's blocks are, paying
 // (H_a, H_p) in the frame's shares of H; all of level k, in the frame's shares.
 FrameCounts estimateStencils(const CostModel& model, const Constants& constants, const FrameCounts& counts);
-// The edges and the masks, from the edge sample's reach A = Σ R_ℓ: P_0 (ε + μ) + H ε_h + A μ_A + κ.
+// SPEC §11: P_0 μ_e for mode mrr-effect (its masks' footprint and widening), else 0; in ns.
+double effectMaskNs(const CostModel& model, const Constants& constants);
+// SPEC §11: Σ_{ℓ refined} P_ℓ μ_v for mrr-effect's a-posteriori term (τ_v > 0: every enabled level
+// ℓ ≥ ℓ_v but the coarsest), else 0; in ns.
+double refineNs(const CostModel& model, const Constants& constants);
+// The edges and the masks, from the edge sample's reach A = Σ R_ℓ: P_0 (ε + μ) + H ε_h + A μ_A
+// (+ P_0 μ_e for mrr-effect) + κ.
 double predictEdgesMasksMs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 // The method's whole frame after the early decision, estimated from the edge sample: the edges
 // and the masks and R̂, predictMrrMs on estimateStencils' counts.

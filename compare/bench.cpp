@@ -157,9 +157,9 @@ class Sweep {
         for (const auto& [k, v] : stageMs(f)) stageRuns[m][k].push_back(v);
         if (i == o_.repeats) last[m] = std::move(f);
       }
-    const std::map<std::string, double> cold = group == "main" && o_.coldRuns > 0
-                                                   ? coldEffectMs(path, sc, camera, effect, w, h, samples)
-                                                   : std::map<std::string, double>{};
+    const std::map<std::string, ColdFrame> cold = group == "main" && o_.coldRuns > 0
+                                                      ? coldFrames(path, sc, camera, effect, w, h, samples, all)
+                                                      : std::map<std::string, ColdFrame>{};
     const FrameResult& full = last.at("full");
     std::map<std::string, double> fullMedian;
     for (const auto& [k, v] : stageRuns["full"]) fullMedian[k] = median(v);
@@ -185,8 +185,9 @@ class Sweep {
       r.measuredSpeedup = fullEffect / std::max(r.effectMs, 1e-9);
       r.fullEffectMs = fullEffect;
       if (cold.count(m) && cold.count("full")) {
-        r.coldEffectMs = cold.at(m);
-        r.coldSpeedup = cold.at("full") / std::max(cold.at(m), 1e-9);
+        r.coldEffectMs = cold.at(m).effectMs;
+        r.coldSpeedup = cold.at("full").effectMs / std::max(cold.at(m).effectMs, 1e-9);
+        r.coldProcessMs = cold.at(m).processMs;
       }
       r.fellBack = f.fallback.fellBack;
       // full against its own warm-up frame: 0 exactly when repeats give the same bits
@@ -201,18 +202,27 @@ class Sweep {
   }
 
  private:
-  // Fresh `mrr render` processes of full and mrr, alternating, o_.coldRuns each: the median
-  // effect time (the report's total less its full-res G-buffer) by method.
-  std::map<std::string, double> coldEffectMs(const BenchPath& path, const OpenScene& sc, const Camera& camera,
-                                             Effect effect, int w, int h, int samples) const {
+  // A cold single frame's medians: its effect time (the report's total less its full-res
+  // G-buffer) and the process's wall time, start to exit.
+  struct ColdFrame {
+    double effectMs = 0.0, processMs = 0.0;
+  };
+  // Fresh `mrr render` processes of full and of each of `methods` in kColdMethods, alternating,
+  // o_.coldRuns each: their medians by method.
+  std::map<std::string, ColdFrame> coldFrames(const BenchPath& path, const OpenScene& sc, const Camera& camera,
+                                              Effect effect, int w, int h, int samples,
+                                              const std::vector<std::string>& methods) const {
     const std::string self = selfExecutable();
     if (self.empty()) throw MrrError("bench --cold: cannot find this executable (/proc/self/exe)");
     const std::string dir = (std::filesystem::temp_directory_path() / ("mrr-cold-" + std::to_string(getpid()))).string();
     std::filesystem::create_directories(dir);
     auto vec = [](const glm::vec3& v) { return fixed(v.x, 6) + "," + fixed(v.y, 6) + "," + fixed(v.z, 6); };
-    std::map<std::string, std::vector<double>> runs;
+    std::vector<std::string> cold = {"full"};
+    for (const std::string& m : methods)
+      if (std::find(kColdMethods.begin(), kColdMethods.end(), m) != kColdMethods.end()) cold.push_back(m);
+    std::map<std::string, std::vector<double>> effectRuns, processRuns;
     for (int i = 0; i < o_.coldRuns; ++i)
-      for (const std::string m : {"full", "mrr"}) {
+      for (const std::string& m : cold) {
         const std::string report = dir + "/report.json";
         std::vector<std::string> args = {self, "render", "--scene", sc.name, "--path", path.name, "--size", sizeName(w, h),
                                          "--effect", toString(effect), "--samples", std::to_string(samples), "--mode", m,
@@ -221,16 +231,18 @@ class Sweep {
                                          "--report", report, "-q"};
         if (path.name == "cpu" && o_.threads > 0) args.insert(args.end(), {"--threads", std::to_string(o_.threads)});
         std::string why;
+        const auto start = std::chrono::steady_clock::now();
         const int rc = runProcess(args, dir + "/log.txt", why);
+        processRuns[m].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         if (rc != 0) throw MrrError("bench --cold: mrr render exited " + std::to_string(rc) + (why.empty() ? "" : ": " + why));
         std::ifstream in(report);
         const nlohmann::json j = nlohmann::json::parse(in);
         const nlohmann::json& t = j.at("timings_ms");
-        runs[m].push_back(t.at(timedName(Timed::Total)).get<double>() - t.value(timedName(Timed::GBuffer, 0), 0.0));
+        effectRuns[m].push_back(t.at(timedName(Timed::Total)).get<double>() - t.value(timedName(Timed::GBuffer, 0), 0.0));
       }
     std::filesystem::remove_all(dir);
-    std::map<std::string, double> out;
-    for (const auto& [m, v] : runs) out[m] = median(v);
+    std::map<std::string, ColdFrame> out;
+    for (const auto& [m, v] : effectRuns) out[m] = {median(v), median(processRuns.at(m))};
     return out;
   }
 

@@ -26,9 +26,12 @@ struct BenchRecord {
   double measuredSpeedup = 1.0;  // full's effect time / this method's, same run
   double fullEffectMs = 0.0;     // full's effect time in the same run
   // Cold single frames (BenchOptions::coldRuns; 0: not measured): the median effect time of
-  // fresh `mrr render` processes, and full's over this method's, the same way.
+  // fresh `mrr render` processes, and full's over this method's, the same way; and the median
+  // wall time of such a process, start to exit (scene load, BVH or GL set-up, the one frame,
+  // its report): what a user waits for one frame.
   double coldEffectMs = 0.0;
   double coldSpeedup = 0.0;
+  double coldProcessMs = 0.0;
   bool fellBack = false;         // mrr: the never-slower rule shaded this frame at full res
   ErrorFigures error;            // SPEC §10, the effect buffer against full
   double shadedRms = 0.0;        // RMS of the shaded image against full's

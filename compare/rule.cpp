@@ -281,6 +281,9 @@ struct CalibrationRuns {
   LeastSquares fullBlendFit, blendFit;   // full's blend: W·H, 1 → β₀; the method's: W·H, |S_j| s_j², 1 → β₀ + β, β_f
   LeastSquares gbufferFit;               // P_ℓ, 1 → g (the pass's set-up goes to k)
   LeastSquares edgesFit, masksFit;       // P_0, H, 1 → ε, ε_h, κ's share; P_0, A, 1 → μ, μ_A, the rest of κ
+  // mrr-effect's masks less mrr's on the same view and size: P_0 → μ_e; its a-posteriori variant's
+  // less the a-priori one's: Σ_{ℓ refined} P_ℓ → μ_v (SPEC §11; no intercept: both pay κ alike)
+  LeastSquares effectMaskFit, refineFit;
   std::vector<CalibrationFrame> mrrRuns;  // every size and both counts: s (per pixel) from k (per frame)
 };
 
@@ -344,10 +347,37 @@ void addMethodStages(CalibrationRuns& runs, Effect e, const Measured& m) {
   addStageTime(runs.masksFit, {padded, reach}, timedMs(m.ms, Timed::Masking));
 }
 
+// The τ_v the calibration's a-posteriori frames refine with (the bench's +p0.3).
+constexpr float kCalibrationPosterior = 0.3f;
+
+// mrr-effect (rule off) at one size beside the method's frame `mrr` there: its masks' time less
+// mrr's, per padded pixel (μ_e); with `posterior` (the oracle), its a-posteriori variant's less
+// the a-priori one's, per refined level pixel (μ_v). A difference the machine's noise made ≤ 0 adds
+// no row.
+void measureEffectMasks(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, float framed, Effect e,
+                        int repeats, const CostModel& counting, const Measured& mrr, bool posterior) {
+  const Constants& mc = mrr.last.constants;
+  Settings s = settingsFor("mrr-effect", e, mc.width, mc.height, mc.samples());
+  s.neverSlower = false;
+  const Measured effect = measure(sc.render, camera, makeConstants(s, framed), repeats, &counting);
+  const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
+  const double extra = msToNs(timedMs(effect.ms, Timed::Masking) - timedMs(mrr.ms, Timed::Masking));
+  if (extra > 0.0) runs.effectMaskFit.addRelative({padded}, extra, extra);
+  if (!posterior) return;
+  s.effectMask.posterior = kCalibrationPosterior;
+  const Constants pc = makeConstants(s, framed);
+  CostModel unit;  // refineNs with μ_v = 1: the refined levels' pixels
+  unit.nsPerRefinePixel = 1.0;
+  const Measured refined = measure(sc.render, camera, pc, repeats, &counting);
+  const double refine = msToNs(timedMs(refined.ms, Timed::Masking) - timedMs(effect.ms, Timed::Masking));
+  if (refine > 0.0) runs.refineFit.addRelative({refineNs(unit, pc)}, refine, refine);
+}
+
 // One scene, view and effect: the method (rule off) at the three sizes and the low count, full
-// at both counts (measureFull), into the fits' rows.
+// at both counts (measureFull), mrr-effect at the middle size (measureEffectMasks), into the
+// fits' rows.
 void measureView(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, Effect e, int repeats,
-                 const CostModel& counting) {
+                 const CostModel& counting, bool posterior) {
   const int w = kCalibrationWidth, h = kCalibrationHeight;
   const float framed = framedSize(*sc.scene, camera, static_cast<float>(w) / static_cast<float>(h)).size;
   auto method = [&](int width, int height, int samples) {
@@ -364,6 +394,7 @@ void measureView(CalibrationRuns& runs, const OpenScene& sc, const Camera& camer
   for (const Measured* m : {&mrr, &small, &large, &few})
     runs.mrrRuns.push_back({e, m->last.constants, m->last.counts, restMs(m->ms)});
   for (const Measured* m : {&small, &mrr, &large}) addMethodStages(runs, e, *m);
+  measureEffectMasks(runs, sc, camera, framed, e, repeats, counting, mrr, posterior);
 }
 
 // c and k₀ from the frames nearly all sky (at every size), then a, b (, e, ν) on the rest with
@@ -393,7 +424,8 @@ void fitEffect(CostModel& model, Effect e, const CalibrationRuns& runs) {
 }
 
 // g, β₀ (full's blend: its level 0 copied into the result), β and β_f (the method's beyond it),
-// ε, ε_h, μ, μ_A and κ (the edges and the masks per padded pixel and per frame).
+// ε, ε_h, μ, μ_A and κ (the edges and the masks per padded pixel and per frame), μ_e and μ_v
+// (mrr-effect's masks and its a-posteriori refinement).
 void fitSharedStages(CostModel& model, const CalibrationRuns& runs) {
   model.nsPerCoarseGbufferPixel = figure(runs.gbufferFit.solve(), 0);
   const std::vector<double> fullBlend = runs.fullBlendFit.solve(), blend = runs.blendFit.solve();
@@ -407,6 +439,8 @@ void fitSharedStages(CostModel& model, const CalibrationRuns& runs) {
   model.nsPerMaskPixel = figure(maskCost, 0);
   model.nsPerMaskReachPixel = figure(maskCost, 1);
   model.edgesMasksFixedMs = figure(edgeCost, 2) + figure(maskCost, 2);
+  model.nsPerEffectMaskPixel = figure(runs.effectMaskFit.solve(), 0);
+  model.nsPerRefinePixel = figure(runs.refineFit.solve(), 0);
 }
 
 // w: the early estimate of the method's rest (from the edge sample) against the one its stencils
@@ -442,7 +476,7 @@ CostModel calibrateCostModel(const BenchPath& path, int repeats, int threads) {
       if (view.name == "default") continue;  // three views are enough to separate H from W·H − H
       for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
         std::cerr << "[calibrate] " << path.name << " " << sceneName << " " << view.name << " " << toString(e) << "\n";
-        measureView(runs, sc, view.camera, e, repeats, counting);
+        measureView(runs, sc, view.camera, e, repeats, counting, path.name == "cpu");
       }
     }
   }

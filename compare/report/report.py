@@ -27,6 +27,26 @@ METHODS = ["full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-norule", "mrr-
 COLOR = {"full": "#7f7f7f", "uniform-1": "#1f77b4", "uniform-2": "#17becf", "tiles": "#ff7f0e",
          "mrr": "#d62728", "mrr-norule": "#9467bd", "mrr-effect": "#8c564b"}
 MARKER = {"uniform-1": "s", "uniform-2": "D", "tiles": "^", "mrr-norule": "X"}
+# mrr-effect's bench variants ("mrr-effect+c4+p0.3"): each its own colour, the same on every chart of
+# a report (the variants a bench ran, by name, take these in turn: assign_variant_colors), and a
+# pentagon.
+VARIANT_COLORS = ["#e377c2", "#bcbd22", "#17a589", "#c49c94", "#6b6ecf", "#e7ba52"]
+VARIANT_COLOR = {}
+
+
+def assign_variant_colors(methods):
+    VARIANT_COLOR.clear()
+    variants = sorted(m for m in set(methods) if m.startswith("mrr-effect+"))
+    for i, m in enumerate(variants):
+        VARIANT_COLOR[m] = VARIANT_COLORS[i % len(VARIANT_COLORS)]
+
+
+def color_of(method):
+    return COLOR.get(method) or VARIANT_COLOR.get(method, "#000000")
+
+
+def marker_of(method):
+    return MARKER.get(method, "p" if method.startswith("mrr-effect+") else "o")
 PAPER_COLOR = "#2ca02c"
 WIDTH, HEIGHT = 880, 560  # pixels of the PNG (the SVG has the same proportions)
 
@@ -83,7 +103,7 @@ class Chart:
         width = 0.8 / max(len(series), 1)
         for k, (method, values) in enumerate(series):
             xs = [categories.index(c) - 0.4 + (k + 0.5) * width for c in values]
-            self.ax.bar(xs, list(values.values()), width, label=method, color=COLOR.get(method, "#000000"))
+            self.ax.bar(xs, list(values.values()), width, label=method, color=color_of(method))
         self.ax.set_xticks(range(len(categories)), categories, rotation=20 if len(categories) > 4 else 0,
                            ha="right" if len(categories) > 4 else "center")
         self.ax.set_ylim(bottom=0)
@@ -114,8 +134,8 @@ class Chart:
 
 def plot_method(ax, method, xs, ys, label=None, line=True, ideal=False):
     ys = [math.nan if y is None else y for y in ys]  # JSON's null: a figure that was not finite
-    ax.plot(xs, ys, label=label or method, color=COLOR.get(method, "#000000"),
-            marker=MARKER.get(method, "o"), linestyle=("--" if ideal else "-") if line else "none",
+    ax.plot(xs, ys, label=label or method, color=color_of(method),
+            marker=marker_of(method), linestyle=("--" if ideal else "-") if line else "none",
             markerfacecolor="white" if ideal else None, markersize=6)
 
 
@@ -192,7 +212,7 @@ def sweep(figure, path, effect, runs, paper, device):
             plot_method(c.ax, m, xs, [r["ideal_speedup"] for r in mine], label="mrr ideal (pixels)", ideal=True)
             if all("ideal_speedup_hit" in r for r in mine):  # over pixels on geometry: what full pays for
                 c.ax.plot(xs, [r["ideal_speedup_hit"] for r in mine], label="mrr ideal (pixels on geometry)",
-                          color=COLOR.get(m, "#000000"), linestyle=":", marker=MARKER.get(m, "o"),
+                          color=color_of(m), linestyle=":", marker=marker_of(m),
                           markerfacecolor="white", markersize=5)
     theirs = sorted((p for p in paper if p["figure"] == figure and p["effect"] == effect),
                     key=lambda p: p["samples"] if by_samples else p["height"])
@@ -347,6 +367,7 @@ def fovea_charts(fovea, devices):
 def bench_charts(results, paper):
     """Every chart, in the order the page shows them."""
     runs, out = results["runs"], []
+    assign_variant_colors([r.get("method", "") for r in runs] + [s["method"] for s in results["stability"]])
     for path in distinct(r["path"] for r in runs):
         device = results["devices"].get(path, path)
         of_path = [r for r in runs if r["path"] == path]

@@ -1522,6 +1522,35 @@ TEST(CliOutputTest, BenchReportMakesItsFolder) {
   EXPECT_TRUE(fs::exists(fs::path(report) / "index.html")) << describe(r);
 }
 
+// --cold renders full, tiles, mrr and mrr-effect (those --methods names) in fresh processes: each
+// gets its cold effect time, speedup and process time (start to exit, which holds the frame); a
+// method outside kColdMethods gets none; the Markdown's single-frame table shows them.
+TEST(CliOutputTest, BenchColdRendersTilesMrrAndMrrEffectInFreshProcesses) {
+  const std::string dir = test::scratchDir();
+  const std::string json = (fs::path(dir) / "cold.json").string(), md = (fs::path(dir) / "cold.md").string();
+  const RunResult r = runMrr({"bench", "--paths", "cpu", "--scenes", "builtin:demo", "--sizes", "32x24", "--effects", "ssao",
+                              "--samples", "4", "--methods", "full", "uniform-1", "tiles", "mrr", "mrr-effect", "--cameras",
+                              "1", "--repeats", "1", "--no-sweeps", "--frames", "0", "--no-stress", "--cold", "1", "--json",
+                              json, "--markdown", md},
+                             dir);
+  ASSERT_EQ(r.status, 0) << describe(r);
+  std::set<std::string> cold;
+  const nlohmann::json figures = nlohmann::json::parse(readFile(json));
+  for (const auto& run : figures["runs"]) {
+    const std::string m = run["method"].get<std::string>();
+    if (run["cold_speedup"].get<double>() > 0.0) {
+      cold.insert(m);
+      EXPECT_GT(run["cold_process_ms"].get<double>(), run["cold_effect_ms"].get<double>()) << m << ": the process holds the frame";
+    } else {
+      EXPECT_EQ(run["cold_process_ms"].get<double>(), 0.0) << m;
+    }
+  }
+  EXPECT_EQ(cold, (std::set<std::string>{"full", "tiles", "mrr", "mrr-effect"}));
+  const std::string table = readFile(md);
+  EXPECT_NE(table.find("cold process ms"), std::string::npos) << table;
+  EXPECT_NE(table.find("| mrr-effect |"), std::string::npos) << table;
+}
+
 // ---- mrr diff (issue 36) ------------------------------------------------------------------
 
 // Two small PNGs that differ (a bright square moved by two pixels), and a third of another size.

@@ -793,6 +793,82 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
   EXPECT_FALSE(decideEarly(m, c, noEdges).fellBack);
 }
 
+// SPEC §11 prices mrr-effect (issue 35): its masks' footprint and widening (μ_e, per padded
+// pixel) before the stencils, so in the early decision and the floor but not in the rest; its
+// a-posteriori term (μ_v, per pixel of each refined level) after them, in the rest and the floor.
+// mrr's predictions do not move. On a 64×32 frame (levels 2048, 512, 128, 32 pixels).
+TEST(NeverSlower, PricesMrrEffectsMasksAndItsAPosterioriPasses) {
+  CostModel m;
+  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
+  m.nsPerCoarseGbufferPixel = 3.0;
+  m.nsPerBlendPixel = 5.0;
+  m.nsPerEdgePixel = 7.0;
+  m.nsPerMaskPixel = 11.0;
+  const Constants mrr = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
+  Settings es = ssaoSettings(64, 32, 16, Mode::MrrEffect);
+  const Constants effect = makeConstants(es, 1.0f);
+  es.effectMask.posterior = 0.3f;
+  const Constants posterior = makeConstants(es, 1.0f);
+  es.effectMask.posteriorFinest = 1;
+  const Constants posteriorFrom1 = makeConstants(es, 1.0f);
+  ASSERT_EQ(mrr.levels[0].width * mrr.levels[0].height, 2048);
+  ASSERT_EQ(mrr.coarsestEnabled, 3);
+  FrameCounts n;
+  n.hitPixels = n.searchedPixels = 1024;
+  n.silhouette = {40, 20, 8, 2};
+  n.shaded = {100, 50, 20, 32};
+  n.shadedHit = n.shadedSearched = {60, 25, 10, 16};
+  struct Predictions {
+    double edgesMasks, floor, rest;
+  };
+  auto predict = [&](const CostModel& model, const Constants& c) {
+    return Predictions{predictEdgesMasksMs(model, c, n), predictMrrFloorMs(model, c, n), predictMrrMs(model, c, n)};
+  };
+  // Unpriced (μ_e = μ_v = 0), every mode predicts what mrr does.
+  const Predictions base = predict(m, mrr);
+  for (const Constants* c : {&effect, &posterior, &posteriorFrom1}) {
+    const Predictions p = predict(m, *c);
+    EXPECT_EQ(p.edgesMasks, base.edgesMasks);
+    EXPECT_EQ(p.floor, base.floor);
+    EXPECT_EQ(p.rest, base.rest);
+  }
+  CostModel priced = m;
+  priced.nsPerEffectMaskPixel = 4.0;
+  priced.nsPerRefinePixel = 2.0;
+  // mrr: untouched.
+  EXPECT_EQ(predict(priced, mrr).edgesMasks, base.edgesMasks);
+  EXPECT_EQ(predict(priced, mrr).floor, base.floor);
+  EXPECT_EQ(predict(priced, mrr).rest, base.rest);
+  EXPECT_EQ(effectMaskNs(priced, mrr), 0.0);
+  EXPECT_EQ(refineNs(priced, mrr), 0.0);
+  // mrr-effect a priori: P_0 μ_e with the masks, nothing in the rest.
+  const double masksNs = 2048.0 * 4;
+  EXPECT_EQ(effectMaskNs(priced, effect), masksNs);
+  EXPECT_EQ(refineNs(priced, effect), 0.0);
+  EXPECT_NEAR(predict(priced, effect).edgesMasks - base.edgesMasks, masksNs * 1e-6, 1e-12);
+  EXPECT_NEAR(predict(priced, effect).floor - base.floor, masksNs * 1e-6, 1e-12);
+  EXPECT_EQ(predict(priced, effect).rest, base.rest);
+  // The a-posteriori term: levels 0 to 2 refined (the coarsest is shaded first, never refined),
+  // or 1 and 2 from +l1, at μ_v per level pixel, in the rest and the floor.
+  const double refineAll = (2048.0 + 512 + 128) * 2, refineFrom1 = (512.0 + 128) * 2;
+  EXPECT_EQ(refineNs(priced, posterior), refineAll);
+  EXPECT_EQ(refineNs(priced, posteriorFrom1), refineFrom1);
+  EXPECT_NEAR(predict(priced, posterior).rest - base.rest, refineAll * 1e-6, 1e-12);
+  EXPECT_NEAR(predict(priced, posterior).floor - base.floor, (masksNs + refineAll) * 1e-6, 1e-12);
+  EXPECT_NEAR(predict(priced, posteriorFrom1).rest - base.rest, refineFrom1 * 1e-6, 1e-12);
+  // So a frame mrr shades multires (full 1 ms dearer than the most mrr's early decision
+  // predicts) falls back for mrr-effect when its masks cost 2 ms more.
+  CostModel decide = m;
+  const double mrrEarly = std::max(predictMrrFloorMs(decide, mrr, n), predictMrrEstimateMs(decide, mrr, n));
+  decide.effect[static_cast<size_t>(Effect::Ssao)].fullFixedMs = mrrEarly + 1.0 - predictFullMs(decide, mrr, n);
+  decide.nsPerEffectMaskPixel = 2e6 / 2048.0;
+  EXPECT_FALSE(decideEarly(decide, mrr, n).fellBack);
+  CostModel unpriced = decide;
+  unpriced.nsPerEffectMaskPixel = 0.0;
+  EXPECT_FALSE(decideEarly(unpriced, effect, n).fellBack) << "unpriced, mrr-effect is taken for mrr";
+  EXPECT_TRUE(decideEarly(decide, effect, n).fellBack) << "priced, its masks' 2 ms decide the frame";
+}
+
 TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   const CostModel m = CostModel::defaults("gpu");
   const CostModel back = CostModel::fromJson(m.toJson());
@@ -800,7 +876,7 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
   for (const char* key : {"ns_per_blend_pixel", "ns_per_fine_blend_pixel", "ns_per_full_blend_pixel", "ns_per_coarse_gbuffer_pixel",
                           "ns_per_edge_pixel", "ns_per_edge_hit_pixel", "ns_per_mask_reach_pixel", "stencil_fill",
                           "edge_band_fill", "estimate_spread",
-                          "edges_masks_fixed_ms"}) {
+                          "edges_masks_fixed_ms", "ns_per_effect_mask_pixel", "ns_per_refine_pixel"}) {
     nlohmann::json broken = m.toJson();
     broken.erase(key);
     EXPECT_THROW(CostModel::fromJson(broken), MrrError) << key;

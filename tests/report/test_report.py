@@ -124,5 +124,21 @@ class ChartTest(unittest.TestCase):
         self.assertEqual(names, ["flicker-cpu"])
 
 
+    def test_mrr_effect_variants_each_get_their_own_colour_on_every_chart(self):
+        methods = ("full", "tiles", "mrr-effect", "mrr-effect+c4+p0.15", "mrr-effect+c4+p0.3")
+        runs = [{"path": "cpu", "scene": "builtin:demo", "group": "main", "method": m, "effect": e, "samples": 64,
+                 "width": 320, "height": 180, "rms": 0.001 * (i + 1), "flip": 0.01, "measured_speedup": 1.0 + i}
+                for e in ("ssao", "ssgi") for i, m in enumerate(methods)]
+        charts = report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])
+        colours = []
+        for chart in charts:
+            by_label = {line.get_label(): line.get_color() for line in chart.ax.get_lines()}
+            colours.append(by_label)
+            drawn = [by_label[m] for m in methods[1:]]
+            self.assertEqual(len(set(drawn)), len(drawn), by_label)  # no two methods share a colour
+            self.assertNotIn("#000000", drawn)  # black is the Pareto front's
+        self.assertTrue(all(c == colours[0] for c in colours))  # the same colour on every chart
+
+
 if __name__ == "__main__":
     unittest.main()

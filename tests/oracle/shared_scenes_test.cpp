@@ -58,6 +58,10 @@ TEST(PaperFigures, ArcadeSsao64At720pIsWithinThePapersRms) {
   ResolvedScene rs = resolveScene(req);
   const Renderer renderer(rs.scene);
   Settings s = ssaoSettings(1280, 720, 64);
+  // The AO as this figure was first reproduced: a depth bias of 5% of R. Issue 34's default, 2%,
+  // lets the arcade's fine creases darken, which mrr's coarse levels do not hold: RMS 0.00949 on
+  // this frame (docs/figures.md says so); the paper gives no bias to compare against.
+  s.ssao.biasFraction = SsaoSettings::kBiasFractionBefore;
   const FrameResult multi = renderer.render(rs.camera, makeConstants(s, rs.framed.size));
   s.mode = Mode::Full;
   const FrameResult full = renderer.render(rs.camera, makeConstants(s, rs.framed.size));

@@ -18,6 +18,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "compare/bench_format.h"
 #include "compare/process.h"
 #include "common/stages.h"
 #include "compare/bench_report.h"
@@ -110,13 +111,9 @@ double effectMs(const std::map<std::string, double>& ms) {
   return at(Timed::Total) - at(Timed::GBuffer, 0);
 }
 
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
+using bench_format::fixed;
+using bench_format::sizeName;
 
-std::string sizeName(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 int middleSamples(Effect e) { return e == Effect::Ssm ? 196 : e == Effect::Ssgi ? 288 : 64; }
 

@@ -59,8 +59,9 @@ struct BenchOptions {
   std::pair<int, int> stressSize = {1280, 720};
   // The foveation group (issue 37, SPEC §13; compare/bench_fovea.h): per eccentricity ring for a
   // gaze at the image centre, at each ppd, and the shaded share against screen speed along the
-  // camera paths (foveaFrames frames each; 0: none). foveaOnly skips every other group.
-  bool fovea = true, foveaOnly = false;
+  // camera paths (foveaFrames frames each; 0: none). Off unless asked (`mrr bench` asks unless
+  // --no-fovea); foveaOnly asks for it and skips every other group.
+  bool fovea = false, foveaOnly = false;
   std::vector<std::string> foveaScenes = {"arcade", "builtin:demo"};
   std::vector<std::string> foveaMethods = {"mrr", "mrr-effect", "tiles"};
   std::pair<int, int> foveaSize = {1280, 720};        // the rings

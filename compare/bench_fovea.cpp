@@ -12,6 +12,7 @@
 
 #include "common/error.h"
 #include "common/stages.h"
+#include "compare/bench_format.h"
 #include "compare/flip.h"
 #include "compare/report.h"
 #include "scenes/cameras.h"
@@ -35,17 +36,9 @@ int foveaRing(int dx, int dy, double ppd) {
 
 namespace {
 
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-std::string sci(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-std::string sizeName(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+using bench_format::fixed;
+using bench_format::sci;
+using bench_format::sizeName;
 
 // The frame's time less the full-res G-buffer, as the other groups measure it.
 double effectMsOf(const FrameResult& f) {
@@ -91,21 +84,9 @@ Measured measureVariants(const OpenScene& sc, const Camera& camera, float framed
 }
 
 // Per ring: the level pixels shaded whose sample pixel lies in it (as the report's rings count them).
-std::vector<long long> shadedByRing(const FrameResult& f, int gx, int gy, double ppd) {
-  const Constants& c = f.constants;
-  std::vector<long long> shaded(foveaRingEdges().size(), 0);
-  for (int l = 0; l < kLevelCount; ++l) {
-    if (!c.levels[static_cast<size_t>(l)].enabled) continue;
-    const ImageU8& s = f.levels[static_cast<size_t>(l)].masks.stencil;
-    const int scale = 1 << l;
-    for (int y = 0; y < s.height; ++y)
-      for (int x = 0; x < s.width; ++x) {
-        const int px = levelSamplePixel(x, scale), py = levelSamplePixel(y, scale);
-        if (!s.at(x, y) || px >= c.width || py >= c.height) continue;
-        ++shaded[static_cast<size_t>(foveaRing(px - gx, py - gy, ppd))];
-      }
-  }
-  return shaded;
+std::vector<int64_t> shadedByRing(const FrameResult& f, int gx, int gy, double ppd) {
+  return shadedLevelPixelsByRing(f, static_cast<int>(foveaRingEdges().size()),
+                                 [&](int px, int py) { return foveaRing(px - gx, py - gy, ppd); });
 }
 
 // One scene, one ppd: every variant's rings.
@@ -135,7 +116,7 @@ void ringsOf(const BenchOptions& o, const BenchPath& path, const OpenScene& sc, 
     for (int x = 0; x < w; ++x) ++pixels[static_cast<size_t>(foveaRing(x - gx, y - gy, ppd))];
   for (size_t v = 0; v < variants.size(); ++v) {
     const FrameResult& f = meas.frames[v];
-    const std::vector<long long> shaded = shadedByRing(f, gx, gy, ppd);
+    const std::vector<int64_t> shaded = shadedByRing(f, gx, gy, ppd);
     // RMS and FLIP per ring, in double, in pixel order.
     std::vector<double> sq(rings, 0.0), flipSum(rings, 0.0);
     std::vector<long long> values(rings, 0);
@@ -261,12 +242,12 @@ void motionOf(const BenchOptions& o, const BenchPath& path, const OpenScene& sc,
 }  // namespace
 
 size_t foveaSteps(const BenchOptions& o) {
-  if (!o.fovea) return 0;
+  if (!o.fovea && !o.foveaOnly) return 0;
   return o.foveaScenes.size() * (o.foveaPpds.size() + (o.foveaFrames > 0 ? cameraPathKinds().size() : 0));
 }
 
 void runFoveaGroup(const BenchOptions& o, const BenchPath& path, FoveaResults& out) {
-  if (!o.fovea) return;
+  if (!o.fovea && !o.foveaOnly) return;
   const Effect effect = parseEffect(o.foveaEffect);
   const auto start = std::chrono::steady_clock::now();
   size_t done = 0;

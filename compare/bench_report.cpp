@@ -12,23 +12,16 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/paths.h"
+#include "compare/bench_format.h"
 #include "compare/report_python.h"
 
 namespace mrr {
 
 namespace {
 
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-std::string sci(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-std::string sizeName(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+using bench_format::fixed;
+using bench_format::sci;
+using bench_format::sizeName;
 
 double median(std::vector<double> v) {
   if (v.empty()) return std::nan("");

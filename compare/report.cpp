@@ -8,6 +8,23 @@
 
 namespace mrr {
 
+std::vector<int64_t> shadedLevelPixelsByRing(const FrameResult& f, int rings, const std::function<int(int, int)>& ringOf) {
+  const Constants& c = f.constants;
+  std::vector<int64_t> shaded(static_cast<size_t>(rings), 0);
+  for (int l = 0; l < kLevelCount; ++l) {
+    if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+    const ImageU8& s = f.levels[static_cast<size_t>(l)].masks.stencil;
+    const int scale = 1 << l;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) {
+        const int px = levelSamplePixel(x, scale), py = levelSamplePixel(y, scale);
+        if (!s.at(x, y) || px >= c.width || py >= c.height) continue;
+        ++shaded[static_cast<size_t>(ringOf(px, py))];
+      }
+  }
+  return shaded;
+}
+
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
   // FLIP's viewing conditions are --ppd's (SPEC §13); its default is FLIP's own, kept in double.
   const float ppdSet = frame.constants.foveation.ppd;
@@ -107,19 +124,11 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
       fj["pixels_by_level_limit"] = byLimit;
     }
     if (!f.eccentricity.empty()) {  // per eccentricity ring: its pixels and the level pixels shaded there
-      std::vector<int64_t> pixels(kRingCount, 0), shaded(kRingCount, 0);
+      std::vector<int64_t> pixels(kRingCount, 0);
       for (int y = 0; y < c.height; ++y)
         for (int x = 0; x < c.width; ++x) ++pixels[static_cast<size_t>(eccentricityRing(f.eccentricity.at(x, y)))];
-      for (int l = 0; l < kLevelCount; ++l) {
-        const ImageU8& s = f.levels[static_cast<size_t>(l)].masks.stencil;
-        const int scale = 1 << l;
-        for (int y = 0; y < s.height; ++y)
-          for (int x = 0; x < s.width; ++x) {
-            const int px = levelSamplePixel(x, scale), py = levelSamplePixel(y, scale);
-            if (!s.at(x, y) || px >= c.width || py >= c.height) continue;
-            ++shaded[static_cast<size_t>(eccentricityRing(f.eccentricity.at(px, py)))];
-          }
-      }
+      const std::vector<int64_t> shaded = shadedLevelPixelsByRing(
+          f, kRingCount, [&](int px, int py) { return eccentricityRing(f.eccentricity.at(px, py)); });
       nlohmann::json rings = nlohmann::json::array();
       for (int r = 0; r < kRingCount; ++r) {
         const size_t i = static_cast<size_t>(r);

@@ -4,6 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <vector>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +47,10 @@ inline constexpr double kRingDegrees = 5.0;
 inline constexpr int kRingCount = 6;
 inline int eccentricityRing(float degrees) { return std::min(kRingCount - 1, static_cast<int>(degrees / kRingDegrees)); }
 FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference);
+// SPEC §13's rings as the report and the bench count them: per ring, the level pixels shaded
+// (every enabled level's stencil) whose sample pixel (levelSamplePixel) lies inside W×H, each in
+// the ring `ringOf(px, py)` in [0, rings) gives its sample pixel.
+std::vector<int64_t> shadedLevelPixelsByRing(const FrameResult& f, int rings, const std::function<int(int, int)>& ringOf);
 // {"mean", "median", "q1", "q3", "max"}: how every report writes FLIP's figures.
 
 nlohmann::json makeReport(const FrameResult& frame, const RunInfo& info, const std::optional<FrameErrors>& errors);

@@ -470,7 +470,7 @@ mapfile -t bench_scenes < <(present "${want_bench[@]}")
 [ ${#compare_scenes[@]} -gt 0 ] || { log "none of ${want_compare[*]} is here: compare runs builtin:demo"; compare_scenes=(builtin:demo); }
 
 bench_common=(bench --paths gpu "${gl_args[@]}" --gpu-timing "$timing" --methods "${methods[@]}" --effects "${effects[@]}"
-              --repeats "$repeats" --frames 0 --no-stress)
+              --repeats "$repeats" --frames 0 --no-stress --no-fovea)
 report_for() { rep=(); if [ -n "$report_python" ]; then rep=(--report "$html/$1"); fi; }  # sets rep
 since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }'; }
 

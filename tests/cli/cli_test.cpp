@@ -1516,7 +1516,7 @@ TEST(CliOutputTest, BenchReportMakesItsFolder) {
   const std::string report = (fs::path(dir) / "new" / "nested").string();
   const RunResult r = runMrr({"bench", "--scenes", "builtin:plane", "--sizes", "16x16", "--effects", "ssao",
                               "--samples", "1", "--methods", "full", "mrr", "--cameras", "1", "--repeats", "1",
-                              "--no-sweeps", "--frames", "0", "--no-stress", "--report", report},
+                              "--no-sweeps", "--frames", "0", "--no-stress", "--no-fovea", "--report", report},
                              dir);
   EXPECT_EQ(r.status, 0) << describe(r);
   EXPECT_TRUE(fs::exists(fs::path(report) / "index.html")) << describe(r);
@@ -1530,7 +1530,7 @@ TEST(CliOutputTest, BenchColdRendersTilesMrrAndMrrEffectInFreshProcesses) {
   const std::string json = (fs::path(dir) / "cold.json").string(), md = (fs::path(dir) / "cold.md").string();
   const RunResult r = runMrr({"bench", "--paths", "cpu", "--scenes", "builtin:demo", "--sizes", "32x24", "--effects", "ssao",
                               "--samples", "4", "--methods", "full", "uniform-1", "tiles", "mrr", "mrr-effect", "--cameras",
-                              "1", "--repeats", "1", "--no-sweeps", "--frames", "0", "--no-stress", "--cold", "1", "--json",
+                              "1", "--repeats", "1", "--no-sweeps", "--frames", "0", "--no-stress", "--no-fovea", "--cold", "1", "--json",
                               json, "--markdown", md},
                              dir);
   ASSERT_EQ(r.status, 0) << describe(r);

@@ -40,7 +40,13 @@ elif [ "${MRR_REQUIRE_GL:-0}" = 1 ]; then
     --out "$scratch/probe.exr"
   exit 1
 fi
-scenes=$("$mrr" render --help | grep -o 'builtin:[a-z][a-z]*' | sort -u)
+# Every built-in, as the unknown-scene error lists them ("expected one of demo, plane, ...").
+scenes=$("$mrr" render --scene builtin:none --out "$scratch/none.exr" 2>&1 |
+  sed -n 's/.*expected one of \([a-z, ]*\)).*/\1/p' | tr -d ',' | tr ' ' '\n' | sed 's/^/builtin:/' | grep -v '^builtin:$' || true)
+if [ "$(echo "$scenes" | wc -w)" -lt 10 ]; then
+  echo "test-sanitizers: could not list the built-in scenes (got: $scenes)" >&2
+  exit 1
+fi
 for path in "${paths[@]}"; do
   for scene in $scenes; do
     for effect in ssao ssm ssgi; do

@@ -615,6 +615,26 @@ class Explorer {
     return state_;
   }
 
+  // The render thread's progress while it works: busy from construction to destruction (the
+  // progress endpoint's elapsed time counts from `start`); a frame counts in renders_.
+  struct Busy {
+    Explorer& self;
+    bool countsAsRender;
+    Busy(Explorer& s, std::chrono::steady_clock::time_point start, bool counts) : self(s), countsAsRender(counts) {
+      std::lock_guard lock(self.progressMutex_);
+      self.busy_ = true;
+      self.started_ = start;
+    }
+    Busy(const Busy&) = delete;
+    Busy& operator=(const Busy&) = delete;
+    ~Busy() {
+      std::lock_guard lock(self.progressMutex_);
+      self.busy_ = false;
+      self.stage_.clear();
+      if (countsAsRender) ++self.renders_;
+    }
+  };
+
   // Cancellation (issue 39): `job` is checked before each render and at every stage boundary
   // (the progress hook the driver calls as each stage starts), where Cancelled unwinds the render.
   // The cache only ever takes whole frames, after they are made: a cancelled render leaves the
@@ -622,20 +642,7 @@ class Explorer {
   RenderedPtr renderOnWorker(const FrameRequest& r, const std::string& path, const Job& job) {
     if (RenderedPtr hit = cached("frame " + path + r.key)) return hit;  // rendered while this one queued
     const auto start = std::chrono::steady_clock::now();
-    {
-      std::lock_guard lock(progressMutex_);
-      busy_ = true;
-      started_ = start;
-    }
-    struct NotBusy {
-      Explorer* self;
-      ~NotBusy() {
-        std::lock_guard lock(self->progressMutex_);
-        self->busy_ = false;
-        self->stage_.clear();
-        ++self->renders_;
-      }
-    } notBusy{this};
+    const Busy busy(*this, start, /*countsAsRender=*/true);
     SceneState& state = sceneFor(r);
     std::unique_ptr<FrameRenderer>& renderer = state.renderers[path];
     if (!renderer) {
@@ -730,19 +737,7 @@ class Explorer {
   Noise noiseOnWorker(const FrameRequest& r, const std::string& key, const Job& job) {
     if (auto hit = cachedNoise(key)) return {hit, 0.0, true};  // made while this one queued
     const auto start = std::chrono::steady_clock::now();
-    {
-      std::lock_guard lock(progressMutex_);
-      busy_ = true;
-      started_ = start;
-    }
-    struct NotBusy {
-      Explorer* self;
-      ~NotBusy() {
-        std::lock_guard lock(self->progressMutex_);
-        self->busy_ = false;
-        self->stage_.clear();
-      }
-    } notBusy{this};
+    const Busy busy(*this, start, /*countsAsRender=*/false);
     SceneState& state = sceneFor(r);
     FrameRenderer& oracle = *state.renderers.at("cpu");
     const Camera camera = requestedCamera(r.scene, *state.scene);

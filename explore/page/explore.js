@@ -446,6 +446,17 @@ function click(ev) {
 // ---------------------------------------------------------------------------------------------
 // The probe of one pixel, and its footprint on the level's layer.
 
+// A table row of text cells (td, or th for a header).
+function tableRow(cells, tag = 'td') {
+  const tr = document.createElement('tr');
+  for (const c of cells) {
+    const td = document.createElement(tag);
+    td.textContent = c;
+    tr.appendChild(td);
+  }
+  return tr;
+}
+
 function flatten(obj, prefix, rows) {
   if (obj === null || typeof obj !== 'object' || (Array.isArray(obj) && obj.every((x) => typeof x !== 'object'))) {
     rows.push([prefix, Array.isArray(obj) ? '(' + obj.map((x) => fmt(x, 7)).join(', ') + ')' : fmt(obj, 7)]);
@@ -466,29 +477,20 @@ async function probe() {
     const head = $('#probe thead'), body = $('#probe tbody');
     head.replaceChildren();
     body.replaceChildren();
-    const row = (cells, tag = 'td') => {
-      const tr = document.createElement('tr');
-      for (const c of cells) {
-        const td = document.createElement(tag);
-        td.textContent = c;
-        tr.appendChild(td);
-      }
-      return tr;
-    };
     if (path === 'both') {
       state.probe = j.oracle;
-      head.appendChild(row(['value', 'oracle', 'port', ''], 'th'));
+      head.appendChild(tableRow(['value', 'oracle', 'port', ''], 'th'));
       let first = true;
       let section = null;
       for (const r of j.rows) {
         if (r.section && r.section !== section) {  // one heading per pipeline step, with its shader
           section = r.section;
-          const h = row([section], 'th');
+          const h = tableRow([section], 'th');
           h.firstChild.colSpan = 4;
           h.classList.add('probe-section');
           body.appendChild(h);
         }
-        const tr = row([r.key, r.oracle, r.port, r.differs ? (first ? '◀ first difference' : '≠') : '']);
+        const tr = tableRow([r.key, r.oracle, r.port, r.differs ? (first ? '◀ first difference' : '≠') : '']);
         if (r.differs) {
           tr.classList.add('differs');
           if (first) { tr.classList.add('first'); tr.id = 'probe-first-difference'; first = false; }
@@ -500,10 +502,10 @@ async function probe() {
       $('#probe-verdict').className = j.first_difference ? 'bad' : 'good';
     } else {
       state.probe = j;
-      head.appendChild(row(['stage.value', path === 'cpu' ? 'oracle' : 'port'], 'th'));
+      head.appendChild(tableRow(['stage.value', path === 'cpu' ? 'oracle' : 'port'], 'th'));
       const rows = [];
       flatten(j, '', rows);
-      for (const r of rows) body.appendChild(row(r));
+      for (const r of rows) body.appendChild(tableRow(r));
       $('#probe-source').textContent = path === 'cpu' ? 'the oracle (cpu_ref)' : 'the port (' + ($('#port-name').textContent || 'GL') + ')';
       $('#probe-verdict').textContent = '';
     }
@@ -558,21 +560,12 @@ async function noiseProbe() {
     `(--seed ${j.first_seed}…${last}, ${j.samples} samples a pixel${j.reference_cached ? ', cached' : `, rendered in ${fmt(j.reference_seconds)} s`}). ` +
     'mean: the seeds\' mean here ± its 95% t interval; sd: one draw\'s spread; accepted: where compare --noise-aware accepts ' +
     'one draw (Welch\'s t at the stage\'s Šidák level: 1% false alarms over its pixels); t: the value\'s distance from the mean in sd.';
-  const row = (cells, tag = 'td') => {
-    const tr = document.createElement('tr');
-    for (const c of cells) {
-      const td = document.createElement(tag);
-      td.textContent = c;
-      tr.appendChild(td);
-    }
-    return tr;
-  };
-  head.appendChild(row(['stage', 'pixel', j.path === 'gpu' ? 'port' : 'value', 'mean ± 95%', 'sd', 'accepted (Šidák level, px)', 't', 'where it falls'], 'th'));
+  head.appendChild(tableRow(['stage', 'pixel', j.path === 'gpu' ? 'port' : 'value', 'mean ± 95%', 'sd', 'accepted (Šidák level, px)', 't', 'where it falls'], 'th'));
   const outside = [];
   for (const s of j.stages) {
     const label = `${s.stage} (${s.shader})`;
     if (!s.shaded) {
-      const tr = row([label, s.pixel.join(','), '–', '', '', '', '', s.level >= 0 ? `not shaded here: level ${s.level}'s stencil leaves it to another level` : 'the background: no estimate']);
+      const tr = tableRow([label, s.pixel.join(','), '–', '', '', '', '', s.level >= 0 ? `not shaded here: level ${s.level}'s stencil leaves it to another level` : 'the background: no estimate']);
       tr.classList.add('unshaded');
       body.appendChild(tr);
       continue;
@@ -580,7 +573,7 @@ async function noiseProbe() {
     const c = s.channels[s.farthest_channel];
     const where = c.inside ? `inside (${c.half_widths.toFixed(2)} of the half-width from the mean)`
       : `OUTSIDE (${c.half_widths === null ? '∞' : fmt(c.half_widths)} half-widths ${c.value < c.mean ? 'below' : 'above'} the mean)`;
-    const tr = row([label, s.pixel.join(','), fmt(c.value, 4), `${fmt(c.mean, 4)} ± ${fmt((c.mean_interval_95[1] - c.mean_interval_95[0]) / 2, 2)}`,
+    const tr = tableRow([label, s.pixel.join(','), fmt(c.value, 4), `${fmt(c.mean, 4)} ± ${fmt((c.mean_interval_95[1] - c.mean_interval_95[0]) / 2, 2)}`,
       fmt(c.sd), `[${fmt(c.accepted[0], 4)}, ${fmt(c.accepted[1], 4)}] (${s.sidak_level.toExponential(1)}, ${s.stage_pixels})`,
       (c.t >= 0 ? '+' : '') + fmt(c.t), where + (s.channels.length > 1 ? ` [channel ${s.farthest_channel}, the farthest]` : '')]);
     tr.dataset.stage = s.stage;

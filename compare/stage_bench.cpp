@@ -23,6 +23,8 @@
 #include "common/paths.h"
 #include "common/stages.h"
 #include "cpu_ref/bilateral.h"
+#include "cpu_ref/effect_masks.h"
+#include "cpu_ref/peers.h"
 #include "cpu_ref/pipeline.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
@@ -56,6 +58,7 @@ Frame& frame() {
     if (std::sscanf(size.c_str(), "%dx%d", &s.width, &s.height) != 2)
       throw MrrError("MRR_BENCH_SIZE=" + size + ": expected WIDTHxHEIGHT");
     s.neverSlower = false;
+    s.mode = parseMode(envOr("MRR_BENCH_METHOD", "mrr"));
     SceneRequest request;
     request.scene = sceneName;
     request.aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
@@ -66,7 +69,7 @@ Frame& frame() {
     fr->f = fr->renderer->render(resolved.camera, makeConstants(s, resolved.framed.size));
     const LevelConstants& l0 = fr->f.constants.levels[0];
     fr->everyPixel = ImageU8(l0.width, l0.height, 1, 1);
-    fr->label = sceneName + " " + size + " " + toString(s.effect);
+    fr->label = sceneName + " " + size + " " + toString(s.effect) + " " + envOr("MRR_BENCH_METHOD", "mrr");
     std::fprintf(stderr, "mrr_stage_bench: %s, |S_l| = %lld %lld %lld %lld\n", fr->label.c_str(),
                  static_cast<long long>(fr->f.levels[0].shadedPixels), static_cast<long long>(fr->f.levels[1].shadedPixels),
                  static_cast<long long>(fr->f.levels[2].shadedPixels), static_cast<long long>(fr->f.levels[3].shadedPixels));
@@ -108,7 +111,27 @@ void registerStages() {
   }
   const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
   add(stageName(Part::Edges), full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(detectEdges(l0.gbuffer, c.edges, shadowEdges)); });
-  add("masks", full, [&f, &c] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c)); });
+  // The method's masks, as OracleFrame::methodMasks and tileMasks make them (no level limit).
+  const ShadowMap* map = c.needsShadowMap() ? &f.shadowMap : nullptr;
+  switch (c.mode) {
+    case Mode::MrrEffect: {  // SPEC §12: the footprint, then the paper's masks from the widened M_ℓ
+      auto footprint = std::make_shared<ImageF>(effectFootprint(l0.gbuffer, f.edges.combined, f.view, map, c));
+      add("masks", full, [&f, &l0, &c, map] {
+        const ImageF fp = effectFootprint(l0.gbuffer, f.edges.combined, f.view, map, c);
+        benchmark::DoNotOptimize(buildMasks(f.edges.combined, c, &fp));
+      });
+      add("masks/footprint", full, [&f, &l0, &c, map] {
+        benchmark::DoNotOptimize(effectFootprint(l0.gbuffer, f.edges.combined, f.view, map, c));
+      });
+      add("masks/widen", full, [&f, &c, footprint] { benchmark::DoNotOptimize(maskStages(f.edges.combined, c, footprint.get())); });
+      add("masks/widened_rest", full, [&f, &c, footprint] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c, footprint.get())); });
+      break;
+    }
+    case Mode::Tiles:
+      add("masks", full, [&f, &c] { benchmark::DoNotOptimize(tileMasks(tileRates(f.edges.combined), c)); });
+      break;
+    default: add("masks", full, [&f, &c] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c)); });
+  }
   // The never-slower rule's own work before its early decision (SPEC §11, its stage `rule`):
   // the edge sample, and the counts of H, B_ℓ and the sample's reach.
   add("rule/edge_sample", full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(edgeSample(l0.gbuffer, c.edges, shadowEdges)); });

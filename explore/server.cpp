@@ -224,11 +224,13 @@ std::string frameKey(const Settings& s, const SceneRequest& r) {
 }
 
 // The full-resolution frame a frame is measured against: mode full, and nothing that only
-// chooses which pixels the method shades.
+// chooses which pixels the method shades. The sampling seed is the frame's (SPEC §7.1): the
+// reference of a seeded frame draws the same samples, as render --reference's does.
 Settings referenceSettings(const Settings& s) {
   Settings r = defaultSettings(s.effect);
   r.width = s.width;
   r.height = s.height;
+  r.seed = s.seed;
   r.ssao = s.ssao;
   r.ssm = s.ssm;
   r.ssgi = s.ssgi;

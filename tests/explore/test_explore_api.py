@@ -739,5 +739,22 @@ class ExploreWithoutThePort(unittest.TestCase):
             server.stop()
 
 
+class ExploreSeeded(unittest.TestCase):
+    """`mrr explore --seed N` (SPEC 7.1): the reference draws the frame's seed."""
+
+    def test_full_with_a_seed_is_its_own_reference(self):
+        # before, the reference kept seed 0, so a seeded frame's error held the two seeds' noise
+        server = ExploreServer(MRR, "--seed", "3")
+        try:
+            status, report = server.json("api/frame?" + FRAME + "&method=full")
+            self.assertEqual(status, 200, report)
+            self.assertEqual(report["error_vs_full"]["rms"], 0.0)
+            self.assertEqual(report["error_vs_full"]["max_abs"], 0.0)
+            status, report = server.json("api/frame?" + FRAME)  # the method against it: some error
+            self.assertGreater(report["error_vs_full"]["rms"], 0.0)
+        finally:
+            server.stop()
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)

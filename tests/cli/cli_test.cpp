@@ -1021,7 +1021,7 @@ const std::vector<BadCase> kBadCases = {
                                                   "--effect-posterior-finest", "4"}),
      "--effect-posterior-finest: must be in [0, 3]"},
     {"BenchUnknownVariant", {"bench", "--paths", "cpu", "--methods", "full", "mrr-effect+q"},
-     "--methods mrr-effect+q: unknown variant +q (expected +cN, +fN, +xF, +pT, +lN, +e or +noblur)"},
+     "--methods mrr-effect+q: unknown variant +q (expected +cN, +fN, +xF, +pT, +lN, +e, +norule or +noblur)"},
     {"GpuTimingUnknown", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--path", "gpu", "--gpu-timing", "tsc"}),
      "--gpu-timing tsc"},
     {"BenchGpuTimingUnknown", {"bench", "--paths", "gpu", "--gpu-timing", "tsc"}, "--gpu-timing tsc"},

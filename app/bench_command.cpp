@@ -47,7 +47,7 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--samples", o.samples,
                "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
   b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect, and mrr-effect's variants +cN, +fN, +xF, +noblur, "
-               "+pT, +lN (the a-posteriori term), e.g. mrr-effect+c4+p0.3, and +e (the ablation's effect-only arm, the oracle's alone)")->capture_default_str();
+               "+pT, +lN (the a-posteriori term), e.g. mrr-effect+c4+p0.3, +e (the ablation's effect-only arm) and +norule (without the never-slower rule)")->capture_default_str();
   b.add_option("--cameras", o.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   b.add_option("--repeats", o.repeats, "timed repeats per configuration")->capture_default_str();
   b.add_option("--threads", o.threads, "the oracle's threads (0 = all cores)");
@@ -188,10 +188,6 @@ void resolveAndValidate(BenchCommand& c) {
             "--sizes " + std::to_string(w) + "x" + std::to_string(h) + ": each side must be in [1, " +
                 std::to_string(kMaxImageSize) + "]");
   for (const std::string& m : o.methods) settingsFor(m, Effect::Ssao, 64, 64, 16);  // validates the name
-  for (const std::string& m : o.methods)
-    if (settingsFor(m, Effect::Ssao, 64, 64, 16).effectMask.effectOnly)  // SPEC §12.3: the ablation's effect-only arm
-      for (const std::string& p : c.paths)
-        require(p != "gpu", "--methods " + m + ": the effect-only arm (+e) is the oracle's alone; use --paths cpu");
   for (const std::string& e : o.stabilityEffects) parseEffect(e);  // validates the name
   // Every sample count in its effect's range: the main sweep's for each chosen effect, and
   // each effect's samples sweep.

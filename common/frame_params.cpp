@@ -102,7 +102,7 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "mrr-effect: the finest level the a-posteriori term refines", kFile, kPage},
     {Param::EffectOnly, "effect_only", "", K::Flag, "",
      "mrr-effect: the ablation's effect-only arm: each level keeps only the pixels the footprint's widening adds, "
-     "none of the edges' own (docs/spec.md section 12.3; the oracle's alone)",
+     "none of the edges' own (docs/spec.md section 12.3)",
      kFile, kPage},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
      "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "

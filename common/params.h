@@ -101,7 +101,7 @@ struct EffectMaskSettings {
   float posterior = 0.0f;
   int posteriorFinest = 0;  // the finest level the a-posteriori term refines [0, kLevelCount − 1]
   // The ablation's "effect only" arm (SPEC §12.3, bench variant +e): each widened level keeps only
-  // the pixels the widening adds (M'_ℓ ∧ ¬M_ℓ), each level below firstLevel nothing; the oracle's alone.
+  // the pixels the widening adds (M'_ℓ ∧ ¬M_ℓ), each level below firstLevel nothing; both paths.
   bool effectOnly = false;
   static constexpr int kDefaultCap = 8;
 };

@@ -186,22 +186,27 @@ const std::vector<ShaderContract>& shaderContracts() {
        "cpu_ref/masks.cpp buildMasks: M_l max-pooled from E, a_l = G * M_l (separable, clamp to edge), S_l = [a_l > 0], "
        "then the coverage closure S_(l+1) |= max-pool(S_l)."},
       {"effect_masks.frag", "fragment", "effect_masks.*",
-       "STEP: 1 the footprint F (full res), 2 each level's reach and the dilation along x, 3 the dilation along y; "
-       "EDGE_CHANNEL: E's channel (step 1); EFFECT_SSM: the one-tap penumbra bound as the reach (step 1); CAP: the "
-       "widest reach, level pixels; MASK_CHANNEL: M_l's channel (step 2)",
+       "STEP: 1 the footprint F (full res), 2 each level's reach and the dilation along x, 3 the dilation along y, "
+       "4 the effect-only arm's M'_l AND NOT M_l; EDGE_CHANNEL: E's channel (step 1); EFFECT_SSM: the one-tap "
+       "penumbra bound as the reach (step 1); CAP: the widest reach, level pixels; MASK_CHANNEL: M_l's channel "
+       "(steps 2, 4)",
        {{"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: view position, hit", -1, "STEP == 1"},
         {"normalDepth", "sampler2D RGBA32F", "level 0's G-buffer: view normal, depth", -1, "STEP == 1"},
         {"edges", "sampler2D", "E in channel EDGE_CHANNEL", -1, "STEP == 1"},
-        {"source", "sampler2D R8 or R32F", "step 2: M_l; step 3: H, the dilation along x", -1, "STEP != 1"},
-        {"footprint", "sampler2D R32F", "F_l, the max of F over each level pixel's block", -1, "STEP == 2"}},
+        {"source", "sampler2D R8 or R32F", "step 2: M_l; step 3: H, the dilation along x; step 4: M'_l", -1,
+         "STEP != 1"},
+        {"footprint", "sampler2D R32F", "F_l, the max of F over each level pixel's block", -1, "STEP == 2"},
+        {"geometry", "sampler2D", "M_l, the unwidened mask, in channel MASK_CHANNEL (level 0: E)", -1, "STEP == 4"}},
        {{"reach", "float", "R, world units (SSAO, SSGI)", -1, "STEP == 1"},
         {"tanHalfAngle", "float", "tan of half the light's angular diameter (SSM)", -1, "EFFECT_SSM"},
         {"focal", "float", "View::focal, full-res pixels", -1, "STEP == 1"},
         {"scale", "float", "the footprint's multiplier k", -1, "STEP == 1"},
         {"levelScale", "float", "s_l = 2^l", -1, "STEP == 2"}},
-       {{"result", "vec4 -> R32F or R8", "F (step 1), H (step 2, -1: no reach), M'_l (step 3) in r", 0}},
+       {{"result", "vec4 -> R32F or R8", "F (step 1), H (step 2, -1: no reach), M'_l (step 3), M'_l AND NOT M_l "
+         "(step 4) in r", 0}},
        "cpu_ref/effect_masks.cpp: effectFootprint, levelReach, dilateByReach (docs/spec.md §12): M'_l, the union of "
-       "squares of side 2K + 1 around each q with M_l(q) = 1, K(q) = min(cap, floor(min(F_l(q) / s_l, cap + 1) + 1/2))."},
+       "squares of side 2K + 1 around each q with M_l(q) = 1, K(q) = min(cap, floor(min(F_l(q) / s_l, cap + 1) + 1/2)); "
+       "wideningOnly (§12.3, the ablation's effect-only arm): M'_l AND NOT M_l."},
       {"peers.frag", "fragment", "peers.tiles, peers.uniform, peers.broadcast, peers.levels",
        "TILE_MASKS: tiles' stage 3; COMPOSE: stage 5 of the peers (with JOINT_BILATERAL: uniform-k's joint bilateral "
        "upsampling, else tiles' broadcast); LEVEL_STAGES: c^_l, alpha_l, c'_l of the peers for --stages",

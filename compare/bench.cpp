@@ -43,8 +43,10 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
   s.neverSlower = method != "mrr-norule";
   // mrr-effect's ablation variants (SPEC §12): "mrr-effect" then any of "+cN" (the cap, level
   // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale), "+noblur" (σ_ℓ² = 0:
-  // the footprint alone widens), "+pT"/"+lN" (the a-posteriori τ and finest level) and "+e" (the
-  // ablation's effect-only arm, SPEC §12.3: the widening's pixels without the geometry's).
+  // the footprint alone widens), "+pT"/"+lN" (the a-posteriori τ and finest level), "+e" (the
+  // ablation's effect-only arm, SPEC §12.3: the widening's pixels without the geometry's) and
+  // "+norule" (without the never-slower rule, as mrr-norule: the arm's own figures where the rule
+  // would shade the frame at full res).
   const size_t plus = method.find('+');
   const std::string base = method.substr(0, plus);
   s.mode = parseMode(base == "mrr-norule" ? "mrr" : base);
@@ -57,6 +59,8 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
         for (LevelSettings& ls : s.levels) ls.sigma2 = 0.0f;
       } else if (v == "e") {
         s.effectMask.effectOnly = true;
+      } else if (v == "norule") {
+        s.neverSlower = false;
       } else if (v.size() > 1 && v[0] == 'c') {
         s.effectMask.cap = std::stoi(v.substr(1));
       } else if (v.size() > 1 && v[0] == 'f') {
@@ -71,7 +75,7 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
         throw MrrError("");
       }
     } catch (const std::exception&) {
-      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN, +e or +noblur)");
+      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN, +e, +norule or +noblur)");
     }
     at = next;
   }

@@ -232,8 +232,8 @@ std::string header(const BenchResults& res) {
     << "run. Effect time = frame time minus the full-res G-buffer (shared by every method); measured speedup = full's "
     << "effect time / the method's; ideal speedup = W·H / shaded pixels (SPEC §4, §9). Errors: SPEC §10, the effect "
     << "buffer against `full` with the same samples; the edge band is the pixels near a transition of the level map, "
-    << "so a method with one level has none (—). `mrr` runs with the never-slower rule (SPEC §11); `mrr-norule` "
-    << "without it.\n";
+    << "so a method with one level has none (—). `mrr` and `mrr-effect` run with the never-slower rule (SPEC §11); "
+    << "`mrr-norule` and mrr-effect's `+norule` variants without it.\n";
   return o.str();
 }
 

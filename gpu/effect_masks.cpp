@@ -61,6 +61,21 @@ Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, 
   return widened;
 }
 
+Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, int maskChannel, int width,
+                        int height) {
+  const unsigned program = scene.program("effect_masks.4." + std::to_string(maskChannel), "fullscreen.vert",
+                                         "effect_masks.frag",
+                                         "#define STEP 4\n#define MASK_CHANNEL " + std::to_string(maskChannel) + "\n");
+  // 1. the pixels the widening adds: M'_ℓ ∧ ¬M_ℓ
+  Target only = scene.target(width, height, 1, false, Texel::R8);
+  only->bind();
+  glUseProgram(program);
+  bindTextures(program, {{"source", widened}, {"geometry", mask}});
+  scene.drawFullscreen();
+  checkGl("effect_masks widening only");
+  return only;
+}
+
 Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
                            unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau) {
   int width = 0, height = 0;  // the coarser level's grid

@@ -21,6 +21,10 @@ Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigne
 Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, unsigned footprint, int width,
                          int height, int levelScale, int cap);
 
+// SPEC §12.3, wideningOnly (the ablation's effect-only arm, effect_masks.frag STEP 4): M'_ℓ ∧ ¬M_ℓ
+// (R8) from `widened` (drawDilateByReach's M'_ℓ) and M_ℓ (channel `maskChannel` of `mask`).
+Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, int maskChannel, int width, int height);
+
 // SPEC §12.2 step 1, refinementMarks (gpu/shaders/refinement_marks.frag): the a-posteriori marks
 // (R8, finerWidth × finerHeight) of a finer level from its next coarser enabled level's result
 // `coarser` (its first `channels` channels; SSAO: after the bilateral blur), stencil and

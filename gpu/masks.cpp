@@ -154,7 +154,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   // 1b. mrr-effect (SPEC §12, gpu/effect_masks.cpp): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's
   // M_ℓ but the coarsest, from ℓ_first on, widened by its reach into M'_ℓ. The pyramid above
   // stays E's own. A widened level's passes run over the whole level: its reach is not bounded
-  // by the edge blocks' neighbourhood.
+  // by the edge blocks' neighbourhood. SPEC §12.3, the ablation's effect-only arm: a widened
+  // level keeps M'_ℓ ∧ ¬M_ℓ, and a level below ℓ_first (not widened) holds nothing.
   std::array<bool, kLevelCount> widened{};
   if (footprint) {
     Target pooled;
@@ -168,10 +169,19 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
         pooled = pass.run(1, {Texel::R32f}, lc.width, lc.height, in);
         fl = pooled->texture(0);
       }
-      if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.firstLevel) continue;
+      if (!lc.enabled || l == c.coarsestEnabled) continue;
+      if (l < c.effectMask.firstLevel) {
+        // SPEC §12.3, the effect-only arm: a level the effect does not widen holds nothing
+        if (c.effectMask.effectOnly)
+          mask[static_cast<size_t>(l)] = constantTarget(scene, lc.width, lc.height, Texel::R8, 0.0f);
+        continue;
+      }
       const unsigned source = l == 0 ? edges : mask[static_cast<size_t>(l)]->texture(0);
-      mask[static_cast<size_t>(l)] = drawDilateByReach(scene, source, l == 0 ? edgeChannel : 0, fl, lc.width,
-                                                       lc.height, lc.scale, c.effectMask.cap);
+      const int channel = l == 0 ? edgeChannel : 0;
+      Target dilated = drawDilateByReach(scene, source, channel, fl, lc.width, lc.height, lc.scale, c.effectMask.cap);
+      if (c.effectMask.effectOnly)  // SPEC §12.3: M'_ℓ ∧ ¬M_ℓ
+        dilated = drawWideningOnly(scene, dilated->texture(0), source, channel, lc.width, lc.height);
+      mask[static_cast<size_t>(l)] = std::move(dilated);
       widened[static_cast<size_t>(l)] = true;
       out->widenedBy[static_cast<size_t>(l)] = c.effectMask.cap;
     }
@@ -201,8 +211,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     support[i] = widened[i] ? ImageU8(edgeBlocks.width, edgeBlocks.height, 1, 1) : l == 0 ? poolBlocks(near) : near;
     if (!widened[i]) out->supportRects[i] = rects;  // empty: the whole level
     Pass::Inputs horizontal;
-    horizontal.source = l == 0 && !widened[i] ? edges : mask[i]->texture(0);
-    horizontal.sourceChannel = l == 0 && !widened[i] ? edgeChannel : 0;
+    horizontal.source = mask[i] ? mask[i]->texture(0) : edges;  // M_0 = E unless mrr-effect replaced it
+    horizontal.sourceChannel = mask[i] ? 0 : edgeChannel;
     if (limit) {  // 5. SPEC §13: M'_ℓ = M_ℓ where ℓ ≥ ℓ_min, over the whole level; the blur reads it
       Pass::Inputs limited = horizontal;
       limited.factor = lc.scale;

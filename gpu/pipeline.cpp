@@ -153,7 +153,6 @@ class PortFrame final : public FrameBackend {
   Masks methodMasks(FrameResult& f) override {
     const Constants& c = f.constants;
     Target footprint;  // mrr-effect (SPEC §12): the effect's footprint at the edges
-    require(!c.effectMask.effectOnly, "mrr-effect's effect-only arm (SPEC §12.3): the gpu path does not implement it");
     if (c.mode == Mode::MrrEffect)
       footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
                                 c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,

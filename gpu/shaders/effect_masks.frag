@@ -8,6 +8,7 @@
 //     cap + 1) + ½⌋) where M_ℓ(q) = 1, else −1; H(x, y) = the largest K(q) of a q in row y with
 //     |x − q_x| ≤ K(q), else −1
 //   STEP 3 dilateByReach's pass along y (R8): M'(x, y) = [some y' has H(x, y') ≥ |y − y'|]
+//   STEP 4 wideningOnly, the ablation's effect-only arm (SPEC §12.3, R8): M'_ℓ ∧ ¬M_ℓ
 // Out of the level, nothing is read (no clamp, no wrap), as on the oracle.
 layout(location = 0) out vec4 result;
 
@@ -44,6 +45,18 @@ void main() {
     footprint = scale * (rho * focal / z);
   }
   result = vec4(footprint, 0.0, 0.0, 1.0);
+}
+
+#elif STEP == 4
+uniform sampler2D source;    // M'_ℓ, the widened mask
+uniform sampler2D geometry;  // M_ℓ in channel MASK_CHANNEL
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  // 1. the pixels the widening adds: M'_ℓ ∧ ¬M_ℓ
+  bool widened = texelFetch(source, p, 0).r > 0.5;
+  bool edge = texelFetch(geometry, p, 0)[MASK_CHANNEL] > 0.5;
+  result = vec4(widened && !edge ? 1.0 : 0.0, 0.0, 0.0, 1.0);
 }
 
 #else

@@ -704,6 +704,117 @@ INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectMaskParity,
                            return info.param.scene + "_" + toString(info.param.effect);
                          });
 
+// The ablation's effect-only arm (SPEC §12.3, --effect-only, bench variant +e) on both paths:
+// effect_masks.frag STEP 4 gives the oracle's M'_ℓ ∧ ¬M_ℓ exactly on the port's own inputs, a
+// level below ℓ_first holds nothing, and every later stage is within its rule. Two shapes, as
+// GpuEffectMaskParity: the default (from level 1, so level 0 is empty) and level 0 widened with
+// cap 3. On the port's own frames, level by level before the blur: effect only ∧ geometry only
+// = ∅ and effect only ∨ geometry only = both (mrr and mrr-effect). Not vacuous: some level keeps a
+// ring, and with level 0 empty the arm shades fewer pixels than both.
+class GpuEffectOnlyParity : public ::testing::TestWithParam<PeerCase> {
+ protected:
+  void SetUp() override {
+    MRR_REQUIRE_GL_OR_SKIP();
+    context_ = std::make_unique<gpu::GlContext>();
+  }
+  std::unique_ptr<gpu::GlContext> context_;
+};
+
+// The settings of an effect-only frame: SSM's penumbrae wide enough to reach past half a level
+// pixel at 97×61 (as GpuEffectMaskParity).
+Settings effectOnlySettings(Effect effect, bool fromLevel0) {
+  Settings s = peerSettings(effect, Mode::MrrEffect, 97, 61);
+  s.ssm.lightAngle = 0.4f;
+  s.effectMask.effectOnly = true;
+  if (fromLevel0) {
+    s.effectMask.firstLevel = 0;
+    s.effectMask.cap = 3;
+  }
+  return s;
+}
+
+TEST_P(GpuEffectOnlyParity, TheWideningAloneIsExactAndEveryStageMatches) {
+  const PeerCase& pc = GetParam();
+  const CostModel model = CostModel::defaults("cpu");
+  for (const bool fromLevel0 : {false, true}) {
+    const std::string shape = fromLevel0 ? " (level 0, cap 3)" : " (default)";
+    Settings s = effectOnlySettings(pc.effect, fromLevel0);
+    const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
+    const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+    EXPECT_TRUE(r.pass()) << shape << " first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+    for (int l = 0; l < kLevelCount; ++l) {
+      const StageRow* row = findRow(r, "mask.L" + std::to_string(l));
+      ASSERT_NE(row, nullptr) << "mask.L" << l;
+      ASSERT_TRUE(row->sameInput);
+      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << shape;
+    }
+    EXPECT_EQ(b.port.shadedPixelsTotal, b.cpu.shadedPixelsTotal) << shape;
+    // probe's "why" on each path's own frame: the same reason at every level pixel, and covered
+    // exactly where the port's own S = 1; no pixel is there for the geometry (the arm has none).
+    const CoverageArms oracleArms = coverageArms(b.cpu), portArms = coverageArms(b.port);
+    int64_t effect = 0;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const ImageU8& st = b.port.levels[static_cast<size_t>(l)].masks.stencil;
+      if (st.empty()) continue;
+      for (int y = 0; y < st.height; ++y)
+        for (int x = 0; x < st.width; ++x) {
+          const Coverage o = coverageReason(oracleArms, b.cpu, l, x, y), p = coverageReason(portArms, b.port, l, x, y);
+          ASSERT_EQ(coverageName(o), std::string(coverageName(p))) << "level " << l << " " << x << "," << y << shape;
+          ASSERT_EQ(st.at(x, y) != 0, p != Coverage::None && p != Coverage::Limit) << "level " << l << " " << x << "," << y;
+          ASSERT_NE(p, Coverage::Geometry) << "level " << l << " " << x << "," << y << shape;
+          effect += p == Coverage::Effect;
+        }
+    }
+    EXPECT_GT(effect, 0) << "no pixel covered for the effect" << shape;
+    // The arms on the port, from the same scene and camera: both (mrr-effect) and geometry only (mrr).
+    const gpu::GpuRenderer port(*b.oracle.scene);
+    s.effectMask.effectOnly = false;
+    const FrameResult both = port.render(b.oracle.camera, makeConstants(s, b.oracle.framedSize), {true, {}, &model, true});
+    s.mode = Mode::Mrr;
+    const FrameResult geometry =
+        port.render(b.oracle.camera, makeConstants(s, b.oracle.framedSize), {true, {}, &model, true});
+    const Constants& c = b.port.constants;
+    int64_t ring = 0;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const size_t li = static_cast<size_t>(l);
+      if (!c.levels[li].enabled) continue;
+      const ImageU8 &only = b.port.levels[li].masks.mask, &m = geometry.levels[li].masks.mask,
+                    &wide = both.levels[li].masks.mask;
+      ASSERT_EQ(only.data.size(), m.data.size()) << "level " << l;
+      ASSERT_EQ(only.data.size(), wide.data.size()) << "level " << l;
+      const bool coarsest = l == c.coarsestEnabled, below = l < c.effectMask.firstLevel && !coarsest;
+      for (size_t i = 0; i < only.data.size(); ++i) {
+        if (coarsest) {  // unchanged: a ≡ 1
+          ASSERT_EQ(only.data[i], m.data[i]) << "coarsest level " << l << " pixel " << i << shape;
+          continue;
+        }
+        if (below) {
+          ASSERT_EQ(only.data[i], 0) << "level " << l << " below the first widened, pixel " << i << shape;
+          continue;
+        }
+        ASSERT_FALSE(only.data[i] && m.data[i]) << "level " << l << " pixel " << i << ": effect only keeps an edge" << shape;
+        ASSERT_EQ(only.data[i] || m.data[i], wide.data[i] != 0)
+            << "level " << l << " pixel " << i << ": effect only ∨ geometry only ≠ both" << shape;
+        ring += only.data[i];
+      }
+    }
+    EXPECT_GT(ring, 0) << "no level kept a ring: the check is vacuous" << shape;
+    // Never more than both; fewer where level 0 is empty (from level 0, cap 3, the blur of SSAO's
+    // ring can cover the edges it surrounds: as many pixels as both on demo and shadows).
+    EXPECT_LE(b.port.shadedPixelsTotal, both.shadedPixelsTotal) << shape;
+    if (!fromLevel0) EXPECT_LT(b.port.shadedPixelsTotal, both.shadedPixelsTotal) << shape;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectOnlyParity,
+                         ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
+                                           PeerCase{"demo", Effect::Ssm, Mode::MrrEffect},
+                                           PeerCase{"shadows", Effect::Ssao, Mode::MrrEffect},
+                                           PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect}),
+                         [](const ::testing::TestParamInfo<PeerCase>& info) {
+                           return info.param.scene + "_" + toString(info.param.effect);
+                         });
+
 // mrr-effect's a-posteriori term (SPEC §12.2) on both paths: refinement_marks.frag gives the
 // oracle's marks exactly from the port's own coarser result, stencil and G-buffer, and
 // refine_masks.frag (with masks.frag's blur) the oracle's refined M_ℓ, a_ℓ and S_ℓ from the port's
@@ -1108,6 +1219,33 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
         << fc.fault << ": first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n"
         << formatParityTable(bad);
   }
+}
+
+// The planted fault effect-only-keeps-edges (STEP 4 without the ∧ ¬M_ℓ: each widened level is
+// both's M'_ℓ again) makes compareFrames fail first at mask.L; the same frame without it passes.
+TEST(GpuEffectOnlyFaults, KeepingTheEdgesFailsAtTheMask) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const gpu::ShaderFault* fault = nullptr;
+  for (const gpu::ShaderFault& f : gpu::shaderFaults())
+    if (f.name == "effect-only-keeps-edges") fault = &f;
+  ASSERT_NE(fault, nullptr);
+  const CostModel model = CostModel::defaults("cpu");
+  const Settings s = effectOnlySettings(Effect::Ssao, false);
+  const test::Rendered r = test::renderScene("builtin:demo", s);
+  const Constants k = makeConstants(s, r.framedSize);
+  const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
+  {
+    const gpu::GpuRenderer clean(*r.scene);
+    const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
+    EXPECT_TRUE(ok.pass()) << "without the fault\n" << formatParityTable(ok);
+  }
+  const PlantedFaultScope planted(fault->name);
+  const gpu::GpuRenderer faulty(*r.scene);
+  const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
+  EXPECT_FALSE(bad.pass());
+  EXPECT_EQ(bad.firstFailing().rfind(fault->stage, 0), 0u)
+      << "first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n" << formatParityTable(bad);
 }
 
 // Issue 40: a sampling seed other than mrr's own (--seed) changes the kernels and the rotations on

@@ -141,6 +141,25 @@ TEST(BenchSanity, PassesHonestFiguresAndCatchesEachPlantedFault) {
   EXPECT_EQ(sanityChecks(fullPixels).size(), 1u);
 }
 
+// mrr-effect's bench variants (SPEC §12): +e is the effect-only arm, +norule turns the rule off
+// (as mrr-norule), and they combine in either order; mrr-effect alone keeps the rule.
+TEST(BenchMethods, EffectOnlyAndNoRuleVariantsSetTheirSettings) {
+  const Settings plain = settingsFor("mrr-effect", Effect::Ssm, 64, 48, 16);
+  EXPECT_TRUE(plain.neverSlower);
+  EXPECT_FALSE(plain.effectMask.effectOnly);
+  for (const char* m : {"mrr-effect+e+norule", "mrr-effect+norule+e"}) {
+    const Settings s = settingsFor(m, Effect::Ssm, 64, 48, 16);
+    EXPECT_EQ(s.mode, Mode::MrrEffect) << m;
+    EXPECT_FALSE(s.neverSlower) << m;
+    EXPECT_TRUE(s.effectMask.effectOnly) << m;
+  }
+  const Settings rule = settingsFor("mrr-effect+e", Effect::Ssm, 64, 48, 16);
+  EXPECT_TRUE(rule.neverSlower);
+  EXPECT_FALSE(settingsFor("mrr-effect+norule", Effect::Ssm, 64, 48, 16).neverSlower);
+  EXPECT_FALSE(settingsFor("mrr-norule", Effect::Ssm, 64, 48, 16).neverSlower);
+  EXPECT_THROW(settingsFor("mrr+norule", Effect::Ssm, 64, 48, 16), MrrError);  // variants are mrr-effect's
+}
+
 TEST(PaperFiguresCsv, ReadsSpeedupsAsFactorsAndRms) {
   const std::string path = (std::filesystem::temp_directory_path() / "mrr-paper-figures.csv").string();
   {

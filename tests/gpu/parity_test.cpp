@@ -633,6 +633,43 @@ INSTANTIATE_TEST_SUITE_P(Peers, GpuPeerParity, ::testing::ValuesIn(peerCases()),
                            return name;
                          });
 
+// mrr-effect's masks on both paths (SPEC §12): compare passes, every level's M'_ℓ is exact on
+// the port's own inputs.
+void expectMasksExact(const ParityResult& r, const std::string& shape) {
+  EXPECT_TRUE(r.pass()) << shape << " first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+  for (int l = 0; l < kLevelCount; ++l) {
+    const StageRow* row = findRow(r, "mask.L" + std::to_string(l));
+    ASSERT_NE(row, nullptr) << "mask.L" << l;
+    ASSERT_TRUE(row->sameInput);
+    EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << shape;
+  }
+}
+
+// SPEC §12.3: probe's "why" on each path's own frame: the same reason at every level pixel, and
+// covered exactly where the port's own S = 1 (and, for the effect-only arm, never for the
+// geometry). Returns how many level pixels the effect covers.
+int64_t expectTheSameWhy(const FrameResult& cpu, const FrameResult& port, const std::string& shape, bool noGeometry) {
+  const CoverageArms oracleArms = coverageArms(cpu), portArms = coverageArms(port);
+  int64_t effect = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const ImageU8& st = port.levels[static_cast<size_t>(l)].masks.stencil;
+    if (st.empty()) continue;
+    for (int y = 0; y < st.height; ++y)
+      for (int x = 0; x < st.width; ++x) {
+        const Coverage o = coverageReason(oracleArms, cpu, l, x, y), p = coverageReason(portArms, port, l, x, y);
+        const bool covered = p != Coverage::None && p != Coverage::Limit;
+        if (o != p || (st.at(x, y) != 0) != covered || (noGeometry && p == Coverage::Geometry)) {
+          ADD_FAILURE() << "level " << l << " " << x << "," << y << shape << ": the oracle's why " << coverageName(o)
+                        << ", the port's " << coverageName(p) << ", its S " << int(st.at(x, y))
+                        << (noGeometry ? " (the effect-only arm has no geometry)" : "");
+          return effect;  // one pixel's message, not thousands
+        }
+        effect += p == Coverage::Effect;
+      }
+  }
+  return effect;
+}
+
 // mrr-effect (SPEC §12) on both paths: the footprint's widening (effect_masks.frag) gives the
 // oracle's M'_ℓ exactly on the port's own inputs, and every later stage is within its rule. Two
 // shapes: the default (from level 1, cap 8) and level 0 widened with a small cap (3), so that
@@ -658,30 +695,10 @@ TEST_P(GpuEffectMaskParity, WidenedMasksAreExactAndEveryStageMatches) {
       s.effectMask.cap = 3;
     }
     const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
-    const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
-    EXPECT_TRUE(r.pass()) << (fromLevel0 ? "level 0, cap 3: " : "default: ") << "first failing stage "
-                          << r.firstFailing() << "\n" << formatParityTable(r);
-    for (int l = 0; l < kLevelCount; ++l) {
-      const StageRow* row = findRow(r, "mask.L" + std::to_string(l));
-      ASSERT_NE(row, nullptr) << "mask.L" << l;
-      ASSERT_TRUE(row->sameInput);
-      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << (fromLevel0 ? " (level 0, cap 3)" : "");
-    }
-    // SPEC §12.3: probe's "why" on each path's own frame: the same reason at every level pixel,
-    // and on the port too, covered exactly where its own S = 1; some pixel is there for the effect.
-    const CoverageArms oracleArms = coverageArms(b.cpu), portArms = coverageArms(b.port);
-    int64_t effect = 0;
-    for (int l = 0; l < kLevelCount; ++l) {
-      const ImageU8& st = b.port.levels[static_cast<size_t>(l)].masks.stencil;
-      if (st.empty()) continue;
-      for (int y = 0; y < st.height; ++y)
-        for (int x = 0; x < st.width; ++x) {
-          const Coverage o = coverageReason(oracleArms, b.cpu, l, x, y), p = coverageReason(portArms, b.port, l, x, y);
-          ASSERT_EQ(coverageName(o), std::string(coverageName(p))) << "level " << l << " " << x << "," << y;
-          ASSERT_EQ(st.at(x, y) != 0, p != Coverage::None && p != Coverage::Limit) << "level " << l << " " << x << "," << y;
-          effect += p == Coverage::Effect;
-        }
-    }
+    const std::string shape = fromLevel0 ? " (level 0, cap 3)" : " (default)";
+    expectMasksExact(compareFrames(b.cpu, b.port, b.oracle.scene->light), shape);
+    // SPEC §12.3: probe's "why" agrees on both paths; some pixel is there for the effect.
+    const int64_t effect = expectTheSameWhy(b.cpu, b.port, shape, false);
     EXPECT_GT(effect, 0) << "no pixel covered for the effect" << (fromLevel0 ? " (level 0, cap 3)" : "");
     s.mode = Mode::Mrr;
     const BothPaths paper = renderBoth("builtin:" + pc.scene, s, model);
@@ -740,31 +757,10 @@ TEST_P(GpuEffectOnlyParity, TheWideningAloneIsExactAndEveryStageMatches) {
     const std::string shape = fromLevel0 ? " (level 0, cap 3)" : " (default)";
     Settings s = effectOnlySettings(pc.effect, fromLevel0);
     const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
-    const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
-    EXPECT_TRUE(r.pass()) << shape << " first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
-    for (int l = 0; l < kLevelCount; ++l) {
-      const StageRow* row = findRow(r, "mask.L" + std::to_string(l));
-      ASSERT_NE(row, nullptr) << "mask.L" << l;
-      ASSERT_TRUE(row->sameInput);
-      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << shape;
-    }
+    expectMasksExact(compareFrames(b.cpu, b.port, b.oracle.scene->light), shape);
     EXPECT_EQ(b.port.shadedPixelsTotal, b.cpu.shadedPixelsTotal) << shape;
-    // probe's "why" on each path's own frame: the same reason at every level pixel, and covered
-    // exactly where the port's own S = 1; no pixel is there for the geometry (the arm has none).
-    const CoverageArms oracleArms = coverageArms(b.cpu), portArms = coverageArms(b.port);
-    int64_t effect = 0;
-    for (int l = 0; l < kLevelCount; ++l) {
-      const ImageU8& st = b.port.levels[static_cast<size_t>(l)].masks.stencil;
-      if (st.empty()) continue;
-      for (int y = 0; y < st.height; ++y)
-        for (int x = 0; x < st.width; ++x) {
-          const Coverage o = coverageReason(oracleArms, b.cpu, l, x, y), p = coverageReason(portArms, b.port, l, x, y);
-          ASSERT_EQ(coverageName(o), std::string(coverageName(p))) << "level " << l << " " << x << "," << y << shape;
-          ASSERT_EQ(st.at(x, y) != 0, p != Coverage::None && p != Coverage::Limit) << "level " << l << " " << x << "," << y;
-          ASSERT_NE(p, Coverage::Geometry) << "level " << l << " " << x << "," << y << shape;
-          effect += p == Coverage::Effect;
-        }
-    }
+    // probe's "why" agrees on both paths; no pixel is there for the geometry (the arm has none).
+    const int64_t effect = expectTheSameWhy(b.cpu, b.port, shape, true);
     EXPECT_GT(effect, 0) << "no pixel covered for the effect" << shape;
     // The arms on the port, from the same scene and camera: both (mrr-effect) and geometry only (mrr).
     const gpu::GpuRenderer port(*b.oracle.scene);

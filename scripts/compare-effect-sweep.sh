@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Issue 35's done-when "compare --method mrr-effect --effect all passes on every built-in and shared
+# scene": `mrr compare` on each scene at 320x180 (each effect at its default samples), for
+# mrr-effect as it ships (a priori, SPEC §12) and with the a-posteriori term (§12.2, the bench's
+# +c4+p0.15: --effect-cap 4 --effect-posterior 0.15), and for the ablation's effect-only arm (§12.3).
+# Prints a Markdown table (one row per scene, one cell per variant and effect: the verdict, the
+# last word of compare's verdict line for that effect) and exits 1 when any run is not PASS. Logs
+# under OUT (default a temporary dir).
+#   usage: scripts/compare-effect-sweep.sh [OUT]      (MRR=path/to/mrr to choose the binary)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+mrr="${MRR:-$here/build/mrr}"
+out="${1:-$(mktemp -d)}"
+mkdir -p "$out"
+scenes=()
+for b in demo plane slanted corner steps boxes shadows redwall fence bumpy wires alledges; do scenes+=("builtin:$b"); done
+scenes+=(arcade apartment cornell)
+names=("a priori" "+c4+p0.15" "effect only")
+options=("" "--effect-cap 4 --effect-posterior 0.15" "--effect-only")
+effects=(ssao ssm ssgi)
+
+header="| scene |"
+rule="|---|"
+for n in "${names[@]}"; do
+  for e in "${effects[@]}"; do header+=" $n $e |"; rule+="---|"; done
+done
+echo "$header"
+echo "$rule"
+failed=0
+for scene in "${scenes[@]}"; do
+  tag="${scene#builtin:}"
+  row="| $scene |"
+  for i in "${!names[@]}"; do
+    log="$out/$tag-$i.log"
+    # shellcheck disable=SC2086  # the options are words
+    if "$mrr" compare --scene "$scene" --method mrr-effect --effect all --size 320x180 -q ${options[$i]} >"$log" 2>&1; then
+      status=0
+    else
+      status=$?
+    fi
+    for e in "${effects[@]}"; do
+      # compare prints "== compare SCENE, EFFECT, ..." before each effect's table, and its verdict
+      # as a line starting "PASS" or "FAIL" after it
+      v="$(awk -v e="$e" '/^== compare /{split($0, f, ", "); cur = f[2]} /^(PASS|FAIL)/{if (cur == e) {sub(/[: ].*/, ""); print}}' "$log" | tail -1)"
+      [ -n "$v" ] || v="?"
+      [ "$v" = PASS ] || failed=1
+      row+=" $v |"
+    done
+    [ "$status" -eq 0 ] || failed=1
+    echo "compare-effect-sweep: $scene ${names[$i]}: exit $status" >&2
+  done
+  echo "$row"
+done
+exit "$failed"

@@ -73,9 +73,10 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
 // (into refinedTarget[ℓ]), a_ℓ = G(σ_ℓ²) ∗ M_ℓ again and S_ℓ ∨= [a_ℓ > 0]; alpha[ℓ], stencil[ℓ] and
 // their targets are replaced. Without `marksBlocks`, over the whole level (supportRects[ℓ]
 // cleared: the whole level). With it (the coarsest level's grid, as MaskTargets::maskBlocks:
-// 1 where a block may hold a mark, drawRefinementMarks' `blocks`), each step is drawn over the
-// blocks where it can be non-zero, and maskBlocks, supportBlocks and supportRects of ℓ grow to
-// the refined ones; no mark leaves a_ℓ and S_ℓ as they were. Both give the same bits.
+// 1 where a block may hold a mark, drawRefinementMarks' `blocks`), step 1 is drawn over M_ℓ's
+// blocks and the marks', and a_ℓ and S_ℓ change only within r_ℓ of the marks' blocks: copies of
+// them, redrawn there; maskBlocks, supportBlocks and supportRects of ℓ grow to the refined ones;
+// no mark leaves a_ℓ and S_ℓ as they were. Both give the same bits.
 // Not for the coarsest enabled level.
 void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& constants,
                  const ImageU8* marksBlocks = nullptr);

@@ -4,14 +4,28 @@
 #include <GL/glcorearb.h>
 
 #include <string>
+#include <vector>
 
+#include "gpu/masks.h"
 #include "gpu/program.h"
 #include "gpu/shadowmap.h"
 
 namespace mrr::gpu {
 
+namespace {
+// Draws the bound program over `rects` (null: every pixel) of the bound target, the rest of it
+// cleared to `outside` (what the pass gives there).
+void drawOver(const GpuScene& scene, const std::vector<glm::ivec4>* rects, int width, int height, float outside) {
+  if (!rects) return scene.drawFullscreen();
+  const float clear[4] = {outside, outside, outside, outside};
+  glClearBufferfv(GL_COLOR, 0, clear);
+  scene.drawRects(*rects, width, height);
+}
+}  // namespace
+
 Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned edges, int edgeChannel,
-                     const ShadowMap* map, unsigned mapTexture, const View& view, const Constants& c) {
+                     const ShadowMap* map, unsigned mapTexture, const View& view, const Constants& c,
+                     const std::vector<glm::ivec4>* rects) {
   const bool ssm = c.effect == Effect::Ssm;
   const std::string defines = "#define STEP 1\n#define EDGE_CHANNEL " + std::to_string(edgeChannel) +
                               "\n#define EFFECT_SSM " + (ssm ? "1" : "0") + "\n";
@@ -29,25 +43,27 @@ Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigne
   }
   glUniform1f(uniform(program, "focal"), view.focal);
   glUniform1f(uniform(program, "scale"), c.effectMask.scale);
-  scene.drawFullscreen();
+  drawOver(scene, rects, gbuffer0.width(), gbuffer0.height(), 0.0f);
   checkGl("effect_masks footprint");
   return target;
 }
 
+
 Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, unsigned footprint, int width,
-                         int height, int levelScale, int cap) {
+                         int height, int levelScale, int cap, const std::vector<glm::ivec4>* across,
+                         const std::vector<glm::ivec4>* within) {
   const std::string shape = "#define CAP " + std::to_string(cap) + "\n#define MASK_CHANNEL " +
                             std::to_string(maskChannel) + "\n";
   const std::string key = std::to_string(cap) + "." + std::to_string(maskChannel);
   // 1. reach and the pass along x: H as float (−1: no reach)
-  const unsigned across = scene.program("effect_masks.2." + key, "fullscreen.vert", "effect_masks.frag",
+  const unsigned acrossProgram = scene.program("effect_masks.2." + key, "fullscreen.vert", "effect_masks.frag",
                                         "#define STEP 2\n" + shape);
   Target h = scene.target(width, height, 1, false, Texel::R32f);
   h->bind();
-  glUseProgram(across);
-  bindTextures(across, {{"source", mask}, {"footprint", footprint}});
-  glUniform1f(uniform(across, "levelScale"), static_cast<float>(levelScale));
-  scene.drawFullscreen();
+  glUseProgram(acrossProgram);
+  bindTextures(acrossProgram, {{"source", mask}, {"footprint", footprint}});
+  glUniform1f(uniform(acrossProgram, "levelScale"), static_cast<float>(levelScale));
+  drawOver(scene, across, width, height, -1.0f);
   checkGl("effect_masks across");
   // 2. the pass along y: M'_ℓ
   const unsigned down = scene.program("effect_masks.3." + key, "fullscreen.vert", "effect_masks.frag",
@@ -56,13 +72,13 @@ Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, 
   widened->bind();
   glUseProgram(down);
   bindTextures(down, {{"source", h->texture(0)}});
-  scene.drawFullscreen();
+  drawOver(scene, within, width, height, 0.0f);
   checkGl("effect_masks down");
   return widened;
 }
 
 Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, int maskChannel, int width,
-                        int height) {
+                        int height, const std::vector<glm::ivec4>* within) {
   const unsigned program = scene.program("effect_masks.4." + std::to_string(maskChannel), "fullscreen.vert",
                                          "effect_masks.frag",
                                          "#define STEP 4\n#define MASK_CHANNEL " + std::to_string(maskChannel) + "\n");
@@ -71,13 +87,14 @@ Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, 
   only->bind();
   glUseProgram(program);
   bindTextures(program, {{"source", widened}, {"geometry", mask}});
-  scene.drawFullscreen();
+  drawOver(scene, within, width, height, 0.0f);
   checkGl("effect_masks widening only");
   return only;
 }
 
 Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
-                           unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau) {
+                           unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau,
+                           const std::vector<glm::ivec4>* shaded, ImageU8* blocks, int blockSize) {
   int width = 0, height = 0;  // the coarser level's grid
   glBindTexture(GL_TEXTURE_2D, coarser);
   glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
@@ -91,8 +108,17 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
   glUseProgram(varies);
   bindTextures(varies, {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
   glUniform1f(uniform(varies, "tau"), tau);
-  scene.drawFullscreen();
+  drawOver(scene, shaded && !shaded->empty() ? shaded : nullptr, width, height, 0.0f);  // no mark off S_n
   checkGl("refinement_marks varies");
+  std::vector<glm::ivec4> markedRects;  // the finer level's pixels in the blocks holding a mark
+  if (blocks) {
+    const ImageU8 marked = coarse->readBinary(0);
+    *blocks = ImageU8((width + blockSize - 1) / blockSize, (height + blockSize - 1) / blockSize);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) blocks->at(x / blockSize, y / blockSize) |= marked.at(x, y);
+    for (const auto& run : blockRects(*blocks, 1, blockSize, width, height))  // coarser pixels → finer
+      markedRects.push_back(glm::min(run * ratio, glm::ivec4(finerWidth, finerHeight, finerWidth, finerHeight)));
+  }
   // 2. each finer pixel takes its coarser parent's mark
   const unsigned parent = scene.program("refinement_marks.2." + std::to_string(ratio), "fullscreen.vert",
                                         "refinement_marks.frag",
@@ -101,7 +127,12 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
   marks->bind();
   glUseProgram(parent);
   bindTextures(parent, {{"source", coarse->texture(0)}});
-  scene.drawFullscreen();
+  if (blocks && markedRects.empty()) {  // no mark: nothing to draw
+    const float zero[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, zero);
+  } else {
+    drawOver(scene, blocks ? &markedRects : nullptr, finerWidth, finerHeight, 0.0f);
+  }
   checkGl("refinement_marks parent");
   return marks;
 }

@@ -95,6 +95,18 @@ void Framebuffer::bind() const {
   glViewport(0, 0, width_, height_);
 }
 
+void Framebuffer::copyFrom(const Framebuffer& source, int i) const {
+  require(source.width_ == width_ && source.height_ == height_ && textures_.size() == 1 &&
+              source.formats_[static_cast<size_t>(i)] == formats_[0],
+          "Framebuffer::copyFrom: another size or format");
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, source.fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  bind();
+  checkGl("copy target");
+}
+
 unsigned uploadTexture(const ImageF& image) {
   static const GLenum formats[5] = {0, GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
   static const GLenum layouts[5] = {0, GL_RED, GL_RG, GL_RGB, GL_RGBA};

@@ -35,6 +35,9 @@ class Framebuffer {
   Framebuffer& operator=(const Framebuffer&) = delete;
   void bind() const;
   unsigned texture(int i) const { return textures_[static_cast<size_t>(i)]; }
+  // Copies target `i` of `source` (same size and format) into this one's only target, texel for
+  // texel (glBlitFramebuffer, nearest), and leaves this one bound.
+  void copyFrom(const Framebuffer& source, int i) const;
   ImageF read(int i) const;  // RGBA float, row 0 = image row 0
   ImageF read(int i, int channels) const;  // the first `channels` of target i
   ImageU8 readBinary(int i) const;  // channel r of target i as 0/1 (> ½), row 0 = image row 0

@@ -47,9 +47,15 @@ struct Pass {
   }
   // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
   Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
-    const unsigned prog = program(step, in);
     Target target = scene.target(width, height, formats, false);
-    target->bind();
+    draw(step, *target, in, true);
+    return target;
+  }
+  // One step into `target`, over in.rects (or every pixel); with `clear`, the rest 0, else kept.
+  void draw(int step, const Framebuffer& target, const Inputs& in, bool clear) const {
+    const unsigned prog = program(step, in);
+    const int width = target.width(), height = target.height();
+    target.bind();
     glUseProgram(prog);
     if (in.weights)
       glUniform1fv(uniform(prog, "weights"), static_cast<GLsizei>(in.weights->size()), in.weights->data());
@@ -58,13 +64,13 @@ struct Pass {
     if (step == 5) bindTextures(prog, {{"limit", in.limit}}, 1);
     if (in.rects) {
       const float zero[4] = {0, 0, 0, 0};
-      for (size_t i = 0; i < formats.size(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
+      if (clear)
+        for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
       scene.drawRects(*in.rects, width, height);
     } else {
       scene.drawFullscreen();
     }
     checkGl("masks");
-    return target;
   }
 };
 
@@ -123,7 +129,7 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 }
 
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c,
-                                       unsigned footprint, unsigned limit) {
+                                       const FootprintFn& footprint, unsigned limit) {
   const Pass pass{scene};
   auto out = std::make_unique<MaskTargets>();
   out->drawn = true;
@@ -151,21 +157,31 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   const std::vector<glm::ivec4> edgeRects1 = blockRects(fineBlocks, 1, 2, level(1).width, level(1).height);
   maxPool(1, edges, edgeChannel, 2, &edgeRects1);
   const ImageU8& edgeBlocks = out->edgeBlocks;
+  // maskBlocks[ℓ]: the blocks outside which M_ℓ is 0, blockSize(ℓ) level pixels each: level 0
+  // on the 4×4 grid (M_2 read back), the others on the 8×8 one (the coarsest level's pixels)
+  const auto blockSize = [](int l) { return l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l); };
+  std::array<ImageU8, kLevelCount> maskBlocks;
+  for (int l = 0; l < kLevelCount; ++l) maskBlocks[static_cast<size_t>(l)] = l == 0 ? fineBlocks : edgeBlocks;
   // 1b. mrr-effect (SPEC §12, gpu/effect_masks.cpp): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's
   // M_ℓ but the coarsest, from ℓ_first on, widened by its reach into M'_ℓ. The pyramid above
-  // stays E's own. A widened level's passes run over the whole level: its reach is not bounded
-  // by the edge blocks' neighbourhood. SPEC §12.3, the ablation's effect-only arm: a widened
-  // level keeps M'_ℓ ∧ ¬M_ℓ, and a level below ℓ_first (not widened) holds nothing.
-  std::array<bool, kLevelCount> widened{};
+  // stays E's own. F is 0 off the edges, so F_ℓ is drawn over the edge blocks alone; the
+  // widening reaches at most `cap` level pixels past M_ℓ, so its passes are drawn over the
+  // blocks within `cap` of M_ℓ's (its maskBlocks then). SPEC §12.3, the ablation's effect-only
+  // arm: a widened level keeps M'_ℓ ∧ ¬M_ℓ, and a level below ℓ_first (not widened) holds nothing.
   if (footprint) {
     Target pooled;
-    unsigned fl = footprint;
+    // F, drawn over E's 4×4 blocks
+    unsigned fl = footprint(blockRects(fineBlocks, 1, 1 << (kCoarsest - 1), level(0).width, level(0).height));
+    const int cap = c.effectMask.cap;
     for (int l = 0; l < kLevelCount; ++l) {
       const LevelConstants& lc = level(l);
+      const size_t i = static_cast<size_t>(l);
       if (l > 0) {
+        const std::vector<glm::ivec4> edgeRects = blockRects(edgeBlocks, 1, blockSize(l), lc.width, lc.height);
         Pass::Inputs in;
         in.source = fl;
         in.factor = 2;
+        in.rects = &edgeRects;
         pooled = pass.run(1, {Texel::R32f}, lc.width, lc.height, in);
         fl = pooled->texture(0);
       }
@@ -176,14 +192,19 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
           mask[static_cast<size_t>(l)] = constantTarget(scene, lc.width, lc.height, Texel::R8, 0.0f);
         continue;
       }
-      const unsigned source = l == 0 ? edges : mask[static_cast<size_t>(l)]->texture(0);
+      const unsigned source = l == 0 ? edges : mask[i]->texture(0);
       const int channel = l == 0 ? edgeChannel : 0;
-      Target dilated = drawDilateByReach(scene, source, channel, fl, lc.width, lc.height, lc.scale, c.effectMask.cap);
+      const ImageU8 across = nearBlocks(maskBlocks[i], blockSize(l), cap, 0);  // within cap along x
+      const ImageU8 within = nearBlocks(across, blockSize(l), 0, cap);           // ... and along y
+      const std::vector<glm::ivec4> acrossRects = blockRects(across, 1, blockSize(l), lc.width, lc.height),
+                                    withinRects = blockRects(within, 1, blockSize(l), lc.width, lc.height);
+      Target dilated = drawDilateByReach(scene, source, channel, fl, lc.width, lc.height, lc.scale, cap,
+                                         &acrossRects, &withinRects);
       if (c.effectMask.effectOnly)  // SPEC §12.3: M'_ℓ ∧ ¬M_ℓ
-        dilated = drawWideningOnly(scene, dilated->texture(0), source, channel, lc.width, lc.height);
-      mask[static_cast<size_t>(l)] = std::move(dilated);
-      widened[static_cast<size_t>(l)] = true;
-      out->widenedBy[static_cast<size_t>(l)] = c.effectMask.cap;
+        dilated = drawWideningOnly(scene, dilated->texture(0), source, channel, lc.width, lc.height, &withinRects);
+      mask[i] = std::move(dilated);
+      maskBlocks[i] = within;
+      out->widenedBy[i] = cap;
     }
   }
   // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
@@ -197,27 +218,29 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       stencil[i] = constantTarget(scene, lc.width, lc.height, Texel::R8, 1.0f);
       continue;
     }
-    // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of an edge; 3. S_ℓ = [a_ℓ > 0]
+    // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of M_ℓ's (an edge's, or a
+    // widened level's reach); 3. S_ℓ = [a_ℓ > 0]
     const int radius = static_cast<int>(lc.gaussian.size() / 2);
-    // The horizontal pass is non-zero only within r across of an edge (its rows); the vertical
-    // one within r across and down. Level 0 on the 4×4 grid, whose support is narrow; the
-    // closure below works on the 8×8 grid: the max-pool.
-    const ImageU8& grid = l == 0 ? fineBlocks : edgeBlocks;
-    const int blockSize = l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l);  // level-ℓ pixels per block
-    const ImageU8 across = nearBlocks(grid, blockSize, radius, 0);  // within r across
-    const ImageU8 near = nearBlocks(across, blockSize, 0, radius);   // ... and within r down
-    const std::vector<glm::ivec4> rows = blockRects(across, 1, blockSize, lc.width, lc.height),
-                                  rects = blockRects(near, 1, blockSize, lc.width, lc.height);
-    support[i] = widened[i] ? ImageU8(edgeBlocks.width, edgeBlocks.height, 1, 1) : l == 0 ? poolBlocks(near) : near;
-    if (!widened[i]) out->supportRects[i] = rects;  // empty: the whole level
+    // The horizontal pass is non-zero only within r across of M_ℓ's blocks (its rows); the
+    // vertical one within r across and down. Level 0 on the 4×4 grid, whose support is narrow;
+    // the closure below works on the 8×8 grid: the max-pool.
+    const ImageU8 across = nearBlocks(maskBlocks[i], blockSize(l), radius, 0);  // within r across
+    const ImageU8 near = nearBlocks(across, blockSize(l), 0, radius);            // ... and within r down
+    const std::vector<glm::ivec4> rows = blockRects(across, 1, blockSize(l), lc.width, lc.height),
+                                  rects = blockRects(near, 1, blockSize(l), lc.width, lc.height);
+    support[i] = l == 0 ? poolBlocks(near) : near;
+    out->supportRects[i] = rects;
+    out->maskBlocks[i] = l == 0 ? poolBlocks(maskBlocks[i]) : maskBlocks[i];
     Pass::Inputs horizontal;
     horizontal.source = mask[i] ? mask[i]->texture(0) : edges;  // M_0 = E unless mrr-effect replaced it
     horizontal.sourceChannel = mask[i] ? 0 : edgeChannel;
-    if (limit) {  // 5. SPEC §13: M'_ℓ = M_ℓ where ℓ ≥ ℓ_min, over the whole level; the blur reads it
+    if (limit) {  // 5. SPEC §13: M'_ℓ = M_ℓ where ℓ ≥ ℓ_min (0 outside M_ℓ's blocks, as M_ℓ); the blur reads it
+      const std::vector<glm::ivec4> maskRects = blockRects(maskBlocks[i], 1, blockSize(l), lc.width, lc.height);
       Pass::Inputs limited = horizontal;
       limited.factor = lc.scale;
       limited.limit = limit;
       limited.level = l;
+      limited.rects = &maskRects;
       out->limitedTarget[i] = pass.run(5, {Texel::R8}, lc.width, lc.height, limited);
       horizontal.source = out->limitedTarget[i]->texture(0);
       horizontal.sourceChannel = 0;
@@ -225,10 +248,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     out->blurSource[i] = horizontal.source;
     out->blurSourceChannel[i] = horizontal.sourceChannel;
     horizontal.weights = &lc.gaussian;
-    horizontal.rects = widened[i] ? nullptr : &rows;
+    horizontal.rects = &rows;
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Pass::Inputs vertical = horizontal;
-    vertical.rects = widened[i] ? nullptr : &rects;
+    vertical.rects = &rects;
     vertical.source = h->texture(0);
     vertical.sourceChannel = 0;
     vertical.direction = {0, 1};
@@ -258,6 +281,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     out->supportRects[static_cast<size_t>(next)] = rects;
     stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
+  out->supportBlocks = support;
   for (size_t l = 0; l < kLevelCount; ++l)
     if (c.levels[l].enabled) {
       out->alpha[l] = out->alphaTarget[l]->texture(0);
@@ -276,12 +300,25 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
   return Pass{scene}.run(5, {Texel::R8}, lc.width, lc.height, in);
 }
 
-void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& c) {
+void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& c,
+                 const ImageU8* marksBlocks) {
   const size_t i = static_cast<size_t>(level);
   const LevelConstants& lc = c.levels[i];
   require(masks.drawn && masks.blurSource[i] != 0, "refineMasks: level " + std::to_string(level) + " has no drawn blur");
+  // With the marks' blocks, each step is drawn over the blocks where it can be non-zero (the
+  // rest cleared to 0, what the step gives there), as drawMasks' passes: level-ℓ pixels per block
+  const int blockSize = 1 << (kLevelCount - 1 - level);
+  if (marksBlocks && (marksBlocks->data.size() != masks.maskBlocks[i].data.size() ||
+                      marksBlocks->data.size() != masks.supportBlocks[i].data.size()))
+    marksBlocks = nullptr;  // blocks on another grid: the whole level
+  const auto rectsOf = [&](const ImageU8& blocks) { return blockRects(blocks, 1, blockSize, lc.width, lc.height); };
+  const auto either = [](ImageU8 a, const ImageU8& b) {
+    for (size_t k = 0; k < a.data.size(); ++k) a.data[k] |= b.data[k];
+    return a;
+  };
   // The step's program: refine_masks.frag STEP 1 or 3 (SOURCE_CHANNEL: M_ℓ's channel, step 1).
-  const auto step = [&](int n, int channel, std::initializer_list<std::pair<const char*, unsigned>> textures) {
+  const auto step = [&](int n, int channel, std::initializer_list<std::pair<const char*, unsigned>> textures,
+                        const std::vector<glm::ivec4>* rects) {
     const unsigned program =
         scene.program("refine_masks." + std::to_string(n) + "." + std::to_string(channel), "fullscreen.vert",
                       "refine_masks.frag",
@@ -290,30 +327,73 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     target->bind();
     glUseProgram(program);
     bindTextures(program, textures);
-    scene.drawFullscreen();
+    if (rects) {
+      const float zero[4] = {0, 0, 0, 0};
+      glClearBufferfv(GL_COLOR, 0, zero);
+      scene.drawRects(*rects, lc.width, lc.height);
+    } else {
+      scene.drawFullscreen();
+    }
     checkGl("refine_masks");
     return target;
   };
-  // 1. M_ℓ ∨= marks
-  masks.refinedTarget[i] = step(1, masks.blurSourceChannel[i], {{"source", masks.blurSource[i]}, {"marks", marks->texture(0)}});
+  // 1. M_ℓ ∨= marks: 0 outside M_ℓ's blocks and the marks'
+  const ImageU8 refined = marksBlocks ? either(masks.maskBlocks[i], *marksBlocks) : ImageU8();
+  const std::vector<glm::ivec4> refinedRects = marksBlocks ? rectsOf(refined) : std::vector<glm::ivec4>();
+  masks.refinedTarget[i] = step(1, masks.blurSourceChannel[i], {{"source", masks.blurSource[i]}, {"marks", marks->texture(0)}},
+                                marksBlocks ? &refinedRects : nullptr);
   masks.marksTarget[i] = std::move(marks);
-  // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again: masks.frag's two passes, over the whole level
+  if (marksBlocks && std::none_of(marksBlocks->data.begin(), marksBlocks->data.end(), [](uint8_t b) { return b != 0; }))
+    return;  // no mark: M_ℓ, hence a_ℓ and S_ℓ, as they were
   const Pass pass{scene};
   Pass::Inputs horizontal;
   horizontal.source = masks.refinedTarget[i]->texture(0);
   horizontal.weights = &lc.gaussian;
-  const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
   Pass::Inputs vertical = horizontal;
-  vertical.source = h->texture(0);
   vertical.direction = {0, 1};
-  Target alpha = pass.run(2, {Texel::R32f}, lc.width, lc.height, vertical);
-  // 3. S_ℓ ∨= [a_ℓ > 0]
-  Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}});
-  masks.alphaTarget[i] = std::move(alpha);
-  masks.stencilTarget[i] = std::move(stencil);
+  if (!marksBlocks) {
+    // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again: masks.frag's two passes, over the whole level
+    const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
+    vertical.source = h->texture(0);
+    Target alpha = pass.run(2, {Texel::R32f}, lc.width, lc.height, vertical);
+    // 3. S_ℓ ∨= [a_ℓ > 0]
+    Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}}, nullptr);
+    masks.alphaTarget[i] = std::move(alpha);
+    masks.stencilTarget[i] = std::move(stencil);
+    masks.supportRects[i].clear();  // the whole level
+  } else {
+    // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again. M_ℓ changed in the marks' blocks alone, so a_ℓ changes within
+    // r_ℓ of them alone (each pixel's sum is the blur's own, term for term): a copy of a_ℓ, the
+    // vertical pass redrawn there, the horizontal one where that reads it (r_ℓ further down)
+    const int radius = static_cast<int>(lc.gaussian.size() / 2);
+    const ImageU8 changed = nearBlocks(nearBlocks(*marksBlocks, blockSize, radius, 0), blockSize, 0, radius);
+    const ImageU8 rows = nearBlocks(changed, blockSize, 0, radius);
+    const std::vector<glm::ivec4> changedRects = rectsOf(changed), rowRects = rectsOf(rows);
+    horizontal.rects = &rowRects;
+    const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
+    Target alpha = scene.target(lc.width, lc.height, 1, false, Texel::R32f);
+    alpha->copyFrom(*masks.alphaTarget[i], 0);
+    vertical.source = h->texture(0);
+    vertical.rects = &changedRects;
+    pass.draw(2, *alpha, vertical, false);
+    // 3. S_ℓ ∨= [a_ℓ > 0]: likewise, a copy of S_ℓ redrawn where a_ℓ changed
+    const unsigned program = scene.program("refine_masks.3.0", "fullscreen.vert", "refine_masks.frag",
+                                           "#define STEP 3\n#define SOURCE_CHANNEL 0\n");
+    Target stencil = scene.target(lc.width, lc.height, 1, false, Texel::R8);
+    if (masks.stencilTarget[i]) stencil->copyFrom(*masks.stencilTarget[i], 0);
+    else stencil->copyFrom(*masks.alphaTarget[i], 1);  // S_ℓ beside a_ℓ (the blur's second target)
+    glUseProgram(program);
+    bindTextures(program, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}});
+    scene.drawRects(changedRects, lc.width, lc.height);
+    checkGl("refine_masks");
+    masks.alphaTarget[i] = std::move(alpha);
+    masks.stencilTarget[i] = std::move(stencil);
+    masks.maskBlocks[i] = refined;
+    masks.supportBlocks[i] = either(masks.supportBlocks[i], changed);
+    masks.supportRects[i] = rectsOf(masks.supportBlocks[i]);
+  }
   masks.alpha[i] = masks.alphaTarget[i]->texture(0);
   masks.stencil[i] = masks.stencilTarget[i]->texture(0);
-  masks.supportRects[i].clear();
 }
 
 Target drawLevelLimit(const GpuScene& scene, const Framebuffer& gbuffer0, const View& view, const Constants& c) {
@@ -398,7 +478,8 @@ std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount
 std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& c,
                                               const ImageF* footprint) {
   TextureSet uploaded;
-  const unsigned f = footprint ? uploaded.add(uploadTexture(*footprint)) : 0;
+  FootprintFn f;
+  if (footprint) f = [&](const std::vector<glm::ivec4>&) { return uploaded.add(uploadTexture(*footprint)); };
   const auto targets = drawMasks(scene, uploaded.add(uploadBinary(edges)), 0, c, f);
   std::array<MaskLevel, kLevelCount> masks = readMasks(*targets, c, false);
   if (masks[0].mask.empty()) masks[0].mask = edges;  // M_0 = E (mrr-effect may have widened it)

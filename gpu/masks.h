@@ -3,6 +3,7 @@
 // closure on the GPU. The targets stay there for the effect and blend passes; the frame reads
 // back S_ℓ (for |S_ℓ| and the never-slower rule) and, with keepStages, M_ℓ and a_ℓ too.
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -33,18 +34,27 @@ struct MaskTargets {
   // Drawn: rectangles holding every pixel of S_ℓ (empty: the whole level, the coarsest), for
   // the effect passes' stencil fill.
   std::array<std::vector<glm::ivec4>, kLevelCount> supportRects;
+  // Drawn, on the coarsest level's grid (blocks of 2^{3−ℓ} level-ℓ pixels): the blocks outside
+  // which the M_ℓ the blur read is 0 (E's edge blocks, or a widened level's reach past them)
+  // and those outside which S_ℓ is 0 (supportRects'); refineMasks extends both.
+  std::array<ImageU8, kLevelCount> maskBlocks, supportBlocks;
   ImageU8 edgeBlocks;  // drawn: M of the coarsest level, read back (which blocks hold an edge)
   // Drawn, mrr-effect (SPEC §12): the most level pixels each level's M'_ℓ reaches past M_ℓ (its
   // cap where widened, else 0), for the blend's reach from the edge blocks.
   std::array<int, kLevelCount> widenedBy{};
 };
 
+// mrr-effect (SPEC §12): F on the padded full-res grid (R32F, gpu/effect_masks.h drawFootprint),
+// drawn at least over `edgeRects` (rectangles holding every pixel of E, F's support; 0 elsewhere
+// is what F is there): its texture.
+using FootprintFn = std::function<unsigned(const std::vector<glm::ivec4>& edgeRects)>;
+
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).
-// mrr-effect (SPEC §12): `footprint` is F on the padded full-res grid (R32F, gpu/effect_masks.h:
-// drawFootprint), which widens M_ℓ before the blur; 0: the paper's masks. `limit`: limit.frag's
-// target texture (drawLevelLimit), or 0 without SPEC §13's terms.
+// mrr-effect (SPEC §12): `footprint` gives F, which widens M_ℓ before the blur; none: the paper's
+// masks. `limit`: limit.frag's target texture (drawLevelLimit), or 0 without SPEC §13's terms.
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel,
-                                       const Constants& constants, unsigned footprint = 0, unsigned limit = 0);
+                                       const Constants& constants, const FootprintFn& footprint = {},
+                                       unsigned limit = 0);
 
 // SPEC §13 steps 1–5 (limit.frag) on the padded full-res grid from the level-0 G-buffer:
 // RGBA32F (e, |v|, fovea + 4·motion, ℓ_min).
@@ -60,10 +70,16 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
 
 // SPEC §12.2 step 2, refineMasks (gpu/shaders/refine_masks.frag, its step 2 masks.frag's blur):
 // level ℓ of drawn masks refined with `marks` (R8, level ℓ's size, already limited): M_ℓ ∨= marks
-// (into refinedTarget[ℓ]), a_ℓ = G(σ_ℓ²) ∗ M_ℓ again and S_ℓ ∨= [a_ℓ > 0] over the whole level;
-// alpha[ℓ], stencil[ℓ] and their targets are replaced, supportRects[ℓ] cleared (the whole level).
+// (into refinedTarget[ℓ]), a_ℓ = G(σ_ℓ²) ∗ M_ℓ again and S_ℓ ∨= [a_ℓ > 0]; alpha[ℓ], stencil[ℓ] and
+// their targets are replaced. Without `marksBlocks`, over the whole level (supportRects[ℓ]
+// cleared: the whole level). With it (the coarsest level's grid, as MaskTargets::maskBlocks:
+// 1 where a block may hold a mark, drawRefinementMarks' `blocks`), step 1 is drawn over M_ℓ's
+// blocks and the marks', and a_ℓ and S_ℓ change only within r_ℓ of the marks' blocks: copies of
+// them, redrawn there; maskBlocks, supportBlocks and supportRects of ℓ grow to the refined ones;
+// no mark leaves a_ℓ and S_ℓ as they were. Both give the same bits.
 // Not for the coarsest enabled level.
-void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& constants);
+void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& constants,
+                 const ImageU8* marksBlocks = nullptr);
 
 // Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
 // unless `stencilsOnly`.

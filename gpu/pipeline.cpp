@@ -152,14 +152,17 @@ class PortFrame final : public FrameBackend {
   }
   Masks methodMasks(FrameResult& f) override {
     const Constants& c = f.constants;
-    Target footprint;  // mrr-effect (SPEC §12): the effect's footprint at the edges
+    Target footprint;  // mrr-effect (SPEC §12): the effect's footprint at the edges, over E's blocks
+    FootprintFn drawF;
     if (c.mode == Mode::MrrEffect)
-      footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
-                                c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,
-                                f.view, c);
+      drawF = [&](const std::vector<glm::ivec4>& edgeRects) {
+        footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
+                                  c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,
+                                  f.view, c, &edgeRects);
+        return footprint->texture(0);
+      };
     const unsigned limit = levelLimit(f);
-    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, footprint ? footprint->texture(0) : 0,
-                             limit);
+    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, drawF, limit);
     Masks masks = readMasks(*maskTargets_, c, !keep_);
     if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (M'_0: mrr-effect, SPEC §13)
     return masks;
@@ -237,14 +240,19 @@ class PortFrame final : public FrameBackend {
     const int next = c.nextCoarserEnabled(l);
     const size_t i = static_cast<size_t>(l), n = static_cast<size_t>(next);
     const LevelConstants& lc = c.levels[i];
+    // the marks' blocks on the coarsest level's grid (2^{3−n} level-n pixels each): the
+    // refinement is drawn near them and M_ℓ's (gpu::refineMasks)
+    ImageU8 marksBlocks;
     Target marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
                                        gbuffers_[n]->texture(0), 1 << (next - l), lc.width, lc.height,
-                                       c.effectMask.posterior);
+                                       c.effectMask.posterior, &maskTargets_->supportRects[n], &marksBlocks,
+                                       1 << (kLevelCount - 1 - next));
     if (limit_) marks = drawLevelLimited(scene_, marks->texture(0), l, limit_->texture(0), c);
-    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c);
+    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c, &marksBlocks);
     refined_ = true;
     MaskLevel& m = f.levels[i].masks;
-    m.stencil = maskTargets_->stencilTarget[i]->readBinary(0);
+    m.stencil = maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)  // no mark: S_ℓ
+                                               : maskTargets_->alphaTarget[i]->readBinary(1);  // beside a_ℓ still
     if (keep_) {
       m.mask = maskTargets_->refinedTarget[i]->readBinary(0);
       m.alpha = maskTargets_->alphaTarget[i]->read(0, 1);

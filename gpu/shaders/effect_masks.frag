@@ -25,11 +25,15 @@ uniform float scale;            // the footprint's multiplier k
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   float footprint = 0.0;
-  vec4 ph = texelFetch(positionHit, p, 0);
-  vec4 nd = texelFetch(normalDepth, p, 0);
+  // 1. an edge pixel on geometry, in front of the camera (the G-buffer read at edge pixels alone)
+  vec4 ph = vec4(0.0), nd = vec4(0.0);
+  bool edge = texelFetch(edges, p, 0)[EDGE_CHANNEL] > 0.5;
+  if (edge) {
+    ph = texelFetch(positionHit, p, 0);
+    nd = texelFetch(normalDepth, p, 0);
+  }
   float z = nd.w;
-  // 1. an edge pixel on geometry, in front of the camera
-  if (texelFetch(edges, p, 0)[EDGE_CHANNEL] > 0.5 && ph.w > 0.5 && z > 0.0) {
+  if (edge && ph.w > 0.5 && z > 0.0) {
     // 2. the effect's reach on the receiver, world units
     float rho = 0.0;
 #if EFFECT_SSM

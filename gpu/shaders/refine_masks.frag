@@ -1,8 +1,9 @@
 #version 330 core
 // mrr-effect's a-posteriori refinement of level ℓ's masks (SPEC §12.2 step 2), mirrors
-// cpu_ref/effect_masks.cpp refineMasks. One pass per step, at level ℓ's size, over the whole
-// level (the marks are not bounded by the edge blocks); the host (gpu/masks.cpp refineMasks)
-// draws step 2 with masks.frag's blur, as the oracle calls blurMask:
+// cpu_ref/effect_masks.cpp refineMasks. One pass per step, at level ℓ's size; the host
+// (gpu/masks.cpp refineMasks) draws step 2 with masks.frag's blur, as the oracle calls blurMask,
+// and knowing where the marks are, draws step 1 over M_ℓ's blocks and theirs, steps 2–3 within
+// r_ℓ of the marks' blocks onto copies of a_ℓ and S_ℓ (the same bits as the whole level):
 //   STEP 1 M_ℓ ∨= the marks (R8): `source` is M_ℓ as the blur read it (channel SOURCE_CHANNEL:
 //     E's for an unwidened level 0; M'_ℓ after SPEC §13's limit), `marks` the limited marks
 //   STEP 2 a_ℓ = G(σ_ℓ²) ∗ M_ℓ again: masks.frag STEP 2, along x then y, clamp-to-edge

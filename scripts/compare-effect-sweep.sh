@@ -12,20 +12,17 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 mrr="${MRR:-$here/build/mrr}"
 out="${1:-$(mktemp -d)}"
 mkdir -p "$out"
-scenes=()
-for b in demo plane slanted corner steps boxes shadows redwall fence bumpy wires alledges; do scenes+=("builtin:$b"); done
-scenes+=(arcade apartment cornell)
+source "$here/scripts/lib-sweep.sh"
+scenes=("${sweep_scenes[@]}")
 names=("a priori" "+c4+p0.15" "effect only")
 options=("" "--effect-cap 4 --effect-posterior 0.15" "--effect-only")
 effects=(ssao ssm ssgi)
 
-header="| scene |"
-rule="|---|"
+columns=()
 for n in "${names[@]}"; do
-  for e in "${effects[@]}"; do header+=" $n $e |"; rule+="---|"; done
+  for e in "${effects[@]}"; do columns+=("$n $e"); done
 done
-echo "$header"
-echo "$rule"
+sweep_header "${columns[@]}"
 failed=0
 for scene in "${scenes[@]}"; do
   tag="${scene#builtin:}"

@@ -18,18 +18,15 @@ shift || true
 methods=("$@")
 [ ${#methods[@]} -gt 0 ] || methods=(mrr tiles mrr-effect)
 mkdir -p "$out"
-scenes=()
-for b in demo plane slanted corner steps boxes shadows redwall fence bumpy wires alledges; do scenes+=("builtin:$b"); done
-scenes+=(arcade apartment cornell)
+source "$here/scripts/lib-sweep.sh"
+scenes=("${sweep_scenes[@]}")
 size=320x180
 
-header="| scene |"
-rule="|---|"
+columns=()
 for m in "${methods[@]}"; do
-  for way in gaze prev pan; do header+=" $m $way |"; rule+="---|"; done
+  for way in gaze prev pan; do columns+=("$m $way"); done
 done
-echo "$header"
-echo "$rule"
+sweep_header "${columns[@]}"
 failed=0
 for scene in "${scenes[@]}"; do
   tag="${scene#builtin:}"

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <malloc.h>
+#include <sys/prctl.h>
 
 #include <algorithm>
 #include <iostream>
@@ -200,6 +201,12 @@ int main(int argc, char** argv) {
   // (M_MMAP_THRESHOLD is capped at 32 MiB, so switch mmap off instead of raising it.)
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, -1);
+  // No transparent huge pages for this process. Measured on the dev VM (kernel THP "madvise",
+  // DAMON page-out on): with them, frames after some others in one process ran their G-buffer,
+  // edges and shading 3-13x slower than the same work in `full`'s frame (the kernel zeroing huge
+  // pages at 13% of the samples), at random by the methods' mix; without, every method's frame
+  // times are steady (docs/figures.md, fourth session). Best effort: an old kernel refuses it.
+  prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);
   mrr::removeTemporariesOnInterrupt();
   try {
     return mrr::run(argc, argv);

@@ -11,6 +11,7 @@
 // same stage on every pixel ("dense"): how much more an edge pixel costs than an average one.
 #include <benchmark/benchmark.h>
 #include <malloc.h>
+#include <sys/prctl.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -213,6 +214,7 @@ int main(int argc, char** argv) {
   // pipeline's 6). In a frame other images sit above them; here glibc keeps them instead.
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);  // as `mrr` (app/main.cpp): no huge pages' random clearing cost
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   try {

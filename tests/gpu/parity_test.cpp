@@ -562,6 +562,11 @@ class GpuPeerParity : public ::testing::TestWithParam<PeerCase> {
   std::unique_ptr<gpu::GlContext> context_;
 };
 
+// The name of an mrr-effect case (its mode is always mrr-effect): scene_effect.
+std::string effectCaseName(const ::testing::TestParamInfo<PeerCase>& info) {
+  return info.param.scene + "_" + toString(info.param.effect);
+}
+
 // Every stage of the peer within its rule: G-buffers, edges, tile rates and stencils, the
 // effect, and stage 5 recomputed by the oracle's composePeer from the port's own inputs.
 TEST_P(GpuPeerParity, EveryStageMatchesTheOracle) {
@@ -675,14 +680,7 @@ int64_t expectTheSameWhy(const FrameResult& cpu, const FrameResult& port, const 
 // shapes: the default (from level 1, cap 8) and level 0 widened with a small cap (3), so that
 // reaches below the cap, and their rounding, are exercised. Not vacuous: each frame shades more
 // than mrr's on the same path.
-class GpuEffectMaskParity : public ::testing::TestWithParam<PeerCase> {
- protected:
-  void SetUp() override {
-    MRR_REQUIRE_GL_OR_SKIP();
-    context_ = std::make_unique<gpu::GlContext>();
-  }
-  std::unique_ptr<gpu::GlContext> context_;
-};
+class GpuEffectMaskParity : public GpuPeerParity {};  // the same GL context per case
 
 TEST_P(GpuEffectMaskParity, WidenedMasksAreExactAndEveryStageMatches) {
   const PeerCase& pc = GetParam();
@@ -717,9 +715,7 @@ INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectMaskParity,
                          ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
                                            PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect},
                                            PeerCase{"demo", Effect::Ssgi, Mode::MrrEffect}),
-                         [](const ::testing::TestParamInfo<PeerCase>& info) {
-                           return info.param.scene + "_" + toString(info.param.effect);
-                         });
+                         effectCaseName);
 
 // The ablation's effect-only arm (SPEC §12.3, --effect-only, bench variant +e) on both paths:
 // effect_masks.frag STEP 4 gives the oracle's M'_ℓ ∧ ¬M_ℓ exactly on the port's own inputs, a
@@ -728,14 +724,7 @@ INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectMaskParity,
 // cap 3. On the port's own frames, level by level before the blur: effect only ∧ geometry only
 // = ∅ and effect only ∨ geometry only = both (mrr and mrr-effect). Not vacuous: some level keeps a
 // ring, and with level 0 empty the arm shades fewer pixels than both.
-class GpuEffectOnlyParity : public ::testing::TestWithParam<PeerCase> {
- protected:
-  void SetUp() override {
-    MRR_REQUIRE_GL_OR_SKIP();
-    context_ = std::make_unique<gpu::GlContext>();
-  }
-  std::unique_ptr<gpu::GlContext> context_;
-};
+class GpuEffectOnlyParity : public GpuPeerParity {};  // the same GL context per case
 
 // The settings of an effect-only frame: SSM's penumbrae wide enough to reach past half a level
 // pixel at 97×61 (as GpuEffectMaskParity).
@@ -807,23 +796,14 @@ INSTANTIATE_TEST_SUITE_P(Effects, GpuEffectOnlyParity,
                                            PeerCase{"demo", Effect::Ssm, Mode::MrrEffect},
                                            PeerCase{"shadows", Effect::Ssao, Mode::MrrEffect},
                                            PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect}),
-                         [](const ::testing::TestParamInfo<PeerCase>& info) {
-                           return info.param.scene + "_" + toString(info.param.effect);
-                         });
+                         effectCaseName);
 
 // mrr-effect's a-posteriori term (SPEC §12.2) on both paths: refinement_marks.frag gives the
 // oracle's marks exactly from the port's own coarser result, stencil and G-buffer, and
 // refine_masks.frag (with masks.frag's blur) the oracle's refined M_ℓ, a_ℓ and S_ℓ from the port's
 // own marks; every stage is within its rule. Not vacuous: the port marks pixels at every level it
 // refines, and its refined frame shades more than its a priori one.
-class GpuPosteriorParity : public ::testing::TestWithParam<PeerCase> {
- protected:
-  void SetUp() override {
-    MRR_REQUIRE_GL_OR_SKIP();
-    context_ = std::make_unique<gpu::GlContext>();
-  }
-  std::unique_ptr<gpu::GlContext> context_;
-};
+class GpuPosteriorParity : public GpuPeerParity {};  // the same GL context per case
 
 // τ_v per effect: small enough that each effect marks pixels on these frames at 97×61.
 float posteriorTau(Effect effect) { return effect == Effect::Ssgi ? 0.02f : 0.05f; }
@@ -901,9 +881,7 @@ INSTANTIATE_TEST_SUITE_P(Effects, GpuPosteriorParity,
                          ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
                                            PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect},
                                            PeerCase{"demo", Effect::Ssgi, Mode::MrrEffect}),
-                         [](const ::testing::TestParamInfo<PeerCase>& info) {
-                           return info.param.scene + "_" + toString(info.param.effect);
-                         });
+                         effectCaseName);
 
 // SPEC §11 on both paths: a cost model whose blend costs more than any saving makes both fall
 // back to full, the same frame; one whose overhead is free makes neither fall back. The

@@ -405,14 +405,21 @@ TEST(NeverSlower, TheCalibrationFitsTheSparseFactorAndTheFixedCostBack) {
   EXPECT_EQ(none.effect[static_cast<size_t>(Effect::Ssgi)].fixedMs, 0.0);
 }
 
-// SPEC §11's formulas on hand-made counts (level sizes of a 64×32 frame: 2048, 512, 128, 32).
-TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
+// The hand-made prices the formula tests read (SSAO's a, b, d, c, e, s; coarse G-buffer, blend,
+// edges and masks per pixel), in ns.
+CostModel handMadeModel() {
   CostModel m;
   m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
   m.nsPerCoarseGbufferPixel = 3.0;
   m.nsPerBlendPixel = 5.0;
   m.nsPerEdgePixel = 7.0;
   m.nsPerMaskPixel = 11.0;
+  return m;
+}
+
+// SPEC §11's formulas on hand-made counts (level sizes of a 64×32 frame: 2048, 512, 128, 32).
+TEST(NeverSlower, PredictionCountsGeometryBackgroundCoarseGbuffersAndBlend) {
+  CostModel m = handMadeModel();
   const Constants c = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   FrameCounts n;
   n.hitPixels = n.searchedPixels = 1024;  // half the frame on geometry, all of it paying the effect
@@ -798,12 +805,7 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
 // a-posteriori term (μ_v, per pixel of each refined level) after them, in the rest and the floor.
 // mrr's predictions do not move. On a 64×32 frame (levels 2048, 512, 128, 32 pixels).
 TEST(NeverSlower, PricesMrrEffectsMasksAndItsAPosterioriPasses) {
-  CostModel m;
-  m.effect[static_cast<size_t>(Effect::Ssao)] = {10.0, 1.0, 2.0, 0.5, 0.0, 1.5};  // a, b, d, c, e, s
-  m.nsPerCoarseGbufferPixel = 3.0;
-  m.nsPerBlendPixel = 5.0;
-  m.nsPerEdgePixel = 7.0;
-  m.nsPerMaskPixel = 11.0;
+  CostModel m = handMadeModel();
   const Constants mrr = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   Settings es = ssaoSettings(64, 32, 16, Mode::MrrEffect);
   const Constants effect = makeConstants(es, 1.0f);

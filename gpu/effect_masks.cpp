@@ -112,10 +112,7 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
   checkGl("refinement_marks varies");
   std::vector<glm::ivec4> markedRects;  // the finer level's pixels in the blocks holding a mark
   if (blocks) {
-    const ImageU8 marked = coarse->readBinary(0);
-    *blocks = ImageU8((width + blockSize - 1) / blockSize, (height + blockSize - 1) / blockSize);
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) blocks->at(x / blockSize, y / blockSize) |= marked.at(x, y);
+    *blocks = blocksOf(coarse->readBinary(0), blockSize);
     for (const auto& run : blockRects(*blocks, 1, blockSize, width, height))  // coarser pixels → finer
       markedRects.push_back(glm::min(run * ratio, glm::ivec4(finerWidth, finerHeight, finerWidth, finerHeight)));
   }

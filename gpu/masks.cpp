@@ -85,14 +85,16 @@ Target constantTarget(const GpuScene& scene, int width, int height, Texel format
 
 }  // namespace
 
+ImageU8 blocksOf(const ImageU8& mask, int blockSize) {
+  ImageU8 blocks((mask.width + blockSize - 1) / blockSize, (mask.height + blockSize - 1) / blockSize);
+  for (int y = 0; y < mask.height; ++y)
+    for (int x = 0; x < mask.width; ++x) blocks.at(x / blockSize, y / blockSize) |= mask.at(x, y);
+  return blocks;
+}
+
 namespace {
 // A 0/1 block map max-pooled 2×2 (the 4×4 grid onto the 8×8 one; its sizes are even).
-ImageU8 poolBlocks(const ImageU8& fine) {
-  ImageU8 coarse(fine.width / 2, fine.height / 2);
-  for (int y = 0; y < fine.height; ++y)
-    for (int x = 0; x < fine.width; ++x) coarse.at(x / 2, y / 2) |= fine.at(x, y);
-  return coarse;
-}
+ImageU8 poolBlocks(const ImageU8& fine) { return blocksOf(fine, 2); }
 }  // namespace
 
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height) {

@@ -91,6 +91,9 @@ std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Con
 // non-zero. blockRects: the row runs of the blocks set to `value` (1: near, 0: far) as pixel
 // rectangles (x0, y0, x1, y1) clipped to width×height.
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height);
+// The blocks of blockSize² pixels of `mask` that hold a set pixel (the last row and column of
+// blocks may be partial): the host's block map of a read-back mask.
+ImageU8 blocksOf(const ImageU8& mask, int blockSize);
 
 // Host masks (full, uniform-k, tiles, or a never-slower fallback) as textures for the passes.
 std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount>& masks, const Constants& constants);

@@ -41,13 +41,6 @@ ImageU8 sparseMask(int w, int h, int blobs, std::mt19937& rng) {
   return m;
 }
 
-ImageU8 blocksOf(const ImageU8& m, int blockSize) {
-  ImageU8 blocks((m.width + blockSize - 1) / blockSize, (m.height + blockSize - 1) / blockSize);
-  for (int y = 0; y < m.height; ++y)
-    for (int x = 0; x < m.width; ++x) blocks.at(x / blockSize, y / blockSize) |= m.at(x, y);
-  return blocks;
-}
-
 TEST(GpuMaskRects, TheWideningOverItsReachGivesTheWholeLevelsBits) {
   MRR_REQUIRE_GL_OR_SKIP();
   gpu::GlContext context;
@@ -63,7 +56,7 @@ TEST(GpuMaskRects, TheWideningOverItsReachGivesTheWholeLevelsBits) {
     gpu::TextureSet textures;
     const unsigned m = textures.add(gpu::uploadBinary(mask)), f = textures.add(gpu::uploadTexture(footprint));
     // as drawMasks: M_ℓ's blocks, then those within cap along x, then along y too
-    const ImageU8 blocks = blocksOf(mask, blockSize);
+    const ImageU8 blocks = gpu::blocksOf(mask, blockSize);
     const ImageU8 across = nearBlocks(blocks, blockSize, cap, 0), within = nearBlocks(across, blockSize, 0, cap);
     const auto acrossRects = gpu::blockRects(across, 1, blockSize, w, h);
     const auto withinRects = gpu::blockRects(within, 1, blockSize, w, h);
@@ -133,7 +126,7 @@ TEST(GpuMaskRects, RefiningNearTheMarksGivesTheWholeLevelsBits) {
     const int blockSize = 1 << (kLevelCount - 1 - level);  // level pixels per block of the coarsest grid
     for (int blobs : {0, 3}) {  // no mark (a_ℓ, S_ℓ kept), then a few
       const ImageU8 marks = sparseMask(lc.width, lc.height, blobs, rng);
-      const ImageU8 blocks = blocksOf(marks, blockSize);
+      const ImageU8 blocks = gpu::blocksOf(marks, blockSize);
       const Refined whole = refine(scene, edges, footprint, marks, c, level, nullptr);
       const Refined fast = refine(scene, edges, footprint, marks, c, level, &blocks);
       const std::string where = "level " + std::to_string(level) + ", " + std::to_string(blobs) + " marks";

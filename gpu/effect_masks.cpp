@@ -21,6 +21,16 @@ void drawOver(const GpuScene& scene, const std::vector<glm::ivec4>* rects, int w
   glClearBufferfv(GL_COLOR, 0, clear);
   scene.drawRects(*rects, width, height);
 }
+// A pass's program in use over a fresh width × height target of `texel`, with its textures bound
+// (units 0, 1, ...): the caller sets its uniforms and draws (drawOver).
+Target startPass(const GpuScene& scene, unsigned program, int width, int height, Texel texel,
+                 std::initializer_list<std::pair<const char*, unsigned>> textures) {
+  Target target = scene.target(width, height, 1, false, texel);
+  target->bind();
+  glUseProgram(program);
+  bindTextures(program, textures);
+  return target;
+}
 }  // namespace
 
 Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned edges, int edgeChannel,
@@ -31,10 +41,9 @@ Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigne
                               "\n#define EFFECT_SSM " + (ssm ? "1" : "0") + "\n";
   const unsigned program = scene.program("effect_masks.1." + std::to_string(edgeChannel) + (ssm ? ".ssm" : ""),
                                          "fullscreen.vert", "effect_masks.frag", defines);
-  Target target = scene.target(gbuffer0.width(), gbuffer0.height(), 1, false, Texel::R32f);
-  target->bind();
-  glUseProgram(program);
-  bindTextures(program, {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}, {"edges", edges}});
+  Target target =
+      startPass(scene, program, gbuffer0.width(), gbuffer0.height(), Texel::R32f,
+                {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}, {"edges", edges}});
   if (ssm) {
     bindShadowMap(program, *map, mapTexture, 3, view, c.ssm.biasTexels);
     glUniform1f(uniform(program, "tanHalfAngle"), c.ssm.tanHalfAngle);
@@ -48,45 +57,35 @@ Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigne
   return target;
 }
 
-
 Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, unsigned footprint, int width,
                          int height, int levelScale, int cap, const std::vector<glm::ivec4>* across,
                          const std::vector<glm::ivec4>* within) {
-  const std::string shape = "#define CAP " + std::to_string(cap) + "\n#define MASK_CHANNEL " +
-                            std::to_string(maskChannel) + "\n";
+  const std::string shape =
+      "#define CAP " + std::to_string(cap) + "\n#define MASK_CHANNEL " + std::to_string(maskChannel) + "\n";
   const std::string key = std::to_string(cap) + "." + std::to_string(maskChannel);
   // 1. reach and the pass along x: H as float (−1: no reach)
-  const unsigned acrossProgram = scene.program("effect_masks.2." + key, "fullscreen.vert", "effect_masks.frag",
-                                        "#define STEP 2\n" + shape);
-  Target h = scene.target(width, height, 1, false, Texel::R32f);
-  h->bind();
-  glUseProgram(acrossProgram);
-  bindTextures(acrossProgram, {{"source", mask}, {"footprint", footprint}});
+  const unsigned acrossProgram =
+      scene.program("effect_masks.2." + key, "fullscreen.vert", "effect_masks.frag", "#define STEP 2\n" + shape);
+  Target h = startPass(scene, acrossProgram, width, height, Texel::R32f, {{"source", mask}, {"footprint", footprint}});
   glUniform1f(uniform(acrossProgram, "levelScale"), static_cast<float>(levelScale));
   drawOver(scene, across, width, height, -1.0f);
   checkGl("effect_masks across");
   // 2. the pass along y: M'_ℓ
-  const unsigned down = scene.program("effect_masks.3." + key, "fullscreen.vert", "effect_masks.frag",
-                                      "#define STEP 3\n" + shape);
-  Target widened = scene.target(width, height, 1, false, Texel::R8);
-  widened->bind();
-  glUseProgram(down);
-  bindTextures(down, {{"source", h->texture(0)}});
+  const unsigned down =
+      scene.program("effect_masks.3." + key, "fullscreen.vert", "effect_masks.frag", "#define STEP 3\n" + shape);
+  Target widened = startPass(scene, down, width, height, Texel::R8, {{"source", h->texture(0)}});
   drawOver(scene, within, width, height, 0.0f);
   checkGl("effect_masks down");
   return widened;
 }
 
-Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, int maskChannel, int width,
-                        int height, const std::vector<glm::ivec4>* within) {
-  const unsigned program = scene.program("effect_masks.4." + std::to_string(maskChannel), "fullscreen.vert",
-                                         "effect_masks.frag",
-                                         "#define STEP 4\n#define MASK_CHANNEL " + std::to_string(maskChannel) + "\n");
+Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, int maskChannel, int width, int height,
+                        const std::vector<glm::ivec4>* within) {
+  const unsigned program =
+      scene.program("effect_masks.4." + std::to_string(maskChannel), "fullscreen.vert", "effect_masks.frag",
+                    "#define STEP 4\n#define MASK_CHANNEL " + std::to_string(maskChannel) + "\n");
   // 1. the pixels the widening adds: M'_ℓ ∧ ¬M_ℓ
-  Target only = scene.target(width, height, 1, false, Texel::R8);
-  only->bind();
-  glUseProgram(program);
-  bindTextures(program, {{"source", widened}, {"geometry", mask}});
+  Target only = startPass(scene, program, width, height, Texel::R8, {{"source", widened}, {"geometry", mask}});
   drawOver(scene, within, width, height, 0.0f);
   checkGl("effect_masks widening only");
   return only;
@@ -100,13 +99,11 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
   glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
   glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, &height);
   // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
-  const unsigned varies = scene.program("refinement_marks.1." + std::to_string(channels), "fullscreen.vert",
-                                        "refinement_marks.frag",
-                                        "#define STEP 1\n#define CHANNELS " + std::to_string(channels) + "\n");
-  Target coarse = scene.target(width, height, 1, false, Texel::R8);
-  coarse->bind();
-  glUseProgram(varies);
-  bindTextures(varies, {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
+  const unsigned varies =
+      scene.program("refinement_marks.1." + std::to_string(channels), "fullscreen.vert", "refinement_marks.frag",
+                    "#define STEP 1\n#define CHANNELS " + std::to_string(channels) + "\n");
+  Target coarse = startPass(scene, varies, width, height, Texel::R8,
+                            {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
   glUniform1f(uniform(varies, "tau"), tau);
   drawOver(scene, shaded && !shaded->empty() ? shaded : nullptr, width, height, 0.0f);  // no mark off S_n
   checkGl("refinement_marks varies");
@@ -117,13 +114,10 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
       markedRects.push_back(glm::min(run * ratio, glm::ivec4(finerWidth, finerHeight, finerWidth, finerHeight)));
   }
   // 2. each finer pixel takes its coarser parent's mark
-  const unsigned parent = scene.program("refinement_marks.2." + std::to_string(ratio), "fullscreen.vert",
-                                        "refinement_marks.frag",
-                                        "#define STEP 2\n#define RATIO " + std::to_string(ratio) + "\n");
-  Target marks = scene.target(finerWidth, finerHeight, 1, false, Texel::R8);
-  marks->bind();
-  glUseProgram(parent);
-  bindTextures(parent, {{"source", coarse->texture(0)}});
+  const unsigned parent =
+      scene.program("refinement_marks.2." + std::to_string(ratio), "fullscreen.vert", "refinement_marks.frag",
+                    "#define STEP 2\n#define RATIO " + std::to_string(ratio) + "\n");
+  Target marks = startPass(scene, parent, finerWidth, finerHeight, Texel::R8, {{"source", coarse->texture(0)}});
   if (blocks && markedRects.empty()) {  // no mark: nothing to draw
     const float zero[4] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, zero);

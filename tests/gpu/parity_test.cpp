@@ -1071,6 +1071,25 @@ struct PlantedFaultScope {
   PlantedFaultScope& operator=(const PlantedFaultScope&) = delete;
 };
 
+// The oracle's frame `cpu` (of `r`'s scene and camera with constants k) against the port's, clean
+// and then with `fault` planted: the clean frame passes, the faulty one fails first at the stage
+// the fault catalogue names (`label` prefixes the messages).
+void expectCaughtAt(const test::Rendered& r, const Constants& k, const CostModel& model, const FrameResult& cpu,
+                    const gpu::ShaderFault& fault, const std::string& label) {
+  {
+    const gpu::GpuRenderer clean(*r.scene);
+    const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
+    EXPECT_TRUE(ok.pass()) << label << "without the fault\n" << formatParityTable(ok);
+  }
+  const PlantedFaultScope planted(fault.name);
+  const gpu::GpuRenderer faulty(*r.scene);
+  const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
+  EXPECT_FALSE(bad.pass()) << label;
+  EXPECT_EQ(bad.firstFailing().rfind(fault.stage, 0), 0u)
+      << label << "first failing stage " << bad.firstFailing() << ", expected " << fault.stage << "\n"
+      << formatParityTable(bad);
+}
+
 // Each planted fault in peers.frag makes compareFrames fail, first at the stage the fault
 // catalogue names for it; the same frame without the fault passes.
 TEST(GpuPeerFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
@@ -1096,18 +1115,7 @@ TEST(GpuPeerFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     const auto r = test::renderScene("builtin:" + fc.scene, s);
     const Constants k = makeConstants(s, r.framedSize);
     const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
-    {
-      const gpu::GpuRenderer clean(*r.scene);
-      const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
-      EXPECT_TRUE(ok.pass()) << fc.fault << " without the fault\n" << formatParityTable(ok);
-    }
-    const PlantedFaultScope planted(fc.fault);
-    const gpu::GpuRenderer faulty(*r.scene);
-    const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
-    EXPECT_FALSE(bad.pass()) << fc.fault;
-    EXPECT_EQ(bad.firstFailing().rfind(fault->stage, 0), 0u)
-        << fc.fault << ": first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n"
-        << formatParityTable(bad);
+    expectCaughtAt(r, k, model, cpu, *fault, fc.fault + ": ");
   }
 }
 
@@ -1180,18 +1188,7 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
       k.effectMask.posterior = commonest->first;
     }
     const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
-    {
-      const gpu::GpuRenderer clean(*r.scene);
-      const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
-      EXPECT_TRUE(ok.pass()) << fc.fault << " without the fault\n" << formatParityTable(ok);
-    }
-    const PlantedFaultScope planted(fc.fault);
-    const gpu::GpuRenderer faulty(*r.scene);
-    const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
-    EXPECT_FALSE(bad.pass()) << fc.fault;
-    EXPECT_EQ(bad.firstFailing().rfind(fault->stage, 0), 0u)
-        << fc.fault << ": first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n"
-        << formatParityTable(bad);
+    expectCaughtAt(r, k, model, cpu, *fault, fc.fault + ": ");
   }
 }
 
@@ -1209,17 +1206,7 @@ TEST(GpuEffectOnlyFaults, KeepingTheEdgesFailsAtTheMask) {
   const test::Rendered r = test::renderScene("builtin:demo", s);
   const Constants k = makeConstants(s, r.framedSize);
   const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
-  {
-    const gpu::GpuRenderer clean(*r.scene);
-    const ParityResult ok = compareFrames(cpu, clean.render(r.camera, k, {true, {}, &model}), r.scene->light);
-    EXPECT_TRUE(ok.pass()) << "without the fault\n" << formatParityTable(ok);
-  }
-  const PlantedFaultScope planted(fault->name);
-  const gpu::GpuRenderer faulty(*r.scene);
-  const ParityResult bad = compareFrames(cpu, faulty.render(r.camera, k, {true, {}, &model}), r.scene->light);
-  EXPECT_FALSE(bad.pass());
-  EXPECT_EQ(bad.firstFailing().rfind(fault->stage, 0), 0u)
-      << "first failing stage " << bad.firstFailing() << ", expected " << fault->stage << "\n" << formatParityTable(bad);
+  expectCaughtAt(r, k, model, cpu, *fault, "");
 }
 
 // Issue 40: a sampling seed other than mrr's own (--seed) changes the kernels and the rotations on

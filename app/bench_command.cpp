@@ -1,5 +1,5 @@
-// `mrr bench`: speed against accuracy, every method against full side by side (compare/bench.h);
-// and the never-slower rule's calibration, sweep and replay (compare/rule.h).
+// `mrr bench`: speed against accuracy, every method against full side by side (compare/bench/bench.h);
+// and the never-slower rule's calibration, sweep and replay (compare/rule/rule.h).
 #include <cmath>
 #include <iostream>
 #include <thread>
@@ -7,8 +7,8 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "common/image_io.h"
-#include "compare/report_python.h"
-#include "compare/rule.h"
+#include "compare/report/report_python.h"
+#include "compare/rule/rule.h"
 #include "frontend/options.h"
 #include "frontend/renderers.h"
 #include "gpu/context.h"
@@ -17,7 +17,7 @@ namespace mrr {
 
 namespace {
 
-// The foveation group (issue 37, SPEC §13; compare/bench_fovea.h).
+// The foveation group (issue 37, SPEC §13; compare/bench/bench_fovea.h).
 void addFoveaOptions(CLI::App& b, BenchCommand& c) {
   BenchOptions& o = c.options;
   b.add_flag("--no-fovea", c.noFovea, "skip the foveation group");

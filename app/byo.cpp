@@ -13,7 +13,7 @@
 #include "common/params.h"
 #include "common/shader_contract.h"
 #include "common/stages.h"
-#include "compare/against.h"
+#include "compare/parity/against.h"
 #include "gpu/program.h"
 
 namespace mrr {

@@ -5,7 +5,7 @@
 // usage error). --noise-aware judges each SSAO/SSGI case's stochastic stages as `compare
 // --noise-aware` does. --shard I/N runs the cases whose name hashes to shard I; --json writes the
 // results, and `check --merge R1.json R2.json …` joins shards' results into one summary, JUnit
-// file and report (compare/suite.h holds everything that does not render).
+// file and report (compare/suite/suite.h holds everything that does not render).
 //
 // --jobs K runs K cases side by side, each with its share of the threads (a tbb::task_arena per
 // job). The port renders one frame at a time: each frame's port render makes, uses and closes its
@@ -27,8 +27,8 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/tolerance.h"
-#include "compare/report_python.h"
-#include "compare/suite.h"
+#include "compare/report/report_python.h"
+#include "compare/suite/suite.h"
 #include "frontend/frame_file.h"
 
 namespace mrr {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/frame.h"
-#include "compare/bench.h"
+#include "compare/bench/bench.h"
 #include "explore/server.h"
 #include "frontend/frame_options.h"
 #include "scenes/catalog.h"
@@ -60,7 +60,7 @@ struct CompareCommand {
   FrameOptions frame;
   std::string reportDir;
   std::string against;  // --against FILE: another renderer's stages instead of the port
-  bool noiseAware = false;  // --noise-aware: the stochastic stages judged statistically (compare/noise.h)
+  bool noiseAware = false;  // --noise-aware: the stochastic stages judged statistically (compare/parity/noise.h)
 };
 void addCompareCommand(CLI::App& app, CompareCommand& c);
 int runCompareCommand(CompareCommand& c);
@@ -94,7 +94,7 @@ struct CheckCommand {
   std::string shaders;              // --shaders SDIR (main.cpp loads them; named in the summary)
   int jobs = 1, threads = 0, glDevice = -1;
   bool quiet = false;
-  bool noiseAware = false;          // --noise-aware: each case's stochastic stages judged statistically (compare/noise.h)
+  bool noiseAware = false;          // --noise-aware: each case's stochastic stages judged statistically (compare/parity/noise.h)
 };
 void addCheckCommand(CLI::App& app, CheckCommand& c);
 int runCheckCommand(CheckCommand& c);
@@ -105,7 +105,7 @@ struct BenchCommand {
   BenchOptions options;
   std::vector<std::string> sizes, resolutions, paths = {"cpu"};
   std::string sweepSize, stabilitySize, stressSize, calibrateOut, ruleSweepOut, ruleReplayIn, ruleCostModelFile;
-  std::string foveaSize, foveaMotionSize;  // the foveation group's (compare/bench_fovea.h)
+  std::string foveaSize, foveaMotionSize;  // the foveation group's (compare/bench/bench_fovea.h)
   bool quick = false, noSweeps = false, noStress = false, noFovea = false;
   PathOptions path;
 };

@@ -1,6 +1,6 @@
 // `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
 // Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input. With
-// `--against FILE` (issue 17): the oracle against another renderer's stages (compare/against.h);
+// `--against FILE` (issue 17): the oracle against another renderer's stages (compare/parity/against.h);
 // the port does not run.
 #include <tbb/global_control.h>
 
@@ -14,12 +14,12 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "common/memory.h"
-#include "compare/against.h"
-#include "compare/constant_effect.h"
-#include "compare/html_report.h"
-#include "compare/noise.h"
-#include "compare/parity.h"
-#include "compare/report_python.h"
+#include "compare/parity/against.h"
+#include "compare/parity/constant_effect.h"
+#include "compare/parity/html_report.h"
+#include "compare/parity/noise.h"
+#include "compare/parity/parity.h"
+#include "compare/report/report_python.h"
 #include "frontend/renderers.h"
 
 namespace mrr {
@@ -158,7 +158,7 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
       subject = std::make_unique<FrameResult>(std::move(foreign.frame));
     }
     if (c.noiseAware && isStochastic(s.effect)) {
-      // The oracle's stochastic stages over K independent seeds (compare/noise.h).
+      // The oracle's stochastic stages over K independent seeds (compare/parity/noise.h).
       const NoiseReference noise = buildNoiseReference(
           [&](uint32_t seed) {
             Settings seeded = s;

@@ -12,8 +12,8 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
-#include "compare/metrics.h"
-#include "compare/flip.h"
+#include "compare/metrics/metrics.h"
+#include "compare/metrics/flip.h"
 
 namespace mrr {
 namespace {

@@ -1,6 +1,6 @@
 #pragma once
 // `mrr diff REF TEST` (issue 36): any two images, PNG or EXR, compared as a viewer sees them:
-// RMS, PSNR, SSIM, max |Δ| (compare/metrics.h) and LDR-FLIP (compare/flip.h), printed and
+// RMS, PSNR, SSIM, max |Δ| (compare/metrics/metrics.h) and LDR-FLIP (compare/metrics/flip.h), printed and
 // optionally written as JSON and as a FLIP map. docs/diff.md shows it.
 #include <CLI/CLI.hpp>
 
@@ -12,7 +12,7 @@ namespace mrr {
 struct DiffOptions {
   CLI::App* command = nullptr;  // set by addDiffCommand: `if (opts.command->parsed())`
   std::string reference, test;
-  std::optional<double> ppd;    // absent: compare/flip.h's kFlipDefaultPpd
+  std::optional<double> ppd;    // absent: compare/metrics/flip.h's kFlipDefaultPpd
   std::string tonemap = "clamp";  // EXR with colour: clamp or reinhard, then sRGB-encoded
   std::string mapOut, jsonOut;
   bool legend = false;

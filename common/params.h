@@ -111,7 +111,7 @@ struct EffectMaskSettings {
 // against the previous frame's camera; off unless --gaze or --prev-frame is given.
 struct FoveationSettings {
   // Pixels per degree of visual angle (> 0): a 0.7 m wide 4K display seen from 0.7 m, 3840·π/180 =
-  // 67.02 (FLIP's default, compare/flip.h kFlipDefaultPpd, which the reports' FLIP takes from here).
+  // 67.02 (FLIP's default, compare/metrics/flip.h kFlipDefaultPpd, which the reports' FLIP takes from here).
   float ppd = static_cast<float>(3840.0 * 3.14159265358979323846 / 180.0);
   bool gaze = false;            // --gaze given
   int gazeX = 0, gazeY = 0;     // the full-res pixel the eye looks at, inside W×H

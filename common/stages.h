@@ -3,15 +3,15 @@
 // Falcor's pass reflection). Each row names the image's part in the stages EXR and its rows in
 // `mrr compare`, whether it is per level, its channels, the tolerance rules that judge it
 // (common/tolerance.h), the pipeline step and shader that make it, and what it holds. The
-// oracle's and the port's frames (common/frame.h), the stages EXR (compare/report.cpp), the
-// comparison (compare/parity.cpp), its HTML page, the golden digests and the planted-fault
+// oracle's and the port's frames (common/frame.h), the stages EXR (compare/report/report.cpp), the
+// comparison (compare/parity/parity.cpp), its HTML page, the golden digests and the planted-fault
 // catalogue (gpu/faults.cpp) all name parts through this list: adding a stage is one row here,
 // one CPU function and one shader.
 //
 // Below it, the timed stages (issue 33): every name a frame's timings carry (FrameResult::timings,
 // the reports' timings_ms, progress lines, the benchmark's and the rule sweep's stage medians),
 // each with its cost class, the account it falls in for SPEC §11's never-slower fits
-// (compare/rule.cpp). Both paths and renderFrame (common/driver.cpp) take every timing name from
+// (compare/rule/rule.cpp). Both paths and renderFrame (common/driver.cpp) take every timing name from
 // it; a name it does not know is an error where the fits read it: adding a timed sub-stage is
 // one row there.
 #include <algorithm>
@@ -178,7 +178,7 @@ inline bool partOf(std::string_view name, Part& out) {
 
 // ---- The timed stages ----------------------------------------------------------------------
 
-// Where a timed stage's time goes in SPEC §11's accounts: the sums and fits of compare/rule.cpp
+// Where a timed stage's time goes in SPEC §11's accounts: the sums and fits of compare/rule/rule.cpp
 // (the rule sweep's frame and rests, the calibration's fits) read the classes, never the names.
 enum class CostClass {
   Shared,      // paid alike by every mode before the rule decides (the full-res G-buffer, the shadow

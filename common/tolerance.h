@@ -1,7 +1,7 @@
 #pragma once
 // The one tolerance table for the port against the oracle (SPEC §8): every rule has a
 // per-pixel threshold, the share of pixels allowed over it, an RMS bound, and why. Tests
-// and `mrr compare` (compare/parity.cpp) read it. No tolerance is written anywhere else.
+// and `mrr compare` (compare/parity/parity.cpp) read it. No tolerance is written anywhere else.
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -96,19 +96,19 @@ inline constexpr ToleranceRule kTolerances[] = {
 
 // The guard band around a threshold (edges: τ_n, τ_z, relative; stencils: a_ℓ > 0, absolute):
 // the two paths' pre-threshold values agree to float rounding, so only pixels this close to a
-// cutoff may fall on different sides of it (compare/parity.cpp reports the band's size).
+// cutoff may fall on different sides of it (compare/parity/parity.cpp reports the band's size).
 inline constexpr float kGuardBand = 1e-4f;
 
 // The G-buffer normal's crease band: 1 − N·N' between neighbouring pixels of the oracle above
 // which a triangle edge runs between them, where the rasteriser's sub-pixel snapping may pick
-// the other facet (compare/parity.cpp; the gbuffer.normal rule's why).
+// the other facet (compare/parity/parity.cpp; the gbuffer.normal rule's why).
 inline constexpr float kCreaseTurn = 0.01f;  // about 8°
 
 // `mrr probe --path both` marks a value as parted when |Δ| > this × max(1, |a|, |b|): above
 // float rounding of one stage, below any difference a bug makes.
 inline constexpr double kProbeRelativeDifference = 1e-5;
 
-// The noise-aware verdict (`compare --noise-aware`, docs/spec.md §8.1; compare/noise_stats.h):
+// The noise-aware verdict (`compare --noise-aware`, docs/spec.md §8.1; compare/metrics/noise_stats.h):
 // for the stochastic stages (SSAO's and SSGI's raw.Lℓ, and sub.Lℓ, final, shaded downstream)
 // the oracle renders kNoiseSeeds frames with independent sampling seeds; each pixel of the
 // subject is tested against their mean and spread, and the frame's and each region's bias

@@ -7,8 +7,8 @@
 #include "frontend/options.h"
 #include "common/error.h"
 #include "common/stages.h"
-#include "compare/false_colour.h"
-#include "compare/flip.h"
+#include "compare/metrics/false_colour.h"
+#include "compare/metrics/flip.h"
 #include "cpu_ref/probe.h"
 
 namespace mrr::explore {

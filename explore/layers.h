@@ -21,7 +21,7 @@ enum class LayerKind {
   Scalar,  // non-colour data: the false-colour ramp over [lo, hi]
   Colour,  // RGB data shown as colour (normals as 0.5 + 0.5 n, albedo, positions)
   Levels,  // a level index 0..3: one ramp colour per level
-  Flip,    // an LDR-FLIP error map in [0, 1]: the magma colour map (compare/flip.h)
+  Flip,    // an LDR-FLIP error map in [0, 1]: the magma colour map (compare/metrics/flip.h)
   Reason,  // SPEC §12.3's coverage reasons (cpu_ref/probe.h: Coverage): one fixed colour each
 };
 

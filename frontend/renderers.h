@@ -7,7 +7,7 @@
 
 #include "common/renderer.h"
 #include "common/scene.h"
-#include "compare/bench.h"
+#include "compare/bench/bench.h"
 
 namespace mrr {
 

@@ -145,7 +145,7 @@ def main():
         r = sorted(f.get("pair_ratios", []))
         if not r:
             return "—"
-        # nearest rank, halves away from zero, as compare/rule.cpp's quantile (Python's round
+        # nearest rank, halves away from zero, as compare/rule/rule.cpp's quantile (Python's round
         # takes halves to even: with 3 pairs it would show another pair than the verdict read)
         q = lambda p: r[int(p * (len(r) - 1) + 0.5)]
         return f"{q(0.25):.2f}–{q(0.75):.2f}"

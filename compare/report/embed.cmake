@@ -1,6 +1,6 @@
 # Writes compare/report_files.h into the build tree: the report program (compare/report/*.py)
 # and its templates (templates/*.j2), each as a string with its path under compare/report, so
-# that mrr can run them from anywhere (compare/report_python.cpp). Run at configure time;
+# that mrr can run them from anywhere (compare/report/report_python.cpp). Run at configure time;
 # CMAKE_CONFIGURE_DEPENDS re-runs it when one of them changes.
 file(GLOB_RECURSE report_files RELATIVE "${REPORT_DIR}" "${REPORT_DIR}/*.py" "${REPORT_DIR}/*.j2")
 list(SORT report_files)

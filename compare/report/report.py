@@ -1,7 +1,7 @@
 """The pages of `mrr compare --report DIR` and `mrr bench --report DIR`, and the bench's charts.
 
 mrr compiles this file and templates/*.html.j2 into its binary, writes them to a scratch
-folder and runs `/usr/bin/python3 report.py DATA.json PAGE.html` (compare/report_python.cpp).
+folder and runs `/usr/bin/python3 report.py DATA.json PAGE.html` (compare/report/report_python.cpp).
 DATA.json holds what C++ measured, with "kind": "compare", "bench" or "check" (the index of
 `mrr check --report`). This program writes the
 page to PAGE.html (mrr then moves it into place) and, for the bench, every chart as SVG and
@@ -274,7 +274,7 @@ def flicker(path, stability, device, key="flicker"):
     return c
 
 
-# ---- The foveation group (issue 37, SPEC §13; compare/bench_fovea.cpp) -----------------------
+# ---- The foveation group (issue 37, SPEC §13; compare/bench/bench_fovea.cpp) -----------------------
 
 def fovea_style(method):
     """A method's colour; its "+gaze" or "+motion" run drawn solid, the method alone dashed."""

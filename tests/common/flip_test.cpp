@@ -1,4 +1,4 @@
-// LDR-FLIP (compare/flip.h): analytic cases, then agreement with the reference implementation
+// LDR-FLIP (compare/metrics/flip.h): analytic cases, then agreement with the reference implementation
 // on synthetic pairs and on mrr's own frames.
 //
 // How the reference figures were produced: NVlabs/flip at commit 1eb247c (v1.6; its C++ tool
@@ -20,7 +20,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
-#include "compare/flip.h"
+#include "compare/metrics/flip.h"
 #include "tests/oracle/render_helpers.h"
 
 namespace mrr {

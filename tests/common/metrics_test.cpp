@@ -1,4 +1,4 @@
-#include "compare/metrics.h"
+#include "compare/metrics/metrics.h"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

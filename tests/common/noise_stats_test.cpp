@@ -1,4 +1,4 @@
-// The statistics of the noise-aware verdict (compare/noise_stats.h, compare/noise.h; issue 40):
+// The statistics of the noise-aware verdict (compare/metrics/noise_stats.h, compare/parity/noise.h; issue 40):
 // Student's t against closed forms, Šidák's formula, the coverage of the t interval on Gaussian
 // data from a fixed RNG, and the image test on synthetic noisy frames with planted faults.
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <random>
 
 #include "common/tolerance.h"
-#include "compare/noise.h"
-#include "compare/noise_stats.h"
+#include "compare/parity/noise.h"
+#include "compare/metrics/noise_stats.h"
 
 namespace mrr {
 namespace {

@@ -10,7 +10,7 @@
 #include "common/error.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
-#include "compare/rule.h"
+#include "compare/rule/rule.h"
 
 namespace mrr {
 namespace {
@@ -72,7 +72,7 @@ TEST(TimedStages, EveryNameReadsBackAsItsRowAndLevel) {
   EXPECT_EQ(timedName(Timed::GBuffer, 2), "gbuffer.L2");
   EXPECT_EQ(timedName(Timed::Rule), "rule");
   EXPECT_EQ(stageName(Part::Raw, 1), timedName(Timed::Effect, 1));
-  // The accounts compare/rule.cpp sums (SPEC §11): the full-res G-buffer is paid before the
+  // The accounts compare/rule/rule.cpp sums (SPEC §11): the full-res G-buffer is paid before the
   // decision by every mode, a coarse level's is the method's rest (g).
   EXPECT_EQ(parseTimed("gbuffer.L0").cost(), CostClass::Shared);
   EXPECT_EQ(parseTimed("gbuffer.L1").cost(), CostClass::Rest);

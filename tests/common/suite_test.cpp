@@ -1,6 +1,6 @@
-// Issue 38: what `mrr check` does without rendering (compare/suite.h): the cases of a folder,
+// Issue 38: what `mrr check` does without rendering (compare/suite/suite.h): the cases of a folder,
 // shards, the summary, JUnit XML, the results as JSON and merging shards' results.
-#include "compare/suite.h"
+#include "compare/suite/suite.h"
 
 #include <gtest/gtest.h>
 

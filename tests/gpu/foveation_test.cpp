@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "common/stages.h"
-#include "compare/parity.h"
+#include "compare/parity/parity.h"
 #include "cpu_ref/foveation.h"
 #include "gpu/context.h"
 #include "gpu/pipeline.h"

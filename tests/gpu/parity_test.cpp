@@ -16,7 +16,7 @@
 #include "common/hash.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
-#include "compare/parity.h"
+#include "compare/parity/parity.h"
 #include "cpu_ref/gbuffer.h"
 #include "cpu_ref/peers.h"
 #include "cpu_ref/probe.h"
@@ -272,7 +272,7 @@ TEST(GpuProgram, CompileErrorNamesTheFileItsVariantAndTheDriversLog) {
 namespace mrr {
 namespace {
 
-// Prints the figures (compare/parity.h, the measure `mrr compare` uses) and checks them against
+// Prints the figures (compare/parity/parity.h, the measure `mrr compare` uses) and checks them against
 // a rule of common/tolerance.h with the same verdict `mrr compare` gives (SPEC §8: the
 // figures are the result, not only pass/fail).
 void expectWithin(const DiffFigures& f, const ToleranceRule& rule, const std::string& what) {

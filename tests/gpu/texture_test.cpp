@@ -11,7 +11,7 @@
 #include <cmath>
 #include <set>
 
-#include "compare/parity.h"
+#include "compare/parity/parity.h"
 #include "cpu_ref/pipeline.h"
 #include "gpu/pipeline.h"
 #include "scenes/default_light.h"

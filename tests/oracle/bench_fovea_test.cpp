@@ -1,4 +1,4 @@
-// The bench's foveation group (compare/bench_fovea.h, SPEC §13) on the oracle: the rings count what
+// The bench's foveation group (compare/bench/bench_fovea.h, SPEC §13) on the oracle: the rings count what
 // SPEC §13 promises (the fovea keeps the method's decisions, the periphery shades fewer), the
 // motion runs shade fewer pixels where the camera moves, and the figures reach JSON, CSV and
 // Markdown.
@@ -11,9 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "compare/bench.h"
-#include "compare/bench_fovea.h"
-#include "compare/bench_report.h"
+#include "compare/bench/bench.h"
+#include "compare/bench/bench_fovea.h"
+#include "compare/bench/bench_report.h"
 #include "render_helpers.h"
 #include "tests/test_support.h"
 

@@ -147,7 +147,7 @@ TEST(DefaultLight, SharedScenesWithoutALightGetTheBestCandidate) {
 }  // namespace
 }  // namespace mrr
 
-#include "compare/constant_effect.h"
+#include "compare/parity/constant_effect.h"
 
 namespace mrr {
 namespace {

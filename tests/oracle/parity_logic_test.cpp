@@ -1,9 +1,9 @@
-// The comparison behind `mrr compare` (compare/parity.cpp), without a GL context: an oracle
+// The comparison behind `mrr compare` (compare/parity/parity.cpp), without a GL context: an oracle
 // frame against itself, and against copies of it with one stage changed by hand. The GL runs
 // of the same logic are in tests/cli (CliCompareTest, CliPlantedFaultTest).
 #include <gtest/gtest.h>
 
-#include "compare/parity.h"
+#include "compare/parity/parity.h"
 
 #include <cmath>
 #include "tests/oracle/render_helpers.h"

@@ -10,8 +10,8 @@
 #include <tuple>
 
 #include "common/error.h"
-#include "compare/report.h"
-#include "compare/rule.h"
+#include "compare/report/report.h"
+#include "compare/rule/rule.h"
 #include "cpu_ref/peers.h"
 #include "tests/oracle/render_helpers.h"
 

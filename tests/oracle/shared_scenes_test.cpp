@@ -2,7 +2,7 @@
 // method meets the paper's accuracy on the arcade (issue 3's acceptance figure).
 #include <gtest/gtest.h>
 
-#include "compare/metrics.h"
+#include "compare/metrics/metrics.h"
 #include "tests/oracle/render_helpers.h"
 #include "tests/test_support.h"
 

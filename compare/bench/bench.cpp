@@ -1,0 +1,425 @@
+#include "compare/bench/bench.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include <unistd.h>
+
+#include "common/error.h"
+#include "common/image_io.h"
+#include "compare/bench/bench_format.h"
+#include "compare/report/process.h"
+#include "common/stages.h"
+#include "compare/bench/bench_report.h"
+#include "compare/report/report.h"
+#include "scenes/cameras.h"
+#include "scenes/catalog.h"
+
+namespace mrr {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+Settings settingsFor(const std::string& method, Effect effect, int w, int h, int samples) {
+  Settings s = defaultSettings(effect);
+  s.width = w;
+  s.height = h;
+  s.setSamples(samples);
+  s.neverSlower = method != "mrr-norule";
+  // mrr-effect's ablation variants (SPEC §12): "mrr-effect" then any of "+cN" (the cap, level
+  // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale), "+noblur" (σ_ℓ² = 0:
+  // the footprint alone widens), "+pT"/"+lN" (the a-posteriori τ and finest level), "+e" (the
+  // ablation's effect-only arm, SPEC §12.3: the widening's pixels without the geometry's) and
+  // "+norule" (without the never-slower rule, as mrr-norule: the arm's own figures where the rule
+  // would shade the frame at full res).
+  const size_t plus = method.find('+');
+  const std::string base = method.substr(0, plus);
+  s.mode = parseMode(base == "mrr-norule" ? "mrr" : base);
+  for (size_t at = plus; at != std::string::npos;) {
+    require(s.mode == Mode::MrrEffect, "--methods " + method + ": only mrr-effect takes +variants");
+    const size_t next = method.find('+', at + 1);
+    const std::string v = method.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
+    try {
+      if (v == "noblur") {
+        for (LevelSettings& ls : s.levels) ls.sigma2 = 0.0f;
+      } else if (v == "e") {
+        s.effectMask.effectOnly = true;
+      } else if (v == "norule") {
+        s.neverSlower = false;
+      } else if (v.size() > 1 && v[0] == 'c') {
+        s.effectMask.cap = std::stoi(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'f') {
+        s.effectMask.firstLevel = std::stoi(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'x') {
+        s.effectMask.scale = std::stof(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'p') {
+        s.effectMask.posterior = std::stof(v.substr(1));
+      } else if (v.size() > 1 && v[0] == 'l') {
+        s.effectMask.posteriorFinest = std::stoi(v.substr(1));
+      } else {
+        throw MrrError("");
+      }
+    } catch (const std::exception&) {
+      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN, +e, +norule or +noblur)");
+    }
+    at = next;
+  }
+  validateSettings(s);
+  return s;
+}
+
+OpenScene openScene(const std::string& name, const BenchPath& path) {
+  OpenScene o;
+  o.name = name;
+  SceneRequest req;
+  req.scene = name;
+  ResolvedScene rs = resolveScene(req);
+  o.scene = std::make_unique<Scene>(std::move(rs.scene));
+  o.camera = rs.camera;
+  o.render = path.open(*o.scene);
+  return o;
+}
+
+std::map<std::string, double> stageMs(const FrameResult& f) {
+  std::map<std::string, double> perStage;
+  for (const StageTiming& st : f.timings) perStage[st.stage] += st.ms;
+  return perStage;
+}
+
+namespace {
+
+// The method's own cost: everything but the full-res G-buffer, which a deferred renderer
+// has anyway and every method shares.
+// The method's own time: the frame less the stage every method pays alike and that is not
+// the effect: the full-res G-buffer.
+double effectMs(const std::map<std::string, double>& ms) {
+  auto at = [&](Timed t, int level = -1) {
+    const auto it = ms.find(timedName(t, level));
+    return it != ms.end() ? it->second : 0.0;
+  };
+  return at(Timed::Total) - at(Timed::GBuffer, 0);
+}
+
+using bench_format::fixed;
+using bench_format::sizeName;
+
+
+int middleSamples(Effect e) { return e == Effect::Ssm ? 196 : e == Effect::Ssgi ? 288 : 64; }
+
+struct Progress {
+  size_t done = 0, total = 0;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  void step(const std::string& what) {
+    ++done;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "[bench] " << done << "/" << total << "  " << what << "  (" << fixed(s, 0) << " s)\n";
+  }
+};
+
+class Sweep {
+ public:
+  Sweep(const BenchOptions& o, std::vector<BenchRecord>& records) : o_(o), records_(records) {}
+
+  // Renders full and every method on one camera and setting, alternating, `repeats` times
+  // after a warm-up, and records each. Returns the frames of the last repeat, by method.
+  std::map<std::string, FrameResult> measure(const BenchPath& path, const OpenScene& sc, int cameraIndex,
+                                             const Camera& camera, Effect effect, int w, int h, int samples,
+                                             const std::vector<std::string>& methods, const std::string& group) {
+    std::vector<std::string> all = {"full"};
+    for (const std::string& m : methods)
+      if (m != "full") all.push_back(m);
+    std::map<std::string, std::map<std::string, std::vector<double>>> stageRuns;
+    std::map<std::string, FrameResult> last;
+    FrameResult firstFull;
+    const float framed = framedSize(*sc.scene, camera, static_cast<float>(w) / static_cast<float>(h)).size;
+    for (int i = 0; i <= o_.repeats; ++i)
+      for (const std::string& m : all) {
+        const Constants c = makeConstants(settingsFor(m, effect, w, h, samples), framed);
+        FrameResult f = sc.render(camera, c, {false, {}, nullptr});
+        if (i == 0) {  // warm-up; full's is kept to check that repeats give the same bits
+          if (m == "full") firstFull = std::move(f);
+          continue;
+        }
+        for (const auto& [k, v] : stageMs(f)) stageRuns[m][k].push_back(v);
+        if (i == o_.repeats) last[m] = std::move(f);
+      }
+    const std::map<std::string, ColdFrame> cold = group == "main" && o_.coldRuns > 0
+                                                      ? coldFrames(path, sc, camera, effect, w, h, samples, all)
+                                                      : std::map<std::string, ColdFrame>{};
+    const FrameResult& full = last.at("full");
+    std::map<std::string, double> fullMedian;
+    for (const auto& [k, v] : stageRuns["full"]) fullMedian[k] = median(v);
+    const double fullEffect = effectMs(fullMedian);
+    for (const std::string& m : all) {
+      BenchRecord r;
+      r.path = path.name;
+      r.scene = sc.name;
+      r.camera = cameraIndex;
+      r.group = group;
+      r.method = m;
+      r.effect = toString(effect);
+      r.width = w;
+      r.height = h;
+      r.samples = samples;
+      for (const auto& [k, v] : stageRuns[m]) r.stageMs[k] = median(v);
+      r.effectMs = effectMs(r.stageMs);
+      r.totalMs = r.stageMs[timedName(Timed::Total)];
+      const FrameResult& f = last.at(m);
+      r.shadedPixels = f.shadedPixelsTotal;
+      r.idealSpeedup = f.idealSpeedup;
+      r.idealSpeedupHit = f.idealSpeedupHit;
+      r.measuredSpeedup = fullEffect / std::max(r.effectMs, 1e-9);
+      r.fullEffectMs = fullEffect;
+      if (cold.count(m) && cold.count("full")) {
+        r.coldEffectMs = cold.at(m).effectMs;
+        r.coldSpeedup = cold.at("full").effectMs / std::max(cold.at(m).effectMs, 1e-9);
+        r.coldProcessMs = cold.at(m).processMs;
+      }
+      r.fellBack = f.fallback.fellBack;
+      // full against its own warm-up frame: 0 exactly when repeats give the same bits
+      const FrameErrors e = errorVsFull(f, m == "full" ? firstFull : full);
+      r.error = e.effect;
+      r.shadedRms = e.shaded.rms;
+      r.flip = e.effectFlip.mean;
+      r.shadedFlip = e.shadedFlip.mean;
+      records_.push_back(r);
+    }
+    return last;
+  }
+
+ private:
+  // A cold single frame's medians: its effect time (the report's total less its full-res
+  // G-buffer) and the process's wall time, start to exit.
+  struct ColdFrame {
+    double effectMs = 0.0, processMs = 0.0;
+  };
+  // Fresh `mrr render` processes of full and of each of `methods` in kColdMethods, alternating,
+  // o_.coldRuns each: their medians by method.
+  std::map<std::string, ColdFrame> coldFrames(const BenchPath& path, const OpenScene& sc, const Camera& camera,
+                                              Effect effect, int w, int h, int samples,
+                                              const std::vector<std::string>& methods) const {
+    const std::string self = selfExecutable();
+    if (self.empty()) throw MrrError("bench --cold: cannot find this executable (/proc/self/exe)");
+    const std::string dir = (std::filesystem::temp_directory_path() / ("mrr-cold-" + std::to_string(getpid()))).string();
+    std::filesystem::create_directories(dir);
+    auto vec = [](const glm::vec3& v) { return fixed(v.x, 6) + "," + fixed(v.y, 6) + "," + fixed(v.z, 6); };
+    std::vector<std::string> cold = {"full"};
+    for (const std::string& m : methods)
+      if (std::find(kColdMethods.begin(), kColdMethods.end(), m) != kColdMethods.end()) cold.push_back(m);
+    std::map<std::string, std::vector<double>> effectRuns, processRuns;
+    for (int i = 0; i < o_.coldRuns; ++i)
+      for (const std::string& m : cold) {
+        const std::string report = dir + "/report.json";
+        std::vector<std::string> args = {self, "render", "--scene", sc.name, "--path", path.name, "--size", sizeName(w, h),
+                                         "--effect", toString(effect), "--samples", std::to_string(samples), "--mode", m,
+                                         "--eye", vec(camera.eye), "--target", vec(camera.target), "--up", vec(camera.up),
+                                         "--fov", fixed(camera.yfov * 180.0 / 3.14159265358979323846, 6),
+                                         "--report", report, "-q"};
+        if (path.name == "cpu" && o_.threads > 0) args.insert(args.end(), {"--threads", std::to_string(o_.threads)});
+        std::string why;
+        const auto start = std::chrono::steady_clock::now();
+        const int rc = runProcess(args, dir + "/log.txt", why);
+        processRuns[m].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        if (rc != 0) throw MrrError("bench --cold: mrr render exited " + std::to_string(rc) + (why.empty() ? "" : ": " + why));
+        std::ifstream in(report);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        const nlohmann::json& t = j.at("timings_ms");
+        effectRuns[m].push_back(t.at(timedName(Timed::Total)).get<double>() - t.value(timedName(Timed::GBuffer, 0), 0.0));
+      }
+    std::filesystem::remove_all(dir);
+    std::map<std::string, ColdFrame> out;
+    for (const auto& [m, v] : effectRuns) out[m] = {median(v), median(processRuns.at(m))};
+    return out;
+  }
+
+  const BenchOptions& o_;
+  std::vector<BenchRecord>& records_;
+};
+
+void writeExampleImages(const std::string& dir, const std::map<std::string, FrameResult>& frames) {
+  std::filesystem::create_directories(dir);
+  const FrameResult& full = frames.at("full");
+  for (const auto& [m, f] : frames) {
+    writeImage(dir + "/" + m + ".png", f.final(), {}, false);
+    writeImage(dir + "/" + m + "-shaded.png", f.shaded, {}, true);
+    ImageF diff(f.final().width, f.final().height, 1);
+    for (int y = 0; y < diff.height; ++y)
+      for (int x = 0; x < diff.width; ++x) {
+        float d = 0.0f;
+        for (int ch = 0; ch < f.final().channels; ++ch) d = std::max(d, std::abs(f.final().at(x, y, ch) - full.final().at(x, y, ch)));
+        diff.at(x, y) = std::min(1.0f, 10.0f * d);
+      }
+    writeImage(dir + "/" + m + "-diff10.png", diff, {}, false);
+  }
+}
+
+std::vector<Effect> parseEffects(const std::vector<std::string>& names) {
+  std::vector<Effect> out;
+  for (const std::string& e : names) out.push_back(parseEffect(e));
+  return out;
+}
+
+}  // namespace
+
+std::string cpuModelName() {
+  std::ifstream cpu("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpu, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths, std::ostream& out) {
+  BenchOptions o = optionsIn;
+  if (o.foveaOnly) {  // the foveation group alone
+    o.scenes.clear();
+    o.paperSweeps = false;
+    o.frames = 0;
+    o.stressScenes.clear();
+  }
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = o.threads > 0 ? o.threads : hw;
+  if (o.machine.empty()) o.machine = cpuModelName() + ", " + std::to_string(hw) + " hardware threads";
+  tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+  const std::vector<Effect> effects = parseEffects(o.effects);
+  std::vector<BenchRecord> records;
+  std::vector<StabilityRecord> stability;
+  Sweep sweep(o, records);
+  std::map<std::string, std::string> devices;
+  for (const BenchPath& p : paths) devices[p.name] = p.device;
+
+  // Count the steps for the progress lines.
+  Progress progress;
+  const size_t perPath = o.scenes.size() * static_cast<size_t>(o.cameras) * o.sizes.size() *
+                         (o.samples.empty() ? effects.size() : effects.size() * o.samples.size());
+  size_t sweeps = 0;
+  if (o.paperSweeps) {
+    for (Effect e : effects) sweeps += (e == Effect::Ssao ? o.ssaoSweep : e == Effect::Ssm ? o.ssmSweep : o.ssgiSweep).size();
+    sweeps += effects.size() * o.resolutions.size();
+  }
+  const size_t stab = o.frames > 0 ? o.stabilityScenes.size() * o.stabilityEffects.size() * cameraPathKinds().size() : 0;
+  const size_t stress = o.stressScenes.size() * effects.size();
+  progress.total = paths.size() * (perPath + sweeps + stab + stress);
+  FoveaResults fovea;
+
+  std::string examplesDone;
+  for (const BenchPath& path : paths) {
+    // 1. The main sweep: every method on every scene, camera, size, effect and sample count.
+    for (const std::string& sceneName : o.scenes) {
+      std::cerr << "[bench] " << path.name << ": loading " << sceneName << "\n";
+      const OpenScene sc = openScene(sceneName, path);
+      const std::vector<Camera> cams = benchCameras(sc.camera, o.cameras);
+      for (int ci = 0; ci < o.cameras; ++ci)
+        for (const auto& [w, h] : o.sizes)
+          for (Effect e : effects) {
+            const std::vector<int> counts = o.samples.empty() ? std::vector<int>{middleSamples(e)} : o.samples;
+            for (int n : counts) {
+              progress.step(path.name + " " + sceneName + " camera " + std::to_string(ci) + " " + sizeName(w, h) + " " +
+                            toString(e) + "-" + std::to_string(n));
+              const auto frames = sweep.measure(path, sc, ci, cams[static_cast<size_t>(ci)], e, w, h, n, o.methods, "main");
+              // Example images of each method on the same frame, once per path and effect.
+              const std::string key = path.name + "/" + toString(e);
+              if (!o.reportDir.empty() && examplesDone.find("[" + key + "]") == std::string::npos) {
+                writeExampleImages(o.reportDir + "/images/" + path.name + "-" + toString(e), frames);
+                examplesDone += "[" + key + "]";
+              }
+            }
+          }
+    }
+    // 2. The paper's sweeps on the first scene's first camera.
+    if (o.paperSweeps && !o.scenes.empty()) {
+      const OpenScene sc = openScene(o.scenes.front(), path);
+      for (Effect e : effects) {
+        const std::vector<int>& counts = e == Effect::Ssao ? o.ssaoSweep : e == Effect::Ssm ? o.ssmSweep : o.ssgiSweep;
+        for (int n : counts) {
+          progress.step(path.name + " samples sweep " + sc.name + " " + sizeName(o.sweepSize.first, o.sweepSize.second) +
+                        " " + toString(e) + "-" + std::to_string(n));
+          sweep.measure(path, sc, 0, sc.camera, e, o.sweepSize.first, o.sweepSize.second, n, o.methods, "samples");
+        }
+        for (const auto& [w, h] : o.resolutions) {
+          progress.step(path.name + " resolution sweep " + sc.name + " " + sizeName(w, h) + " " + toString(e) + "-" +
+                        std::to_string(middleSamples(e)));
+          sweep.measure(path, sc, 0, sc.camera, e, w, h, middleSamples(e), o.methods, "resolution");
+        }
+      }
+    }
+    // 3. Stability along camera paths: flicker of every method against full, frame by frame.
+    if (o.frames > 0)
+      for (const std::string& sceneName : o.stabilityScenes) {
+        const OpenScene sc = openScene(sceneName, path);
+        // The radii of the path's first view, kept along it (as a camera moving through a scene keeps them).
+        const auto [sw, sh] = o.stabilitySize;
+        const float framed = framedSize(*sc.scene, sc.camera, static_cast<float>(sw) / static_cast<float>(sh)).size;
+        for (const std::string& effectName : o.stabilityEffects)
+          for (const std::string& kind : cameraPathKinds()) {
+            const Effect e = parseEffect(effectName);
+            progress.step(path.name + " stability " + sceneName + " " + kind + " " + std::to_string(o.frames) + " frames " +
+                          effectName);
+            std::map<std::string, FlickerMeter> meters;
+            const auto [w, h] = o.stabilitySize;
+            for (const Camera& cam : cameraPath(sc.camera, kind, o.frames)) {
+              const FrameResult full =
+                  sc.render(cam, makeConstants(settingsFor("full", e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
+              for (const std::string& m : o.methods) {
+                if (m == "full") continue;
+                const FrameResult f =
+                    sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
+                meters[m].add(f.final(), full.final());
+              }
+            }
+            for (const auto& [m, meter] : meters)
+              stability.push_back({path.name, sceneName, effectName, middleSamples(e), kind, o.frames, w, h, m,
+                                   meter.flicker(), meter.meanRms(), meter.flipFlicker(), meter.meanFlip()});
+          }
+      }
+    // 4. The stress scenes: every method, and mrr without the never-slower rule.
+    for (const std::string& sceneName : o.stressScenes) {
+      const OpenScene sc = openScene(sceneName, path);
+      std::vector<std::string> methods = o.methods;
+      methods.push_back("mrr-norule");
+      for (Effect e : effects) {
+        progress.step(path.name + " stress " + sceneName + " " + toString(e));
+        sweep.measure(path, sc, 0, sc.camera, e, o.stressSize.first, o.stressSize.second, middleSamples(e), methods,
+                      "stress");
+      }
+    }
+    // 5. Foveation and motion (SPEC §13): compare/bench/bench_fovea.cpp.
+    runFoveaGroup(o, path, fovea);
+  }
+
+  BenchResults results{o, devices, records, stability, threads, std::move(fovea)};
+  const std::vector<std::string> failures = sanityChecks(results);
+  const std::string md = benchMarkdown(results, failures);
+  out << md;
+  if (!o.markdownOut.empty()) writeTextFile(o.markdownOut, md);
+  if (!o.jsonOut.empty()) writeTextFile(o.jsonOut, benchJson(results, failures).dump(1) + "\n");
+  if (!o.csvOut.empty()) writeTextFile(o.csvOut, benchCsv(results));
+  if (!o.csvOut.empty() && !stability.empty()) writeTextFile(stabilityCsvPath(o.csvOut), benchStabilityCsv(results));
+  if (!o.csvOut.empty() && !results.fovea.rings.empty())
+    writeTextFile(foveaCsvPath(o.csvOut, "-fovea"), foveaRingsCsv(results.fovea));
+  if (!o.csvOut.empty() && !results.fovea.motion.empty())
+    writeTextFile(foveaCsvPath(o.csvOut, "-fovea-motion"), foveaMotionCsv(results.fovea));
+  if (!o.reportDir.empty()) {
+    std::cerr << "[bench] writing the report to " << o.reportDir << "\n";
+    writeBenchReport(o.reportDir, results, failures);
+  }
+  for (const std::string& f : failures) std::cerr << "[bench] sanity check failed: " << f << "\n";
+  return o.check && !failures.empty() ? 1 : 0;
+}
+
+}  // namespace mrr

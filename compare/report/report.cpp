@@ -1,0 +1,285 @@
+#include "compare/report/report.h"
+
+#include "common/frame_params.h"
+
+#include <cmath>
+
+#include "common/stages.h"
+
+namespace mrr {
+
+std::vector<int64_t> shadedLevelPixelsByRing(const FrameResult& f, int rings, const std::function<int(int, int)>& ringOf) {
+  const Constants& c = f.constants;
+  std::vector<int64_t> shaded(static_cast<size_t>(rings), 0);
+  for (int l = 0; l < kLevelCount; ++l) {
+    if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+    const ImageU8& s = f.levels[static_cast<size_t>(l)].masks.stencil;
+    const int scale = 1 << l;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) {
+        const int px = levelSamplePixel(x, scale), py = levelSamplePixel(y, scale);
+        if (!s.at(x, y) || px >= c.width || py >= c.height) continue;
+        ++shaded[static_cast<size_t>(ringOf(px, py))];
+      }
+  }
+  return shaded;
+}
+
+FrameErrors errorVsFull(const FrameResult& frame, const FrameResult& reference) {
+  // FLIP's viewing conditions are --ppd's (SPEC §13); its default is FLIP's own, kept in double.
+  const float ppdSet = frame.constants.foveation.ppd;
+  const double ppd = ppdSet == FoveationSettings{}.ppd ? kFlipDefaultPpd : static_cast<double>(ppdSet);
+  FrameErrors e{compareToReference(frame.final(), reference.final(), frame.blend.levelMap),
+                compareToReference(frame.shaded, reference.shaded, frame.blend.levelMap),
+                flip(reference.final(), frame.final(), ppd).stats,  // flip() clamps: the PNG preview's values
+                flip(linearToDisplay(reference.shaded), linearToDisplay(frame.shaded), ppd).stats,
+                {}};
+  if (!frame.eccentricity.empty()) {  // SPEC §13: RMS per eccentricity ring, in double, in order
+    std::vector<double> sum(kRingCount, 0.0);
+    std::vector<int64_t> count(kRingCount, 0);
+    const ImageF& a = frame.final();
+    const ImageF& b = reference.final();
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        const int ring = eccentricityRing(frame.eccentricity.at(x, y));
+        for (int ch = 0; ch < a.channels; ++ch) {
+          const double d = static_cast<double>(a.at(x, y, ch)) - static_cast<double>(b.at(x, y, ch));
+          sum[static_cast<size_t>(ring)] += d * d;
+          ++count[static_cast<size_t>(ring)];
+        }
+      }
+    for (int r = 0; r < kRingCount; ++r)
+      e.ringRms.push_back(count[static_cast<size_t>(r)] ? std::sqrt(sum[static_cast<size_t>(r)] / static_cast<double>(count[static_cast<size_t>(r)])) : 0.0);
+  }
+  return e;
+}
+
+namespace {
+nlohmann::json figuresJson(const ErrorFigures& e) {
+  return {{"rms", e.rms},
+          {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
+          {"ssim", e.ssim},
+          {"max_abs", e.maxAbs},
+          {"edge_band_rms", e.edgeBandRms},
+          {"edge_band_pixels", e.edgeBandPixels}};
+}
+}  // namespace
+
+nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::optional<FrameErrors>& err) {
+  const Constants& c = f.constants;
+  nlohmann::json j;
+  j["scene"] = info.scene;
+  j["credit"] = info.credit;
+  j["effect"] = toString(c.effect);
+  j["path"] = info.path;
+  j["mode"] = toString(c.mode);
+  j["method"] = toString(c.mode);
+  if (f.fallback.evaluated)
+    j["never_slower"] = {{"fell_back_to_full", f.fallback.fellBack},
+                         {"decided", f.fallback.onFloor ? "early, on the floor, before the edge sample"
+                                     : f.fallback.early   ? "early, before the edges"
+                                                          : "on the stencils"},
+                         {"hit_pixels", f.counts.hitPixels},
+                         {"silhouette_pixels", f.counts.silhouette[0]},
+                         {"predicted_full_ms", f.fallback.predictedFullMs},
+                         {"predicted_mrr_ms", f.fallback.predictedMrrMs},
+                         {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
+                         {"cost_model", f.fallback.costModel}};
+  if (f.fallback.evaluated && !f.edgeSample.empty())  // 8×8 blocks whose diagonal holds an edge (or a silhouette)
+    j["never_slower"]["edge_sample_blocks"] = f.counts.edgeBlocks;
+  if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
+    j["never_slower"]["searched_pixels"] = f.counts.searchedPixels;
+    j["never_slower"]["pcf_pixels"] = f.counts.pcfPixels;
+    j["never_slower"]["map_footprint_texels"] = footprintTexels(c.levels[0], f.counts);  // f̄
+  }
+  if (c.mode == Mode::Tiles) {
+    std::array<int, 3> tiles{};
+    for (uint8_t r : f.tileRates.data) ++tiles[r];
+    j["tiles"] = {{"size", kTileSize}, {"rate_1x1", tiles[0]}, {"rate_2x2", tiles[1]}, {"rate_4x4", tiles[2]}};
+  }
+  auto vec3 = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+  if (c.foveation.active()) {  // SPEC §13: the viewing conditions, the terms and what they allowed
+    const Constants::Foveation& fv = c.foveation;
+    nlohmann::json fj = {{"ppd", fv.ppd},
+                         {"gaze", fv.gaze ? nlohmann::json::array({fv.gazeX, fv.gazeY}) : nlohmann::json(nullptr)},
+                         {"foveate", fv.gaze && fv.foveate},
+                         {"mar0_degrees", fv.mar0},
+                         {"mar_slope", fv.marSlope},
+                         {"motion", fv.motion}};
+    if (fv.motion && fv.panned) {  // --pan: this frame's camera, its eye moved along its right axis
+      const View prev = previousView(c, f.view);
+      fj["pan"] = fv.pan;
+      fj["prev_camera"] = {{"eye", vec3(prev.eye)}, {"target", vec3(f.camera.target - fv.pan * prev.right)},
+                           {"up", vec3(f.camera.up)}, {"yfov_degrees", glm::degrees(f.camera.yfov)},
+                           {"motion_cap", fv.motionCap}, {"motion_scale", fv.motionScale}};
+    } else if (fv.motion) {
+      fj["prev_camera"] = {{"eye", vec3(fv.prevEye)}, {"target", vec3(fv.prevTarget)}, {"up", vec3(fv.prevUp)},
+                           {"yfov_degrees", glm::degrees(fv.prevYfov)}, {"motion_cap", fv.motionCap},
+                           {"motion_scale", fv.motionScale}};
+    }
+    if (!f.levelLimit.empty()) {  // full-res pixels of W×H by ℓ_min
+      std::array<int64_t, kLevelCount> byLimit{};
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) ++byLimit[f.levelLimit.at(x, y, 2)];
+      fj["pixels_by_level_limit"] = byLimit;
+    }
+    if (!f.eccentricity.empty()) {  // per eccentricity ring: its pixels and the level pixels shaded there
+      std::vector<int64_t> pixels(kRingCount, 0);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) ++pixels[static_cast<size_t>(eccentricityRing(f.eccentricity.at(x, y)))];
+      const std::vector<int64_t> shaded = shadedLevelPixelsByRing(
+          f, kRingCount, [&](int px, int py) { return eccentricityRing(f.eccentricity.at(px, py)); });
+      nlohmann::json rings = nlohmann::json::array();
+      for (int r = 0; r < kRingCount; ++r) {
+        const size_t i = static_cast<size_t>(r);
+        nlohmann::json ring = {{"from_degrees", r * kRingDegrees},
+                               {"to_degrees", r + 1 < kRingCount ? nlohmann::json(r * kRingDegrees + kRingDegrees) : nlohmann::json(nullptr)},
+                               {"pixels", pixels[i]},
+                               {"shaded_level_pixels", shaded[i]},
+                               {"shaded_share", pixels[i] ? static_cast<double>(shaded[i]) / static_cast<double>(pixels[i]) : 0.0}};
+        if (err && i < err->ringRms.size())
+          ring["rms_vs_full"] = pixels[i] ? nlohmann::json(err->ringRms[i]) : nlohmann::json(nullptr);
+        rings.push_back(ring);
+      }
+      fj["rings"] = rings;
+    }
+    j["foveation"] = fj;
+  }
+  j["camera"] = {{"eye", vec3(f.camera.eye)},
+                 {"target", vec3(f.camera.target)},
+                 {"up", vec3(f.camera.up)},
+                 {"yfov_degrees", glm::degrees(f.camera.yfov)}};
+  j["light"] = {{"direction", vec3(f.light.direction)},  // the way the light travels
+                {"toward_light", vec3(-f.light.direction)},  // what --light-dir takes
+                {"color", vec3(f.light.color)},
+                {"angular_diameter_rad", 2.0f * std::atan(c.ssm.tanHalfAngle)}};
+  j["width"] = c.width;
+  j["height"] = c.height;
+  j["padded_width"] = c.paddedWidth;
+  j["padded_height"] = c.paddedHeight;
+  j["samples"] = c.samples();
+  j["threads"] = info.threads;
+  j["memory"] = {{"estimate_bytes", info.memoryEstimateBytes}, {"peak_resident_bytes", info.peakResidentBytes}};
+  switch (c.effect) {
+    case Effect::Ssao:
+      j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}, {"tangent_plane_depth", c.ssao.tangentPlaneDepth}};
+      break;
+    case Effect::Ssm:
+      j["ssm"] = {{"pcf_grid", c.ssm.grid}, {"shadow_map_size", c.ssm.shadowMapSize},
+                  {"tan_half_light_angle", c.ssm.tanHalfAngle}, {"blocker_grid", c.ssm.blockerGrid},
+                  {"bias_texels", c.ssm.biasTexels}};
+      break;
+    case Effect::Ssgi:
+      j["ssgi"] = {{"radius", c.ssgi.radius}, {"patch_area", c.ssgi.patchArea}, {"shadow_map_size", c.ssm.shadowMapSize}};
+      break;
+  }
+  j["edges"] = {{std::string(paramInfo(Param::TauN).key), c.edges.normalThreshold},
+                {std::string(paramInfo(Param::TauZ).key), c.edges.depthThreshold}};
+  nlohmann::json levels = nlohmann::json::array();
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    levels.push_back({{"level", l}, {"scale", lc.scale}, {"enabled", lc.enabled}, {"shaded", lc.shaded}, {"width", lc.width},
+                      {"height", lc.height}, {"sigma2", lc.sigma2}, {"weight", lc.weight},
+                      {"shaded_pixels", f.levels[static_cast<size_t>(l)].shadedPixels},
+                      {"shaded_pixels_4x2_blocks", f.levels[static_cast<size_t>(l)].shadedBlockPixels}});
+  }
+  j["levels"] = levels;
+  j["shaded_pixels_total"] = f.shadedPixelsTotal;
+  j["ideal_speedup"] = f.idealSpeedup;
+  j["ideal_speedup_hit"] = f.idealSpeedupHit;  // over pixels that hit geometry: background is free in full too
+  j["ideal_speedup_4x2_blocks"] = f.blockIdealSpeedup;  // llvmpipe shades whole 4×2 blocks
+  nlohmann::json timings = nlohmann::json::object();
+  for (const StageTiming& t : f.timings)  // a stage timed twice (the rule's) is their sum
+    timings[t.stage] = timings.value(t.stage, 0.0) + t.ms;
+  j["timings_ms"] = timings;
+  if (info.path == "gpu") {
+    j["renderer"] = info.renderer;
+    j["timing_method"] = info.timingMethod;
+  } else {
+    j["timing_method"] = "wall clock (steady_clock) around each stage";
+  }
+  if (err) {
+    j["error_vs_full"] = figuresJson(err->effect);  // psnr null = identical images
+    j["error_vs_full"]["flip"] = nlohmann::json(err->effectFlip);
+    j["error_vs_full_shaded"] = figuresJson(err->shaded);
+    j["error_vs_full_shaded"]["flip"] = nlohmann::json(err->shadedFlip);
+  }
+  return j;
+}
+
+std::vector<ExrPart> stageParts(const FrameResult& f) {
+  const Constants& c = f.constants;
+  std::vector<ExrPart> parts;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const GBuffer& g = lr.gbuffer;
+    ImageF gb(g.width, g.height, 11);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x) {
+        float v[11] = {g.depth.at(x, y),       g.position.at(x, y, 0), g.position.at(x, y, 1), g.position.at(x, y, 2),
+                       g.normal.at(x, y, 0),   g.normal.at(x, y, 1),   g.normal.at(x, y, 2),   g.albedo.at(x, y, 0),
+                       g.albedo.at(x, y, 1),   g.albedo.at(x, y, 2),   static_cast<float>(g.hit.at(x, y))};
+        for (int k = 0; k < 11; ++k) gb.at(x, y, k) = v[k];
+      }
+    parts.push_back({partName(Part::GBuffer, l), gb, partChannels(Part::GBuffer)});
+  }
+  if (!f.shadowMap.depth.empty()) {
+    ImageF depth = f.shadowMap.depth;  // misses as +inf would wreck viewers: write -1
+    for (float& v : depth.data)
+      if (v == ShadowMap::kNoBlocker) v = -1.0f;
+    parts.push_back({partName(Part::ShadowMap), depth, partChannels(Part::ShadowMap)});
+    parts.push_back({partName(Part::ShadowTest), toFloat(crop(f.shadowLit, c.width, c.height)), partChannels(Part::ShadowTest)});
+  }
+  if (!f.edges.combined.empty()) {  // modes mrr and tiles
+    const EdgeImages& e = f.edges;
+    const bool shadow = !e.shadow.empty();
+    ImageF edges(c.width, c.height, shadow ? 5 : 4);
+    for (int y = 0; y < c.height; ++y)
+      for (int x = 0; x < c.width; ++x) {
+        edges.at(x, y, 0) = e.normal.at(x, y);
+        edges.at(x, y, 1) = e.depth.at(x, y);
+        edges.at(x, y, 2) = e.background.at(x, y);
+        edges.at(x, y, 3) = e.combined.at(x, y);
+        if (shadow) edges.at(x, y, 4) = e.shadow.at(x, y);
+      }
+    std::vector<std::string> names = partChannels(Part::Edges);  // the shadow kind last: SSM only
+    if (!shadow) names.pop_back();
+    parts.push_back({partName(Part::Edges), edges, names});
+  }
+  // SPEC §13, with --gaze or --prev-frame: the eccentricity, the motion and the level limit.
+  if (!f.eccentricity.empty())
+    parts.push_back({partName(Part::Eccentricity), crop(f.eccentricity, c.width, c.height), partChannels(Part::Eccentricity)});
+  if (!f.motion.empty())
+    parts.push_back({partName(Part::Motion), crop(f.motion, c.width, c.height), partChannels(Part::Motion)});
+  if (!f.levelLimit.empty())
+    parts.push_back({partName(Part::LevelLimit), toFloat(crop(f.levelLimit, c.width, c.height)), partChannels(Part::LevelLimit)});
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    if (!lr.marks.empty()) parts.push_back({partName(Part::Marks, l), toFloat(lr.marks), partChannels(Part::Marks)});
+    if (!lr.masks.mask.empty()) parts.push_back({partName(Part::Mask, l), toFloat(lr.masks.mask), partChannels(Part::Mask)});
+    parts.push_back({partName(Part::Alpha, l), lr.masks.alpha, partChannels(Part::Alpha)});
+    parts.push_back({partName(Part::Stencil, l), toFloat(lr.masks.stencil), partChannels(Part::Stencil)});
+    parts.push_back({partName(Part::Raw, l), lr.raw, partChannels(Part::Raw, lr.raw.channels)});
+    parts.push_back({partName(Part::Sub, l), lr.sub, partChannels(Part::Sub, lr.sub.channels)});
+    if (f.blend.upsampled[static_cast<size_t>(l)].empty()) continue;  // rendered without keepStages
+    parts.push_back({partName(Part::Upsample, l), f.blend.upsampled[static_cast<size_t>(l)],
+                     partChannels(Part::Upsample, lr.sub.channels)});
+    parts.push_back({partName(Part::BlendAlpha, l), f.blend.alpha[static_cast<size_t>(l)], partChannels(Part::BlendAlpha)});
+    parts.push_back({partName(Part::Composite, l), f.blend.composite[static_cast<size_t>(l)],
+                     partChannels(Part::Composite, lr.sub.channels)});
+  }
+  parts.push_back({partName(Part::LevelMap), toFloat(f.blend.levelMap), partChannels(Part::LevelMap)});
+  parts.push_back({partName(Part::Final), f.final(), partChannels(Part::Final, f.final().channels)});
+  parts.push_back({partName(Part::Shaded), f.shaded, partChannels(Part::Shaded)});
+  return parts;
+}
+
+void writeFinal(const std::string& path, const FrameResult& frame) { writeImage(path, frame.final(), {}, false); }
+
+void writeShaded(const std::string& path, const FrameResult& frame) { writeImage(path, frame.shaded, {}, true); }
+
+}  // namespace mrr

@@ -44,13 +44,13 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--scenes", o.scenes, "scenes of the main sweep")->capture_default_str();
   b.add_option("--sizes", c.sizes, "sizes WxH of the main sweep (default 1280x720)");
   b.add_option("--effects", o.effects, "effects: ssao ssm ssgi")->capture_default_str();
-  b.add_option("--samples", o.samples,
+  b.add_option(optionName(Param::Samples), o.samples,
                "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
   b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect, and mrr-effect's variants +cN, +fN, +xF, +noblur, "
                "+pT, +lN (the a-posteriori term), e.g. mrr-effect+c4+p0.3, +e (the ablation's effect-only arm) and +norule (without the never-slower rule)")->capture_default_str();
   b.add_option("--cameras", o.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   b.add_option("--repeats", o.repeats, "timed repeats per configuration")->capture_default_str();
-  b.add_option("--threads", o.threads, "the oracle's threads (0 = all cores)");
+  b.add_option(optionName(Param::Threads), o.threads, "the oracle's threads (0 = all cores)");
   b.add_flag("--no-sweeps", c.noSweeps, "skip the paper's sweeps (samples, resolution)");
   b.add_option("--sweep-size", c.sweepSize, "size of the samples sweep (default 1280x720)");
   b.add_option("--ssao-sweep", o.ssaoSweep, "SSAO sample counts of the samples sweep")->capture_default_str();
@@ -102,10 +102,10 @@ void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
 
 // --quick: defaults for a run of minutes; options given explicitly still win.
 void applyQuick(const CLI::App& b, BenchOptions& o) {
-  const auto unset = [&](const char* option) { return b.count(option) == 0; };
+  const auto unset = [&](const std::string& option) { return b.count(option) == 0; };
   if (unset("--scenes")) o.scenes = {"builtin:demo", "arcade"};
   if (unset("--sizes")) o.sizes = {{320, 180}};
-  if (unset("--samples")) o.samples = {16};
+  if (unset(optionName(Param::Samples))) o.samples = {16};
   if (unset("--cameras")) o.cameras = 2;
   // three repeats: the median of one is too noisy for --check on a loaded 2-core machine
   if (unset("--repeats")) o.repeats = 3;
@@ -172,10 +172,12 @@ void resolveAndValidate(BenchCommand& c) {
       validateSettings(fs);
     }
   }
+  std::string limited;  // the methods the level limit applies to: those whose masks come from the edges
+  for (const MethodInfo& m : methods())
+    if (m.findsEdges) limited += (limited.empty() ? "" : ", ") + std::string(m.name);
   for (const std::string& m : o.foveaMethods) {
     const Mode mode = settingsFor(m, Effect::Ssao, 64, 64, 16).mode;  // validates the name
-    require(mode == Mode::Mrr || mode == Mode::MrrEffect || mode == Mode::Tiles,
-            "--fovea-methods " + m + ": the level limit (SPEC §13) applies to mrr, mrr-effect and tiles only");
+    require(methodInfo(mode).findsEdges, "--fovea-methods " + m + ": the level limit (SPEC §13) applies to " + limited + " only");
   }
   require(o.repeats >= 1 && o.repeats <= 100, "--repeats: must be in [1, 100]");
   require(o.cameras >= 1 && o.cameras <= 64, "--cameras: must be in [1, 64]");

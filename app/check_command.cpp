@@ -49,7 +49,7 @@ void addCheckCommand(CLI::App& app, CheckCommand& c) {
                         "run shard I of N (I/N, e.g. 2/4): the cases whose name hashes to it (FNV-1a); the N shards partition the suite");
   c.command->add_option("--jobs", c.jobs, "cases run side by side, the threads divided between them (the port runs one frame at a time)")
       ->capture_default_str();
-  c.command->add_option("--threads", c.threads, "worker threads in all (0 = all cores)")->capture_default_str();
+  c.command->add_option(optionName(Param::Threads), c.threads, "worker threads in all (0 = all cores)")->capture_default_str();
   c.command->add_option(optionName(Param::GlDevice), c.glDevice, paramHelp(Param::GlDevice));
   c.command->add_option("--merge", c.merge, "join the --json results of shards (R1.json R2.json ...) instead of running DIR")
       ->expected(1, -1);

@@ -174,7 +174,7 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
     }
     std::ostringstream table;
     if (&s != &settings.front()) table << "\n";  // the last line is the verdict
-    const bool effectOnly = s.mode == Mode::MrrEffect && s.effectMask.effectOnly;  // SPEC §12.3: say which arm
+    const bool effectOnly = methodInfo(s.mode).owns(Param::EffectOnly) && s.effectMask.effectOnly;  // SPEC §12.3: say which arm
     table << "== compare " << rs.scene.name << ", " << toString(s.effect) << ", " << toString(s.mode)
           << (effectOnly ? " (effect only)" : "") << ", "
           << s.width << "x" << s.height << ", " << k.samples() << " samples; oracle (cpu_ref) vs "

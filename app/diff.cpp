@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/frame_params.h"
 #include "common/error.h"
 #include "common/image_io.h"
 #include "compare/metrics/metrics.h"
@@ -83,7 +84,7 @@ void addDiffCommand(CLI::App& app, DiffOptions& o) {
   o.command->add_option("reference", o.reference, "the reference image (.png, .exr, or any format OpenImageIO reads)")
       ->required();
   o.command->add_option("test", o.test, "the image compared with it, of the same size")->required();
-  o.command->add_option("--ppd", o.ppd,
+  o.command->add_option(optionName(Param::Ppd), o.ppd,
                         "viewing conditions for FLIP, pixels per degree (default 67.02: a 0.7 m wide 4K display at 0.7 m)");
   o.command->add_option("--tonemap", o.tonemap,
                         "EXR with colour, before sRGB encoding: clamp (to [0,1]) or reinhard (x/(1+x))")

@@ -18,6 +18,8 @@
 #include "app/diff.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/methods.h"
+#include <nlohmann/json.hpp>
 #include "explore/server.h"
 #include "frontend/frame_file.h"
 
@@ -146,14 +148,19 @@ int run(int argc, char** argv) {
   CLI::App* explore = addExploreCommand(app, exploreOptions);
   addInfoCommand(app, info);
   addBenchCommand(app, bench);
-  addCheckCommand(app, check);  // issue 38: `mrr check DIR`, a suite of frames
-  // Issue 17: the user's own shaders on every command that runs the port, and `mrr shaders`.
+  addCheckCommand(app, check);  // `mrr check DIR`, a suite of frames
+  // The user's own shaders on every command that runs the port, and `mrr shaders`.
   std::string shaderDir;
   for (CLI::App* c : {render.command, probe.command, compare.command, bench.command, check.command}) addShadersOption(*c, shaderDir);
   ShadersCommand shadersCommand;
   addShadersCommand(app, shadersCommand);
-  DiffOptions diff;  // issue 36: `mrr diff REF TEST` (app/diff.h)
+  DiffOptions diff;  // `mrr diff REF TEST` (app/diff.h)
   addDiffCommand(app, diff);
+  // `mrr methods`: the method table (common/methods.h), as text or JSON.
+  bool methodsJson = false;
+  CLI::App* methodsCommand =
+      app.add_subcommand("methods", "the methods, one row each: what each shades, its masks, its parameters, its bench variants");
+  methodsCommand->add_flag("--json", methodsJson, "print the rows as JSON (as explore's /api/info and the bench's JSON hold them)");
 
   // --frame F.json stands for the options it holds (frontend/frame_file.h), inserted before the
   // command line's own, which win.
@@ -167,6 +174,10 @@ int run(int argc, char** argv) {
     throw usageError(app, e, words.empty() ? "" : words.front());
   }
 
+  if (methodsCommand->parsed()) {
+    std::cout << (methodsJson ? methodRowsJson().dump(2) + "\n" : methodTableText());
+    return 0;
+  }
   if (shadersCommand.command->parsed()) return runShadersCommand(shadersCommand);
   if (diff.command->parsed()) return runDiff(diff);
   if (!shaderDir.empty() && *check.command) {

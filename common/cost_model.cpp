@@ -28,11 +28,11 @@ double levelPixels(const LevelConstants& lc) { return static_cast<double>(lc.wid
 }  // namespace
 
 double effectMaskNs(const CostModel& m, const Constants& c) {
-  return c.mode == Mode::MrrEffect ? levelPixels(c.levels[0]) * m.nsPerEffectMaskPixel : 0.0;
+  return methodInfo(c.mode).masks == MaskBuilder::EffectEdges ? levelPixels(c.levels[0]) * m.nsPerEffectMaskPixel : 0.0;
 }
 
 double refineNs(const CostModel& m, const Constants& c) {
-  if (c.mode != Mode::MrrEffect || !(c.effectMask.posterior > 0.0f)) return 0.0;
+  if (!methodInfo(c.mode).aPosteriori || !(c.effectMask.posterior > 0.0f)) return 0.0;
   double ns = 0.0;  // the levels common/driver.cpp refines: enabled, finer than the coarsest, ℓ ≥ ℓ_v
   for (const LevelConstants& lc : c.levels)
     if (lc.enabled && lc.index != c.coarsestEnabled && lc.index >= c.effectMask.posteriorFinest)

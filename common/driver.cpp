@@ -20,6 +20,18 @@ void FrameBackend::timeStage(FrameResult& f, const std::string& name, const std:
   f.timings.push_back({name, msSince(t0)});
 }
 
+Masks FrameBackend::fullMasks(FrameResult& f) { return fullModeMasks(f.constants); }
+Masks FrameBackend::uniformMasks(FrameResult& f) { return mrr::uniformMasks(f.constants); }
+
+Masks buildMasks(FrameBackend& b, MaskBuilder builder, FrameResult& f) {
+  using Build = Masks (FrameBackend::*)(FrameResult&);
+  // In MaskBuilder's order.
+  static constexpr Build kBuilders[] = {&FrameBackend::fullMasks, &FrameBackend::uniformMasks, &FrameBackend::tileMasks,
+                                        &FrameBackend::edgeMasks, &FrameBackend::effectMasks};
+  static_assert(std::size(kBuilders) == static_cast<size_t>(MaskBuilder::EffectEdges) + 1);
+  return (b.*kBuilders[static_cast<size_t>(builder)])(f);
+}
+
 void FrameBackend::refineMasks(FrameResult& /*f*/, int /*level*/) {
   throw MrrError(std::string("mrr-effect's a-posteriori term: the ") + pathName() + " path does not implement it");
 }
@@ -29,6 +41,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   FrameResult f;
   f.constants = constants;
   const Constants& c = f.constants;  // what every stage reads; the never-slower rule may change it
+  const MethodInfo& method = methodInfo(c.mode);  // its row (common/methods.h)
   f.camera = camera;
   f.view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
   f.light = light;
@@ -57,7 +70,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // reach R_ℓ, whenever the rule decides (or the caller reads its counts), unless the floor,
   // which needs no sample, already rules the method out.
   bool fellBackEarly = false;
-  if (isMethod(c.mode))
+  if (method.neverSlower)
     stage(timedName(Timed::Rule), [&] {
       const bool counted = c.neverSlower || options.sampleWithRuleOff;
       if (c.effect == Effect::Ssm && counted && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
@@ -70,7 +83,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
         countEdgeSample(f.counts, f.edgeSample, silhouetteBlocks, b.fullResHit(f), c);
       }
     });
-  if (isMethod(c.mode) && c.neverSlower) {
+  if (c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);
     if (early.fellBack) {
       f.fallback = early;
@@ -79,21 +92,17 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
     }
   }
 
-  // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9). uniform-k's and
-  // full's stencils are constants of the frame's size, made on the host for both paths.
-  const bool findsEdges = (isMethod(c.mode) && !fellBackEarly) || c.mode == Mode::Tiles;
-  if (findsEdges) stage(stageName(Part::Edges), [&] { b.edges(f); });
+  // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9): the edges where the
+  // method finds them, then its mask builder (common/methods.h).
+  const MethodInfo& shading = fellBackEarly ? methodInfo(Mode::Full) : method;
+  if (shading.findsEdges) stage(stageName(Part::Edges), [&] { b.edges(f); });
   Masks masks;
-  switch (fellBackEarly ? Mode::Full : c.mode) {
-    case Mode::Mrr:
-    case Mode::MrrEffect: stage(stageName(Part::Stencil), [&] { masks = b.methodMasks(f); }); break;
-    case Mode::Tiles: stage(stageName(Part::Stencil), [&] { masks = b.tileMasks(f); }); break;
-    case Mode::Uniform1:
-    case Mode::Uniform2: masks = uniformMasks(c); break;
-    case Mode::Full: masks = fullModeMasks(c); break;
-  }
+  if (shading.hostMadeMasks())
+    masks = buildMasks(b, shading.masks, f);
+  else
+    stage(stageName(Part::Stencil), [&] { masks = buildMasks(b, shading.masks, f); });
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
-  if (isMethod(c.mode) && !fellBackEarly) {
+  if (method.neverSlower && !fellBackEarly) {
     stage(timedName(Timed::Rule), [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });
     applyNeverSlower(f, masks, model);
   }
@@ -109,7 +118,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // 4. Sub-images: the effect at stencilled pixels only, then SSAO's bilateral blur (SPEC §4).
   // mrr-effect's a-posteriori term (SPEC §12.2): coarse to fine, each finer level's masks
   // refined from the result of the level just shaded, then shaded.
-  const bool posterior = c.mode == Mode::MrrEffect && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
+  const bool posterior = method.aPosteriori && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
   if (posterior) {
     for (int l = kLevelCount - 1; l >= 0; --l) {
       if (!c.levels[static_cast<size_t>(l)].enabled) continue;

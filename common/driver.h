@@ -45,10 +45,16 @@ class FrameBackend {
   virtual void shadowTest(FrameResult& f) = 0;
   // 2. The edge image (modes mrr and tiles).
   virtual void edges(FrameResult& f) = 0;
-  // 3. The method's masks from E, or the tiles' rates (into f.tileRates) and masks; both return
-  // at least every S_ℓ on the host (the never-slower rule and |S_ℓ| read them).
-  virtual Masks methodMasks(FrameResult& f) = 0;
+  // 3. Each mask builder of the method table (common/methods.h MaskBuilder) on this backend; the
+  // frame calls its method's (buildMasks). Each returns at least every S_ℓ on the host (the
+  // never-slower rule and |S_ℓ| read them). full's and uniform-k's are constants of the frame's
+  // size, made on the host for every backend (fullModeMasks, uniformMasks); tiles' fill
+  // f.tileRates; mrr-effect's widen M_ℓ by the effect's footprint (docs/spec.md §12).
+  virtual Masks fullMasks(FrameResult& f);
+  virtual Masks uniformMasks(FrameResult& f);
   virtual Masks tileMasks(FrameResult& f) = 0;
+  virtual Masks edgeMasks(FrameResult& f) = 0;
+  virtual Masks effectMasks(FrameResult& f) = 0;
   // The stencils the frame shades with, once the rule has decided (made on the host for full,
   // uniform-k or a fallback): the port uploads them where it has not drawn them itself.
   virtual void useMasks(FrameResult& /*f*/, const Masks& /*masks*/, const StageFn& /*stage*/) {}
@@ -63,6 +69,9 @@ class FrameBackend {
   virtual void blend(FrameResult& f) = 0;
   virtual void shade(FrameResult& f) = 0;
 };
+
+// The mask builder `builder` of `backend` (FrameBackend::fullMasks … effectMasks).
+Masks buildMasks(FrameBackend& backend, MaskBuilder builder, FrameResult& f);
 
 FrameResult renderFrame(FrameBackend& backend, const DirectionalLight& light, const Camera& camera,
                         const Constants& constants, const RenderOptions& options);

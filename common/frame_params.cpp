@@ -1,7 +1,9 @@
 #include "common/frame_params.h"
 
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "common/error.h"
 #include "common/params.h"
@@ -12,20 +14,33 @@ namespace {
 
 using K = ParamKind;
 constexpr bool kFile = true, kNoFile = false, kPage = true, kNoPage = false;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr ParamRange closed(double lo, double hi) { return {lo, hi, false, false}; }
+constexpr ParamRange atLeast(double lo) { return {lo, kInf, false, true}; }  // finite, >= lo
+constexpr ParamRange above(double lo) { return {lo, kInf, true, true}; }    // finite, > lo
+constexpr ParamRange openClosed(double lo, double hi) { return {lo, hi, true, false}; }
+static_assert(sizeof(PerLevelField::values) / sizeof(float*) == kLevelCount);
+
+// The Settings field of a row, where it sets one.
+#define MRR_FIELD(expr) [](Settings& s) -> SettingField { return &(expr); }
+SettingField sigma2Field(Settings& s) {
+  return PerLevelField{{&s.levels[0].sigma2, &s.levels[1].sigma2, &s.levels[2].sigma2, &s.levels[3].sigma2}};
+}
+SettingField weightsField(Settings& s) {
+  return PerLevelField{{&s.levels[0].weight, &s.levels[1].weight, &s.levels[2].weight, &s.levels[3].weight}};
+}
 
 // One row a parameter: Param, key, alias, kind, unit, help, frame file, explore.
 const std::vector<FrameParamInfo> kFrameParams = {
     {Param::Scene, "scene", "", K::Text, "",
      "builtin:NAME, a shared scene (cornell, arcade, apartment) or a .gltf/.glb path", kFile, kPage},
     {Param::Effect, "effect", "", K::Text, "", "ssao, ssm (PCSS soft shadows) or ssgi (indirect light)", kFile, kPage},
-    {Param::Method, "method", "--mode", K::Text, "",
-     "mrr (= multires, the method), full (the reference), or a peer: uniform-1, uniform-2 (one coarse level, "
-     "joint bilateral upsampling), tiles (16x16 VRS-style rates)",
-     kFile, kPage},
-    {Param::NeverSlower, "never_slower", "", K::Text, "",
+    {Param::Method, "method", "--mode", K::Text, "", "the method, a row of the method table (mrr methods)", kFile,
+     kPage},
+    {Param::NeverSlower, "never_slower", "", K::Switch, "",
      "mrr: shade the frame at full res when the cost model predicts no gain: on|off (compare: off by default, it "
      "validates every stage)",
-     kFile, kPage},
+     kFile, kPage, {}, MRR_FIELD(s.neverSlower)},
     {Param::CostModel, "cost_model", "", K::Text, "",
      "the never-slower rule's costs, a JSON written by `mrr bench --calibrate` (default: built in)", kNoFile, kNoPage},
     {Param::Path, "path", "", K::Text, "", "cpu (the oracle) or gpu (the OpenGL 3.3 port, headless EGL); probe: also both",
@@ -39,11 +54,11 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::Size, "size", "", K::Text, "", "WIDTHxHEIGHT", kFile, kPage},
     {Param::Samples, "samples", "", K::Int, "", "samples per pixel (ssm: PCF taps)", kFile, kPage},
     {Param::Threads, "threads", "", K::Int, "", "worker threads (0 = all cores); results are identical for any count",
-     kNoFile, kNoPage},
+     kNoFile, kNoPage, closed(0, 1024)},
     {Param::Seed, "seed", "", K::Int, "",
      "ssao/ssgi: the sampling seed of the kernel and the per-pixel rotations (0 = mrr's own sampling; another value "
      "draws the same estimator's noise anew, for `compare --noise-aware`)",
-     kFile, kNoPage},
+     kFile, kNoPage, closed(0, 1073741823), MRR_FIELD(s.seed)},
     {Param::CoarseGbuffer, "coarse_gbuffer", "", K::Text, "",
      "the coarser levels' G-buffers: subsample (level pixel (x, y) copies full-res pixel (x s + s/2, y s + s/2), "
      "mrr's) or render (one sample at the level pixel's centre ((x + 1/2) s, (y + 1/2) s), the paper's: a ray on "
@@ -69,51 +84,51 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::NoFlipUp, "no_flip_up", "", K::Flag, "", "do not flip, even where the scene catalogue would", kNoFile,
      kPage},
     {Param::AoRadius, "ao_radius", "", K::Number, "world units", "ssao: the sample radius R (0 = automatic)", kFile,
-     kPage},
+     kPage, atLeast(0), MRR_FIELD(s.ssao.radius)},
     {Param::AoBias, "ao_bias", "", K::Number, "a fraction of R",
-     "ssao: the depth bias; an occluder counts when it is in front of the sample by more than this", kFile, kPage},
+     "ssao: the depth bias; an occluder counts when it is in front of the sample by more than this", kFile, kPage, closed(0, 1), MRR_FIELD(s.ssao.biasFraction)},
     {Param::ShadowMapSize, "shadow_map_size", "", K::Int, "texels", "ssm/ssgi: shadow map texels per side", kFile,
-     kPage},
-    {Param::LightAngle, "light_angle", "", K::Number, "radians", "ssm: the light's angular diameter", kFile, kPage},
+     kPage, closed(16, 8192), MRR_FIELD(s.ssm.shadowMapSize)},
+    {Param::LightAngle, "light_angle", "", K::Number, "radians", "ssm: the light's angular diameter", kFile, kPage, openClosed(0, 0.5), MRR_FIELD(s.ssm.lightAngle)},
     {Param::GiRadius, "gi_radius", "", K::Number, "world units", "ssgi: the sample radius R (0 = automatic)", kFile,
-     kPage},
+     kPage, atLeast(0), MRR_FIELD(s.ssgi.radius)},
     {Param::AoTexelDepth, "ao_texel_depth", "", K::Flag, "",
      "ssao: compare against the texel-centre depth instead of the tangent plane (the classic test)", kFile, kPage},
-    {Param::TauN, "tau_n", "", K::Number, "", "normal-edge threshold on 1 - N.N", kFile, kPage},
+    {Param::TauN, "tau_n", "", K::Number, "", "normal-edge threshold on 1 - N.N", kFile, kPage, closed(0, 2), MRR_FIELD(s.edges.normalThreshold)},
     {Param::TauZ, "tau_z", "", K::Number, "", "depth-edge threshold on |second difference of 1/z| / (1/z)", kFile,
-     kPage},
+     kPage, atLeast(0), MRR_FIELD(s.edges.depthThreshold)},
     {Param::DisableLevel, "disable_level", "", K::Levels, "", "disable level 1, 2 or 3 (repeatable)", kFile, kPage},
     {Param::Sigma2, "sigma2", "", K::PerLevel, "level pixels",
-     "the mask blur's variance per level, s0,s1,s2,s3, each in [0, 64]", kFile, kPage},
+     "the mask blur's variance per level, s0,s1,s2,s3, each in [0, 64]", kFile, kPage, closed(0, 64), sigma2Field},
     {Param::Weights, "weights", "", K::PerLevel, "",
-     "the blend weight w per level, w0,w1,w2,w3, each >= 0: alpha = min(a w, 1)", kFile, kPage},
+     "the blend weight w per level, w0,w1,w2,w3, each >= 0: alpha = min(a w, 1)", kFile, kPage, atLeast(0), weightsField},
     {Param::EffectCap, "effect_cap", "", K::Int, "level pixels",
      "mrr-effect: the widest a level's edge mask is widened by the effect's footprint (docs/spec.md section 12)",
-     kFile, kPage},
+     kFile, kPage, closed(0, 64), MRR_FIELD(s.effectMask.cap)},
     {Param::EffectFirstLevel, "effect_first_level", "", K::Int, "",
-     "mrr-effect: the finest level widened; finer ones keep mrr's masks", kFile, kPage},
+     "mrr-effect: the finest level widened; finer ones keep mrr's masks", kFile, kPage, closed(0, 3), MRR_FIELD(s.effectMask.firstLevel)},
     {Param::EffectScale, "effect_scale", "", K::Number, "",
-     "mrr-effect: the footprint's multiplier (0: mrr's masks exactly)", kFile, kPage},
+     "mrr-effect: the footprint's multiplier (0: mrr's masks exactly)", kFile, kPage, closed(0, 16), MRR_FIELD(s.effectMask.scale)},
     {Param::EffectPosterior, "effect_posterior", "", K::Number, "the effect's units",
      "mrr-effect: the a-posteriori threshold tau: a level pixel is refined where its next coarser level's "
      "result varies by more than tau over 3x3 (0: off; docs/spec.md section 12.2)",
-     kFile, kPage},
+     kFile, kPage, closed(0, 100), MRR_FIELD(s.effectMask.posterior)},
     {Param::EffectPosteriorFinest, "effect_posterior_finest", "", K::Int, "",
-     "mrr-effect: the finest level the a-posteriori term refines", kFile, kPage},
+     "mrr-effect: the finest level the a-posteriori term refines", kFile, kPage, closed(0, 3), MRR_FIELD(s.effectMask.posteriorFinest)},
     {Param::EffectOnly, "effect_only", "", K::Flag, "",
      "mrr-effect: the ablation's effect-only arm: each level keeps only the pixels the footprint's widening adds, "
      "none of the edges' own (docs/spec.md section 12.3)",
-     kFile, kPage},
+     kFile, kPage, {}, MRR_FIELD(s.effectMask.effectOnly)},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
      "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
      "sets the eccentricity of --gaze and the reports' FLIP",
-     kFile, kPage},
+     kFile, kPage, above(0), MRR_FIELD(s.foveation.ppd)},
     {Param::Gaze, "gaze", "", K::Text, "full-res pixel",
      "X,Y: the pixel the eye looks at; the periphery may use coarser levels (foveation, docs/spec.md section 13)",
      kFile, kPage},
-    {Param::Foveate, "foveate", "", K::Text, "",
+    {Param::Foveate, "foveate", "", K::Switch, "",
      "with --gaze: on coarsens the periphery; off only measures (eccentricity, the report's rings), the baseline",
-     kFile, kPage},
+     kFile, kPage, {}, MRR_FIELD(s.foveation.foveate)},
     {Param::PrevFrame, "prev_frame", "", K::Text, "",
      "the previous frame, a frame file as render --frame-out writes it (same scene and size): pixels that move "
      "on screen may use coarser levels (docs/spec.md section 13)",
@@ -122,7 +137,7 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "motion without a file: the previous frame's camera is this one moved X units along its own right axis "
      "the other way (the camera panned X to the right since; negative: to the left); pixels that move on screen "
      "may use coarser levels (docs/spec.md section 13); 0 = off; not with --prev-frame",
-     kFile, kPage},
+     kFile, kPage, closed(-1e6, 1e6)},
     {Param::MemoryLimit, "memory_limit", "", K::Number, "GiB",
      "what the run may plan to use; unset: MRR_MEMORY_LIMIT, else 3/4 of physical memory", kNoFile, kNoPage},
     {Param::Quiet, "quiet", "-q", K::Flag, "", "no progress lines on stderr", kNoFile, kNoPage},
@@ -140,18 +155,6 @@ std::string number(double v) {
   return text;
 }
 
-// "v0,v1,v2,v3" of one effect's per-level defaults.
-template <typename Get>
-std::string perLevelText(Effect effect, Get get) {
-  const Settings s = defaultSettings(effect);
-  std::string text;
-  for (size_t l = 0; l < s.levels.size(); ++l) {
-    if (l) text += ',';
-    text += number(get(s.levels[l]));
-  }
-  return text;
-}
-
 // The algorithm's default, from defaultSettings; per effect where Table 1 differs by effect.
 std::string settingsDefault(Param param) {
   const Settings s = defaultSettings(Effect::Ssao);
@@ -166,27 +169,16 @@ std::string settingsDefault(Param param) {
   };
   switch (param) {
     case Param::Samples: return perEffect([](Effect e) { return std::to_string(defaultSettings(e).samples()); });
-    case Param::ShadowMapSize: return std::to_string(s.ssm.shadowMapSize);
-    case Param::LightAngle: return number(s.ssm.lightAngle);
-    case Param::TauN: return number(s.edges.normalThreshold);
-    case Param::TauZ: return number(s.edges.depthThreshold);
     case Param::AoRadius:
       return number(s.ssao.radius) + ": " + number(100.0 * SsaoSettings::kAutoRadiusFraction) + "% of the framed size (the view's height at its median surface depth)";
-    case Param::AoBias: return number(s.ssao.biasFraction);
     case Param::GiRadius:
       return number(s.ssgi.radius) + ": " + number(100.0 * SsgiSettings::kAutoRadiusFraction) + "% of the framed size";
-    case Param::NeverSlower: return s.neverSlower ? "on" : "off";
-    case Param::EffectCap: return std::to_string(s.effectMask.cap);
-    case Param::EffectFirstLevel: return std::to_string(s.effectMask.firstLevel);
-    case Param::EffectScale: return number(s.effectMask.scale);
-    case Param::EffectPosterior: return number(s.effectMask.posterior);
-    case Param::EffectPosteriorFinest: return std::to_string(s.effectMask.posteriorFinest);
-    case Param::Ppd: return number(s.foveation.ppd);
     case Param::Sigma2:
-      return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.sigma2; }); });
     case Param::Weights:
-      return "the paper's Table 1: " + perEffect([](Effect e) { return perLevelText(e, [](const LevelSettings& l) { return l.weight; }); });
-    default: return "";
+      return "the paper's Table 1: " + perEffect([param](Effect e) { return paramText(defaultSettings(e), param, false); });
+    case Param::EffectOnly:
+    case Param::Foveate: return "";  // a flag; on with a gaze
+    default: return hasSettingField(param) ? paramText(s, param, false) : "";
   }
 }
 
@@ -219,35 +211,166 @@ const FrameParamInfo* findParam(std::string_view name) {
   return nullptr;
 }
 
+std::string exactFloat(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", static_cast<double>(v));
+  return text;
+}
+
+std::string ParamRange::text() const {
+  if (!any()) return "";
+  const auto num = [](double v) { return number(v); };
+  if (hi == kInf) return std::string(loOpen ? "> " : ">= ") + num(lo);
+  return std::string(loOpen ? "(" : "[") + num(lo) + ", " + num(hi) + (hiOpen ? ")" : "]");
+}
+
 std::string paramRange(Param param) {
-  switch (param) {
+  switch (param) {  // the compound values, checked where they are resolved
     case Param::Size: return "each side in [1, " + std::to_string(kMaxImageSize) + "]";
     case Param::Samples:
       return "ssao [1, " + std::to_string(kMaxSsaoSamples) + "], ssm a square n*n up to " +
              std::to_string(kMaxSsmSamples) + ", ssgi [1, " + std::to_string(kMaxSsgiSamples) + "]";
-    case Param::ShadowMapSize: return "[16, " + std::to_string(kMaxShadowMapSize) + "]";
-    case Param::LightAngle: return "(0, 0.5]";
-    case Param::EffectCap: return "[0, 64]";
-    case Param::EffectFirstLevel: return "[0, 3]";
-    case Param::EffectScale: return "[0, 16]";
-    case Param::EffectPosterior: return "[0, 100]";
-    case Param::EffectPosteriorFinest: return "[0, 3]";
-    case Param::Ppd: return "> 0";
-    case Param::Pan: return "[-1e6, 1e6]";
-    case Param::TauN: return "[0, 2]";
-    case Param::AoBias: return "[0, 1]";
-    case Param::TauZ:
-    case Param::AoRadius:
-    case Param::GiRadius: return ">= 0";
-    case Param::Threads: return "[0, 1024]";
-    case Param::Seed: return "[0, 1073741823]";
-    default: return "";
+    default: return paramInfo(param).range.text();
+  }
+}
+
+std::string rangeRule(Param param) {
+  const ParamRange& r = paramInfo(param).range;
+  return r.hi == kInf ? "must be " + r.text() : "must be in " + r.text();
+}
+
+bool hasSettingField(Param param) { return paramInfo(param).field != nullptr; }
+
+namespace {
+
+// The field of `param`'s row in `s` (const access through the same accessor).
+SettingField fieldOf(Settings& s, Param param) {
+  const FrameParamInfo& p = paramInfo(param);
+  require(p.field != nullptr, "internal: " + optionName(param) + " sets no Settings field");
+  return p.field(s);
+}
+
+// A whole number or a real number, the whole text; false otherwise.
+bool parseNumber(std::string_view text, bool integer, double& out) {
+  const std::string t(text);
+  if (t.empty() || std::isspace(static_cast<unsigned char>(t[0]))) return false;
+  char* end = nullptr;
+  if (integer) {
+    const long long v = std::strtoll(t.c_str(), &end, 10);
+    out = static_cast<double>(v);
+  } else {
+    out = std::strtod(t.c_str(), &end);
+  }
+  return end && *end == '\0';
+}
+
+}  // namespace
+
+void setParam(Settings& s, Param param, std::string_view text) {
+  const FrameParamInfo& p = paramInfo(param);
+  const std::string where = optionName(param) + " " + std::string(text);
+  const auto inRange = [&](double v) {
+    require(p.range.contains(v) || !p.range.any(), where + ": " + rangeRule(param));
+    return v;
+  };
+  std::visit(
+      [&](auto field) {
+        using T = std::decay_t<decltype(field)>;
+        if constexpr (std::is_same_v<T, std::monostate>) {
+          throw MrrError("internal: " + optionName(param) + " sets no Settings field");
+        } else if constexpr (std::is_same_v<T, bool*>) {
+          if (p.kind == ParamKind::Switch) {
+            require(text == "on" || text == "off", where + ": expected on or off");
+            *field = text == "on";
+          } else {
+            require(text == "1" || text == "0" || text == "true" || text == "false", where + ": expected 1 or 0");
+            *field = text == "1" || text == "true";
+          }
+        } else if constexpr (std::is_same_v<T, PerLevelField>) {
+          std::vector<float> values;
+          for (std::string_view rest = text;;) {
+            const size_t comma = rest.find(',');
+            double v = 0.0;
+            require(parseNumber(rest.substr(0, comma), false, v), where + ": expected " + std::to_string(kLevelCount) +
+                                                                    " numbers, one per level, e.g. 1,1,1,1");
+            values.push_back(static_cast<float>(v));
+            if (comma == std::string_view::npos) break;
+            rest = rest.substr(comma + 1);
+          }
+          require(values.size() == kLevelCount,
+                  where + ": expected " + std::to_string(kLevelCount) + " numbers, one per level, e.g. 1,1,1,1");
+          for (size_t l = 0; l < values.size(); ++l) {
+            require(p.range.contains(values[l]), where + ": level " + std::to_string(l) + "'s value " + rangeRule(param));
+            *field.values[l] = values[l];
+          }
+        } else {
+          constexpr bool integer = !std::is_same_v<T, float*>;
+          double v = 0.0;
+          require(parseNumber(text, integer, v), where + (integer ? ": expected a whole number" : ": expected a number"));
+          *field = static_cast<std::remove_pointer_t<T>>(inRange(v));
+        }
+      },
+      fieldOf(s, param));
+}
+
+std::string paramText(const Settings& settings, Param param, bool exact) {
+  Settings& s = const_cast<Settings&>(settings);  // the accessor reads through the same pointer
+  const FrameParamInfo& p = paramInfo(param);
+  return std::visit(
+      [&](auto field) -> std::string {
+        using T = std::decay_t<decltype(field)>;
+        if constexpr (std::is_same_v<T, std::monostate>) {
+          return "";
+        } else if constexpr (std::is_same_v<T, bool*>) {
+          if (p.kind == ParamKind::Switch) return *field ? "on" : "off";
+          return *field ? "1" : "0";
+        } else if constexpr (std::is_same_v<T, PerLevelField>) {
+          std::string text;
+          for (size_t l = 0; l < kLevelCount; ++l)
+            text += (l ? "," : "") + (exact ? exactFloat(*field.values[l]) : number(*field.values[l]));
+          return text;
+        } else if constexpr (std::is_same_v<T, float*>) {
+          return exact ? exactFloat(*field) : number(*field);
+        } else {
+          return std::to_string(*field);
+        }
+      },
+      fieldOf(s, param));
+}
+
+void checkParamRanges(const Settings& settings) {
+  Settings& s = const_cast<Settings&>(settings);
+  for (const FrameParamInfo& p : frameParams()) {
+    if (!p.field || !p.range.any()) continue;
+    std::visit(
+        [&](auto field) {
+          using T = std::decay_t<decltype(field)>;
+          if constexpr (std::is_same_v<T, PerLevelField>) {
+            for (size_t l = 0; l < kLevelCount; ++l)
+              require(p.range.contains(*field.values[l]), optionName(p.param) + ": level " + std::to_string(l) +
+                                                               "'s value " + exactFloat(*field.values[l]) + " " +
+                                                               rangeRule(p.param));
+          } else if constexpr (std::is_same_v<T, int*> || std::is_same_v<T, float*> || std::is_same_v<T, uint32_t*>) {
+            const double v = static_cast<double>(*field);
+            require(p.range.contains(v), optionName(p.param) + " " +
+                                             (std::is_same_v<T, float*> ? exactFloat(static_cast<float>(v)) : number(v)) +
+                                             ": " + rangeRule(p.param));
+          }
+        },
+        p.field(s));
   }
 }
 
 std::string paramHelp(Param param, const std::string& frontEndDefault) {
   const FrameParamInfo& p = paramInfo(param);
   std::string help(p.help);
+  if (param == Param::Method) {  // every row of the method table, with what it is
+    help += ":";
+    for (const MethodInfo& m : methods())
+      help += " " + std::string(m.name) + (m.aliases.empty() ? "" : " (= " + std::string(m.aliases) + ")") + " (" +
+              std::string(m.help) + ");";
+    help.pop_back();
+  }
   if (!p.unit.empty()) help += ", " + std::string(p.unit);
   if (const std::string range = paramRange(param); !range.empty()) help += "; range " + range;
   const std::string fromSettings = settingsDefault(param);

@@ -8,13 +8,22 @@
 // once: the algorithm's numbers in common/params.h (Settings, the paper's Table 1), what the
 // front end chooses in FrameOptions' member initialisers; the help shows either, generated.
 //
-// Adding a parameter: a Param, its row in kFrameParams (common/frame_params.cpp), the field it
-// sets (FrameOptions, frontend/frame_options.h: one line of bindField), and its use.
+// Adding a parameter (docs/architecture.md, "Adding a parameter"): a Param and its row in
+// kFrameParams (common/frame_params.cpp): key, kind, unit, help, range and, where it sets one
+// Settings field, that field; then its use. A row with a Settings field needs nothing else: the
+// command line, frame files, explore, the bench's variants and the checks of its range all go
+// through setParam and checkParamRanges. A row the front end resolves (the scene, the camera,
+// files, sizes) also has a FrameOptions field (frontend/frame_options.cpp: bindField).
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace mrr {
+
+struct Settings;  // common/params.h
 
 enum class Param {
   Scene, Effect, Method, NeverSlower, CostModel, Path, GlDevice, GpuTiming, Size, Samples, Threads,
@@ -36,7 +45,27 @@ enum class ParamKind {
   Flag,      // present or not (true/false in a frame file, 1/0 in a request)
   Levels,    // level indices, repeatable (a JSON array in a frame file)
   PerLevel,  // one number per level, "v0,v1,v2,v3"
+  Switch,    // on|off
 };
+
+// A numeric parameter's documented range, checked from its row (setParam, checkParamRanges).
+struct ParamRange {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool loOpen = false, hiOpen = false;
+  bool any() const { return lo != -std::numeric_limits<double>::infinity() || hi != std::numeric_limits<double>::infinity(); }
+  bool contains(double v) const {
+    return v == v && (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
+  }
+  std::string text() const;  // "[0, 64]", "(0, 0.5]", ">= 0", "> 0"
+};
+
+// The Settings field a row sets, where it sets exactly one (per level: one float per level).
+struct PerLevelField {
+  float* values[4];  // kLevelCount (static_assert in frame_params.cpp)
+};
+using SettingField = std::variant<std::monostate, int*, float*, bool*, uint32_t*, PerLevelField>;
+using SettingAccessor = SettingField (*)(Settings&);
 
 struct FrameParamInfo {
   Param param;
@@ -47,6 +76,8 @@ struct FrameParamInfo {
   std::string_view help;   // what it does; the default and range are added by paramHelp
   bool frameFile;          // written by `render --frame-out`, read back by --frame
   bool explore;            // the explore page may send it (options naming files or the machine stay on the command line)
+  ParamRange range;        // its values' range, where numeric (none: not checked here)
+  SettingAccessor field;   // the Settings field it sets, or null: the front end resolves it
 };
 
 // Every row, in the order of Param (static_assert in the .cpp) — which is also the order of the
@@ -63,5 +94,20 @@ const FrameParamInfo* findParam(std::string_view name);
 std::string paramHelp(Param param, const std::string& frontEndDefault = "");
 // The documented range of a numeric parameter ("[0, 2]"), or "" (validateSettings checks it).
 std::string paramRange(Param param);
+// "must be in [0, 64]" / "must be > 0": what its range asks, for messages.
+std::string rangeRule(Param param);
+
+// Sets the Settings field of `param`'s row from text as the command line gives it ("0.2",
+// "1,1,2,2", "on"); throws MrrError naming the option, the value and its range. The row must
+// have a field (hasSettingField).
+void setParam(Settings& settings, Param param, std::string_view text);
+bool hasSettingField(Param param);
+// The field's value as text, as setParam reads it back ("0.2", "1,1,2,2", "on", "1"); with
+// `exact` false floats are shortened for reading ("0.924", not "0.924000025").
+std::string paramText(const Settings& settings, Param param, bool exact = true);
+// A float as text that reads back to the same bits ("%.9g").
+std::string exactFloat(float v);
+// Every row with a Settings field and a range: its value within it (validateSettings calls it).
+void checkParamRanges(const Settings& settings);
 
 }  // namespace mrr

@@ -1,5 +1,7 @@
 #include "common/memory.h"
 
+#include "common/frame_params.h"
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -27,7 +29,7 @@ MemoryLimit memoryLimit(std::optional<double> optionGiB) {
   if (optionGiB) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", *optionGiB);
-    return {fromGiB(*optionGiB, std::string("--memory-limit ") + text), "--memory-limit"};
+    return {fromGiB(*optionGiB, optionName(Param::MemoryLimit) + " " + text), optionName(Param::MemoryLimit)};
   }
   if (const char* env = std::getenv("MRR_MEMORY_LIMIT"); env && *env) {
     char* end = nullptr;

@@ -19,34 +19,11 @@ std::string toString(Effect effect) {
   return "?";
 }
 
-std::string toString(Mode mode) {
-  switch (mode) {
-    case Mode::Full: return "full";
-    case Mode::Uniform1: return "uniform-1";
-    case Mode::Uniform2: return "uniform-2";
-    case Mode::Tiles: return "tiles";
-    case Mode::MrrEffect: return "mrr-effect";
-    case Mode::Mrr: break;
-  }
-  return "mrr";
-}
-
-bool isPeer(Mode mode) { return mode == Mode::Uniform1 || mode == Mode::Uniform2 || mode == Mode::Tiles; }
-
 Effect parseEffect(const std::string& name) {
   if (name == "ssao") return Effect::Ssao;
   if (name == "ssm") return Effect::Ssm;
   if (name == "ssgi") return Effect::Ssgi;
   throw MrrError(optionName(Param::Effect) + " " + name + ": unknown effect (expected ssao, ssm or ssgi)");
-}
-
-Mode parseMode(const std::string& name) {
-  if (name == "multires") return Mode::Mrr;  // the old spelling, still accepted from scripts
-  for (Mode m : kAllModes)
-    if (name == toString(m)) return m;
-  if (name == toString(Mode::MrrEffect)) return Mode::MrrEffect;
-  throw MrrError(optionName(Param::Method) + " " + name +
-                 ": unknown method (expected mrr, full, uniform-1, uniform-2, tiles or mrr-effect)");
 }
 
 // Table 1 of the paper (SPEC §3). i = ℓ + 1; the coarsest level covers everything.
@@ -103,26 +80,10 @@ int squareRoot(int n) {
 }  // namespace
 
 void validateSettings(const Settings& s) {
+  // Every parameter row with a Settings field and a range (common/frame_params.cpp), from its row.
+  checkParamRanges(s);
   auto sizeOk = [](int v) { return v >= 1 && v <= kMaxImageSize; };
-  require(s.effectMask.scale >= 0.0f && s.effectMask.scale <= 16.0f,
-          optionName(Param::EffectScale) + ": must be in " +
-              paramRange(Param::EffectScale));
-  require(s.effectMask.cap >= 0 && s.effectMask.cap <= 64, optionName(Param::EffectCap) + ": must be in " +
-                                                               paramRange(Param::EffectCap));
-  require(s.effectMask.posterior >= 0.0f && s.effectMask.posterior <= 100.0f,
-          optionName(Param::EffectPosterior) + ": must be in " + paramRange(Param::EffectPosterior));
-  require(s.effectMask.posteriorFinest >= 0 && s.effectMask.posteriorFinest < kLevelCount,
-          optionName(Param::EffectPosteriorFinest) + ": must be in " + paramRange(Param::EffectPosteriorFinest));
-  require(s.effectMask.firstLevel >= 0 && s.effectMask.firstLevel < kLevelCount,
-          optionName(Param::EffectFirstLevel) + ": must be in " +
-              paramRange(Param::EffectFirstLevel));
-  // SPEC §13: viewing conditions, gaze and motion.
-  require(std::isfinite(s.foveation.ppd) && s.foveation.ppd > 0.0f,
-          optionName(Param::Ppd) + " " + [&] {
-            char text[32];
-            std::snprintf(text, sizeof text, "%g", static_cast<double>(s.foveation.ppd));
-            return std::string(text);
-          }() + ": must be > 0 pixels per degree");
+  // SPEC §13: the gaze inside the frame; the motion term's own knobs (not parameters).
   require(!s.foveation.gaze || (s.foveation.gazeX >= 0 && s.foveation.gazeX < s.width && s.foveation.gazeY >= 0 &&
                                 s.foveation.gazeY < s.height),
           optionName(Param::Gaze) + " " + std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY) +
@@ -144,33 +105,13 @@ void validateSettings(const Settings& s) {
   require(s.ssgi.samples >= 1 && s.ssgi.samples <= kMaxSsgiSamples,
           optionName(Param::Samples) + " " + std::to_string(s.ssgi.samples) + ": must be in [1, " +
               std::to_string(kMaxSsgiSamples) + "] for ssgi");
-  require(s.ssm.shadowMapSize >= 16 && s.ssm.shadowMapSize <= kMaxShadowMapSize,
-          optionName(Param::ShadowMapSize) + " " + std::to_string(s.ssm.shadowMapSize) + ": must be in [16, " +
-              std::to_string(kMaxShadowMapSize) + "]");
-  require(s.ssm.lightAngle > 0.0f && s.ssm.lightAngle <= 0.5f, optionName(Param::LightAngle) + ": must be in " + paramRange(Param::LightAngle) + " radians");
   require(s.ssm.blockerGrid >= 1 && s.ssm.blockerGrid <= 16, "blocker grid: must be in [1, 16]");
   require(s.ssm.biasTexels >= 0.0f && s.ssm.biasTexels <= 16.0f, "shadow bias: must be in [0, 16] texels");
-  require(std::isfinite(s.ssgi.radius) && s.ssgi.radius >= 0.0f, optionName(Param::GiRadius) + ": must be a finite value >= 0");
-  require(std::isfinite(s.ssao.radius) && s.ssao.radius >= 0.0f,
-          optionName(Param::AoRadius) + ": must be a finite value >= 0 (0 = automatic)");
-  require(s.ssao.biasFraction >= 0.0f && s.ssao.biasFraction <= 1.0f,
-          optionName(Param::AoBias) + ": must be in [0, 1] (a fraction of the radius)");
-  require(s.edges.normalThreshold >= 0.0f && s.edges.normalThreshold <= 2.0f,
-          optionName(Param::TauN) + ": must be in " + paramRange(Param::TauN));
-  require(std::isfinite(s.edges.depthThreshold) && s.edges.depthThreshold >= 0.0f,
-          optionName(Param::TauZ) + ": must be a finite value >= 0");
-  require(s.bilateral.radius >= 0 && s.bilateral.radius <= 8, "--blur-radius: must be in [0, 8]");
+  require(s.bilateral.radius >= 0 && s.bilateral.radius <= 8, "bilateral radius: must be in [0, 8]");
   require(s.bilateral.sigmaSpatial > 0.0f && s.bilateral.sigmaDepth > 0.0f,
           "bilateral sigmas must be > 0");
   bool any = false;
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelSettings& ls = s.levels[static_cast<size_t>(l)];
-    require(ls.sigma2 >= 0.0f && ls.sigma2 <= 64.0f,
-            "level " + std::to_string(l) + ": sigma2 must be in [0, 64]");
-    require(std::isfinite(ls.weight) && ls.weight >= 0.0f,
-            "level " + std::to_string(l) + ": weight must be a finite value >= 0");
-    any = any || ls.enabled;
-  }
+  for (const LevelSettings& ls : s.levels) any = any || ls.enabled;
   require(s.levels[0].enabled, optionName(Param::DisableLevel) + " 0: the full-resolution level cannot be disabled");
   require(any, "every level is disabled");
 }
@@ -233,14 +174,10 @@ Constants makeConstants(const Settings& s, float framedSize) {
     lc.scale = 1 << l;
     lc.width = c.paddedWidth / lc.scale;
     lc.height = c.paddedHeight / lc.scale;
-    switch (s.mode) {
-      case Mode::Mrr:
-      case Mode::MrrEffect: lc.enabled = ls.enabled; break;
-      case Mode::Full: lc.enabled = l == 0; break;
-      case Mode::Uniform1: lc.enabled = l == 0 || l == 1; lc.shaded = l == 1; break;
-      case Mode::Uniform2: lc.enabled = l == 0 || l == 2; lc.shaded = l == 2; break;
-      case Mode::Tiles: lc.enabled = l <= 2; break;  // the 1×1, 2×2 and 4×4 rates
-    }
+    // The method's levels (common/methods.h): the user's (--disable-level) or its own.
+    const MethodInfo& m = methodInfo(s.mode);
+    lc.enabled = m.userLevels ? ls.enabled : (m.levels >> l & 1u) != 0;
+    lc.shaded = (m.shades >> l & 1u) != 0;
     lc.shaded = lc.shaded && lc.enabled;
     lc.sigma2 = ls.sigma2;
     lc.weight = ls.weight;
@@ -252,7 +189,7 @@ Constants makeConstants(const Settings& s, float framedSize) {
   for (int l = 0; l < kLevelCount; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) c.coarsestEnabled = l;
   c.edges = s.edges;
-  c.neverSlower = s.neverSlower && isMethod(s.mode);
+  c.neverSlower = s.neverSlower && methodInfo(s.mode).neverSlower;
   c.effectMask.scale = s.effectMask.scale;
   c.effectMask.cap = s.effectMask.cap;
   c.effectMask.firstLevel = s.effectMask.firstLevel;

@@ -10,32 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "common/methods.h"
+
 namespace mrr {
 
 enum class Effect { Ssao, Ssm, Ssgi };
-// The sampling strategy (SPEC §9): the method itself and the peers it is charted against.
-// Every mode runs the same effect code on the same G-buffers; only which pixels of which
-// level are shaded, and how the levels are put together, differ.
-enum class Mode {
-  Mrr,       // the method (SPEC §§2–5); `--method mrr`
-  Full,      // every full-res pixel: the reference for every error figure
-  Uniform1,  // every pixel of level 1 (½), then joint bilateral upsampling
-  Uniform2,  // every pixel of level 2 (¼), then joint bilateral upsampling
-  Tiles,     // 16×16 VRS-style tiles at 1×1, 2×2 or 4×4 by their edges, broadcast unfiltered
-  // Issue 35 (SPEC §12): mrr with each level's edge mask widened by the effect's footprint, known
-  // before shading, and optionally refined a posteriori (§12.2); `--method mrr-effect`, on both
-  // paths. Not one of SPEC §9's five (kAllModes).
-  MrrEffect,
-};
-constexpr Mode kAllModes[] = {Mode::Full, Mode::Uniform1, Mode::Uniform2, Mode::Tiles, Mode::Mrr};
 
 std::string toString(Effect effect);
-std::string toString(Mode mode);        // "mrr", "full", "uniform-1", "uniform-2", "tiles"
 Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
-Mode parseMode(const std::string& name);  // also accepts "multires", the old name of "mrr"
-bool isPeer(Mode mode);                   // uniform-k or tiles: composed by cpu_ref/peers, not blended
-// mrr or mrr-effect: the paper's pipeline (masks from edges, blend coarse to fine, SPEC §11's rule).
-inline bool isMethod(Mode mode) { return mode == Mode::Mrr || mode == Mode::MrrEffect; }
 
 constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
 constexpr int kMaxImageSize = 16384;     // per side; beyond it the G-buffers alone exceed RAM
@@ -276,9 +258,9 @@ struct Constants {
 // Builds the constants for a W×H frame. `framedSize` (what the view frames, world units:
 // scenes/default_light.h framedSize, ResolvedScene::framed) resolves the automatic SSAO and
 // SSGI radii.
-// In Mode::Full only level 0 is enabled: the reference runs the same effect code at every
-// full-res pixel. The peers (SPEC §9) enable the levels their strategy shades: uniform-k
-// levels 0 (G-buffer only, for the joint bilateral upsampling) and k; tiles levels 0–2.
+// Each level is enabled and shaded as the method's row says (common/methods.h): full level 0
+// alone; uniform-k levels 0 (G-buffer only, for the joint bilateral upsampling) and k; tiles
+// levels 0–2; mrr and mrr-effect the user's.
 Constants makeConstants(const Settings& settings, float framedSize);
 // SPEC §13: the foveation's constants (the level thresholds), as makeConstants fills them.
 void makeFoveationConstants(const FoveationSettings& settings, Constants::Foveation& out);

@@ -13,7 +13,6 @@ namespace {
 // pixel can take its value from.
 int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
 
-int shadedLevel(const Constants& c) { return c.mode == Mode::Uniform1 ? 1 : 2; }
 }  // namespace
 
 ImageU8 tileRates(const ImageU8& edges) {
@@ -107,8 +106,9 @@ BlendResult composePeer(const std::array<LevelImages, kLevelCount>& levels,
                         const std::array<const GBuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
                         const Constants& c, bool keepStages) {
   const int w = c.width, h = c.height;
-  const bool uniform = c.mode != Mode::Tiles;
-  const int k = uniform ? shadedLevel(c) : 0;
+  const MethodInfo& method = methodInfo(c.mode);  // uniform-k: its level k, joint-bilateral upsampled
+  const bool uniform = method.compose == Compose::JointBilateral;
+  const int k = uniform ? method.finestShadedLevel() : 0;
   const int channels = levels[static_cast<size_t>(uniform ? k : 0)].sub->channels;
   BlendResult r = BlendResult::allocate(c, channels, keepStages);
   parallelFor(0, h, [&](int y) {

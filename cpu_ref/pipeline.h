@@ -1,7 +1,8 @@
 #pragma once
-// The oracle, end to end: scene → G-buffers → edges → masks → sub-images → blend.
-// Data flows one way through these stages; FrameResult (common/frame.h) keeps every
-// intermediate so that --stages, --report and probe can show them.
+// The oracle, end to end: scene → G-buffers → edges → masks → sub-images → blend, the stages of
+// cpu_ref/oracle.h in the order of common/driver.cpp (where the never-slower rule and the
+// a-posteriori term feed back). FrameResult (common/frame.h) keeps every intermediate so that
+// --stages, --report and probe can show them.
 #include <array>
 #include <chrono>
 #include <functional>
@@ -15,12 +16,8 @@
 #include "common/params.h"
 #include "common/renderer.h"
 #include "common/scene.h"
-#include "cpu_ref/blend.h"
-#include "cpu_ref/edges.h"
 #include "cpu_ref/gbuffer.h"
-#include "cpu_ref/masks.h"
-#include "cpu_ref/shadowmap.h"
-#include "cpu_ref/ssao.h"
+#include "cpu_ref/oracle.h"
 
 namespace mrr {
 
@@ -33,15 +30,16 @@ class Renderer final : public FrameRenderer {
   std::string timingMethod() const override { return ""; }
   const Scene& scene() const { return scene_; }
   double bvhBuildMs() const { return bvhBuildMs_; }
+  // The oracle's stages on this scene (cpu_ref/oracle.h), for a caller that runs one alone.
+  const OracleStages& stages() const { return stages_; }
 
  private:
   const Scene& scene_;
   double bvhBuildMs_ = 0.0;
   std::chrono::steady_clock::time_point buildStart_ = std::chrono::steady_clock::now();
   RayScene rays_;  // built after buildStart_ is taken (member order), timed in the constructor
-  // Scratch reused across frames, so a steady stream of frames does not page-fault it in
-  // again each time (render() is therefore not re-entrant).
-  mutable std::array<OccluderPlanes, kLevelCount> planes_;
+  // Its scratch is reused across frames (render() is therefore not re-entrant).
+  OracleStages stages_;
 };
 
 }  // namespace mrr

@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "cpu_ref/blend.h"
+#include "cpu_ref/edges.h"
 #include "cpu_ref/effect_masks.h"
 #include "cpu_ref/foveation.h"
 #include "cpu_ref/ssao.h"
@@ -33,8 +35,9 @@ const char* coverageName(Coverage c) {
 CoverageArms coverageArms(const FrameResult& f) {
   CoverageArms arms;
   const Constants& c = f.constants;
-  const bool effect = c.mode == Mode::MrrEffect;
-  if (f.edges.combined.empty() || !(c.mode == Mode::Mrr || effect)) return arms;
+  const MethodInfo& method = methodInfo(c.mode);
+  const bool effect = method.masks == MaskBuilder::EffectEdges;
+  if (f.edges.combined.empty() || !method.blurredMasks()) return arms;
   arms.active = true;
   if (effect)
     arms.footprint = effectFootprint(f.levels[0].gbuffer, f.edges.combined, f.view,
@@ -48,7 +51,7 @@ CoverageArms coverageArms(const FrameResult& f) {
     geometry[l].mask = effect && c.effectMask.effectOnly ? ImageU8(g.width, g.height, 1, 0) : g;
     arms.widened[l].mask = effect ? arms.stages.widened[l] : g;
   }
-  const bool posterior = effect && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
+  const bool posterior = method.aPosteriori && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
   for (int l = 0; l < kLevelCount; ++l) {
     const int next = c.nextCoarserEnabled(l);
     if (!posterior || !c.levels[static_cast<size_t>(l)].enabled || next < 0 || l < c.effectMask.posteriorFinest) continue;

@@ -42,19 +42,19 @@ inline EffectWork effectWork(Effect e) {
 }
 
 // The most of W×H that a frame of `s` may shade, summed over its levels.
+// A blending method's levels overlap (Σ of its enabled levels' shares; the never-slower rule may
+// fall back to full); a peer's stencils partition the screen (its finest shaded level's share).
 inline double shadedFraction(const Settings& s) {
-  switch (s.mode) {
-    case Mode::Full: return 1.0;
-    case Mode::Uniform1: return 0.25;
-    case Mode::Uniform2: return 1.0 / 16.0;
-    case Mode::Tiles: return 1.0;
-    case Mode::Mrr:
-    case Mode::MrrEffect: break;
+  const MethodInfo& m = methodInfo(s.mode);
+  double sum = 0.0, most = 0.0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const bool shaded = m.userLevels ? s.levels[static_cast<size_t>(l)].enabled : (m.shades >> l & 1u) != 0;
+    if (!shaded) continue;
+    sum += std::ldexp(1.0, -2 * l);
+    most = std::max(most, std::ldexp(1.0, -2 * l));
   }
-  double sum = 0.0;
-  for (int l = 0; l < kLevelCount; ++l)
-    if (s.levels[static_cast<size_t>(l)].enabled) sum += std::ldexp(1.0, -2 * l);
-  return std::max(sum, 1.0);  // the never-slower rule may fall back to full
+  if (m.peer()) return most;
+  return m.neverSlower ? std::max(sum, 1.0) : sum;
 }
 
 // One frame's work in sample-pixels, as a + b · samples: {a, b}.

@@ -108,12 +108,12 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
     if (!lr.masks.mask.empty()) names.push_back(partName(Part::Mask, l));
     if (!lr.marks.empty()) names.push_back(partName(Part::Marks, l));
     // SPEC §12.3's arms (mrr, mrr-effect): the mask from edges alone, the footprint, the marks, and why
-    const bool arms = !f.edges.combined.empty() && (c.mode == Mode::Mrr || c.mode == Mode::MrrEffect) &&
-                      c.levels[li].enabled && !lr.masks.stencil.empty();
-    if (arms && l != c.coarsestEnabled && c.mode == Mode::MrrEffect) {
+    const MethodInfo& method = methodInfo(c.mode);
+    const bool arms = !f.edges.combined.empty() && method.blurredMasks() && c.levels[li].enabled && !lr.masks.stencil.empty();
+    if (arms && l != c.coarsestEnabled && method.masks == MaskBuilder::EffectEdges) {
       names.push_back(partName(Part::Mask, l) + ".geometry");
       names.push_back(partName(Part::Mask, l) + ".footprint");
-      if (c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest) names.push_back(partName(Part::Mask, l) + ".marks");
+      if (method.aPosteriori && c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest) names.push_back(partName(Part::Mask, l) + ".marks");
     }
     if (arms) names.push_back(partName(Part::Mask, l) + ".why");
     if (!lr.masks.alpha.empty()) names.push_back(partName(Part::Alpha, l));
@@ -330,8 +330,9 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
     case Part::Mask: {
       const std::string sub = tokens.size() == 3 ? tokens[2] : "";
       if (sub.empty()) {
-        binary(lr.masks.mask, f.constants.mode == Mode::MrrEffect ? "the mask M' the blur reads (widened, with any marks)"
-                                                                  : "the max-pooled edge mask M");
+        binary(lr.masks.mask, methodInfo(f.constants.mode).masks == MaskBuilder::EffectEdges
+                                 ? "the mask M' the blur reads (widened, with any marks)"
+                                 : "the max-pooled edge mask M");
         break;
       }
       const CoverageArms arms = coverageArms(f);  // SPEC §12.3

@@ -181,6 +181,7 @@ const char* kindName(ParamKind kind) {
     case ParamKind::Flag: return "flag";
     case ParamKind::Levels: return "levels";
     case ParamKind::PerLevel: return "per_level";
+    case ParamKind::Switch: return "switch";
   }
   return "text";
 }
@@ -199,28 +200,18 @@ struct FrameRequest {
   int mostSamples = 0;       // the most samples within the budget at this frame's other settings
 };
 
-std::string frameKey(const Settings& s, const SceneRequest& r) {
-  json levels = json::array();
-  for (const LevelSettings& l : s.levels) levels.push_back({l.enabled, l.sigma2, l.weight});
+// A frame's cache key: its frame file (FrameOptions::frame: every row that says which frame to
+// render, so a new parameter is in the key as soon as it is in the table) and the scene request
+// (the camera and light as asked, before the scene resolves them).
+std::string frameKey(const FrameOptions& fo, const Settings& s, const SceneRequest& r) {
   auto opt = [](const auto& o) { return o ? json(*o) : json(nullptr); };
   auto optVec = [](const std::optional<glm::vec3>& v) { return v ? vec3Json(*v) : json(nullptr); };
-  // Positional: a cache key, not a frame file (that is FrameOptions::frame).
-  const json k = json::array({r.scene, opt(r.flipUp), opt(r.cameraIndex), optVec(r.eye), optVec(r.target),
-                              opt(r.fovDegrees), optVec(r.lightToward), r.skipBlendMaterials, toString(s.effect),
-                              toString(s.mode), s.neverSlower, s.width, s.height, s.samples(), s.ssao.radius,
-                              s.ssao.tangentPlaneDepth, s.ssgi.radius, s.ssm.shadowMapSize, s.ssm.lightAngle,
-                              s.edges.normalThreshold, s.edges.depthThreshold, levels});
-  // Every other knob the page may turn that changes the frame: the AO bias and the seed,
-  // mrr-effect's widening, a-posteriori term and ablation arm (SPEC §12), and the level limit's
-  // viewing conditions, gaze and motion (SPEC §13). Before, a frame that differed only in them
-  // (a gaze or a pan after the same frame without one) was served from the cache.
+  const json request = json::array({r.scene, opt(r.flipUp), opt(r.cameraIndex), optVec(r.eye), optVec(r.target),
+                                    optVec(r.up), opt(r.fovDegrees), optVec(r.lightToward), r.skipBlendMaterials});
+  // The motion term's previous camera, which the frame file names only as a file.
   const FoveationSettings& f = s.foveation;
-  const EffectMaskSettings& e = s.effectMask;
-  const json more = json::array({s.ssao.biasFraction, s.seed, e.scale, e.cap, e.firstLevel, e.posterior,
-                                 e.posteriorFinest, e.effectOnly, f.ppd, f.gaze, f.gazeX, f.gazeY, f.foveate,
-                                 f.motion, f.motionScale, f.motionCap, vec3Json(f.prevEye), vec3Json(f.prevTarget),
-                                 vec3Json(f.prevUp), f.prevYfov, f.panned, f.pan});
-  return k.dump() + more.dump();
+  const json previous = json::array({f.motion, vec3Json(f.prevEye), vec3Json(f.prevTarget), vec3Json(f.prevUp), f.prevYfov});
+  return fo.frame(nullptr, s).dump() + request.dump() + previous.dump();
 }
 
 // The full-resolution frame a frame is measured against: mode full, and nothing that only
@@ -339,9 +330,9 @@ class Explorer {
     sceneOnly.eye = sceneOnly.target = std::nullopt;
     sceneOnly.cameraIndex = std::nullopt;
     sceneOnly.fovDegrees = std::nullopt;
-    r.sceneKey = frameKey(defaultSettings(Effect::Ssao), sceneOnly);
-    r.key = frameKey(r.settings, r.scene);
-    r.referenceKey = frameKey(referenceSettings(r.settings), r.scene);
+    r.sceneKey = frameKey(FrameOptions{}, defaultSettings(Effect::Ssao), sceneOnly);
+    r.key = frameKey(r.options, r.settings, r.scene);
+    r.referenceKey = frameKey(r.options, referenceSettings(r.settings), r.scene);
     return r;
   }
 
@@ -452,19 +443,21 @@ class Explorer {
     const auto key = [](Param p) { return std::string(paramInfo(p).key); };
     json defaults = {{key(Param::Scene), options_.frame.scene},
                      {key(Param::Effect), options_.frame.effect},
-                     {key(Param::Method), options_.frame.mode},
+                     {key(Param::Method), toString(parseMode(options_.frame.mode))},  // its row's name
                      {key(Param::Size), options_.frame.size}};
     if (options_.frame.samples) defaults[key(Param::Samples)] = *options_.frame.samples;
     const Settings s = options_.frame.settings();
     defaults[key(Param::TauN)] = s.edges.normalThreshold;
     defaults[key(Param::TauZ)] = s.edges.depthThreshold;
-    defaults[key(Param::NeverSlower)] = s.neverSlower ? "on" : "off";
+    defaults[key(Param::NeverSlower)] = paramText(s, Param::NeverSlower);
     // The page's knobs and their help: the table's rows the page may send.
     json params = json::array();
     for (const FrameParamInfo& p : frameParams())
       if (p.explore)
         params.push_back({{"key", p.key}, {"option", optionName(p.param)}, {"kind", kindName(p.kind)},
-                          {"unit", p.unit}, {"help", paramHelp(p.param)}});
+                          {"unit", p.unit}, {"help", paramHelp(p.param)}, {"range", paramRange(p.param)}});
+    // The page's methods, from the method table (common/methods.h): its menu and which knobs each owns.
+    const json methodRows = methodRowsJson();
     return {{"scenes", scenes_},
             {"budget",
              {{"budget_m", budget_ / 1e6},
@@ -474,6 +467,7 @@ class Explorer {
             {"port", {{"available", portAvailable_}, {"status", portStatus_}, {"renderer", portRenderer()}}},
             {"defaults", defaults},
             {"params", params},
+            {"methods", methodRows},
             {"parts", parts},
             {"probe_relative_difference", kProbeRelativeDifference},
             {"teach", teachSteps()}};
@@ -718,7 +712,7 @@ class Explorer {
         {"budget_m", budget_ / 1e6},
         {"max_samples", r.mostSamples}};
     const FallbackDecision& rule = out->frame.fallback;
-    if (isMethod(r.settings.mode) && !rule.evaluated)  // the rule is off: what it would have decided
+    if (methodInfo(r.settings.mode).neverSlower && !rule.evaluated)  // the rule is off: what it would have decided
       out->report["explore"]["rule_off"] = {{"would_fall_back", rule.wouldFallBack},
                                             {"predicted_full_ms", rule.predictedFullMs},
                                             {"predicted_mrr_ms", rule.predictedMrrMs}};

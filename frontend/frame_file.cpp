@@ -23,12 +23,6 @@ glm::vec3 tripleOf(const nlohmann::json& v, const std::string& where) {
 
 }  // namespace
 
-std::string exactFloat(float v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", static_cast<double>(v));
-  return text;
-}
-
 std::string exactTriple(float x, float y, float z) { return exactFloat(x) + "," + exactFloat(y) + "," + exactFloat(z); }
 
 float exactDegrees(float radians) {
@@ -59,18 +53,18 @@ std::vector<std::string> frameArgs(const nlohmann::json& frame, const std::strin
     const std::string option = optionName(k.param);
     switch (k.kind) {
       case ParamKind::Text:
+      case ParamKind::Switch:    // "on" or "off"
       case ParamKind::PerLevel:  // "v0,v1,v2,v3", as the command line takes it
         require(v.is_string(), where + ": expected a string");
         words.push_back(option + "=" + v.get<std::string>());
         break;
       case ParamKind::Int:
-        require(v.is_number_integer() && v.get<int64_t>() >= 0 && v.get<int64_t>() <= 1 << 20,
-                where + ": expected a whole number >= 0");  // each parameter's own range: validateSettings
+        // each parameter's own range: its row's, checked as the value is set (setParam)
+        require(v.is_number_integer() && std::abs(v.get<int64_t>()) <= int64_t{1} << 40, where + ": expected a whole number");
         words.push_back(option + "=" + std::to_string(v.get<int64_t>()));
         break;
       case ParamKind::Number:
-        require(v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() >= 0.0,
-                where + ": expected a number >= 0");
+        require(v.is_number() && std::isfinite(v.get<double>()), where + ": expected a finite number");
         words.push_back(option + "=" + exactFloat(v.get<float>()));
         break;
       case ParamKind::Triple: {

@@ -12,6 +12,8 @@
 // line win over the file's. Every report JSON and stages EXR carries the same object.
 #include <nlohmann/json.hpp>
 
+#include "common/frame_params.h"  // exactFloat
+
 #include <set>
 #include <string>
 #include <vector>
@@ -32,8 +34,6 @@ std::vector<std::string> expandFrameFile(const std::vector<std::string>& args);
 
 // "x,y,z" with enough digits that parsing gives the same floats back.
 std::string exactTriple(float x, float y, float z);
-// A float as text that parses back to the same float.
-std::string exactFloat(float v);
 // The field of view in degrees whose conversion to radians (as the scene request does it) gives
 // exactly `radians` back.
 float exactDegrees(float radians);

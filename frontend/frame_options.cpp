@@ -18,10 +18,11 @@ namespace mrr {
 
 namespace {
 
-// The FrameOptions field a row of the frame-parameter table sets.
+// The FrameOptions field a row of the frame-parameter table sets, for the rows the front end
+// resolves itself (the others set a Settings field through `given`: common/frame_params.h).
 using Field = std::variant<std::string FrameOptions::*, int FrameOptions::*, std::optional<int> FrameOptions::*,
                            std::optional<float> FrameOptions::*, std::optional<double> FrameOptions::*,
-                           bool FrameOptions::*, std::vector<int> FrameOptions::*, std::vector<float> FrameOptions::*>;
+                           bool FrameOptions::*, std::vector<int> FrameOptions::*>;
 
 Field bindField(Param param) {
   using F = FrameOptions;
@@ -29,7 +30,6 @@ Field bindField(Param param) {
     case Param::Scene: return &F::scene;
     case Param::Effect: return &F::effect;
     case Param::Method: return &F::mode;
-    case Param::NeverSlower: return &F::neverSlower;
     case Param::CostModel: return &F::costModelFile;
     case Param::Path: return &F::path;
     case Param::GlDevice: return &F::glDevice;
@@ -37,7 +37,6 @@ Field bindField(Param param) {
     case Param::Size: return &F::size;
     case Param::Samples: return &F::samples;
     case Param::Threads: return &F::threads;
-    case Param::Seed: return &F::seed;
     case Param::CoarseGbuffer: return &F::coarseGBuffer;
     case Param::Camera: return &F::camera;
     case Param::Eye: return &F::eye;
@@ -49,30 +48,14 @@ Field bindField(Param param) {
     case Param::LightDir: return &F::lightDir;
     case Param::FlipUp: return &F::flipUp;
     case Param::NoFlipUp: return &F::noFlipUp;
-    case Param::AoRadius: return &F::aoRadius;
-    case Param::AoBias: return &F::aoBias;
-    case Param::ShadowMapSize: return &F::shadowMapSize;
-    case Param::LightAngle: return &F::lightAngle;
-    case Param::GiRadius: return &F::giRadius;
     case Param::AoTexelDepth: return &F::texelDepth;
-    case Param::TauN: return &F::tauN;
-    case Param::TauZ: return &F::tauZ;
     case Param::DisableLevel: return &F::disabledLevels;
-    case Param::Sigma2: return &F::sigma2;
-    case Param::Weights: return &F::weights;
-    case Param::EffectCap: return &F::effectCap;
-    case Param::EffectFirstLevel: return &F::effectFirstLevel;
-    case Param::EffectScale: return &F::effectScale;
-    case Param::EffectPosterior: return &F::effectPosterior;
-    case Param::EffectPosteriorFinest: return &F::effectPosteriorFinest;
-    case Param::EffectOnly: return &F::effectOnly;
-    case Param::Ppd: return &F::ppd;
     case Param::Gaze: return &F::gaze;
-    case Param::Foveate: return &F::foveate;
     case Param::PrevFrame: return &F::prevFrame;
     case Param::Pan: return &F::pan;
     case Param::MemoryLimit: return &F::memoryLimitGiB;
     case Param::Quiet: return &F::quiet;
+    default: break;
   }
   throw MrrError("internal: no FrameOptions field for " + optionName(param));
 }
@@ -87,74 +70,50 @@ std::string cliNames(const FrameParamInfo& p) {
 void FrameOptions::add(CLI::App& app) {
   for (const FrameParamInfo& p : frameParams()) {
     const std::string names = cliNames(p);
+    const Param param = p.param;
+    if (p.field) {  // a Settings field: its text, set (and checked) by setParam in settings()
+      if (p.kind == ParamKind::Flag)
+        app.add_flag_callback(names, [this, param] { given[param] = "1"; }, paramHelp(param));
+      else
+        app.add_option_function<std::string>(names, [this, param](const std::string& v) { given[param] = v; },
+                                             paramHelp(param))
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+      continue;
+    }
     std::visit(
         [&](auto member) {
           auto& field = this->*member;
           using T = std::decay_t<decltype(field)>;
           if constexpr (std::is_same_v<T, bool>) {
-            app.add_flag(names, field, paramHelp(p.param));
+            app.add_flag(names, field, paramHelp(param));
           } else if constexpr (std::is_same_v<T, std::string>) {
             // The front end's own default (the member's initial value) is the one shown.
-            app.add_option(names, field, paramHelp(p.param, field));
+            app.add_option(names, field, paramHelp(param, field));
           } else {
-            CLI::Option* o = app.add_option(names, field, paramHelp(p.param));
-            if constexpr (std::is_same_v<T, std::vector<float>>) o->delimiter(',');  // "v0,v1,v2,v3"
+            CLI::Option* o = app.add_option(names, field, paramHelp(param));
             if constexpr (std::is_same_v<T, std::optional<int>> || std::is_same_v<T, std::optional<float>>)
               o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
           }
         },
-        bindField(p.param));
+        bindField(param));
   }
 }
 
 Settings FrameOptions::settings() const {
   Settings s = defaultSettings(parseEffect(effect));
   s.mode = parseMode(mode);
-  require(neverSlower.empty() || neverSlower == "on" || neverSlower == "off",
-          optionName(Param::NeverSlower) + " " + neverSlower + ": expected on or off");
-  s.neverSlower = neverSlower.empty() ? neverSlowerDefault : neverSlower == "on";
+  s.neverSlower = neverSlowerDefault;
+  // Every row with a Settings field that was given: parsed and checked against its row's range.
+  for (const auto& [param, text] : given) setParam(s, param, text);
   const auto [w, h] = parseSize(size);
   s.width = w;
   s.height = h;
   if (samples) s.setSamples(*samples);
-  require(seed >= 0 && seed < (1 << 30), optionName(Param::Seed) + " " + std::to_string(seed) + ": must be in " + paramRange(Param::Seed));
-  s.seed = static_cast<uint32_t>(seed);
   require(coarseGBuffer == "subsample" || coarseGBuffer == "render",
           optionName(Param::CoarseGbuffer) + " " + coarseGBuffer + ": expected subsample or render");
   s.renderCoarseGBuffer = coarseGBuffer == "render";
-  if (aoRadius) s.ssao.radius = *aoRadius;
-  if (aoBias) s.ssao.biasFraction = *aoBias;
-  if (giRadius) s.ssgi.radius = *giRadius;
-  if (shadowMapSize) s.ssm.shadowMapSize = *shadowMapSize;
-  if (lightAngle) s.ssm.lightAngle = *lightAngle;
   s.ssao.tangentPlaneDepth = !texelDepth;
-  if (effectCap) s.effectMask.cap = *effectCap;
-  if (effectFirstLevel) s.effectMask.firstLevel = *effectFirstLevel;
-  if (effectScale) s.effectMask.scale = *effectScale;
-  if (effectPosterior) s.effectMask.posterior = *effectPosterior;
-  if (effectPosteriorFinest) s.effectMask.posteriorFinest = *effectPosteriorFinest;
-  s.effectMask.effectOnly = effectOnly;
-  if (tauN) s.edges.normalThreshold = *tauN;
-  if (tauZ) s.edges.depthThreshold = *tauZ;
-  // One number per level, as CLI11 split them at the commas.
-  const auto perLevel = [](const std::vector<float>& values, Param param, const char* what, auto valid, auto set) {
-    if (values.empty()) return;
-    std::string text;
-    for (float v : values) text += (text.empty() ? "" : ",") + exactFloat(v);
-    require(values.size() == kLevelCount, optionName(param) + " " + text + ": expected " + std::to_string(kLevelCount) +
-                                              " numbers, one per level, e.g. 1,1,1,1");
-    for (size_t l = 0; l < values.size(); ++l) {
-      require(std::isfinite(values[l]) && valid(values[l]),
-              optionName(param) + " " + text + ": level " + std::to_string(l) + "'s " + what);
-      set(l, values[l]);
-    }
-  };
-  perLevel(sigma2, Param::Sigma2, "variance must be in [0, 64]", [](float v) { return v >= 0.0f && v <= 64.0f; },
-           [&](size_t l, float v) { s.levels[l].sigma2 = v; });
-  perLevel(weights, Param::Weights, "weight must be >= 0", [](float v) { return v >= 0.0f; },
-           [&](size_t l, float v) { s.levels[l].weight = v; });
-  // SPEC §13: viewing conditions, the gaze and the previous frame.
-  if (ppd) s.foveation.ppd = *ppd;
+  // SPEC §13: the gaze and the previous frame.
   if (!gaze.empty()) {
     int gx = 0, gy = 0;
     char comma = 0, rest = 0;
@@ -164,11 +123,8 @@ Settings FrameOptions::settings() const {
     s.foveation.gazeX = gx;
     s.foveation.gazeY = gy;
   }
-  require(foveate == "on" || foveate == "off", optionName(Param::Foveate) + " " + foveate + ": expected on or off");
-  s.foveation.foveate = foveate == "on";
   if (pan && *pan != 0.0f) {
-    require(std::isfinite(*pan) && std::abs(*pan) <= 1.0e6f,
-            optionName(Param::Pan) + " " + exactFloat(*pan) + ": must be in " + paramRange(Param::Pan));
+    require(paramInfo(Param::Pan).range.contains(*pan), optionName(Param::Pan) + " " + exactFloat(*pan) + ": " + rangeRule(Param::Pan));
     require(prevFrame.empty(), optionName(Param::Pan) + ": not with " + optionName(Param::PrevFrame) +
                                    " (each gives the previous camera; give one)");
   }
@@ -238,62 +194,49 @@ namespace {
 
 // A frame-file row's value for this frame: the camera and light as resolved, the parameters as
 // the settings hold them (numbers that round-trip exactly); null leaves the key out.
-nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedScene& rs, const Settings& s) {
+nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedScene* rs, const Settings& s) {
   auto triple = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
-  auto perLevel = [&](auto get) {
-    std::string text;
-    for (size_t l = 0; l < s.levels.size(); ++l) {
-      if (l) text += ',';
-      text += exactFloat(get(s.levels[l]));
+  const FrameParamInfo& p = paramInfo(param);
+  // A parameter a method owns, in the files of that method only.
+  if (ownedByAMethod(param) && !methodInfo(s.mode).owns(param)) return nullptr;
+  if (p.field) {  // its Settings field, as its kind writes it
+    const std::string text = paramText(s, param);
+    switch (p.kind) {
+      case ParamKind::Int:
+        if (param == Param::Seed && s.seed == 0) return nullptr;  // absent: 0, mrr's own sampling
+        return std::stoll(text);
+      case ParamKind::Number: return std::stof(text);
+      case ParamKind::Flag: return text == "1";
+      case ParamKind::Switch:
+        if (param == Param::Foveate && !s.foveation.gaze) return nullptr;  // with a gaze only
+        return text;
+      default: return text;
     }
-    return text;
-  };
+  }
   switch (param) {
     case Param::Scene: return fo.scene;
     case Param::Effect: return toString(s.effect);
     case Param::Method: return toString(s.mode);
     case Param::Size: return std::to_string(s.width) + "x" + std::to_string(s.height);
     case Param::Samples: return s.samples();
-    case Param::Seed: return s.seed == 0 ? nlohmann::json() : nlohmann::json(s.seed);  // absent: 0, mrr's own
     case Param::CoarseGbuffer: return s.renderCoarseGBuffer ? nlohmann::json("render") : nlohmann::json();  // absent: subsample
-    case Param::Eye: return triple(rs.camera.eye);
-    case Param::Target: return triple(rs.camera.target);
-    case Param::Up: return triple(rs.camera.up);
-    case Param::Fov: return exactDegrees(rs.camera.yfov);
-    case Param::LightDir: return triple(-rs.scene.light.direction);
-    case Param::LightAngle: return s.ssm.lightAngle;
-    case Param::ShadowMapSize: return s.ssm.shadowMapSize;
-    case Param::AoRadius: return s.ssao.radius;
-    case Param::AoBias: return s.ssao.biasFraction;
-    case Param::GiRadius: return s.ssgi.radius;
+    // The camera and light as resolved (a cache key without a resolved scene: as requested, below).
+    case Param::Eye: return rs ? triple(rs->camera.eye) : nlohmann::json();
+    case Param::Target: return rs ? triple(rs->camera.target) : nlohmann::json();
+    case Param::Up: return rs ? triple(rs->camera.up) : nlohmann::json();
+    case Param::Fov: return rs ? nlohmann::json(exactDegrees(rs->camera.yfov)) : nlohmann::json();
+    case Param::LightDir: return rs ? triple(-rs->scene.light.direction) : nlohmann::json();
     case Param::AoTexelDepth: return !s.ssao.tangentPlaneDepth;
-    case Param::TauN: return s.edges.normalThreshold;
-    case Param::TauZ: return s.edges.depthThreshold;
-    case Param::Sigma2: return perLevel([](const LevelSettings& l) { return l.sigma2; });
-    case Param::Weights: return perLevel([](const LevelSettings& l) { return l.weight; });
     case Param::DisableLevel: {
       nlohmann::json levels = nlohmann::json::array();
       for (int l = 1; l < kLevelCount; ++l)
         if (!s.levels[static_cast<size_t>(l)].enabled) levels.push_back(l);
       return levels;
     }
-    case Param::NeverSlower: return s.neverSlower ? "on" : "off";
     case Param::BlendMaterials: return fo.blendMaterials;
-    // mrr-effect's widening: in the files of that method only
-    case Param::EffectCap: return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.cap) : nlohmann::json();
-    case Param::EffectFirstLevel:
-      return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.firstLevel) : nlohmann::json();
-    case Param::EffectScale: return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.scale) : nlohmann::json();
-    case Param::EffectPosterior:
-      return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.posterior) : nlohmann::json();
-    case Param::EffectPosteriorFinest:
-      return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.posteriorFinest) : nlohmann::json();
-    case Param::EffectOnly: return s.mode == Mode::MrrEffect ? nlohmann::json(s.effectMask.effectOnly) : nlohmann::json();
-    case Param::Ppd: return s.foveation.ppd;
     case Param::Gaze:
       return s.foveation.gaze ? nlohmann::json(std::to_string(s.foveation.gazeX) + "," + std::to_string(s.foveation.gazeY))
                               : nlohmann::json();
-    case Param::Foveate: return s.foveation.gaze ? nlohmann::json(s.foveation.foveate ? "on" : "off") : nlohmann::json();
     case Param::PrevFrame: return fo.prevFrame.empty() ? nlohmann::json() : nlohmann::json(fo.prevFrame);
     case Param::Pan: return s.foveation.panned ? nlohmann::json(s.foveation.pan) : nlohmann::json();
     case Param::FlipUp: return fo.flipUp || fo.noFlipUp ? nlohmann::json(fo.flipUp) : nlohmann::json();
@@ -303,7 +246,9 @@ nlohmann::json frameValue(Param param, const FrameOptions& fo, const ResolvedSce
 
 }  // namespace
 
-nlohmann::json FrameOptions::frame(const ResolvedScene& rs, const Settings& s) const {
+nlohmann::json FrameOptions::frame(const ResolvedScene& rs, const Settings& s) const { return frame(&rs, s); }
+
+nlohmann::json FrameOptions::frame(const ResolvedScene* rs, const Settings& s) const {
   nlohmann::json j = {{"mrr_frame", 1}};
   for (const FrameParamInfo& p : frameParams()) {
     if (!p.frameFile) continue;

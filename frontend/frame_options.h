@@ -6,12 +6,14 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "common/cost_model.h"
 #include "common/frame_params.h"
+#include "common/methods.h"
 #include "common/params.h"
 #include "common/renderer.h"
 #include "scenes/catalog.h"
@@ -19,10 +21,19 @@
 namespace mrr {
 
 struct FrameOptions {
+  // The rows that set one Settings field (common/frame_params.h: setParam): their text as given
+  // on the command line, in a frame file or by explore, by parameter ("1" for a flag given).
+  std::map<Param, std::string> given;
+  void set(Param param, std::string text) { given[param] = std::move(text); }
+  const std::string* value(Param param) const {
+    const auto it = given.find(param);
+    return it == given.end() ? nullptr : &it->second;
+  }
+
+  // The rows the front end resolves itself: the scene and camera, files, the path, compound values.
   std::string scene = "builtin:demo";
   std::string effect = "ssao";
-  std::string mode = "mrr";
-  std::string neverSlower;          // on|off; empty: neverSlowerDefault
+  std::string mode = std::string(methodInfo(Mode::Mrr).name);
   bool neverSlowerDefault = true;   // compare turns it off: it validates every stage of the method
   std::string costModelFile;
   std::string path = "cpu";
@@ -31,31 +42,17 @@ struct FrameOptions {
   std::string size = "1280x720";
   std::optional<int> samples;
   int threads = 0;
-  int seed = 0;  // --seed (Settings::seed)
   std::string coarseGBuffer = "subsample";  // --coarse-gbuffer (Settings::renderCoarseGBuffer)
   std::optional<int> camera;
   std::string eye, target, up, lightDir, frameFile;
   std::string blendMaterials = "opaque";
   std::optional<float> fov;
   bool flipUp = false, noFlipUp = false;
-  std::optional<float> aoRadius;
-  std::optional<float> aoBias;
   bool texelDepth = false;
-  std::optional<int> shadowMapSize;
-  std::optional<float> lightAngle;
-  std::optional<float> giRadius;
-  std::optional<float> tauN, tauZ;
   std::vector<int> disabledLevels;
   std::optional<double> memoryLimitGiB;
   bool quiet = false;
-  std::vector<float> sigma2, weights;  // per level (empty: the effect's defaults, Table 1)
-  std::optional<int> effectCap, effectFirstLevel;  // SPEC §12: mrr-effect's widening
-  std::optional<float> effectScale, effectPosterior;  // SPEC §12.2: τ
-  std::optional<int> effectPosteriorFinest;
-  bool effectOnly = false;  // SPEC §12.3
-  std::optional<float> ppd;            // SPEC §13: viewing conditions
   std::string gaze;                    // "X,Y", a full-res pixel (empty: no foveation)
-  std::string foveate = "on";          // on|off: off measures only
   std::string prevFrame;               // a frame file (empty: no motion term)
   std::optional<float> pan;            // --pan: the previous camera moved along its right axis (0: off)
 
@@ -70,6 +67,9 @@ struct FrameOptions {
   // The frame as a frame file (frontend/frame_file.h): the camera and light as resolved, so that
   // reading it back renders the same bits; the parameters as the settings hold them.
   nlohmann::json frame(const ResolvedScene& rs, const Settings& s) const;
+  // The same without a resolved scene (a cache key): the camera and light left out, as the
+  // scene request holds them as requested.
+  nlohmann::json frame(const ResolvedScene* rs, const Settings& s) const;
   void checkPath(bool bothAllowed = false) const;
   PathOptions pathOptions() const { return {glDevice, gpuTiming}; }
 };

@@ -15,7 +15,6 @@ namespace {
 // The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image (as cpu_ref/peers.cpp).
 int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
 
-int shadedLevel(const Constants& c) { return c.mode == Mode::Uniform1 ? 1 : 2; }
 
 // A small integer (a rate, a level, a 0/1 flag) stored in a float channel.
 uint8_t toLevel(float v) { return static_cast<uint8_t>(v + 0.5f); }
@@ -80,8 +79,9 @@ std::array<MaskLevel, kLevelCount> tileMasks(const GpuScene& scene, const ImageU
 BlendResult composePeer(const GpuScene& scene, const std::array<unsigned, kLevelCount>& subs, int channels,
                         const std::array<const Framebuffer*, kLevelCount>& gbuffers, const ImageU8& rates,
                         const Constants& c, bool keepStages, GpuImage* finalOnGpu) {
-  const bool uniformK = c.mode != Mode::Tiles;
-  const int k = uniformK ? shadedLevel(c) : 0;
+  const MethodInfo& method = methodInfo(c.mode);  // uniform-k: its level k, joint-bilateral upsampled
+  const bool uniformK = method.compose == Compose::JointBilateral;
+  const int k = uniformK ? method.finestShadedLevel() : 0;
   // The composition: the final value and the level it came from, at full res.
   Target composedTarget = scene.target(c.width, c.height, 2, false);
   const Framebuffer& composed = *composedTarget;

@@ -150,11 +150,15 @@ class PortFrame final : public FrameBackend {
     edges_ = drawEdges(scene_, *gbuffers_[0], f.constants.edges, shadowEdges, !keep_);
     if (keep_) f.edges = readEdges(*edges_);
   }
-  Masks methodMasks(FrameResult& f) override {
+  Masks edgeMasks(FrameResult& f) override { return drawnMasks(f, false); }
+  Masks effectMasks(FrameResult& f) override { return drawnMasks(f, true); }
+  // masks.frag's pyramid from E; with `widened` (mrr-effect, SPEC §12) M_ℓ widened first by the
+  // effect's footprint at the edges, drawn over E's blocks (effect_masks.frag).
+  Masks drawnMasks(FrameResult& f, bool widened) {
     const Constants& c = f.constants;
-    Target footprint;  // mrr-effect (SPEC §12): the effect's footprint at the edges, over E's blocks
+    Target footprint;
     FootprintFn drawF;
-    if (c.mode == Mode::MrrEffect)
+    if (widened)
       drawF = [&](const std::vector<glm::ivec4>& edgeRects) {
         footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
                                   c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,
@@ -162,7 +166,7 @@ class PortFrame final : public FrameBackend {
         return footprint->texture(0);
       };
     const unsigned limit = levelLimit(f);
-    maskTargets_ = drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, drawF, limit);
+    maskTargets_ = gpu::drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, drawF, limit);
     Masks masks = readMasks(*maskTargets_, c, !keep_);
     if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (M'_0: mrr-effect, SPEC §13)
     return masks;
@@ -262,7 +266,7 @@ class PortFrame final : public FrameBackend {
 
   void blend(FrameResult& f) override {
     const Constants& c = f.constants;
-    if (isPeer(c.mode)) {
+    if (methodInfo(c.mode).peer()) {
       std::array<const Framebuffer*, kLevelCount> targets{};
       for (size_t l = 0; l < targets.size(); ++l)
         if (c.levels[l].enabled) targets[l] = gbuffers_[l].get();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "common/frame_params.h"
 #include "common/error.h"
 #include "scenes/gltf_loader.h"
 #include "common/paths.h"
@@ -68,7 +69,7 @@ void applyRequestedLight(Scene& scene, const SceneRequest& request, const Camera
     require(std::isfinite(length) && length > 0.0f, "--light-dir: needs a direction of non-zero length");
     // A unit direction (as frame files write it) is kept bit for bit.
     scene.light.direction = std::fabs(length - 1.0f) <= 1e-6f ? -*request.lightToward : -*request.lightToward / length;
-    scene.lightOrigin.source = "--light-dir";
+    scene.lightOrigin.source = optionName(Param::LightDir);
   } else if (scene.hasLight) {
     scene.lightOrigin.source = "the scene";
   } else {

@@ -40,45 +40,11 @@ Settings settingsFor(const std::string& method, Effect effect, int w, int h, int
   s.width = w;
   s.height = h;
   s.setSamples(samples);
-  s.neverSlower = method != "mrr-norule";
-  // mrr-effect's ablation variants (SPEC §12): "mrr-effect" then any of "+cN" (the cap, level
-  // pixels), "+fN" (the finest level widened), "+xF" (the footprint's scale), "+noblur" (σ_ℓ² = 0:
-  // the footprint alone widens), "+pT"/"+lN" (the a-posteriori τ and finest level), "+e" (the
-  // ablation's effect-only arm, SPEC §12.3: the widening's pixels without the geometry's) and
-  // "+norule" (without the never-slower rule, as mrr-norule: the arm's own figures where the rule
-  // would shade the frame at full res).
-  const size_t plus = method.find('+');
-  const std::string base = method.substr(0, plus);
-  s.mode = parseMode(base == "mrr-norule" ? "mrr" : base);
-  for (size_t at = plus; at != std::string::npos;) {
-    require(s.mode == Mode::MrrEffect, "--methods " + method + ": only mrr-effect takes +variants");
-    const size_t next = method.find('+', at + 1);
-    const std::string v = method.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
-    try {
-      if (v == "noblur") {
-        for (LevelSettings& ls : s.levels) ls.sigma2 = 0.0f;
-      } else if (v == "e") {
-        s.effectMask.effectOnly = true;
-      } else if (v == "norule") {
-        s.neverSlower = false;
-      } else if (v.size() > 1 && v[0] == 'c') {
-        s.effectMask.cap = std::stoi(v.substr(1));
-      } else if (v.size() > 1 && v[0] == 'f') {
-        s.effectMask.firstLevel = std::stoi(v.substr(1));
-      } else if (v.size() > 1 && v[0] == 'x') {
-        s.effectMask.scale = std::stof(v.substr(1));
-      } else if (v.size() > 1 && v[0] == 'p') {
-        s.effectMask.posterior = std::stof(v.substr(1));
-      } else if (v.size() > 1 && v[0] == 'l') {
-        s.effectMask.posteriorFinest = std::stoi(v.substr(1));
-      } else {
-        throw MrrError("");
-      }
-    } catch (const std::exception&) {
-      throw MrrError("--methods " + method + ": unknown variant +" + v + " (expected +cN, +fN, +xF, +pT, +lN, +e, +norule or +noblur)");
-    }
-    at = next;
-  }
+  // A row of the method table with its bench switches (common/methods.h: "mrr-effect+c4+p0.15"),
+  // each a frame parameter set as the command line sets it.
+  const MethodSpec spec = parseMethodSpec(method);
+  s.mode = spec.method->mode;
+  for (const auto& [param, value] : spec.values) setParam(s, param, value);
   validateSettings(s);
   return s;
 }
@@ -140,9 +106,10 @@ class Sweep {
   std::map<std::string, FrameResult> measure(const BenchPath& path, const OpenScene& sc, int cameraIndex,
                                              const Camera& camera, Effect effect, int w, int h, int samples,
                                              const std::vector<std::string>& methods, const std::string& group) {
-    std::vector<std::string> all = {"full"};
+    const std::string reference = referenceMethod();
+    std::vector<std::string> all = {reference};
     for (const std::string& m : methods)
-      if (m != "full") all.push_back(m);
+      if (m != reference) all.push_back(m);
     std::map<std::string, std::map<std::string, std::vector<double>>> stageRuns;
     std::map<std::string, FrameResult> last;
     FrameResult firstFull;
@@ -152,7 +119,7 @@ class Sweep {
         const Constants c = makeConstants(settingsFor(m, effect, w, h, samples), framed);
         FrameResult f = sc.render(camera, c, {false, {}, nullptr});
         if (i == 0) {  // warm-up; full's is kept to check that repeats give the same bits
-          if (m == "full") firstFull = std::move(f);
+          if (m == reference) firstFull = std::move(f);
           continue;
         }
         for (const auto& [k, v] : stageMs(f)) stageRuns[m][k].push_back(v);
@@ -161,9 +128,9 @@ class Sweep {
     const std::map<std::string, ColdFrame> cold = group == "main" && o_.coldRuns > 0
                                                       ? coldFrames(path, sc, camera, effect, w, h, samples, all)
                                                       : std::map<std::string, ColdFrame>{};
-    const FrameResult& full = last.at("full");
+    const FrameResult& full = last.at(reference);
     std::map<std::string, double> fullMedian;
-    for (const auto& [k, v] : stageRuns["full"]) fullMedian[k] = median(v);
+    for (const auto& [k, v] : stageRuns[reference]) fullMedian[k] = median(v);
     const double fullEffect = effectMs(fullMedian);
     for (const std::string& m : all) {
       BenchRecord r;
@@ -185,14 +152,14 @@ class Sweep {
       r.idealSpeedupHit = f.idealSpeedupHit;
       r.measuredSpeedup = fullEffect / std::max(r.effectMs, 1e-9);
       r.fullEffectMs = fullEffect;
-      if (cold.count(m) && cold.count("full")) {
+      if (cold.count(m) && cold.count(reference)) {
         r.coldEffectMs = cold.at(m).effectMs;
-        r.coldSpeedup = cold.at("full").effectMs / std::max(cold.at(m).effectMs, 1e-9);
+        r.coldSpeedup = cold.at(reference).effectMs / std::max(cold.at(m).effectMs, 1e-9);
         r.coldProcessMs = cold.at(m).processMs;
       }
       r.fellBack = f.fallback.fellBack;
       // full against its own warm-up frame: 0 exactly when repeats give the same bits
-      const FrameErrors e = errorVsFull(f, m == "full" ? firstFull : full);
+      const FrameErrors e = errorVsFull(f, m == reference ? firstFull : full);
       r.error = e.effect;
       r.shadedRms = e.shaded.rms;
       r.flip = e.effectFlip.mean;
@@ -208,7 +175,7 @@ class Sweep {
   struct ColdFrame {
     double effectMs = 0.0, processMs = 0.0;
   };
-  // Fresh `mrr render` processes of full and of each of `methods` in kColdMethods, alternating,
+  // Fresh `mrr render` processes of full and of each of `methods` the method table marks `cold`, alternating,
   // o_.coldRuns each: their medians by method.
   std::map<std::string, ColdFrame> coldFrames(const BenchPath& path, const OpenScene& sc, const Camera& camera,
                                               Effect effect, int w, int h, int samples,
@@ -218,19 +185,24 @@ class Sweep {
     const std::string dir = (std::filesystem::temp_directory_path() / ("mrr-cold-" + std::to_string(getpid()))).string();
     std::filesystem::create_directories(dir);
     auto vec = [](const glm::vec3& v) { return fixed(v.x, 6) + "," + fixed(v.y, 6) + "," + fixed(v.z, 6); };
-    std::vector<std::string> cold = {"full"};
+    std::vector<std::string> cold = {referenceMethod()};
+    const std::vector<std::string> coldRows = coldMethods();  // the method table's `cold` rows
     for (const std::string& m : methods)
-      if (std::find(kColdMethods.begin(), kColdMethods.end(), m) != kColdMethods.end()) cold.push_back(m);
+      if (std::find(coldRows.begin(), coldRows.end(), parseMethodSpec(m).method->name) != coldRows.end()) cold.push_back(m);
     std::map<std::string, std::vector<double>> effectRuns, processRuns;
     for (int i = 0; i < o_.coldRuns; ++i)
       for (const std::string& m : cold) {
         const std::string report = dir + "/report.json";
-        std::vector<std::string> args = {self, "render", "--scene", sc.name, "--path", path.name, "--size", sizeName(w, h),
-                                         "--effect", toString(effect), "--samples", std::to_string(samples), "--mode", m,
-                                         "--eye", vec(camera.eye), "--target", vec(camera.target), "--up", vec(camera.up),
-                                         "--fov", fixed(camera.yfov * 180.0 / 3.14159265358979323846, 6),
+        const auto option = [](Param p) { return optionName(p); };
+        std::vector<std::string> args = {self, "render", option(Param::Scene), sc.name, option(Param::Path), path.name,
+                                         option(Param::Size), sizeName(w, h), option(Param::Effect), toString(effect),
+                                         option(Param::Samples), std::to_string(samples),
+                                         option(Param::Eye), vec(camera.eye), option(Param::Target), vec(camera.target),
+                                         option(Param::Up), vec(camera.up),
+                                         option(Param::Fov), fixed(camera.yfov * 180.0 / 3.14159265358979323846, 6),
                                          "--report", report, "-q"};
-        if (path.name == "cpu" && o_.threads > 0) args.insert(args.end(), {"--threads", std::to_string(o_.threads)});
+        for (const std::string& a : methodSpecArgs(parseMethodSpec(m))) args.push_back(a);
+        if (path.name == "cpu" && o_.threads > 0) args.insert(args.end(), {option(Param::Threads), std::to_string(o_.threads)});
         std::string why;
         const auto start = std::chrono::steady_clock::now();
         const int rc = runProcess(args, dir + "/log.txt", why);
@@ -253,7 +225,7 @@ class Sweep {
 
 void writeExampleImages(const std::string& dir, const std::map<std::string, FrameResult>& frames) {
   std::filesystem::create_directories(dir);
-  const FrameResult& full = frames.at("full");
+  const FrameResult& full = frames.at(referenceMethod());
   for (const auto& [m, f] : frames) {
     writeImage(dir + "/" + m + ".png", f.final(), {}, false);
     writeImage(dir + "/" + m + "-shaded.png", f.shaded, {}, true);
@@ -373,10 +345,10 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
             std::map<std::string, FlickerMeter> meters;
             const auto [w, h] = o.stabilitySize;
             for (const Camera& cam : cameraPath(sc.camera, kind, o.frames)) {
-              const FrameResult full =
-                  sc.render(cam, makeConstants(settingsFor("full", e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
+              const FrameResult full = sc.render(
+                  cam, makeConstants(settingsFor(referenceMethod(), e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
               for (const std::string& m : o.methods) {
-                if (m == "full") continue;
+                if (m == referenceMethod()) continue;
                 const FrameResult f =
                     sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
                 meters[m].add(f.final(), full.final());
@@ -387,11 +359,12 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
                                    meter.flicker(), meter.meanRms(), meter.flipFlicker(), meter.meanFlip()});
           }
       }
-    // 4. The stress scenes: every method, and mrr without the never-slower rule.
+    // 4. The stress scenes: every method, and the paper's without the never-slower rule.
     for (const std::string& sceneName : o.stressScenes) {
       const OpenScene sc = openScene(sceneName, path);
       std::vector<std::string> methods = o.methods;
-      methods.push_back("mrr-norule");
+      if (std::find(methods.begin(), methods.end(), toString(Mode::Mrr)) != methods.end())
+        methods.push_back(toString(Mode::Mrr) + "+norule");
       for (Effect e : effects) {
         progress.step(path.name + " stress " + sceneName + " " + toString(e));
         sweep.measure(path, sc, 0, sc.camera, e, o.stressSize.first, o.stressSize.second, middleSamples(e), methods,

@@ -21,6 +21,7 @@
 #include "common/cost_model.h"
 #include "common/camera.h"
 #include "common/frame.h"
+#include "common/methods.h"
 #include "common/scene.h"
 
 namespace mrr {
@@ -39,7 +40,7 @@ struct BenchOptions {
   std::vector<std::pair<int, int>> sizes = {{1280, 720}};
   std::vector<std::string> effects = {"ssao", "ssm", "ssgi"};
   std::vector<int> samples;  // empty: the paper's middle count per effect (64, 196, 288)
-  std::vector<std::string> methods = {"full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-effect"};
+  std::vector<std::string> methods = benchDefaultMethods();  // the method table's (common/methods.h)
   int cameras = 8;           // views per scene (scenes/cameras.h), as in the paper
   int repeats = 3;           // median of this many timed runs, after one warm-up
   int threads = 0;           // the oracle's threads (0 = all cores)
@@ -63,7 +64,7 @@ struct BenchOptions {
   // --no-fovea); foveaOnly asks for it and skips every other group.
   bool fovea = false, foveaOnly = false;
   std::vector<std::string> foveaScenes = {"arcade", "builtin:demo"};
-  std::vector<std::string> foveaMethods = {"mrr", "mrr-effect", "tiles"};
+  std::vector<std::string> foveaMethods = mrr::foveaMethods();
   std::pair<int, int> foveaSize = {1280, 720};        // the rings
   std::pair<int, int> foveaMotionSize = {640, 360};  // the camera paths
   std::vector<double> foveaPpds = {30.0, 3840.0 * 3.14159265358979323846 / 180.0};  // 30 and the default, 67.02
@@ -80,10 +81,6 @@ struct BenchOptions {
   std::string machine;  // filled by runBench when empty: the CPU model and thread count
 };
 
-// The methods --cold renders in fresh processes beside full (those of them --methods names): the
-// peer that wins the chart's speed, the paper's method and issue 35's (a priori: `mrr render`
-// has no a-posteriori term).
-inline const std::vector<std::string> kColdMethods = {"tiles", "mrr", "mrr-effect"};
 
 // Runs everything; writes the outputs; prints the Markdown tables to `out`. Returns the exit
 // code (1 when --check found a failed sanity check).
@@ -91,8 +88,8 @@ int runBench(const BenchOptions& options, const std::vector<BenchPath>& paths, s
 
 // Shared with compare/rule/rule.cpp.
 double median(std::vector<double> v);
-// A method as the bench names it: the five of SPEC §9, and "mrr-norule", the method with the
-// never-slower rule off (SPEC §11), shown beside it on the stress scenes.
+// A method as the bench names it: a row of the method table and its switches
+// ("mrr-effect+c4+p0.15", "mrr+norule": common/methods.h parseMethodSpec).
 Settings settingsFor(const std::string& method, Effect effect, int w, int h, int samples);
 // One scene opened on one path: the scene, its default camera and its renderer.
 struct OpenScene {

@@ -97,7 +97,7 @@ void ringsOf(const BenchOptions& o, const BenchPath& path, const OpenScene& sc, 
   const int gx = w / 2, gy = h / 2;
   const float framed = framedSize(*sc.scene, sc.camera, static_cast<float>(w) / static_cast<float>(h)).size;
   std::vector<Variant> variants;
-  variants.push_back({"full", settingsFor("full", effect, w, h, samples)});
+  variants.push_back({referenceMethod(), settingsFor(referenceMethod(), effect, w, h, samples)});
   for (const std::string& m : o.foveaMethods)
     for (const bool foveate : {false, true}) {
       Settings s = settingsFor(m, effect, w, h, samples);
@@ -363,7 +363,7 @@ std::vector<std::string> foveaSanityChecks(const FoveaResults& res) {
     const std::string where = "fovea " + key(r, r.method);
     if (!std::isfinite(r.rms) || !(r.flip >= 0.0 && r.flip <= 1.0) || !(r.shadedShare >= 0.0))
       fails.push_back(where + ": figures not finite or FLIP outside [0,1]");
-    if (r.method == "full" && (r.rms != 0.0 || r.shadedShare != 1.0))
+    if (r.method == referenceMethod() && (r.rms != 0.0 || r.shadedShare != 1.0))
       fails.push_back(where + ": full's error is not 0 or it does not shade every pixel");
     const size_t plus = r.method.rfind("+gaze");
     if (plus != std::string::npos && !r.fellBack) {

@@ -30,12 +30,11 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// The order methods are shown in: the references first, the method last.
-// mrr-effect's variants ("mrr-effect+c4+p0.3") follow it, by name.
-const std::vector<std::string> kMethodOrder = {"full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-norule", "mrr-effect"};
-int methodRank(const std::string& m) {
-  const auto it = std::find(kMethodOrder.begin(), kMethodOrder.end(), m);
-  return static_cast<int>(it - kMethodOrder.begin());
+// The order methods are shown in: their rows' chart order (common/methods.h); a method's
+// variants ("mrr-effect+c4+p0.3", "mrr+norule") follow it, by name.
+int methodRank(const std::string& spec) {
+  const MethodInfo* row = findMethod(std::string_view(spec).substr(0, spec.find('+')));
+  return row ? row->chartOrder : 1000;
 }
 
 template <class T, class Key>
@@ -51,7 +50,7 @@ std::vector<Key> distinct(const std::vector<T>& items, std::function<Key(const T
 std::vector<std::string> methodsOf(const std::vector<BenchRecord>& rs) {
   std::vector<std::string> m = distinct<BenchRecord, std::string>(rs, [](const BenchRecord& r) { return r.method; });
   std::sort(m.begin(), m.end(), [](const std::string& a, const std::string& b) {
-    const auto rank = [](const std::string& x) { return methodRank(x.substr(0, x.find('+'))); };
+    const auto rank = [](const std::string& x) { return methodRank(x); };
     return rank(a) != rank(b) ? rank(a) < rank(b) : a < b;
   });
   return m;
@@ -154,7 +153,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
   // 2. Per scene (all cameras): where each method wins.
   {
     Table t{"Per scene (median over cameras)", {"path", "scene", "effect", "method", "measured", "ideal", "RMS", "FLIP", "SSIM"}, {}};
-    const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main" && r.method != "full"; });
+    const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main" && r.method != referenceMethod(); });
     for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
       for (const std::string& scene : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.scene; }))
         for (const std::string& effect : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.effect; }))
@@ -184,10 +183,10 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
             {"path", "scene", "effect", "size", "samples", "method", "measured", "ideal", "RMS", "paper speedup (GTX 1080)",
              "paper RMS", "fell back"},
             {}};
-    for (const BenchRecord& r : select(rs, [&](const BenchRecord& x) { return x.group == group && x.method != "full"; })) {
+    for (const BenchRecord& r : select(rs, [&](const BenchRecord& x) { return x.group == group && x.method != referenceMethod(); })) {
       const PaperFigure* ps = findPaper(paper, bySamples ? "fig6" : "fig7", r.effect, r.samples, bySamples ? 0 : r.height);
       const PaperFigure* pr = bySamples ? nullptr : findPaper(paper, "fig9", r.effect, r.samples, r.height);
-      const bool showPaper = r.method == "mrr";
+      const bool showPaper = r.method == toString(Mode::Mrr);  // the paper's figures beside the paper's method
       t.rows.push_back({r.path, r.scene, r.effect, sizeName(r.width, r.height), std::to_string(r.samples), r.method,
                         fixed(r.measuredSpeedup, 2) + "x", fixed(r.idealSpeedup, 2) + "x", sci(r.error.rms),
                         showPaper && ps ? fixed(ps->speedup, 2) + "x" + (bySamples ? " (4K)" : "") : "",
@@ -233,7 +232,7 @@ std::string header(const BenchResults& res) {
     << "effect time / the method's; ideal speedup = W·H / shaded pixels (SPEC §4, §9). Errors: SPEC §10, the effect "
     << "buffer against `full` with the same samples; the edge band is the pixels near a transition of the level map, "
     << "so a method with one level has none (—). `mrr` and `mrr-effect` run with the never-slower rule (SPEC §11); "
-    << "`mrr-norule` and mrr-effect's `+norule` variants without it.\n";
+    << "their `+norule` variants without it.\n";
   return o.str();
 }
 
@@ -282,7 +281,7 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
     const std::string where = r.path + " " + r.scene + " camera " + std::to_string(r.camera) + " " +
                               sizeName(r.width, r.height) + " " + r.effect + "-" + std::to_string(r.samples) + " " + r.method;
     const double pixels = static_cast<double>(r.width) * r.height;
-    if (r.method == "full") {
+    if (r.method == referenceMethod()) {
       if (r.error.rms != 0.0 || r.error.maxAbs != 0.0 || r.flip != 0.0 || r.shadedFlip != 0.0)
         fails.push_back(where + ": full differs from its own warm-up frame (RMS " + sci(r.error.rms) + ", FLIP " +
                         sci(r.flip) + ")");
@@ -350,9 +349,11 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},
                     {"flicker", s.flicker}, {"mean_rms", s.meanRms}, {"flip_flicker", s.flipFlicker},
                     {"mean_flip", s.meanFlip}});
+  // The method table's rows, as the charts draw them (compare/report/report.py reads them here).
+  const nlohmann::json methodRows = methodRowsJson();
   return {{"machine", res.options.machine}, {"devices", res.devices}, {"threads", res.threads},
-          {"repeats", res.options.repeats}, {"runs", runs}, {"stability", stab}, {"fovea", foveaJson(res.fovea)},
-          {"sanity_failures", failures}};
+          {"repeats", res.options.repeats}, {"methods", methodRows}, {"runs", runs}, {"stability", stab},
+          {"fovea", foveaJson(res.fovea)}, {"sanity_failures", failures}};
 }
 
 std::string benchCsv(const BenchResults& res) {

@@ -13,7 +13,9 @@
 #include <malloc.h>
 #include <sys/prctl.h>
 
+#include <chrono>
 #include <cstdio>
+#include <functional>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -23,12 +25,8 @@
 #include "common/params.h"
 #include "common/paths.h"
 #include "common/stages.h"
-#include "cpu_ref/bilateral.h"
-#include "cpu_ref/effect_masks.h"
-#include "cpu_ref/peers.h"
+#include "cpu_ref/oracle.h"
 #include "cpu_ref/pipeline.h"
-#include "cpu_ref/ssgi.h"
-#include "cpu_ref/ssm.h"
 #include "scenes/catalog.h"
 
 namespace mrr {
@@ -42,10 +40,9 @@ std::string envOr(const char* name, const std::string& fallback) {
 // One frame, rendered once with every stage kept: the inputs of the benchmarks below.
 struct Frame {
   std::unique_ptr<Scene> scene;
-  std::unique_ptr<RayScene> rays;
   std::unique_ptr<Renderer> renderer;
   FrameResult f;
-  ImageU8 everyPixel;  // level 0 all set: the dense reference
+  FrameResult dense;  // f with level 0's stencil all set: the dense reference
   std::string label;
 };
 
@@ -59,18 +56,18 @@ Frame& frame() {
     if (std::sscanf(size.c_str(), "%dx%d", &s.width, &s.height) != 2)
       throw MrrError("MRR_BENCH_SIZE=" + size + ": expected WIDTHxHEIGHT");
     s.neverSlower = false;
-    s.mode = parseMode(envOr("MRR_BENCH_METHOD", "mrr"));
+    s.mode = parseMode(envOr("MRR_BENCH_METHOD", toString(Mode::Mrr)));
     SceneRequest request;
     request.scene = sceneName;
     request.aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
     ResolvedScene resolved = resolveScene(request);
     fr->scene = std::make_unique<Scene>(std::move(resolved.scene));
-    fr->rays = std::make_unique<RayScene>(*fr->scene);
     fr->renderer = std::make_unique<Renderer>(*fr->scene);
     fr->f = fr->renderer->render(resolved.camera, makeConstants(s, resolved.framed.size));
     const LevelConstants& l0 = fr->f.constants.levels[0];
-    fr->everyPixel = ImageU8(l0.width, l0.height, 1, 1);
-    fr->label = sceneName + " " + size + " " + toString(s.effect) + " " + envOr("MRR_BENCH_METHOD", "mrr");
+    fr->dense = fr->f;
+    fr->dense.levels[0].masks.stencil = ImageU8(l0.width, l0.height, 1, 1);
+    fr->label = sceneName + " " + size + " " + toString(s.effect) + " " + toString(s.mode);
     std::fprintf(stderr, "mrr_stage_bench: %s, |S_l| = %lld %lld %lld %lld\n", fr->label.c_str(),
                  static_cast<long long>(fr->f.levels[0].shadedPixels), static_cast<long long>(fr->f.levels[1].shadedPixels),
                  static_cast<long long>(fr->f.levels[2].shadedPixels), static_cast<long long>(fr->f.levels[3].shadedPixels));
@@ -92,9 +89,34 @@ void add(const std::string& name, int64_t pixels, Body body) {
       ->UseRealTime();
 }
 
-// The stages of the prepared frame that it renders: its enabled levels, its effect.
+// Registers one benchmark that times only the effect itself (the `effect.Lℓ` stage of
+// OracleStages::raw), not its per-level sub-steps (SSAO's occluder planes, SSGI's direct light).
+void addEffect(const std::string& name, int64_t pixels, const FrameResult& in, int level) {
+  benchmark::RegisterBenchmark(name.c_str(),
+                               [&in, level, pixels](benchmark::State& state) {
+                                 state.SetLabel(frame().label);
+                                 const OracleStages& oracle = frame().renderer->stages();
+                                 const std::string effect = timedName(Timed::Effect, level);
+                                 for (auto _ : state) {
+                                   double seconds = 0.0;
+                                   benchmark::DoNotOptimize(oracle.raw(in, level, [&](const std::string& stage, const std::function<void()>& body) {
+                                     const auto t0 = std::chrono::steady_clock::now();
+                                     body();
+                                     if (stage == effect) seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                                   }));
+                                   state.SetIterationTime(seconds);
+                                 }
+                                 state.SetItemsProcessed(state.iterations() * pixels);
+                               })
+      ->Unit(benchmark::kMillisecond)
+      ->UseManualTime();
+}
+
+// The stages of the prepared frame that it renders: its enabled levels, its effect, each as the
+// oracle's stage object runs it (cpu_ref/oracle.h).
 void registerStages() {
   Frame& fr = frame();
+  const OracleStages& oracle = fr.renderer->stages();
   const Constants& c = fr.f.constants;
   const FrameResult& f = fr.f;
   const LevelResult& l0 = f.levels[0];
@@ -102,51 +124,38 @@ void registerStages() {
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
-    const char* names[kLevelCount] = {"gbuffer/L0", "gbuffer/L1", "gbuffer/L2", "gbuffer/L3"};
     if (l == 0)  // rays; the coarser levels are level 0 subsampled (SPEC §1)
-      add(names[l], static_cast<int64_t>(lc.width) * lc.height,
-          [&fr, &lc] { benchmark::DoNotOptimize(renderGBuffer(*fr.rays, fr.f.view, lc)); });
+      add(timedName(Timed::GBuffer, l), static_cast<int64_t>(lc.width) * lc.height,
+          [&oracle, &f, &lc] { benchmark::DoNotOptimize(oracle.gbuffer(f.view, lc)); });
     else
-      add(names[l], static_cast<int64_t>(lc.width) * lc.height,
-          [&l0, &lc] { benchmark::DoNotOptimize(subsampleGBuffer(l0.gbuffer, lc)); });
+      add(timedName(Timed::GBuffer, l), static_cast<int64_t>(lc.width) * lc.height,
+          [&oracle, &f, l] { benchmark::DoNotOptimize(oracle.coarseGBuffer(f, l)); });
   }
-  const ImageU8* shadowEdges = c.effect == Effect::Ssm ? &f.shadowLit : nullptr;
-  add(stageName(Part::Edges), full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(detectEdges(l0.gbuffer, c.edges, shadowEdges)); });
-  // The method's masks, as OracleFrame::methodMasks and tileMasks make them (no level limit).
-  const ShadowMap* map = c.needsShadowMap() ? &f.shadowMap : nullptr;
-  switch (c.mode) {
-    case Mode::MrrEffect: {  // SPEC §12: the footprint, then the paper's masks from the widened M_ℓ
-      auto footprint = std::make_shared<ImageF>(effectFootprint(l0.gbuffer, f.edges.combined, f.view, map, c));
-      add("masks", full, [&f, &l0, &c, map] {
-        const ImageF fp = effectFootprint(l0.gbuffer, f.edges.combined, f.view, map, c);
-        benchmark::DoNotOptimize(buildMasks(f.edges.combined, c, &fp));
-      });
-      add("masks/footprint", full, [&f, &l0, &c, map] {
-        benchmark::DoNotOptimize(effectFootprint(l0.gbuffer, f.edges.combined, f.view, map, c));
-      });
-      add("masks/widen", full, [&f, &c, footprint] { benchmark::DoNotOptimize(maskStages(f.edges.combined, c, footprint.get())); });
-      add("masks/widened_rest", full, [&f, &c, footprint] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c, footprint.get())); });
-      break;
-    }
-    case Mode::Tiles:
-      add("masks", full, [&f, &c] { benchmark::DoNotOptimize(tileMasks(tileRates(f.edges.combined), c)); });
-      break;
-    default: add("masks", full, [&f, &c] { benchmark::DoNotOptimize(buildMasks(f.edges.combined, c)); });
+  add(stageName(Part::Edges), full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.edges(f)); });
+  // The method's masks, as its row's mask builder makes them (no level limit).
+  const std::string masks = timedName(Timed::Masking);
+  add(masks, full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.masks(f)); });
+  if (methodInfo(c.mode).masks == MaskBuilder::EffectEdges) {  // SPEC §12: the footprint, then the widened M_ℓ
+    auto footprint = std::make_shared<ImageF>(oracle.footprint(f));
+    add(masks + "/footprint", full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.footprint(f)); });
+    add(masks + "/widen", full, [&oracle, &f, footprint] { benchmark::DoNotOptimize(oracle.maskStages(f, footprint.get())); });
+    add(masks + "/widened_rest", full, [&oracle, &f, footprint] { benchmark::DoNotOptimize(oracle.effectMasks(f, footprint.get())); });
   }
   // The never-slower rule's own work before its early decision (SPEC §11, its stage `rule`):
   // the edge sample, and the counts of H, B_ℓ and the sample's reach.
-  add("rule/edge_sample", full, [&l0, &c, shadowEdges] { benchmark::DoNotOptimize(edgeSample(l0.gbuffer, c.edges, shadowEdges)); });
-  add("rule/count_hits", full, [&l0, &c] {
+  const std::string rule = timedName(Timed::Rule);
+  add(rule + "/edge_sample", full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.edgeSample(f)); });
+  add(rule + "/count_hits", full, [&l0, &c] {
     FrameCounts n;
     countHits(n, l0.gbuffer.hit, ImageU8(), c);
     benchmark::DoNotOptimize(n);
   });
   {
-    auto sample = std::make_shared<ImageU8>(edgeSample(l0.gbuffer, c.edges, shadowEdges));
+    auto sample = std::make_shared<ImageU8>(oracle.edgeSample(f));
     auto silhouettes = std::make_shared<ImageU8>();
     FrameCounts counted;
     countHits(counted, l0.gbuffer.hit, ImageU8(), c, silhouettes.get());
-    add("rule/count_edge_sample", full, [&l0, &c, sample, silhouettes] {
+    add(rule + "/count_edge_sample", full, [&l0, &c, sample, silhouettes] {
       FrameCounts n;
       countEdgeSample(n, *sample, *silhouettes, l0.gbuffer.hit, c);
       benchmark::DoNotOptimize(n);
@@ -154,55 +163,34 @@ void registerStages() {
   }
   // ... and its second part, on the stencils: |S_ℓ| and how many of them lie on geometry.
   {
-    auto masks = std::make_shared<Masks>();
-    for (size_t l = 0; l < masks->size(); ++l) (*masks)[l] = f.levels[l].masks;
-    add("rule/count_stencils", full, [&l0, &c, masks] {
+    auto stencils = std::make_shared<Masks>();
+    for (size_t l = 0; l < stencils->size(); ++l) (*stencils)[l] = f.levels[l].masks;
+    add(rule + "/count_stencils", full, [&l0, &c, stencils] {
       FrameCounts n;
-      countForRule(n, *masks, c, l0.gbuffer.hit, ImageU8());
+      countForRule(n, *stencils, c, l0.gbuffer.hit, ImageU8());
       benchmark::DoNotOptimize(n);
     });
   }
   // The effect (and SSAO's bilateral blur) at each level over its own S_ℓ, and at level 0 over
   // every pixel too ("dense"): pixels per second, side by side.
-  // `pixels`: |S_ℓ| as the frame counted it, or every pixel for the dense run.
-  auto effect = [&fr, &f, &c](const std::string& name, const LevelResult& lr, const LevelConstants& lc,
-                              const ImageU8& stencil, int64_t pixels) {
-    switch (c.effect) {
-      case Effect::Ssao: {
-        auto planes = std::make_shared<OccluderPlanes>(occluderPlanes(lr.gbuffer));
-        add("effect/" + name, pixels, [&fr, &lr, &lc, &c, &stencil, planes] {
-          benchmark::DoNotOptimize(renderSsao(lr.gbuffer, *planes, stencil, fr.f.view, lc, c.ssao));
-        });
-        add("bilateral/" + name, pixels, [&lr, &c, &stencil] {
-          benchmark::DoNotOptimize(bilateralBlur(lr.raw, stencil, lr.gbuffer, c.bilateral));
-        });
-        break;
-      }
-      case Effect::Ssm:
-        add("effect/" + name, pixels, [&f, &lr, &c, &stencil] {
-          benchmark::DoNotOptimize(renderSsm(lr.gbuffer, f.shadowMap, stencil, f.view, c.ssm));
-        });
-        break;
-      case Effect::Ssgi: {
-        auto direct = std::make_shared<ImageF>(directLight(lr.gbuffer, f.shadowMap, f.view, f.light, c.ssm.biasTexels));
-        add("effect/" + name, pixels, [&f, &lr, &lc, &c, &stencil, direct] {
-          benchmark::DoNotOptimize(renderSsgi(lr.gbuffer, *direct, stencil, f.view, lc, c.ssgi));
-        });
-        break;
-      }
-    }
+  const auto effect = [&](const std::string& suffix, const FrameResult& in, int l, int64_t pixels) {
+    addEffect("effect/" + suffix, pixels, in, l);
+    if (c.effect == Effect::Ssao)
+      add("bilateral/" + suffix, pixels, [&oracle, &in, l] {
+        benchmark::DoNotOptimize(oracle.sub(in, l, in.levels[static_cast<size_t>(l)].raw));
+      });
   };
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    const char* names[kLevelCount] = {"L0", "L1", "L2", "L3"};
-    effect(names[l], lr, lc, lr.masks.stencil, lr.shadedPixels);
-    if (l == 0) effect("L0/dense", lr, lc, fr.everyPixel, full);
+    if (!lc.enabled || !lc.shaded) continue;
+    const std::string level = "L" + std::to_string(l);
+    effect(level, f, l, f.levels[static_cast<size_t>(l)].shadedPixels);
+    if (l == 0) effect(level + "/dense", fr.dense, l, full);
   }
   // The blend: the final image alone (what `mrr bench` times), and with every stage image kept.
-  add("blend", full, [&f, &c] { benchmark::DoNotOptimize(blendLevels(f.blendInputs(), c, false)); });
-  add("blend/keep_stages", full, [&f, &c] { benchmark::DoNotOptimize(blendLevels(f.blendInputs(), c, true)); });
+  const std::string blend = timedName(Timed::Blend);
+  add(blend, full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.blend(f, false)); });
+  add(blend + "/keep_stages", full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.blend(f, true)); });
 }
 
 }  // namespace

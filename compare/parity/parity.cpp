@@ -1,7 +1,5 @@
 #include "compare/parity/parity.h"
 
-#include "cpu_ref/pipeline.h"  // the oracle's stages, run on the port's inputs
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,13 +7,7 @@
 #include <vector>
 
 #include "common/stages.h"
-#include "cpu_ref/bilateral.h"
-#include "cpu_ref/effect_masks.h"
-#include "cpu_ref/foveation.h"
-#include "cpu_ref/peers.h"
-#include "cpu_ref/shade.h"
-#include "cpu_ref/ssgi.h"
-#include "cpu_ref/ssm.h"
+#include "cpu_ref/oracle.h"  // the oracle's stages, run on the port's inputs
 
 namespace mrr {
 
@@ -97,21 +89,6 @@ namespace {
 // The end-to-end tolerance rule the stage list gives a part.
 std::string endToEndRule(Part part) { return std::string(partInfo(part).endToEnd); }
 
-// The edge guard band: pixels whose normal or depth measure lies within kGuardBand (relative)
-// of τ_n or τ_z, from the oracle's edge measures on `g`.
-std::vector<char> edgeGuardBand(const GBuffer& g, const EdgeSettings& s) {
-  std::vector<char> band(static_cast<size_t>(g.width) * g.height, 0);
-  for (int y = 0; y < g.height; ++y)
-    for (int x = 0; x < g.width; ++x) {
-      const EdgeDecision e = edgeAt(g, s, x, y);
-      const float depth = std::max(e.depthSecondX, e.depthSecondY);
-      band[static_cast<size_t>(y) * g.width + x] =
-          std::fabs(e.normalMax - s.normalThreshold) <= kGuardBand * s.normalThreshold ||
-          std::fabs(depth - s.depthThreshold) <= kGuardBand * s.depthThreshold;
-    }
-  return band;
-}
-
 // The stencil guard band: S_ℓ = [a_ℓ > 0], so pixels with 0 < a_ℓ ≤ kGuardBand.
 std::vector<char> stencilGuardBand(const ImageF& alpha) {
   std::vector<char> band(alpha.data.size(), 0);
@@ -154,7 +131,7 @@ std::string ParityResult::shaderOf(const std::string& stage) const {
   if (!partOf(stage, part)) return "";
   const std::string_view shaders = partInfo(part).shader;
   if (shaders.find(' ') == std::string_view::npos) return std::string(shaders);
-  if (part == Part::Mask) return mode == Mode::MrrEffect ? "effect_masks.frag" : "masks.frag";
+  if (part == Part::Mask) return methodInfo(mode).masks == MaskBuilder::EffectEdges ? "effect_masks.frag" : "masks.frag";
   // One file per effect ("ssao.frag ssm.frag ssgi.frag"): the frame's.
   const std::string mine = toString(effect) + ".frag";
   return shaders.find(mine) != std::string_view::npos ? mine : std::string(shaders);
@@ -197,6 +174,7 @@ struct Rows {
   const FrameResult& p;
   const Constants& c;
   ParityResult& result;
+  const OracleStages& oracle;  // its stages, run on the port's inputs
   void add(StageRow row) { result.rows.push_back(std::move(row)); }
 
   void gbufferRows(int l);
@@ -204,7 +182,7 @@ struct Rows {
   void edgeRows();
   void limitRows();
   bool decisionAndMaskRows();  // false where the paths decided differently
-  void effectRows(const DirectionalLight& light);
+  void effectRows();
   std::optional<StageCheck> blendRows();  // the final image's same-input check
 };
 
@@ -271,7 +249,7 @@ void Rows::shadowRows() {
     add({partName(Part::ShadowMap), -1, 0,
          check("shadowmap.depth", diffShadowMaps(p.shadowMap, o.shadowMap, tolerance("shadowmap.depth").pixelThreshold)),
          {}});
-    const ImageU8 same = shadowTestImage(p.levels[0].gbuffer, p.shadowMap, p.view, c.ssm.biasTexels);
+    const ImageU8 same = oracle.shadowTest(p);
     add({partName(Part::ShadowTest), -1, 1, check(endToEndRule(Part::ShadowTest), diffImages(p.shadowLit, o.shadowLit)),
          check("shadowtest.same_input", diffImages(p.shadowLit, same))});
   }
@@ -282,9 +260,9 @@ void Rows::shadowRows() {
 // A frame that fell back early (SPEC §11) found no edges: compared only where both did.
 void Rows::edgeRows() {
   const bool bothFoundEdges = !p.edges.combined.empty() && !o.edges.combined.empty();
-  if ((isMethod(c.mode) || c.mode == Mode::Tiles) && bothFoundEdges) {
-    const EdgeImages same = detectEdges(p.levels[0].gbuffer, c.edges, c.effect == Effect::Ssm ? &p.shadowLit : nullptr);
-    const std::vector<char> edgeBand = edgeGuardBand(p.levels[0].gbuffer, c.edges);
+  if (methodInfo(c.mode).findsEdges && bothFoundEdges) {
+    const EdgeImages same = oracle.edges(p);
+    const std::vector<char> edgeBand = oracle.edgeGuardBand(p, kGuardBand);
     // Each kind on its own, then their OR, E.
     const std::string edgesPart = partName(Part::Edges);
     const std::pair<const char*, const ImageU8 EdgeImages::*> kinds[] = {
@@ -304,7 +282,7 @@ void Rows::edgeRows() {
 // port's own G-buffer.
 void Rows::limitRows() {
   if (p.levelLimit.empty() || o.levelLimit.empty()) return;
-  const LevelLimit same = levelLimit(p.levels[0].gbuffer, p.view, c);
+  const LevelLimit same = oracle.levelLimit(p);
   if (!p.eccentricity.empty() && !o.eccentricity.empty())
     add({partName(Part::Eccentricity), -1, 1,
          check(endToEndRule(Part::Eccentricity),
@@ -329,45 +307,32 @@ bool Rows::decisionAndMaskRows() {
     add({"fallback", -1, 1, check("fallback", diffImages(portDecision, oracleDecision, 0.5)), {}});
     if (p.fallback.fellBack != o.fallback.fellBack) return false;
   }
-  // The oracle's stage-3 function of the frame's mode, on the port's own inputs.
-  const bool multires = isMethod(c.mode) && !o.fallback.fellBack;
-  std::array<MaskLevel, kLevelCount> masks;
-  const ImageU8* limit = p.levelLimit.empty() ? nullptr : &p.levelLimit;
-  if (multires && c.mode == Mode::MrrEffect) {  // SPEC §12: the footprint from the port's own G-buffer
-    const ImageF footprint = effectFootprint(p.levels[0].gbuffer, p.edges.combined, p.view,
-                                             c.needsShadowMap() ? &p.shadowMap : nullptr, c);
-    masks = buildMasks(p.edges.combined, c, &footprint, limit);
-  } else if (multires) {
-    masks = buildMasks(p.edges.combined, c, nullptr, limit);
-  } else if (c.mode == Mode::Tiles) {
-    ImageU8 sameRates = tileRates(p.edges.combined);
-    if (!p.levelLimit.empty()) limitTileRates(sameRates, p.levelLimit);  // SPEC §13
-    add({partName(Part::TileRates), -1, kTileSize, check(endToEndRule(Part::Stencil), diffImages(p.tileRates, o.tileRates)),
-         check("masks.same_input", diffImages(p.tileRates, sameRates))});
-    masks = tileMasks(p.tileRates, c);
-  } else if (c.mode == Mode::Uniform1 || c.mode == Mode::Uniform2) {
-    masks = uniformMasks(c);
-  } else {  // `full`, or the method fallen back to it
+  // The oracle's mask builder of the frame's method (full's where it fell back), on the port's
+  // own inputs; tiles' stencils from the port's own rates, which are judged first.
+  const MethodInfo& method = methodInfo(c.mode);
+  const bool multires = method.blurredMasks() && !o.fallback.fellBack;
+  Masks masks;
+  if (o.fallback.fellBack) {
     masks = fullModeMasks(c);
+  } else if (method.masks == MaskBuilder::Tiles) {
+    add({partName(Part::TileRates), -1, kTileSize, check(endToEndRule(Part::Stencil), diffImages(p.tileRates, o.tileRates)),
+         check("masks.same_input", diffImages(p.tileRates, oracle.tileRates(p)))});
+    masks = oracle.tileStencils(p);
+  } else {
+    masks = oracle.masks(p, method.masks);
   }
   // SPEC §12.2, mrr-effect with τ_v: the marks from the port's own coarser result, stencil and
   // G-buffer, limited by its own level limit; each refined level's masks refined with the port's
   // own marks (the levels are judged apart: a level's marks read the coarser level as refined).
   std::array<ImageU8, kLevelCount> sameMarks;
-  const bool posterior = multires && c.mode == Mode::MrrEffect && c.effectMask.posterior > 0.0f;
+  const bool posterior = multires && method.aPosteriori && c.effectMask.posterior > 0.0f;
   for (int l = 0; posterior && l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.posteriorFinest) continue;
-    const int next = c.nextCoarserEnabled(l);
-    const LevelResult& coarser = p.levels[static_cast<size_t>(next)];
-    Masks marks;
-    marks[static_cast<size_t>(l)].mask = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit,
-                                                         1 << (next - l), lc.width, lc.height, c.effectMask.posterior);
-    if (limit) applyLevelLimit(marks, *limit, c);
-    sameMarks[static_cast<size_t>(l)] = std::move(marks[static_cast<size_t>(l)].mask);
+    sameMarks[static_cast<size_t>(l)] = oracle.marks(p, l);
     const ImageU8& portMarks = p.levels[static_cast<size_t>(l)].marks;
     if (portMarks.width == lc.width && portMarks.height == lc.height)
-      refineMasks(masks[static_cast<size_t>(l)], portMarks, lc);
+      oracle.refine(masks[static_cast<size_t>(l)], portMarks, lc);
   }
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -391,23 +356,14 @@ bool Rows::decisionAndMaskRows() {
 }
 
 // 4. The effect per level, on the port's own inputs, and the bilateral blur (SSAO).
-void Rows::effectRows(const DirectionalLight& light) {
+void Rows::effectRows() {
   const std::string effect = toString(c.effect);
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled || !lc.shaded) continue;  // uniform-k's level 0 shades nothing
     const LevelResult& pl = p.levels[static_cast<size_t>(l)];
     const LevelResult& ol = o.levels[static_cast<size_t>(l)];
-    ImageF same;
-    switch (c.effect) {
-      case Effect::Ssao: same = renderSsao(pl.gbuffer, occluderPlanes(pl.gbuffer), pl.masks.stencil, p.view, lc, c.ssao); break;
-      case Effect::Ssm: same = renderSsm(pl.gbuffer, p.shadowMap, pl.masks.stencil, p.view, c.ssm); break;
-      case Effect::Ssgi: {
-        const ImageF direct = directLight(pl.gbuffer, p.shadowMap, p.view, light, c.ssm.biasTexels);
-        same = renderSsgi(pl.gbuffer, direct, pl.masks.stencil, p.view, lc, c.ssgi);
-        break;
-      }
-    }
+    const ImageF same = oracle.raw(p, l);
     const auto portShaded = [&](size_t i) { return pl.masks.stencil.data[i] != 0; };
     const auto bothShaded = [&](size_t i) {
       return pl.masks.stencil.data.size() == ol.masks.stencil.data.size() && pl.masks.stencil.data[i] &&
@@ -418,7 +374,7 @@ void Rows::effectRows(const DirectionalLight& light) {
     add({partName(Part::Raw, l), l, lc.scale, check(effect, diffImages(pl.raw, ol.raw, end.pixelThreshold, bothShaded)),
          check(effect + ".same_input", diffImages(pl.raw, same, sameRule.pixelThreshold, portShaded))});
     if (c.effect == Effect::Ssao) {
-      const ImageF blurred = bilateralBlur(pl.raw, pl.masks.stencil, pl.gbuffer, c.bilateral);
+      const ImageF blurred = oracle.sub(p, l, pl.raw);
       add({partName(Part::Sub, l), l, lc.scale, {},
            check("bilateral.same_input",
                  diffImages(pl.sub, blurred, tolerance("bilateral.same_input").pixelThreshold, portShaded))});
@@ -432,65 +388,19 @@ void Rows::effectRows(const DirectionalLight& light) {
 // G-buffers and tile rates gives every ĉ_ℓ, α_ℓ, c'_ℓ and the final image at once.
 std::optional<StageCheck> Rows::blendRows() {
   const double blendThreshold = tolerance("blend.same_input").pixelThreshold;
-  const int w = c.width, h = c.height;
-  std::optional<StageCheck> finalSame;
-  if (isPeer(c.mode)) {
-    std::array<const GBuffer*, kLevelCount> gbuffers{};
-    bool kept = false;
-    for (size_t l = 0; l < gbuffers.size(); ++l)
-      if (c.levels[l].enabled) {
-        gbuffers[l] = &p.levels[l].gbuffer;
-        kept = kept || !p.blend.upsampled[l].data.empty();
-      }
-    const BlendResult same = composePeer(p.blendInputs(), gbuffers, p.tileRates, c, kept);
-    for (int l = kLevelCount - 1; l >= 0; --l) {
-      const size_t i = static_cast<size_t>(l);
-      if (!c.levels[i].enabled || p.blend.upsampled[i].data.empty()) continue;
-      add({partName(Part::Upsample, l), l, 1, {},
-           check("blend.same_input", diffImages(p.blend.upsampled[i], same.upsampled[i], blendThreshold, {}))});
-      add({partName(Part::BlendAlpha, l), l, 1, {},
-           check("blend.same_input", diffImages(p.blend.alpha[i], same.alpha[i], blendThreshold, {}))});
-      add({partName(Part::Composite, l), l, 1, {},
-           check("blend.same_input", diffImages(p.blend.composite[i], same.composite[i], blendThreshold, {}))});
-    }
-    finalSame = check("blend.same_input", diffImages(p.final(), same.final, blendThreshold, {}));
-  } else {
-    int coarser = -1;
-    for (int l = kLevelCount - 1; l >= 0; --l) {
-      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      if (!lc.enabled) continue;
-      const size_t i = static_cast<size_t>(l);
-      const LevelResult& pl = p.levels[i];
-      if (p.blend.upsampled[i].data.empty()) continue;  // rendered without keepStages
-      const int ch = p.blend.upsampled[i].channels;
-      ImageF up(w, h, ch), alpha(w, h, 1), composite(w, h, ch);
-      const bool coarsest = coarser < 0;
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          const Upsampled u = upsampleAt(pl.sub, pl.masks.stencil, pl.masks.alpha, lc, x, y);
-          alpha.at(x, y) = coarsest ? (u.covered ? 1.0f : 0.0f) : u.alpha;
-          for (int k = 0; k < ch; ++k) {
-            up.at(x, y, k) = u.color[k];
-            const float portHat = p.blend.upsampled[i].at(x, y, k);
-            composite.at(x, y, k) =
-                coarsest ? portHat
-                         : blendStep(p.blend.alpha[i].at(x, y), portHat,
-                                     p.blend.composite[static_cast<size_t>(coarser)].at(x, y, k));
-          }
-        }
-      add({partName(Part::Upsample, l), l, 1, {},
-           check("blend.same_input", diffImages(p.blend.upsampled[i], up, blendThreshold, {}))});
-      add({partName(Part::BlendAlpha, l), l, 1, {},
-           check("blend.same_input", diffImages(p.blend.alpha[i], alpha, blendThreshold, {}))});
-      add({partName(Part::Composite, l), l, 1, {},
-           check("blend.same_input", diffImages(p.blend.composite[i], composite, blendThreshold, {}))});
-      coarser = l;
-    }
-    if (coarser >= 0 && !p.blend.composite[static_cast<size_t>(coarser)].data.empty())
-      finalSame = check("blend.same_input",
-                        diffImages(p.final(), p.blend.composite[static_cast<size_t>(coarser)], blendThreshold, {}));
+  const BlendResult same = oracle.blendStepwise(p);
+  for (int l = kLevelCount - 1; l >= 0; --l) {
+    const size_t i = static_cast<size_t>(l);
+    if (!c.levels[i].enabled || p.blend.upsampled[i].data.empty() || same.upsampled[i].data.empty()) continue;
+    add({partName(Part::Upsample, l), l, 1, {},
+         check("blend.same_input", diffImages(p.blend.upsampled[i], same.upsampled[i], blendThreshold, {}))});
+    add({partName(Part::BlendAlpha, l), l, 1, {},
+         check("blend.same_input", diffImages(p.blend.alpha[i], same.alpha[i], blendThreshold, {}))});
+    add({partName(Part::Composite, l), l, 1, {},
+         check("blend.same_input", diffImages(p.blend.composite[i], same.composite[i], blendThreshold, {}))});
   }
-  return finalSame;
+  if (same.final.data.empty()) return std::nullopt;
+  return check("blend.same_input", diffImages(p.final(), same.final, blendThreshold, {}));
 }
 
 }  // namespace
@@ -500,7 +410,8 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   ParityResult result;
   result.effect = c.effect;
   result.mode = c.mode;
-  Rows rows{o, p, c, result};
+  const OracleStages oracle(light);
+  Rows rows{o, p, c, result, oracle};
   // 1. The full-res G-buffer (the masks are made from it); 2. the shadow map and test; 3. the
   // edges, the never-slower decision and the stencils (when the paths decide differently,
   // nothing later can be compared); 1, continued: the coarser levels' G-buffers; 4. the
@@ -511,7 +422,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   rows.limitRows();
   if (!rows.decisionAndMaskRows()) return result;
   for (int l = 1; l < kLevelCount; ++l) rows.gbufferRows(l);
-  rows.effectRows(light);
+  rows.effectRows();
   const std::optional<StageCheck> finalSame = rows.blendRows();
   // The final image is the finest composite; end to end it carries everything above.
   rows.add({partName(Part::Final), -1, 1,
@@ -520,7 +431,7 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   // 6. The shaded image: end to end, and the oracle's shadeFinal on the port's own level-0
   // G-buffer, final image and one-tap test (shade.frag's arithmetic alone).
   if (!p.shaded.empty() && !o.shaded.empty() && !p.levels[0].gbuffer.depth.empty()) {
-    const ImageF same = shadeFinal(p.levels[0].gbuffer, p.final(), p.shadowLit, p.view, light, c.effect);
+    const ImageF same = oracle.shaded(p);
     rows.add({partName(Part::Shaded), -1, 1,
          check(endToEndRule(Part::Shaded), diffImages(p.shaded, o.shaded, tolerance(endToEndRule(Part::Shaded)).pixelThreshold, {})),
          check("shaded.same_input",

@@ -74,8 +74,9 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   j["path"] = info.path;
   j["mode"] = toString(c.mode);
   j["method"] = toString(c.mode);
+  const std::string rule(paramInfo(Param::NeverSlower).key);  // the rule's object: its decision and counts
   if (f.fallback.evaluated)
-    j["never_slower"] = {{"fell_back_to_full", f.fallback.fellBack},
+    j[rule] = {{"fell_back_to_full", f.fallback.fellBack},
                          {"decided", f.fallback.onFloor ? "early, on the floor, before the edge sample"
                                      : f.fallback.early   ? "early, before the edges"
                                                           : "on the stencils"},
@@ -84,18 +85,18 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                          {"predicted_full_ms", f.fallback.predictedFullMs},
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
-                         {"cost_model", f.fallback.costModel}};
+                         {std::string(paramInfo(Param::CostModel).key), f.fallback.costModel}};
   if (f.fallback.evaluated && !f.edgeSample.empty())  // 8×8 blocks whose diagonal holds an edge (or a silhouette)
-    j["never_slower"]["edge_sample_blocks"] = f.counts.edgeBlocks;
+    j[rule]["edge_sample_blocks"] = f.counts.edgeBlocks;
   if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
-    j["never_slower"]["searched_pixels"] = f.counts.searchedPixels;
-    j["never_slower"]["pcf_pixels"] = f.counts.pcfPixels;
-    j["never_slower"]["map_footprint_texels"] = footprintTexels(c.levels[0], f.counts);  // f̄
+    j[rule]["searched_pixels"] = f.counts.searchedPixels;
+    j[rule]["pcf_pixels"] = f.counts.pcfPixels;
+    j[rule]["map_footprint_texels"] = footprintTexels(c.levels[0], f.counts);  // f̄
   }
-  if (c.mode == Mode::Tiles) {
+  if (methodInfo(c.mode).masks == MaskBuilder::Tiles) {
     std::array<int, 3> tiles{};
     for (uint8_t r : f.tileRates.data) ++tiles[r];
-    j["tiles"] = {{"size", kTileSize}, {"rate_1x1", tiles[0]}, {"rate_2x2", tiles[1]}, {"rate_4x4", tiles[2]}};
+    j[toString(c.mode)] = {{"size", kTileSize}, {"rate_1x1", tiles[0]}, {"rate_2x2", tiles[1]}, {"rate_4x4", tiles[2]}};
   }
   auto vec3 = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   if (c.foveation.active()) {  // SPEC §13: the viewing conditions, the terms and what they allowed
@@ -165,12 +166,12 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
       j["ssao"] = {{"radius", c.ssao.radius}, {"bias", c.ssao.bias}, {"tangent_plane_depth", c.ssao.tangentPlaneDepth}};
       break;
     case Effect::Ssm:
-      j["ssm"] = {{"pcf_grid", c.ssm.grid}, {"shadow_map_size", c.ssm.shadowMapSize},
+      j["ssm"] = {{"pcf_grid", c.ssm.grid}, {std::string(paramInfo(Param::ShadowMapSize).key), c.ssm.shadowMapSize},
                   {"tan_half_light_angle", c.ssm.tanHalfAngle}, {"blocker_grid", c.ssm.blockerGrid},
                   {"bias_texels", c.ssm.biasTexels}};
       break;
     case Effect::Ssgi:
-      j["ssgi"] = {{"radius", c.ssgi.radius}, {"patch_area", c.ssgi.patchArea}, {"shadow_map_size", c.ssm.shadowMapSize}};
+      j["ssgi"] = {{"radius", c.ssgi.radius}, {"patch_area", c.ssgi.patchArea}, {std::string(paramInfo(Param::ShadowMapSize).key), c.ssm.shadowMapSize}};
       break;
   }
   j["edges"] = {{std::string(paramInfo(Param::TauN).key), c.edges.normalThreshold},

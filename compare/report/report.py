@@ -22,31 +22,62 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
-# One colour and marker per method on every chart (tab10 colours); the references first.
-METHODS = ["full", "uniform-1", "uniform-2", "tiles", "mrr", "mrr-norule", "mrr-effect"]
-COLOR = {"full": "#7f7f7f", "uniform-1": "#1f77b4", "uniform-2": "#17becf", "tiles": "#ff7f0e",
-         "mrr": "#d62728", "mrr-norule": "#9467bd", "mrr-effect": "#8c564b"}
-MARKER = {"uniform-1": "s", "uniform-2": "D", "tiles": "^", "mrr-norule": "X"}
-# mrr-effect's bench variants ("mrr-effect+c4+p0.3"): each its own colour, the same on every chart of
-# a report (the variants a bench ran, by name, take these in turn: assign_variant_colors), and a
-# pentagon.
+# The methods, as the bench's JSON carries mrr's method table (common/methods.h: "methods"): one
+# colour and marker per method on every chart, their chart order, the reference (full) and the
+# paper's method (mrr). use_methods() loads them before any chart is drawn.
+METHODS = []   # names in chart order
+COLOR = {}
+MARKER = {}
+REFERENCE = None  # the table's reference row's name
+PAPER = None      # the table's paper row's name
+# A method's bench variants ("mrr-effect+c4+p0.3", "mrr+norule"): each its own colour, the same on
+# every chart of a report (the variants a bench ran, by name, take these in turn:
+# assign_variant_colors), and a pentagon; a lone "+norule" its own purple cross.
 VARIANT_COLORS = ["#e377c2", "#bcbd22", "#17a589", "#c49c94", "#6b6ecf", "#e7ba52"]
 VARIANT_COLOR = {}
+NORULE_STYLE = ("#9467bd", "X")
+
+
+def use_methods(rows):
+    """Loads the method table's rows (name, chart_order, colour, marker, reference, paper)."""
+    global REFERENCE, PAPER
+    rows = sorted(rows, key=lambda r: r["chart_order"])
+    METHODS[:] = [r["name"] for r in rows]
+    COLOR.clear()
+    MARKER.clear()
+    for r in rows:
+        COLOR[r["name"]] = r["colour"]
+        MARKER[r["name"]] = r["marker"]
+        if r.get("reference"):
+            REFERENCE = r["name"]
+        if r.get("paper"):
+            PAPER = r["name"]
+
+
+def base_of(method):
+    """The table row a bench method names ("mrr-effect+c4" -> "mrr-effect")."""
+    return method.split("+")[0]
 
 
 def assign_variant_colors(methods):
     VARIANT_COLOR.clear()
-    variants = sorted(m for m in set(methods) if m.startswith("mrr-effect+"))
+    variants = sorted(m for m in set(methods) if "+" in m and not m.endswith("+norule"))
     for i, m in enumerate(variants):
         VARIANT_COLOR[m] = VARIANT_COLORS[i % len(VARIANT_COLORS)]
 
 
 def color_of(method):
+    if method.endswith("+norule") and method.count("+") == 1:
+        return NORULE_STYLE[0]
     return COLOR.get(method) or VARIANT_COLOR.get(method, "#000000")
 
 
 def marker_of(method):
-    return MARKER.get(method, "p" if method.startswith("mrr-effect+") else "o")
+    if method.endswith("+norule") and method.count("+") == 1:
+        return NORULE_STYLE[1]
+    return MARKER.get(method, "p" if "+" in method else "o")
+
+
 PAPER_COLOR = "#2ca02c"
 WIDTH, HEIGHT = 880, 560  # pixels of the PNG (the SVG has the same proportions)
 
@@ -66,7 +97,11 @@ def pareto_front(points):
 
 
 def method_order(methods):
-    return sorted(set(methods), key=lambda m: (METHODS.index(m) if m in METHODS else len(METHODS), m))
+    """The chart order of the table; a method's variants right after it, by name."""
+    def rank(m):
+        b = base_of(m)
+        return (METHODS.index(b) if b in METHODS else len(METHODS), m != b, m)
+    return sorted(set(methods), key=rank)
 
 
 def distinct(items):
@@ -153,7 +188,7 @@ def speed_vs_rms(path, effect, runs, device, key="rms"):
                   " FLIP: the mean LDR-FLIP of the effect buffer shown as grey, at 67 pixels per degree: the error "
                   "a viewer sees, where RMS weighs every pixel alike." if flip else ""),
               "%s against full (log)" % ("mean FLIP" if flip else "RMS"), "measured speedup over full (x)")
-    others = [r for r in runs if r["method"] != "full"]
+    others = [r for r in runs if r["method"] != REFERENCE]
     # A log axis cannot show an error of 0 (frames the never-slower rule shaded at full res):
     # they are drawn at a third of the smallest non-zero error, which the caption says.
     floor = min([r[key] / 3 for r in others if r.get(key) and r[key] > 0] or [1.0])
@@ -202,16 +237,16 @@ def sweep(figure, path, effect, runs, paper, device):
               "samples per pixel (log)" if by_samples else "image height (pixels)",
               "RMS against full" if rms else "speedup over full (x)")
     for m in method_order(r["method"] for r in runs):
-        if m == "full":
+        if m == REFERENCE:
             continue
         mine = sorted((r for r in runs if r["method"] == m), key=x_of)
         xs = [x_of(r) for r in mine]
         plot_method(c.ax, m, xs, [r["rms" if rms else "measured_speedup"] for r in mine],
                     label=m if rms else m + " measured")
-        if m == "mrr" and not rms:
-            plot_method(c.ax, m, xs, [r["ideal_speedup"] for r in mine], label="mrr ideal (pixels)", ideal=True)
+        if m == PAPER and not rms:
+            plot_method(c.ax, m, xs, [r["ideal_speedup"] for r in mine], label="%s ideal (pixels)" % m, ideal=True)
             if all("ideal_speedup_hit" in r for r in mine):  # over pixels on geometry: what full pays for
-                c.ax.plot(xs, [r["ideal_speedup_hit"] for r in mine], label="mrr ideal (pixels on geometry)",
+                c.ax.plot(xs, [r["ideal_speedup_hit"] for r in mine], label="%s ideal (pixels on geometry)" % m,
                           color=color_of(m), linestyle=":", marker=marker_of(m),
                           markerfacecolor="white", markersize=5)
     theirs = sorted((p for p in paper if p["figure"] == figure and p["effect"] == effect),
@@ -236,20 +271,20 @@ def sweep(figure, path, effect, runs, paper, device):
     if by_samples:
         c.ax.set_xscale("log")
     if not rms:
-        c.guide(1.0, "full")
+        c.guide(1.0, REFERENCE)
     return c
 
 
 def stress(path, effect, runs, device):
-    """Measured speedup of every method on each stress scene (mrr-norule: without the rule)."""
+    """Measured speedup of every method on each stress scene (+norule: without the rule)."""
     c = Chart("stress-%s-%s" % (path, effect), "Stress scenes, %s: measured speedup (%s path)" % (effect, path),
               device, "Each stress scene models one failure: bumpy normals (edges explode), wires thinner than a "
-              "coarse pixel, an image that is all edges, and one with none (builtin:plane). mrr-norule is the "
+              "coarse pixel, an image that is all edges, and one with none (builtin:plane). +norule is the "
               "method without the never-slower rule.", "scene", "measured speedup over full (x)")
     scenes = distinct(r["scene"] for r in runs)
     c.bars(scenes, [(m, {r["scene"]: r["measured_speedup"] for r in runs if r["method"] == m})
-                    for m in method_order(r["method"] for r in runs) if m != "full"])
-    c.guide(1.0, "full")
+                    for m in method_order(r["method"] for r in runs) if m != REFERENCE])
+    c.guide(1.0, REFERENCE)
     return c
 
 
@@ -280,7 +315,7 @@ def fovea_style(method):
     """A method's colour; its "+gaze" or "+motion" run drawn solid, the method alone dashed."""
     base = method.split("+gaze")[0].split("+motion")[0]
     limited = "+gaze" in method or "+motion" in method
-    return COLOR.get(base.split("+")[0], "#000000"), "-" if limited or base == "full" else "--", MARKER.get(base, "o")
+    return color_of(base), "-" if limited or base == REFERENCE else "--", marker_of(base)
 
 
 def ring_label(r):
@@ -303,7 +338,7 @@ def fovea_rings(path, scene, ppd, rings, device, key):
               "eccentricity ring", what + (" (log)" if key != "shaded_share" else ""))
     labels = distinct(ring_label(r) for r in rings)
     for m in distinct(r["method"] for r in rings):
-        if key != "shaded_share" and m == "full":
+        if key != "shaded_share" and m == REFERENCE:
             continue  # 0 against itself
         of = [r for r in rings if r["method"] == m]
         color, style, marker = fovea_style(m)
@@ -314,7 +349,7 @@ def fovea_rings(path, scene, ppd, rings, device, key):
     c.ax.set_xticks(range(len(labels)), labels)
     if key == "shaded_share":
         c.ax.set_ylim(bottom=0)
-        c.guide(1.0, "full")
+        c.guide(1.0, REFERENCE)
     else:
         c.ax.set_yscale("log")
     return c
@@ -367,6 +402,7 @@ def fovea_charts(fovea, devices):
 def bench_charts(results, paper):
     """Every chart, in the order the page shows them."""
     runs, out = results["runs"], []
+    use_methods(results["methods"])
     assign_variant_colors([r.get("method", "") for r in runs] + [s["method"] for s in results["stability"]])
     for path in distinct(r["path"] for r in runs):
         device = results["devices"].get(path, path)

@@ -23,6 +23,13 @@
 namespace mrr {
 
 namespace {
+// The method the rule decides for (common/methods.h: the paper's), and it without the rule; a
+// decision is this name, or full's ("full", and "full-early", "full-floor" for the early ones).
+std::string paperMethod() { return toString(Mode::Mrr); }
+std::string withoutRule() { return paperMethod() + "+norule"; }
+}  // namespace
+
+namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // The fits price in ns (per pixel, per sample), the stages are timed in ms.
@@ -315,7 +322,7 @@ void measureFull(CalibrationRuns& runs, const OpenScene& sc, const Camera& camer
                                FullConfig{w / 2, h / 2, manySamples(e), countsBySize[0]},
                                FullConfig{2 * w, 2 * h, manySamples(e), countsBySize[2]}}) {
     const Measured full = measure(
-        sc.render, camera, makeConstants(settingsFor("full", e, fc.width, fc.height, fc.samples), framed), repeats);
+        sc.render, camera, makeConstants(settingsFor(referenceMethod(), e, fc.width, fc.height, fc.samples), framed), repeats);
     const double p = static_cast<double>(fc.width) * fc.height, onGeometry = static_cast<double>(fc.counts->searchedPixels);
     std::vector<double> row = {onGeometry, onGeometry * fc.samples};
     if (e == Effect::Ssm) {
@@ -357,7 +364,7 @@ constexpr float kCalibrationPosterior = 0.3f;
 void measureEffectMasks(CalibrationRuns& runs, const OpenScene& sc, const Camera& camera, float framed, Effect e,
                         int repeats, const CostModel& counting, const Measured& mrr, bool posterior) {
   const Constants& mc = mrr.last.constants;
-  Settings s = settingsFor("mrr-effect", e, mc.width, mc.height, mc.samples());
+  Settings s = settingsFor(toString(Mode::MrrEffect), e, mc.width, mc.height, mc.samples());
   s.neverSlower = false;
   const Measured effect = measure(sc.render, camera, makeConstants(s, framed), repeats, &counting);
   const double padded = static_cast<double>(mc.levels[0].width) * mc.levels[0].height;
@@ -381,7 +388,7 @@ void measureView(CalibrationRuns& runs, const OpenScene& sc, const Camera& camer
   const int w = kCalibrationWidth, h = kCalibrationHeight;
   const float framed = framedSize(*sc.scene, camera, static_cast<float>(w) / static_cast<float>(h)).size;
   auto method = [&](int width, int height, int samples) {
-    return measure(sc.render, camera, makeConstants(settingsFor("mrr-norule", e, width, height, samples), framed),
+    return measure(sc.render, camera, makeConstants(settingsFor(withoutRule(), e, width, height, samples), framed),
                    repeats, &counting);
   };
   const Measured mrr = method(w, h, manySamples(e));
@@ -504,7 +511,7 @@ struct Verdict {
 // (on llvmpipe a frame all sky, where the method does strictly more work, has measured 1.18×
 // faster than full by its medians).
 Verdict judge(const std::string& decision, double fullMs, double mrrMs, const std::vector<double>& pairRatios) {
-  const bool keptMrr = decision == "mrr";
+  const bool keptMrr = decision == paperMethod();
   Verdict v;
   v.right = keptMrr ? mrrMs <= kFasterWithin * fullMs : fullMs <= kFasterWithin * mrrMs;
   v.wrongBeyondNoise = !v.right && (keptMrr ? quantile(pairRatios, 0.25) > kFasterWithin
@@ -526,7 +533,7 @@ nlohmann::json summarize(const nlohmann::json& frames) {
       worstRule = std::max(worstRule, f["rule_ms"].get<double>() / fullMs);
     else
       ++unmeasured;
-    if (f["decision"] == "mrr") {
+    if (f["decision"] == paperMethod()) {
       ++kept;
       worstKept = std::max(worstKept, mrrMs / fullMs);
     } else {
@@ -605,7 +612,7 @@ struct RuleOnCounts {
 RuleOnCounts ruleOnCounts(const CostModel& model, const Constants& c, const FrameCounts& n) {
   const FallbackDecision early = decideEarly(model, c, n), late = decideFallback(model, c, n);
   RuleOnCounts r;
-  r.decision = early.onFloor ? "full-floor" : early.fellBack ? "full-early" : late.fellBack ? "full" : "mrr";
+  r.decision = early.onFloor ? referenceMethod() + "-floor" : early.fellBack ? referenceMethod() + "-early" : late.fellBack ? referenceMethod() : paperMethod();
   r.prices = {{"predicted_full_rest_ms", late.predictedFullMs},
               {"predicted_mrr_rest_ms", late.predictedMrrMs},
               {"predicted_mrr_floor_ms", predictMrrFloorMs(model, c, n)},
@@ -714,24 +721,24 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           // beside full, not apart). The decision is a function of the counts, the same on every
           // run: it is taken after the warm-up. A frame within 10% of break-even gets as many
           // rounds again: its verdict is the one noise sways.
-          const Constants cm = constantsFor("mrr");
+          const Constants cm = constantsFor(paperMethod());
           std::map<std::string, std::vector<double>> fullRuns, mrrRuns, withRuleRuns;
           std::vector<double> pairRatios;  // mrr / full, pair by pair (the two run back to back)
           Measured full, mrr, withRule;
           RuleOnCounts rule;  // taken after the warm-up
           auto runRounds = [&](int rounds, bool warmUp) {
             for (int i = warmUp ? 0 : 1; i <= rounds; ++i) {
-              FrameResult ff = sc.render(view.camera, constantsFor("full"), {false, {}, nullptr});
-              FrameResult fm = sc.render(view.camera, constantsFor("mrr-norule"), {false, {}, nullptr, true});
+              FrameResult ff = sc.render(view.camera, constantsFor(referenceMethod()), {false, {}, nullptr});
+              FrameResult fm = sc.render(view.camera, constantsFor(withoutRule()), {false, {}, nullptr, true});
               if (i == 0) rule = ruleOnCounts(model, cm, fm.counts);
               const std::string& decision = rule.decision;
               FrameResult fr;
-              if (decision != "mrr") fr = sc.render(view.camera, cm, {false, {}, nullptr});
+              if (decision != paperMethod()) fr = sc.render(view.camera, cm, {false, {}, nullptr});
               if (i == 0) continue;
               const std::map<std::string, double> fullStages = stageMs(ff), mrrStages = stageMs(fm);
               for (const auto& [key, v] : fullStages) fullRuns[key].push_back(v);
               for (const auto& [key, v] : mrrStages) mrrRuns[key].push_back(v);
-              if (decision != "mrr")
+              if (decision != paperMethod())
                 for (const auto& [key, v] : stageMs(fr)) withRuleRuns[key].push_back(v);
               pairRatios.push_back(frameMs(mrrStages) / std::max(frameMs(fullStages), 1e-9));
               if (i == rounds) {
@@ -749,7 +756,7 @@ int runRuleSweep(const RuleSweepOptions& o, const std::vector<BenchPath>& paths,
           if (nearBreakEven) runRounds(o.repeats, false);
           const FrameCounts& n = mrr.last.counts;
           const std::string& decision = rule.decision;
-          const double ruleMs = decision == "mrr" ? frameMs(mrr.ms) : frameMs(withRule.ms);
+          const double ruleMs = decision == paperMethod() ? frameMs(mrr.ms) : frameMs(withRule.ms);
           const double fullMs = frameMs(full.ms), mrrMs = frameMs(mrr.ms);
           const Verdict verdict = judge(decision, fullMs, mrrMs, pairRatios);
           nlohmann::json frame = {
@@ -808,7 +815,7 @@ int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFi
       const int width = f.at("width"), height = f.at("height"), samples = f.at("samples");
       // The rule reads the frame's size, its levels and its sample count, never a world-space
       // constant: the framed size (the automatic radii) does not enter it.
-      const Constants c = makeConstants(settingsFor("mrr", effect, width, height, samples), 1.0f);
+      const Constants c = makeConstants(settingsFor(paperMethod(), effect, width, height, samples), 1.0f);
       const FrameCounts n = countsFromJson(f.at("counts"));
       const RuleOnCounts rule = ruleOnCounts(model, c, n);
       const std::string& decision = rule.decision;
@@ -822,9 +829,9 @@ int replayRuleSweep(const std::string& sweepFile, const std::string& costModelFi
       // The with-rule time: the method's where it keeps the method, the sweep's where both fall
       // back; unmeasured where only the replay falls back.
       const std::string was = f.at("decision");
-      if (decision == "mrr")
+      if (decision == paperMethod())
         r["rule_ms"] = mrrMs;
-      else if (was == "mrr")
+      else if (was == paperMethod())
         r["rule_ms"] = nullptr;
       if (decision != was || verdict.right != f.at("right").get<bool>()) {
         char line[400];

@@ -729,6 +729,14 @@ async function start() {
     o.value = o.textContent = s;
     scene.appendChild(o);
   }
+  // The methods, from the server's method table (common/methods.h): one option each.
+  for (const m of info.methods) {
+    const o = document.createElement('option');
+    o.value = m.name;
+    o.textContent = m.label;
+    o.title = m.help;
+    $('#method').appendChild(o);
+  }
   // Each knob's help, unit and range come from the frame-parameter table the server reads
   // (common/frame_params.h): one text for the command line's --help and the page.
   const rows = Object.fromEntries((info.params || []).map((r) => [r.key, r]));
@@ -740,7 +748,8 @@ async function start() {
   const d = info.defaults;
   scene.value = d.scene;
   $('#effect').value = d.effect;
-  $('#method').value = d.method === 'multires' ? 'mrr' : d.method;
+  const method = info.methods.find((m) => m.name === d.method) || info.methods[0];  // an alias: its row's first
+  $('#method').value = method.name;
   if (![...$('#size').options].some((o) => o.value === d.size)) {
     const o = document.createElement('option');
     o.textContent = d.size;

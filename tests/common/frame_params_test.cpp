@@ -58,7 +58,7 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   FrameOptions fo;
   fo.size = "64x36";
   fo.flipUp = true;  // flip_up is written only when chosen
-  fo.seed = 5;       // seed only when not 0 (mrr's own sampling)
+  fo.set(Param::Seed, "5");  // seed only when not 0 (mrr's own sampling)
   fo.coarseGBuffer = "render";  // coarse_gbuffer only when not subsample
   fo.gaze = "3,4";   // so are the gaze and foveate
   fo.mode = "mrr-effect";  // and mrr-effect's widening, a-posteriori term and ablation arm (effect_*)
@@ -91,16 +91,16 @@ TEST(FrameParams, PerLevelValuesAreSplitByTheCommandLineAndChecked) {
   CLI::App app;
   fo.add(app);
   app.parse(std::vector<std::string>{"--sigma2=1,2,3,4"});
-  EXPECT_EQ(fo.sigma2, (std::vector<float>{1, 2, 3, 4}));
+  EXPECT_EQ(*fo.value(Param::Sigma2), "1,2,3,4");
   EXPECT_EQ(fo.settings().levels[2].sigma2, 3.0f);
-  fo.sigma2 = {1, 2, 3};
+  fo.set(Param::Sigma2, "1,2,3");
   EXPECT_THROW(fo.settings(), MrrError);
-  fo.sigma2 = {1, 2, 65, 4};
+  fo.set(Param::Sigma2, "1,2,65,4");
   try {
     fo.settings();
     FAIL() << "sigma2 65 was accepted";
   } catch (const MrrError& e) {
-    EXPECT_EQ(std::string(e.what()), "--sigma2 1,2,65,4: level 2's variance must be in [0, 64]");
+    EXPECT_EQ(std::string(e.what()), "--sigma2 1,2,65,4: level 2's value must be in [0, 64]");
   }
 }
 

@@ -37,6 +37,7 @@
 #include "tests/gpu/gl_test.h"
 #include "tests/oracle/render_helpers.h"
 #include "tests/test_support.h"
+#include "cpu_ref/edges.h"
 
 namespace mrr {
 namespace {

@@ -156,8 +156,15 @@ TEST(BenchMethods, EffectOnlyAndNoRuleVariantsSetTheirSettings) {
   const Settings rule = settingsFor("mrr-effect+e", Effect::Ssm, 64, 48, 16);
   EXPECT_TRUE(rule.neverSlower);
   EXPECT_FALSE(settingsFor("mrr-effect+norule", Effect::Ssm, 64, 48, 16).neverSlower);
-  EXPECT_FALSE(settingsFor("mrr-norule", Effect::Ssm, 64, 48, 16).neverSlower);
-  EXPECT_THROW(settingsFor("mrr+norule", Effect::Ssm, 64, 48, 16), MrrError);  // variants are mrr-effect's
+  EXPECT_FALSE(settingsFor("mrr-norule", Effect::Ssm, 64, 48, 16).neverSlower);  // the old spelling of mrr+norule
+  EXPECT_FALSE(settingsFor("mrr+norule", Effect::Ssm, 64, 48, 16).neverSlower);
+  // A switch is its method's row's: mrr has no widening, tiles no rule.
+  EXPECT_THROW(settingsFor("mrr+c4", Effect::Ssm, 64, 48, 16), MrrError);
+  EXPECT_THROW(settingsFor("tiles+norule", Effect::Ssm, 64, 48, 16), MrrError);
+  // Each switch sets its frame parameter as the command line would, and is checked as it is.
+  EXPECT_EQ(settingsFor("mrr-effect+c4+p0.15", Effect::Ssao, 64, 48, 16).effectMask.cap, 4);
+  EXPECT_EQ(settingsFor("mrr-effect+c4+p0.15", Effect::Ssao, 64, 48, 16).effectMask.posterior, 0.15f);
+  EXPECT_THROW(settingsFor("mrr-effect+c99", Effect::Ssao, 64, 48, 16), MrrError);  // --effect-cap's range
 }
 
 TEST(PaperFiguresCsv, ReadsSpeedupsAsFactorsAndRms) {
@@ -220,8 +227,9 @@ TEST(TimedStages, EveryNameAnOracleFrameRecordsIsInTheStageList) {
   const Renderer renderer(rs.scene);
   std::set<std::string> seen;
   for (Effect effect : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
-    for (Mode mode : kAllModes)
-      for (int variant = 0; variant < (mode == Mode::Mrr ? 3 : 1); ++variant) {
+    for (const MethodInfo& row : methods())  // every row of the method table; the rule's three ways where it applies
+      for (int variant = 0; variant < (row.neverSlower ? 3 : 1); ++variant) {
+        const Mode mode = row.mode;
         Settings s = defaultSettings(effect);
         s.width = 48;
         s.height = 32;

@@ -10,6 +10,7 @@
 #include "cpu_ref/edges.h"
 #include "cpu_ref/masks.h"
 #include "tests/oracle/render_helpers.h"
+#include "cpu_ref/blend.h"
 
 namespace mrr {
 namespace {

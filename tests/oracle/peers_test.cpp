@@ -83,7 +83,8 @@ TEST(JointBilateral, AllWeightsVanishingTakesTheNearestTap) {
 }
 
 TEST(Peers, OpenPlaneIsUnoccludedForEveryMethod) {
-  for (Mode m : kAllModes) {
+  for (const MethodInfo& row : methods()) {  // every row of the method table
+    const Mode m = row.mode;
     SCOPED_TRACE(toString(m));
     const auto r = renderScene("builtin:plane", method(ssaoSettings(64, 48, 16), m));
     for (float v : r.frame.final().data) ASSERT_NEAR(v, 1.0f, 1e-6f);
@@ -153,21 +154,23 @@ TEST(Peers, ErrorAgainstFullIsFiniteAndOrdered) {
   // every method's error is finite and only full's is zero.
   Settings s = ssaoSettings(160, 96, 16);
   const auto full = renderScene("builtin:demo", method(s, Mode::Full));
-  double rms[5] = {};
-  for (Mode m : kAllModes) {
+  std::vector<double> rms(methods().size(), 0.0);
+  for (const MethodInfo& row : methods()) {  // every row of the method table
+    const Mode m = row.mode;
     const auto r = renderScene("builtin:demo", method(s, m));
     double sum = 0;
     for (size_t i = 0; i < r.frame.final().data.size(); ++i) {
       const double d = r.frame.final().data[i] - full.frame.final().data[i];
       sum += d * d;
     }
-    rms[static_cast<int>(m)] = std::sqrt(sum / static_cast<double>(r.frame.final().data.size()));
-    ASSERT_TRUE(std::isfinite(rms[static_cast<int>(m)]));
+    rms[static_cast<size_t>(m)] = std::sqrt(sum / static_cast<double>(r.frame.final().data.size()));
+    ASSERT_TRUE(std::isfinite(rms[static_cast<size_t>(m)]));
+    // Only the reference is exact; every other row shades fewer pixels somewhere.
+    if (row.reference) EXPECT_EQ(rms[static_cast<size_t>(m)], 0.0) << row.name;
+    else EXPECT_GT(rms[static_cast<size_t>(m)], 0.0) << row.name;
   }
-  EXPECT_EQ(rms[static_cast<int>(Mode::Full)], 0.0);
-  for (Mode m : {Mode::Mrr, Mode::Uniform1, Mode::Tiles}) EXPECT_GT(rms[static_cast<int>(m)], 0.0);
-  EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Uniform1)]);
-  EXPECT_GT(rms[static_cast<int>(Mode::Uniform2)], rms[static_cast<int>(Mode::Mrr)]);
+  EXPECT_GT(rms[static_cast<size_t>(Mode::Uniform2)], rms[static_cast<size_t>(Mode::Uniform1)]);
+  EXPECT_GT(rms[static_cast<size_t>(Mode::Uniform2)], rms[static_cast<size_t>(Mode::Mrr)]);
 }
 
 // SPEC §11: the decision, both ways, and a fallen-back frame is the full frame bit for bit.

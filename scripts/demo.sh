@@ -22,7 +22,7 @@ echo "== multires (the method) and full (the reference), compared" >&2
 bash "$here/scripts/stage-previews.sh" "$out/stages.exr" "$out"
 # The port: the same frame through OpenGL 3.3 (headless EGL; Mesa's llvmpipe here), then the
 # oracle against the port on every stage of all three effects (mrr compare, docs/compare.md):
-# the table in cpu_vs_gpu.txt, the HTML report in compare/index.html.
+# the table in cpu_vs_gpu.txt, the HTML report in $out/compare/index.html.
 if "$mrr" render "${common[@]}" --path gpu --method mrr --quiet --out "$out/gpu_final.exr" \
      --stages "$out/gpu_stages.exr" --report "$out/gpu_report.json" 2> "$out/gpu_error.txt"; then
   rm -f "$out/gpu_error.txt"

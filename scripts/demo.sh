@@ -7,7 +7,7 @@
 # SSGI in out/demo/ssm/ and out/demo/ssgi/. Needs nothing outside the repo.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bash "$here/scripts/build.sh"
+bash "$here/scripts/build.sh" mrr  # the demo runs mrr alone: no test binary is built
 mrr="$here/build/mrr"
 out="${1:-$here/out/demo}"
 size="${MRR_DEMO_SIZE:-1280x720}"

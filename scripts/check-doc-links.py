@@ -16,7 +16,9 @@ How a reference resolves:
 - a module named without its extension (`cpu_ref/masks`) resolves when a file of that stem
   exists (`cpu_ref/masks.cpp`, `.h`, `.frag`, ...);
 - a Markdown link `FILE.md#anchor` to a file under docs/ or README.md also needs `anchor` to be
-  one of that file's headings (GitHub's slugs).
+  one of that file's headings (GitHub's slugs);
+- a section of the design, `docs/spec.md §N` or `spec.md §N.M` (in code also `SPEC §N`, the form
+  the code cites it by), must be a numbered heading of docs/spec.md.
 Generated paths (out/..., build/...) and anything outside the repository (URLs, absolute
 paths, ../shared/...) are not checked; ALLOWED lists the few other names that are not files on
 purpose.
@@ -59,6 +61,7 @@ REF_RE = re.compile(r"(?<![A-Za-z0-9_./\-])((?:%s)/%s*|[A-Za-z0-9_.\-/{},*]*[A-Z
 LINK_RE = re.compile(r"\]\(([^)\s]+)\)")
 LINK_TEXT_RE = re.compile(r"!?\[[^\]]*\]\([^)\s]+\)")
 VAR_RE = re.compile(r"\$\{[^}]*\}\S*|\$[A-Za-z_][A-Za-z0-9_]*\S*|\{[A-Za-z_][A-Za-z0-9_]*\}\S*")
+SECTION_RE = re.compile(r"(?:spec\.md\)?|SPEC) ?§(\d+(?:\.\d+)?)")
 URL_RE = re.compile(r"[a-z][a-z0-9+.\-]*://\S+")
 
 
@@ -77,6 +80,20 @@ def slug(heading):
 
 
 _anchor_cache = {}
+_sections = None
+
+
+def spec_sections(root):
+    """The numbers of docs/spec.md's numbered headings: "12", "12.2", ..."""
+    global _sections
+    if _sections is None:
+        _sections = set()
+        with open(os.path.join(root, "docs", "spec.md"), encoding="utf-8") as f:
+            for line in f:
+                m = re.match(r"#{2,4} (\d+(?:\.\d+)?)\.? ", line)
+                if m:
+                    _sections.add(m.group(1))
+    return _sections
 
 
 def anchors(path):
@@ -164,6 +181,11 @@ def check_file(root, path, problems):
                     continue  # mailto:, http:, ...
                 refs.append(("link", target))
             text = LINK_TEXT_RE.sub(" ", text)  # a link's text names its target, checked above
+        for m in SECTION_RE.finditer(text):
+            if m.group(0).startswith("SPEC") and is_md:
+                continue  # the docs name the file; `SPEC §N` there quotes the code's form
+            if m.group(1) not in spec_sections(root):
+                problems.append("%s:%d: %s (no such section in docs/spec.md)" % (rel, number, m.group(0)))
         refs.extend(("ref", m.group(1)) for m in REF_RE.finditer(text))
         for kind, raw in refs:
             ref, _, anchor = clean(raw).partition("#")

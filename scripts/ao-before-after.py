@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""SSAO's defaults before and after issue 34, side by side: a sheet of scenes (the AO with R = 3%
-of the scene's diagonal and a depth bias of 5% of R, the AO with the defaults: R = 15% of what the
-view frames and a bias of 2% of R, and the shaded image) and each one's darkest tenth (the 10th
+"""SSAO's defaults before and after the view-framed radius and the 2% depth bias, side by side: a
+sheet of scenes (the AO with R = 3% of the scene's diagonal and a depth bias of 5% of R, the AO
+with the defaults: R = 15% of what the view frames and a bias of 2% of R, and the shaded image) and each one's darkest tenth (the 10th
 percentile of the AO over the pixels that hit geometry). Run by scripts/make-doc-images.sh; by hand:
 
   /usr/bin/python3 scripts/ao-before-after.py OUT.png SCENE...   (after scripts/build.sh)
@@ -26,7 +26,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 MRR = os.environ.get("MRR", os.path.join(HERE, "..", "build", "mrr"))
 SIZE = os.environ.get("AO_SHEET_SIZE", "640x360")
 OLD_FRACTION = 0.03  # SsaoSettings::kDiagonalFractionBefore
-OLD_BIAS = 0.05  # SsaoSettings::kBiasFractionBefore: the depth bias, a fraction of R, before issue 34
+OLD_BIAS = 0.05  # SsaoSettings::kBiasFractionBefore: the depth bias, a fraction of R, before it became 2%
 
 
 def info(scene):

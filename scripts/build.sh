@@ -1,8 +1,15 @@
 #!/usr/bin/env bash
 # Installs the dependencies (Debian 12 packages) and builds mrr in Release into build/.
+#   bash scripts/build.sh              every target: mrr, the tests, the stage benchmark
+#   bash scripts/build.sh mrr [T...]   only the named targets and what they need
+#                                      (scripts/demo.sh builds `mrr` alone: no test binary)
 # Used by scripts/demo.sh, scripts/test.sh and .ci/run.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/install-deps.sh"
 cmake -S "$here" -B "$here/build" -G Ninja -DCMAKE_BUILD_TYPE=Release ${MRR_CMAKE_ARGS:-} >/dev/null
-cmake --build "$here/build" -j"$(nproc)"
+if [ $# -gt 0 ]; then
+  cmake --build "$here/build" -j"$(nproc)" --target "$@"
+else
+  cmake --build "$here/build" -j"$(nproc)"
+fi

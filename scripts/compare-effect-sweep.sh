@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Issue 35's done-when "compare --method mrr-effect --effect all passes on every built-in and shared
-# scene": `mrr compare` on each scene at 320x180 (each effect at its default samples), for
-# mrr-effect as it ships (a priori, SPEC §12) and with the a-posteriori term (§12.2, the bench's
-# +c4+p0.15: --effect-cap 4 --effect-posterior 0.15), and for the ablation's effect-only arm (§12.3).
+# Checks that `mrr compare --method mrr-effect --effect all` passes on every built-in and shared
+# scene (docs/figures.md, "mrr-effect and its ablation"): `mrr compare` on each scene at 320x180
+# (each effect at its default samples), for mrr-effect as it ships (a priori, docs/spec.md §12),
+# with the a-posteriori term (§12.2, the bench's +c4+p0.15: --effect-cap 4 --effect-posterior
+# 0.15), and for the ablation's effect-only arm (§12.3).
 # Prints a Markdown table (one row per scene, one cell per variant and effect: the verdict, the
 # last word of compare's verdict line for that effect) and exits 1 when any run is not PASS. Logs
 # under OUT (default a temporary dir).

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Issue 37's done-when "compare passes with a gaze and with a previous frame, on every built-in
-# and shared scene": `mrr compare` on each scene at 320x180 (SSAO, its default samples), for each
-# method that SPEC §13 limits, three ways:
+# Checks that `mrr compare` passes with a gaze and with a previous frame on every built-in and
+# shared scene (docs/figures.md, "Foveation and motion"): `mrr compare` on each scene at 320x180
+# (SSAO, its default samples), for each method that docs/spec.md §13 limits, three ways:
 #   gaze  --gaze 160,90 --ppd 10 (at 320x180 the default 67 ppd keeps the whole frame in the fovea;
 #         at ppd 10 level 1 starts 81 px out and level 2 172 px out, so every term is exercised)
 #   prev  --prev-frame F.json: F written by `render --frame-out` on the scene's own camera, then its

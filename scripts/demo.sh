@@ -7,7 +7,7 @@
 # SSGI in out/demo/ssm/ and out/demo/ssgi/. Needs nothing outside the repo.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bash "$here/scripts/build.sh"
+bash "$here/scripts/build.sh" mrr  # the demo runs mrr alone: no test binary is built
 mrr="$here/build/mrr"
 out="${1:-$here/out/demo}"
 size="${MRR_DEMO_SIZE:-1280x720}"
@@ -22,7 +22,7 @@ echo "== multires (the method) and full (the reference), compared" >&2
 bash "$here/scripts/stage-previews.sh" "$out/stages.exr" "$out"
 # The port: the same frame through OpenGL 3.3 (headless EGL; Mesa's llvmpipe here), then the
 # oracle against the port on every stage of all three effects (mrr compare, docs/compare.md):
-# the table in cpu_vs_gpu.txt, the HTML report in compare/index.html.
+# the table in cpu_vs_gpu.txt, the HTML report in $out/compare/index.html.
 if "$mrr" render "${common[@]}" --path gpu --method mrr --quiet --out "$out/gpu_final.exr" \
      --stages "$out/gpu_stages.exr" --report "$out/gpu_report.json" 2> "$out/gpu_error.txt"; then
   rm -f "$out/gpu_error.txt"

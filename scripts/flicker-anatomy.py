@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Where a method's flicker comes from (SPEC §10), pixel by pixel, on the first frames of the orbit.
+"""Where a method's flicker comes from (docs/spec.md §10), pixel by pixel, on the first frames of the orbit.
 
 Flicker is the mean over frames t >= 1 of |e_t - e_{t-1}|, e_t = X_t - R_t the error against `full`
-of the same camera (compare/stability.cpp: FlickerMeter). This splits its sum by what the pixel did
+of the same camera (compare/metrics/metrics.h: FlickerMeter). This splits its sum by what the pixel did
 between the two frames, from each frame's level map and level-0 blend weight (`render --stages`):
   - level changed: the finest level with alpha > 0 differs between t-1 and t (a mask moved);
   - same level 0, alpha_0 < 1: blended with a coarser level both times;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU run, ready in one command (issue 18): `mrr compare` of every effect on the shared
+# The GPU run, ready in one command: `mrr compare` of every effect on the shared
 # scenes, `mrr bench` of full and its peers (uniform-1, uniform-2, tiles, mrr) on the GL port at
 # 1280x720, 1920x1080 and 3840x2160 with GL_TIME_ELAPSED timer queries, and the paper's sweeps
 # that feed Figs. 6 (speedup against samples, at 4K as in the paper), 7 (speedup against

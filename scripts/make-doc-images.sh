@@ -79,7 +79,7 @@ if [ -d "${MRR_SCENES_DIR:-$here/../shared/scenes}" ]; then
   done
 fi
 if [ -d "${MRR_SCENES_DIR:-$here/../shared/scenes}" ]; then
-  # The automatic SSAO radius before and after issue 34 (docs/scenes.md): made by matplotlib.
+  # The automatic SSAO radius before and after the view-framed default (docs/scenes.md): made by matplotlib.
   echo "[docs] ao-before-after" >&2
   MRR="$mrr" /usr/bin/python3 "$here/scripts/ao-before-after.py" "$img/ao-before-after.png" \
     builtin:demo cornell arcade apartment

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Draws `mrr bench --rule-sweep` (issue 18, SPEC §11): the never-slower rule on frames nobody
+"""Draws `mrr bench --rule-sweep` (docs/spec.md §11): the never-slower rule on frames nobody
 tuned it to.
 
   scripts/rule-chart.py SWEEP.json OUT_DIR
@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def early_mrr_ms(f):
-    """What the early decision weighs against full's rest (SPEC §11): max(floor, the edges and
+    """What the early decision weighs against full's rest (docs/spec.md §11): max(floor, the edges and
     masks + E[min(R, F)]); sweeps from before the edge sample have the floor alone."""
     return f.get("predicted_mrr_early_ms", f["predicted_mrr_floor_ms"])
 

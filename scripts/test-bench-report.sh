@@ -56,7 +56,7 @@ for r in runs:
     if r["ideal_speedup"] <= 0 or r["measured_speedup"] <= 0: fail("non-positive speedup: %s" % r)
 rows = open(sys.argv[2]).read().strip().split("\n")
 if len(rows) != len(runs) + 1: fail("CSV has %d rows for %d runs" % (len(rows) - 1, len(runs)))
-for s in j["stability"]:  # issue 36: FLIP beside RMS in the flicker table
+for s in j["stability"]:  # FLIP beside RMS in the flicker table
     if not (0 <= s["flip_flicker"] <= 1 and 0 <= s["mean_flip"] <= 1): fail("stability FLIP outside [0,1]: %s" % s)
 stab = open(sys.argv[2][:-len(".csv")] + "-stability.csv").read().strip().split("\n")
 if len(stab) != len(j["stability"]) + 1 or not stab[0].endswith(",flip_flicker,mean_flip"):

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The port stands on the frame contract alone (issue 16): no file under gpu/ includes a
+# The port stands on the frame contract alone (docs/architecture.md): no file under gpu/ includes a
 # cpu_ref/ header, and CMake configures and builds the port's library (mrr_gpu, with common/
 # and scenes/) with the oracle's targets absent (MRR_BUILD_ORACLE=OFF) and Embree's header
 # poisoned (tests/no_embree/: an #error). Run by CTest as `port_builds_without_the_oracle`.

@@ -128,7 +128,11 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
   const CostModel costs = fo.costModel("cpu");
   for (const Settings& s : settings) {
     const Constants k = makeConstants(s, rs.framed.size);
-    auto reference = std::make_unique<FrameResult>(oracle->render(rs.camera, k, {true, progressPrinter(fo.quiet, "oracle"), &costs}));
+    // SPEC §14: each path's own previous frame first, where the temporal term reads one
+    const FrameHistory oracleBefore = previousFrameHistory(*oracle, rs.camera, s, rs.framed.size, &costs);
+    RenderOptions oracleOptions{true, progressPrinter(fo.quiet, "oracle"), &costs};
+    if (!oracleBefore.empty()) oracleOptions.history = &oracleBefore;
+    auto reference = std::make_unique<FrameResult>(oracle->render(rs.camera, k, oracleOptions));
     if (effectIsConstant(*reference)) {  // two black frames agree, and check nothing
       const EffectRange range = effectRange(*reference);
       std::cerr << "mrr: warning: " << toString(s.effect) << ": the oracle's effect is " << range.lo
@@ -139,14 +143,19 @@ CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>
     ParityResult result;
     std::string notChecked;
     if (usePort) {
-      const RenderOptions options{true, progressPrinter(fo.quiet, "port"), &costs};
+      RenderOptions options{true, progressPrinter(fo.quiet, "port"), &costs};
+      const auto renderPort = [&](const FrameRenderer& r) {
+        const FrameHistory before = previousFrameHistory(r, rs.camera, s, rs.framed.size, &costs);
+        if (!before.empty()) options.history = &before;
+        return std::make_unique<FrameResult>(r.render(rs.camera, k, options));
+      };
       if (portLock) {
         const std::lock_guard<std::mutex> lock(*portLock);
         const std::unique_ptr<FrameRenderer> one = makeRenderer("gpu", rs.scene, fo.pathOptions());
         subjectName = one->device();
-        subject = std::make_unique<FrameResult>(one->render(rs.camera, k, options));
+        subject = renderPort(*one);
       } else {
-        subject = std::make_unique<FrameResult>(port->render(rs.camera, k, options));
+        subject = renderPort(*port);
       }
       result = compareFrames(*reference, *subject, rs.scene.light);
     } else {

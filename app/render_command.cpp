@@ -72,9 +72,16 @@ int probeBothPaths(const ProbeCommand& c, const ResolvedScene& rs, const Constan
   std::unique_ptr<FrameRenderer> port;  // none with --against: the file's stages instead
   if (c.against.empty()) port = makeRenderer("gpu", rs.scene, fo.pathOptions());
   const CostModel costs = fo.costModel("cpu");
-  const FrameResult o = oracle->render(rs.camera, constants, {true, progressPrinter(fo.quiet, "oracle"), &costs});
-  const FrameResult p = port ? port->render(rs.camera, constants, {true, progressPrinter(fo.quiet, "port"), &costs})
-                             : readForeignStages(c.against, o).frame;
+  // SPEC §14: each path's own previous frame first, where the temporal term reads one
+  const Settings settings0 = fo.settings();
+  const FrameHistory oracleBefore = previousFrameHistory(*oracle, rs.camera, settings0, rs.framed.size, &costs);
+  const FrameHistory portBefore =
+      port ? previousFrameHistory(*port, rs.camera, settings0, rs.framed.size, &costs) : FrameHistory{};
+  RenderOptions oracleOptions{true, progressPrinter(fo.quiet, "oracle"), &costs}, portOptions{true, progressPrinter(fo.quiet, "port"), &costs};
+  if (!oracleBefore.empty()) oracleOptions.history = &oracleBefore;
+  if (!portBefore.empty()) portOptions.history = &portBefore;
+  const FrameResult o = oracle->render(rs.camera, constants, oracleOptions);
+  const FrameResult p = port ? port->render(rs.camera, constants, portOptions) : readForeignStages(c.against, o).frame;
   const nlohmann::json jo = probePixel(o, x, y), jp = probePixel(p, x, y);
   nlohmann::json both = probeBothJson(jo, jp);
   std::string text = c.json ? "" : formatProbeSideBySide(jo, jp, port ? port->device() : c.against);
@@ -150,7 +157,10 @@ int runProbeCommand(ProbeCommand& c) {
   const std::unique_ptr<FrameRenderer> renderer = makeRenderer(fo.path, rs.scene, fo.pathOptions());
   if (!fo.quiet && fo.path == "gpu") std::cerr << "[mrr] GL renderer: " << renderer->device() << "\n";
   const CostModel costs = fo.costModel(fo.path);
-  const FrameResult frame = renderer->render(rs.camera, constants, {true, progressPrinter(fo.quiet, toString(settings.mode)), &costs});
+  const FrameHistory previous = previousFrameHistory(*renderer, rs.camera, settings, rs.framed.size, &costs);  // SPEC §14
+  RenderOptions options{true, progressPrinter(fo.quiet, toString(settings.mode)), &costs};
+  if (!previous.empty()) options.history = &previous;
+  const FrameResult frame = renderer->render(rs.camera, constants, options);
   const nlohmann::json j = probePixel(frame, x, y);
   std::cout << (c.json ? j.dump(2) + "\n" : formatProbe(j));
   return 0;
@@ -179,7 +189,12 @@ int runRenderCommand(RenderCommand& c) {
   // The per-level blend images are debugging output: kept only when something shows them.
   const CostModel costs = fo.costModel(fo.path);
   pages.wait();
-  const FrameResult frame = renderer->render(rs.camera, constants, {keepStages, progressPrinter(fo.quiet, toString(settings.mode)), &costs});
+  // SPEC §14: the previous frame first, where the temporal term reads one
+  const FrameHistory previous =
+      previousFrameHistory(*renderer, rs.camera, settings, rs.framed.size, &costs, progressPrinter(fo.quiet, "previous frame"));
+  RenderOptions options{keepStages, progressPrinter(fo.quiet, toString(settings.mode)), &costs};
+  if (!previous.empty()) options.history = &previous;
+  const FrameResult frame = renderer->render(rs.camera, constants, options);
 
   std::optional<FrameErrors> err;
   if (c.reference) {

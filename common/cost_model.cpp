@@ -32,7 +32,7 @@ double effectMaskNs(const CostModel& m, const Constants& c) {
 }
 
 double refineNs(const CostModel& m, const Constants& c) {
-  if (!methodInfo(c.mode).aPosteriori || !(c.effectMask.posterior > 0.0f)) return 0.0;
+  if (!methodInfo(c.mode).aPosteriori || !c.effectMask.refines()) return 0.0;
   double ns = 0.0;  // the levels common/driver.cpp refines: enabled, finer than the coarsest, ℓ ≥ ℓ_v
   for (const LevelConstants& lc : c.levels)
     if (lc.enabled && lc.index != c.coarsestEnabled && lc.index >= c.effectMask.posteriorFinest)
@@ -411,6 +411,41 @@ FallbackDecision decideEarly(const CostModel& m, const Constants& c, const Frame
 
 FallbackDecision decideFallback(const CostModel& m, const Constants& c, const FrameCounts& n) {
   return decide(m, predictFullMs(m, c, n), predictMrrMs(m, c, n), false);
+}
+
+// ---- SPEC §12.4 ----------------------------------------------------------------------------
+
+PixelPrices refinementPrices(const CostModel& m, const Constants& c, int level, const FrameCounts& n) {
+  const EffectCost& e = effectCost(m, c);
+  const LevelConstants& lc = c.levels[static_cast<size_t>(level)];
+  // q_ℓ, the coverage of the level's paying pixels now; the marginal factor of §11's s_ℓ there
+  const double levelSearched = static_cast<double>(n.searchedPixels) / (static_cast<double>(lc.scale) * lc.scale);
+  const double q = levelSearched > 0.0 ? std::min(1.0, static_cast<double>(n.shadedSearched[static_cast<size_t>(level)]) / levelSearched) : 1.0;
+  const double marginal = 1.0 + (e.sparseFactor - 1.0) * (1.0 - 2.0 * q);
+  PixelPrices p;
+  p.paying = searchNs(e, c, lc, n) * marginal;
+  p.pcf = p.paying + e.nsPerPcfSample * c.samples() * marginal;
+  p.leaving = e.nsPerBackgroundPixel;
+  return p;
+}
+
+double refinementBudgetNs(const CostModel& m, const Constants& c, const FrameCounts& n) {
+  if (!(c.effectMask.budget > 0.0f)) return 0.0;
+  const double full = predictFullMs(m, c, n), method = predictMrrMs(m, c, n);
+  return std::max(0.0, (static_cast<double>(c.effectMask.budget) * full - method) * 1e6);
+}
+
+double predictLevelMs(const CostModel& m, const Constants& c, const FrameCounts& n, int level) {
+  const EffectCost& e = effectCost(m, c);
+  const LevelConstants& lc = c.levels[static_cast<size_t>(level)];
+  if (!lc.enabled || !lc.shaded) return 0.0;
+  const auto l = static_cast<size_t>(level);
+  const double paying = static_cast<double>(n.shadedSearched[l]);
+  const double off = std::max(0.0, static_cast<double>(n.shaded[l]) - paying);
+  const double pcf = static_cast<double>(n.shadedPcf[l]) * e.nsPerPcfSample * c.samples();
+  const double ns = (paying * searchNs(e, c, lc, n) + pcf) * sparseFactorAt(e, lc, paying, n) +
+                    off * e.nsPerBackgroundPixel + levelPassNs(e, lc, c, n);
+  return ns * 1e-6;
 }
 
 }  // namespace mrr

@@ -215,4 +215,25 @@ FallbackDecision decideOnFloor(const CostModel& model, const Constants& constant
 FallbackDecision decideEarly(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 FallbackDecision decideFallback(const CostModel& model, const Constants& constants, const FrameCounts& counts);
 
+// ---- SPEC §12.4: mrr-effect's a-posteriori term with a budget in predicted time -------------
+
+// What one more level-ℓ pixel costs, by its class, in ns (SPEC §11): paying the effect
+// (s'_ℓ (a + b N + ν f_ℓ)), paying PCF too (+ s'_ℓ e N), or leaving at once (c: off geometry, or SSM
+// facing away). s'_ℓ = 1 + (s − 1)(1 − 2 q_ℓ) is the marginal of §11's s_ℓ-priced level at its
+// coverage q_ℓ: the next pixel a stencil takes costs less than the first.
+struct PixelPrices {
+  double paying = 0.0, pcf = 0.0, leaving = 0.0;
+};
+PixelPrices refinementPrices(const CostModel& model, const Constants& constants, int level, const FrameCounts& counts);
+
+// The budget of the frame, in ns: B × full's predicted rest less the method's predicted rest on
+// its a-priori stencils (SPEC §11's predictFullMs and predictMrrMs on f.counts, which
+// countForRule filled), never below 0.
+double refinementBudgetNs(const CostModel& model, const Constants& constants, const FrameCounts& counts);
+
+// SPEC §12.4's per-level figures for the report: a shaded level's predicted time on its final
+// stencil (§11's terms for that level alone: its shaded pixels priced with s_ℓ, and d over the
+// level), ms.
+double predictLevelMs(const CostModel& model, const Constants& constants, const FrameCounts& counts, int level);
+
 }  // namespace mrr

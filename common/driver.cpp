@@ -1,5 +1,6 @@
 #include "common/driver.h"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -34,6 +35,10 @@ Masks buildMasks(FrameBackend& b, MaskBuilder builder, FrameResult& f) {
 
 void FrameBackend::refineMasks(FrameResult& /*f*/, int /*level*/) {
   throw MrrError(std::string("mrr-effect's a-posteriori term: the ") + pathName() + " path does not implement it");
+}
+
+void FrameBackend::temporal(FrameResult& /*f*/, const FrameHistory* /*history*/) {
+  throw MrrError(std::string("the temporal term (docs/spec.md §14): the ") + pathName() + " path does not implement it");
 }
 
 FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Camera& camera,
@@ -118,12 +123,28 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   // 4. Sub-images: the effect at stencilled pixels only, then SSAO's bilateral blur (SPEC §4).
   // mrr-effect's a-posteriori term (SPEC §12.2): coarse to fine, each finer level's masks
   // refined from the result of the level just shaded, then shaded.
-  const bool posterior = method.aPosteriori && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
+  const bool posterior = method.aPosteriori && c.effectMask.refines() && !f.fallback.fellBack;
   if (posterior) {
+    // SPEC §12.4: with a budget, what the a-priori stencils leave of B × full's predicted rest,
+    // shared among the levels still to refine (what one leaves, the next may spend).
+    const auto refined = [&](int l) {
+      return c.levels[static_cast<size_t>(l)].enabled && l != c.coarsestEnabled && l >= c.effectMask.posteriorFinest;
+    };
+    double budgetLeft = c.effectMask.budget > 0.0f ? refinementBudgetNs(model, c, f.counts) : 0.0;
     for (int l = kLevelCount - 1; l >= 0; --l) {
       if (!c.levels[static_cast<size_t>(l)].enabled) continue;
-      if (l != c.coarsestEnabled && l >= c.effectMask.posteriorFinest)
+      if (refined(l)) {
+        RefinementRecord& r = f.refinement[static_cast<size_t>(l)];
+        if (c.effectMask.budget > 0.0f) {
+          int levelsLeft = 0;
+          for (int k = l; k >= 0; --k) levelsLeft += refined(k) ? 1 : 0;
+          r.budgeted = true;
+          r.budgetNs = budgetLeft / levelsLeft;
+          r.prices = refinementPrices(model, c, l, f.counts);
+        }
         stage(stageName(Part::Stencil), [&] { b.refineMasks(f, l); });
+        budgetLeft = std::max(0.0, budgetLeft - r.spentNs);
+      }
       b.shadeLevel(f, l, stage);
     }
     f.countShadedPixels();
@@ -134,11 +155,21 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
 
   // 5. Upsample and blend, coarse to fine (SPEC §5); the peers compose their own way (§9).
   stage(stageName(Part::Final), [&] { b.blend(f); });
+  // SPEC §14: the temporal term, from the previous frame where there is one; the history for the next.
+  if (c.temporal.on()) stage(stageName(Part::Temporal), [&] { b.temporal(f, options.history); });
   // 6. The shaded image for viewing (SPEC §6).
   stage(stageName(Part::Shaded), [&] { b.shade(f); });
   b.endFrame(f);
   f.timings.push_back({timedName(Timed::Total), msSince(frameStart)});
   f.countHitPixels(b.fullResHit(f));  // a figure for reports, after the clock stopped
+  // SPEC §12.4: each level's predicted time on its final stencils, for the report beside the measured
+  if (method.neverSlower && !fellBackEarly) {
+    Masks stencils;
+    for (size_t l = 0; l < kLevelCount; ++l) stencils[l].stencil = f.levels[l].masks.stencil;
+    FrameCounts counts = f.counts;
+    countForRule(counts, stencils, f.constants, b.fullResHit(f), f.pcfSample);
+    for (int l = 0; l < kLevelCount; ++l) f.predictedLevelMs[static_cast<size_t>(l)] = predictLevelMs(model, f.constants, counts, l);
+  }
   return f;
 }
 

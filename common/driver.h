@@ -67,6 +67,10 @@ class FrameBackend {
   virtual void refineMasks(FrameResult& f, int level);
   // 5. Upsample and blend (the peers: their composition); 6. the shaded image.
   virtual void blend(FrameResult& f) = 0;
+  // SPEC §14, the temporal term (Constants::temporal on): with the previous frame's `history` (null:
+  // none), f.temporal from the blend's final image; then, either way, f.history for the next frame.
+  // The default refuses in one line.
+  virtual void temporal(FrameResult& f, const FrameHistory* history);
   virtual void shade(FrameResult& f) = 0;
 };
 

@@ -22,6 +22,7 @@
 #include "common/params.h"
 #include "common/scene.h"
 #include "common/shader_constants.h"
+#include "common/temporal.h"
 
 namespace mrr {
 
@@ -120,10 +121,24 @@ struct LevelResult {
   GBuffer gbuffer;   // empty for disabled levels
   MaskLevel masks;   // M_ℓ, a_ℓ, S_ℓ (mrr-effect with τ_v: as refined, SPEC §12.2)
   ImageU8 marks;     // SPEC §12.2: the a-posteriori marks at this level, after the level limit; empty unless refined
+  ImageU8 marked;    // SPEC §12.4: the next coarser level's pixels the budget marked for this level (its grid)
   ImageF raw;        // the effect before the bilateral blur
   ImageF sub;        // c_ℓ, after the bilateral blur
   int64_t shadedPixels = 0;       // |S_ℓ|
   int64_t shadedBlockPixels = 0;  // 8 × the 4×2 blocks holding any S_ℓ = 1: what llvmpipe shades
+};
+
+// SPEC §12.4: the a-posteriori term's budget at one refined level, and what it spent (the driver
+// gives each refined level its share and prices; the backend's selection fills the rest).
+struct RefinementRecord {
+  bool budgeted = false;   // selected within a budget (else τ_v alone decided, or nothing was refined)
+  double budgetNs = 0.0;   // this level's share of what was left
+  PixelPrices prices;      // SPEC §11's price of one more level-ℓ pixel by its class
+  double spentNs = 0.0;    // the predicted cost of the marks taken
+  int64_t candidates = 0, taken = 0, kept = 0;  // v over its threshold; marked; of those, marked before (§14.2)
+  // Each candidate's price (level n's grid, row-major), from the a-priori S_ℓ: the selection's
+  // input besides v, kept so that it can be made again on this frame's images (compare, probe).
+  std::vector<double> candidatePrices;
 };
 
 struct StageTiming {
@@ -153,6 +168,10 @@ struct FrameResult {
   ImageU8 levelLimit;
   FallbackDecision fallback;  // SPEC §11, mode mrr (the predictions also with the rule off)
   FrameCounts counts;         // what the rule counted (mode mrr)
+  std::array<RefinementRecord, kLevelCount> refinement;  // SPEC §12.4, mrr-effect with a budget
+  // SPEC §12.4's check of the model: each shaded level's predicted time on its final stencil
+  // (predictLevelMs; methods under the rule, after the frame's clock), beside its measured stages.
+  std::array<double, kLevelCount> predictedLevelMs{};
   std::array<LevelResult, kLevelCount> levels;
   BlendResult blend;  // ĉ_ℓ, α_ℓ, c'_ℓ, final, level map on W×H
   int64_t shadedPixelsTotal = 0;
@@ -166,9 +185,15 @@ struct FrameResult {
   double blockIdealSpeedup = 1.0;
   std::vector<StageTiming> timings;  // in pipeline order; "total" last
 
+  // SPEC §14, with Constants::temporal on: what the term made from the previous frame (empty
+  // without one), and what this frame leaves for the next.
+  TemporalImages temporal;
+  FrameHistory history;
+
   ImageF shaded;  // W×H linear RGB for viewing (SPEC §6)
 
-  const ImageF& final() const { return blend.final; }
+  // The effect buffer: the blend's (SPEC §5), or the temporal term's result where it ran (§14).
+  const ImageF& final() const { return temporal.empty() ? blend.final : temporal.result; }
   // idealSpeedupHit, from the stencils and the full-res G-buffer's hit flags (after the frame).
   void countHitPixels(const ImageU8& fullResHit);
   // What stage 5 blends: each level's c_ℓ, S_ℓ and a_ℓ (both paths' blend takes these).
@@ -193,6 +218,9 @@ struct RenderOptions {
   // report's predictions are the rule's own. `bench --calibrate` and `--rule-sweep` read them from
   // frames rendered with the rule off; a user who turned the rule off does not pay for them.
   bool sampleWithRuleOff = false;
+  // SPEC §14: the previous frame of the same camera's path, when it is known (the bench's camera
+  // paths, render --prev-frame/--pan, compare): the temporal term reads it. Null: none.
+  const FrameHistory* history = nullptr;
 };
 
 // SPEC §11 on a frame whose stencils are `masks` (counted into f.counts) and nothing else of

@@ -119,6 +119,24 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "mrr-effect: the ablation's effect-only arm: each level keeps only the pixels the footprint's widening adds, "
      "none of the edges' own (docs/spec.md section 12.3)",
      kFile, kPage, {}, MRR_FIELD(s.effectMask.effectOnly)},
+    {Param::EffectBudget, "effect_budget", "", K::Number, "share of full's predicted time",
+     "mrr-effect: the a-posteriori term's budget: it refines the candidates with the most variation per predicted "
+     "nanosecond until the method's predicted rest of frame reaches this share of full's (0: off, tau alone "
+     "decides; docs/spec.md section 12.4)",
+     kFile, kPage, closed(0, 1), MRR_FIELD(s.effectMask.budget)},
+    {Param::EffectTemporal, "effect_temporal", "", K::Number, "",
+     "mrr-effect: the temporal term's lambda: the share of the previous frame's result a pixel served by the "
+     "coarser levels keeps where reprojection finds the same surface (0: off; with a previous frame only: "
+     "--prev-frame, --pan, bench camera paths; docs/spec.md section 14)",
+     kFile, kPage, {0.0, 1.0, false, true}, MRR_FIELD(s.effectMask.temporal)},
+    {Param::EffectHysteresis, "effect_hysteresis", "", K::Number, "",
+     "mrr-effect: the a-posteriori marks' hysteresis h: a pixel the previous frame refined stays refined while its "
+     "variation stays above (1 - h) of what a new mark needs (0: off; docs/spec.md section 14.2)",
+     kFile, kPage, {0.0, 1.0, false, true}, MRR_FIELD(s.effectMask.hysteresis)},
+    {Param::TilesTemporal, "tiles_temporal", "", K::Number, "",
+     "tiles: docs/spec.md section 14's temporal term with this lambda, as mrr-effect's --effect-temporal, for "
+     "comparison (0: off, tiles as it is)",
+     kFile, kPage, {0.0, 1.0, false, true}, MRR_FIELD(s.tilesTemporal)},
     {Param::Ppd, "ppd", "", K::Number, "pixels per degree",
      "viewing conditions: pixels per degree of visual angle (67.02: a 0.7 m wide 4K display seen from 0.7 m); "
      "sets the eccentricity of --gaze and the reports' FLIP",

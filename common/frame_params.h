@@ -32,6 +32,9 @@ enum class Param {
   EffectCap, EffectFirstLevel, EffectScale,  // mrr-effect's widening (issue 35, SPEC §12)
   EffectPosterior, EffectPosteriorFinest,    // mrr-effect's a-posteriori marks (SPEC §12.2)
   EffectOnly,                                // the ablation's effect-only arm (SPEC §12.3)
+  EffectBudget,                              // the a-posteriori term's budget in predicted time (SPEC §12.4)
+  EffectTemporal, EffectHysteresis,          // the temporal term (SPEC §14)
+  TilesTemporal,                             // the same temporal term for tiles (SPEC §14)
   Ppd, Gaze, Foveate, PrevFrame, Pan,  // viewing conditions, foveation and motion (issue 37, SPEC §13)
   MemoryLimit, Quiet,
 };

@@ -18,7 +18,8 @@ constexpr MethodVariant kRuleVariants[] = {
 };
 // mrr-effect's parameters, and its switches (the ablation's arms, docs/spec.md §12).
 constexpr Param kEffectParams[] = {Param::EffectCap,       Param::EffectFirstLevel,      Param::EffectScale,
-                                   Param::EffectPosterior, Param::EffectPosteriorFinest, Param::EffectOnly};
+                                   Param::EffectPosterior, Param::EffectPosteriorFinest, Param::EffectOnly,
+                                   Param::EffectBudget,    Param::EffectTemporal,        Param::EffectHysteresis};
 constexpr MethodVariant kEffectVariants[] = {
     {"c", Param::EffectCap, "", "the widening's cap, level pixels"},
     {"f", Param::EffectFirstLevel, "", "the finest level widened"},
@@ -26,8 +27,17 @@ constexpr MethodVariant kEffectVariants[] = {
     {"p", Param::EffectPosterior, "", "the a-posteriori threshold tau_v (docs/spec.md §12.2)"},
     {"l", Param::EffectPosteriorFinest, "", "the finest level the a-posteriori term refines"},
     {"e", Param::EffectOnly, "1", "the ablation's effect-only arm (docs/spec.md §12.3)"},
+    {"b", Param::EffectBudget, "", "the a-posteriori term's budget, a share of full's predicted time (docs/spec.md §12.4)"},
+    {"t", Param::EffectTemporal, "", "the temporal term's lambda (docs/spec.md §14)"},
+    {"h", Param::EffectHysteresis, "", "the a-posteriori marks' hysteresis (docs/spec.md §14.2)"},
     {"noblur", Param::Sigma2, "0,0,0,0", "no mask blur (sigma2 0 at every level): the widening alone"},
     {"norule", Param::NeverSlower, "off", "without the never-slower rule (docs/spec.md §11)"},
+};
+
+// tiles' own temporal term, to compare with mrr-effect's (docs/spec.md §14): off unless asked.
+constexpr Param kTilesParams[] = {Param::TilesTemporal};
+constexpr MethodVariant kTilesVariants[] = {
+    {"t", Param::TilesTemporal, "", "docs/spec.md §14's temporal term with this lambda, as mrr-effect's"},
 };
 
 constexpr uint8_t kAllLevels = 0b1111;
@@ -73,7 +83,7 @@ const MethodInfo kMethods[] = {
      0b0111, 0b0111, false,
      true, MaskBuilder::Tiles, Compose::Broadcast,
      false, false, false,
-     {}, {},
+     kTilesParams, kTilesVariants,
      3, "#ff7f0e", "^",
      true, true, true},
     {Mode::MrrEffect, "mrr-effect", "", "mrr-effect (masks that see the effect)",

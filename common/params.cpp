@@ -27,6 +27,19 @@ Effect parseEffect(const std::string& name) {
 }
 
 // Table 1 of the paper (SPEC §3). i = ℓ + 1; the coarsest level covers everything.
+namespace {
+// By Effect (ssao, ssm, ssgi): the widening's cap, τ_v, the budget B, λ and h.
+struct EffectDefaults {
+  int cap;
+  float posterior, budget, temporal, hysteresis;
+};
+constexpr EffectDefaults kEffectDefaults[] = {
+    {EffectMaskSettings::kDefaultCap, 0.0f, 0.0f, 0.0f, 0.0f},  // ssao
+    {EffectMaskSettings::kDefaultCap, 0.0f, 0.0f, 0.0f, 0.0f},  // ssm
+    {EffectMaskSettings::kDefaultCap, 0.0f, 0.0f, 0.0f, 0.0f},  // ssgi
+};
+}  // namespace
+
 Settings defaultSettings(Effect effect) {
   Settings s;
   s.effect = effect;
@@ -44,6 +57,14 @@ Settings defaultSettings(Effect effect) {
                    {true, 0.0f, 1.0f}}};
       break;
   }
+  // mrr-effect's defaults (docs/figures.md, "mrr-effect beyond the catalogue"): the setting that
+  // measured best; each is a parameter, so today's earlier settings stay one option away.
+  const EffectDefaults& d = kEffectDefaults[static_cast<size_t>(effect)];
+  s.effectMask.cap = d.cap;
+  s.effectMask.posterior = d.posterior;
+  s.effectMask.budget = d.budget;
+  s.effectMask.temporal = d.temporal;
+  s.effectMask.hysteresis = d.hysteresis;
   return s;
 }
 
@@ -196,6 +217,13 @@ Constants makeConstants(const Settings& s, float framedSize) {
   c.effectMask.posterior = s.effectMask.posterior;
   c.effectMask.posteriorFinest = s.effectMask.posteriorFinest;
   c.effectMask.effectOnly = s.effectMask.effectOnly;
+  c.effectMask.budget = s.effectMask.budget;
+  c.effectMask.temporal = s.effectMask.temporal;
+  c.effectMask.hysteresis = s.effectMask.hysteresis;
+  // SPEC §14: the temporal term of the frame's method (mrr-effect's, or tiles' for comparison).
+  c.temporal.lambda = s.mode == Mode::MrrEffect ? s.effectMask.temporal : s.mode == Mode::Tiles ? s.tilesTemporal : 0.0f;
+  c.temporal.depthTolerance = kTemporalDepthTolerance;
+  c.temporal.normalCos = kTemporalNormalCos;
   makeFoveationConstants(s.foveation, c.foveation);
 
   c.renderCoarseGBuffer = s.renderCoarseGBuffer;

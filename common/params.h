@@ -71,6 +71,12 @@ struct SsgiSettings {
   static constexpr float kDiagonalFractionBefore = 0.06f;
 };
 
+// SPEC §14: a history tap shows the same surface as the pixel when its view depth is within δ of
+// the depth the pixel's point has in the previous view (relative, as the bilateral blur's 5%) and its
+// normal within acos κ ≈ 26° of the pixel's (as τ_n's edge test).
+inline constexpr float kTemporalDepthTolerance = 0.05f;
+inline constexpr float kTemporalNormalCos = 0.9f;
+
 // mrr-effect only (SPEC §12): how far each level's edge mask is widened by the effect's footprint.
 struct EffectMaskSettings {
   float scale = 1.0f;  // the footprint's multiplier [0, 16]; 0 = mrr's masks exactly
@@ -85,6 +91,18 @@ struct EffectMaskSettings {
   // The ablation's "effect only" arm (SPEC §12.3, bench variant +e): each widened level keeps only
   // the pixels the widening adds (M'_ℓ ∧ ¬M_ℓ), each level below firstLevel nothing; both paths.
   bool effectOnly = false;
+  // SPEC §12.4, the budget in predicted time: the a-posteriori term refines, most variation per
+  // predicted nanosecond first, until the method's predicted rest reaches `budget` × full's
+  // (SPEC §11's cost model); (0, 1], 0 = off (then τ_v alone decides, as before). With a budget,
+  // τ_v is the least variation a candidate needs (0: any).
+  float budget = 0.0f;
+  // SPEC §14, the temporal term: λ, how much of the previous frame's result a pixel served by the
+  // coarser levels keeps where reprojection finds the same surface, [0, 1); 0 = off. Used only
+  // when the frame has a previous one (--prev-frame, --pan, the bench's camera paths).
+  float temporal = 0.0f;
+  // SPEC §14.2, the marks' hysteresis: a candidate the previous frame refined keeps its mark while
+  // its variation stays above (1 − h) × what a new one needs, [0, 1); 0 = off.
+  float hysteresis = 0.0f;
   static constexpr int kDefaultCap = 8;
 };
 
@@ -141,6 +159,7 @@ struct Settings {
   SsgiSettings ssgi;
   BilateralSettings bilateral;
   EffectMaskSettings effectMask;  // mode mrr-effect only
+  float tilesTemporal = 0.0f;     // mode tiles: SPEC §14's λ, for comparison (0: off)
   FoveationSettings foveation;    // modes mrr, mrr-effect and tiles (SPEC §13)
   // SPEC §11: in mode mrr, shade the frame at full res when the cost model predicts no gain.
   bool neverSlower = true;
@@ -217,7 +236,20 @@ struct Constants {
     float posterior = 0.0f;
     int posteriorFinest = 0;
     bool effectOnly = false;
+    float budget = 0.0f;      // SPEC §12.4 (0: off)
+    float temporal = 0.0f;    // SPEC §14 λ (0: off)
+    float hysteresis = 0.0f;  // SPEC §14.2 h (0: off)
+    // The a-posteriori term runs (coarse to fine shading, §12.2): a threshold or a budget.
+    bool refines() const { return posterior > 0.0f || budget > 0.0f; }
   } effectMask;
+  // SPEC §14: the temporal term, resolved for the frame's method (mrr-effect's λ, tiles' own;
+  // 0 for every other method). It runs only when the frame has a previous one (RenderOptions::history).
+  struct Temporal {
+    float lambda = 0.0f;
+    float depthTolerance = 0.0f;  // δ: a history tap is the same surface when |z_t − z'| ≤ δ z'
+    float normalCos = 0.0f;       // κ: ... and its normal · this one's ≥ κ
+    bool on() const { return lambda > 0.0f; }
+  } temporal;
   // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before.
   struct Foveation {
     bool gaze = false, motion = false;

@@ -249,16 +249,25 @@ const std::vector<ShaderContract>& shaderContracts() {
        "cpu_ref/effect_masks.cpp refineMasks (docs/spec.md §12.2 step 2): M_l |= marks; a_l = G * M_l again; S_l |= "
        "[a_l > 0], keeping what the closure gave S_l."},
       {"refinement_marks.frag", "fragment", "refinement_marks.*",
-       "STEP: 1 the range test at the coarser level n, 2 each finer pixel takes its parent's mark; CHANNELS: c_n's "
-       "channels (step 1); RATIO: 2^(n-l) (step 2)",
-       {{"source", "sampler2D R32F, RGBA32F or R8", "step 1: c_n, the coarser level's result; step 2: step 1's marks"},
+       "STEP: 1 the range test at the coarser level n, 2 each finer pixel takes its parent's mark; PASS (step 1): 1 "
+       "along x, 2 along y (the separable form the pipeline draws), 0 the whole 3x3 at once (the readable form); "
+       "CHANNELS: c_n's channels (step 1); RANGE_OUT (step 1): 1 writes v itself (R32F) for docs/spec.md §12.4's "
+       "budget, 0 the mark; RATIO: 2^(n-l) (step 2)",
+       {{"source", "sampler2D R32F, RGBA32F or R8",
+         "step 1: c_n, the coarser level's result (pass 2: pass 1's minima); step 2: step 1's marks"},
         {"stencil", "sampler2D R8", "S_n", -1, "STEP == 1"},
-        {"positionHit", "sampler2D RGBA32F", "level n's G-buffer: view position, hit", -1, "STEP == 1"}},
+        {"positionHit", "sampler2D RGBA32F", "level n's G-buffer: view position, hit", -1, "STEP == 1"},
+        {"maxima", "sampler2D RGBA32F", "pass 1's maxima", -1, "STEP == 1 && PASS == 2"}},
        {{"tau", "float", "tau_v, the a-posteriori threshold", -1, "STEP == 1"}},
-       {{"result", "vec4 -> R8", "[v(q) > tau_v] (step 1), the mark at level l (step 2) in r", 0}},
+       {{"result", "vec4 -> R8, R32F or RGBA32F",
+         "[v(q) > tau_v] or v (step 1; pass 1: each channel's minimum over the row of three), the mark at level l "
+         "(step 2) in r",
+         0},
+        {"highest", "vec4 -> RGBA32F", "pass 1: each channel's maximum over the row of three", 1, "STEP == 1 && PASS == 1"}},
        "cpu_ref/effect_masks.cpp refinementMarks (docs/spec.md §12.2 step 1): v(q) = max - min of c_n over q's 3x3 "
-       "neighbourhood of shaded hit pixels, the largest over the channels; a level-l pixel p is marked where "
-       "v(floor(p / 2^(n-l))) > tau_v. SPEC §13's limit is then masks.frag STEP 5."},
+       "neighbourhood of shaded hit pixels, the largest over the channels (localRangesSeparable, equal to localRange); "
+       "a level-l pixel p is marked where v(floor(p / 2^(n-l))) > tau_v, or where §12.4's budget selected its parent. "
+       "SPEC §13's limit is then masks.frag STEP 5."},
       {"shade.frag", "fragment", "shade.0, shade.1, shade.2", "EFFECT: 0 SSAO, 1 SSM, 2 SSGI",
        {{"positionHit", "sampler2D RGBA32F", "the level-0 G-buffer: view position, hit"},
         {"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth"},
@@ -347,6 +356,27 @@ const std::vector<ShaderContract>& shaderContracts() {
          "mapFootprintAt: how far its neighbours' receivers lie on the map)", 0}},
        "cpu_ref/ssm.cpp ssmAt: PCSS (Fernando 2005), a blocker search then an n x n PCF over the filter width. Drawn "
        "with the stencil test. PCF_SAMPLE: cpu_ref/ssm.cpp pcfSample."},
+      {"temporal.frag", "fragment", "temporal.1, temporal.3", "CHANNELS: the effect's (1 or 3)",
+       {{"positionHit", "sampler2D RGBA32F", "the level-0 G-buffer: view position, hit"},
+        {"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth"},
+        {"stencil0", "sampler2D R8", "S_0"},
+        {"alpha0", "sampler2D R32F", "a_0"},
+        {"blended", "sampler2D R32F or RGBA32F", "the blend's final image c, W x H"},
+        {"previousResult", "sampler2D R32F or RGBA32F", "the previous frame's result, W x H (uploaded)"},
+        {"previousNormalDepth", "sampler2D RGBA32F", "the previous frame's view normal (rgb) and depth (a), W x H (uploaded)"}},
+       {{"row0", "vec3", "row 0 of R, this view space to the previous one (common/temporal.h makeReprojection)"},
+        {"row1", "vec3", "row 1 of R"},
+        {"row2", "vec3", "row 2 of R"},
+        {"offset", "vec3", "t: p' = R p + t"},
+        {"previousProjection", "vec3", "the previous view's cx, cy and focal, full-res pixels"},
+        {"lambda", "float", "lambda, the share of the history a coarse pixel keeps"},
+        {"weight0", "float", "w_0, level 0's blend weight"},
+        {"depthTolerance", "float", "delta: the same surface within delta z' (relative)"},
+        {"normalCos", "float", "kappa: the same surface where n_t . n' >= kappa"}},
+       {{"result", "vec4 -> R32F or RGBA32F", "final' = c + lambda_p (h - c)", 0},
+        {"history", "vec4 -> RGBA32F", "h in rgb, lambda_p in a", 1}},
+       "cpu_ref/temporal.cpp temporalTerm (docs/spec.md §14 steps 1-6): reprojectAt, historyTaps, sameSurface, "
+       "historyAt, temporalWeight with levelZeroAlpha, temporalBlend."},
       {"stencil.frag", "fragment", "stencil", "", {kStencilMask}, {}, {},
        "none: fills the stencil buffer from S_l (discard where S = 0); the effect passes then run with the stencil test."},
   };

@@ -40,6 +40,7 @@ enum class Timed {
   Effect,      // effect.L<ℓ>
   Bilateral,   // bilateral.L<ℓ>
   Blend,       // blend
+  Temporal,    // temporal (SPEC §14: with a previous frame)
   Shade,       // shade
   Total,       // total: the frame's wall clock
 };
@@ -64,6 +65,7 @@ enum class Part {
   Composite,   // 5. c'_ℓ
   LevelMap,    // 5. the finest level with α > 0
   Final,       // 5. the effect buffer
+  Temporal,    // 5. SPEC §14: the previous frame's result reprojected, and its weight
   Shaded,      // 6. the shaded image for viewing
 };
 
@@ -120,7 +122,11 @@ inline constexpr PartInfo kParts[] = {
     {Part::LevelMap, "levelmap", false, 5, Timed::Blend, "blend.frag", "level", "", "",
      "the finest level with alpha > 0 at each pixel"},
     {Part::Final, "final", false, 5, Timed::Blend, "blend.frag", "effect:Y", "final", "blend.same_input",
-     "the effect buffer (= --out)"},
+     "the effect buffer (= --out; with SPEC 14's temporal term, its result)"},
+    {Part::Temporal, "temporal", false, 5, Timed::Temporal, "temporal.frag", "effect:h weight", "temporal",
+     "temporal.same_input",
+     "SPEC 14: the previous frame's result reprojected where it shows the same surface (h), and the share lambda_p "
+     "of it the pixel keeps (0: none)"},
     {Part::Shaded, "shaded", false, 6, Timed::Shade, "shade.frag", "R G B", "shaded", "",
      "the shaded image for viewing (= --shaded)"},
 };
@@ -232,6 +238,8 @@ inline constexpr TimedInfo kTimed[] = {
      "SSAO's mask-aware bilateral blur of level l"},
     {Timed::Blend, "blend", false, CostClass::Rest, CostClass::Rest, TimedOn::Both,
      "upsample and blend, coarse to fine; the peers' composition (beta)"},
+    {Timed::Temporal, "temporal", false, CostClass::Rest, CostClass::Rest, TimedOn::Both,
+     "SPEC 14's temporal term: the previous frame's result reprojected and blended, and the history kept for the next"},
     {Timed::Shade, "shade", false, CostClass::Viewing, CostClass::Viewing, TimedOn::Both,
      "the shaded image for viewing"},
     {Timed::Total, "total", false, CostClass::Total, CostClass::Total, TimedOn::Both,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/parallel.h"
 #include "cpu_ref/masks.h"
@@ -114,21 +115,81 @@ float localRange(const ImageF& c, const ImageU8& stencil, const ImageU8& hit, in
   return range;
 }
 
-ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, const ImageU8& coarserHit, int ratio,
-                        int finerWidth, int finerHeight, float tau) {
-  const int w = coarser.width, h = coarser.height;
-  // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
-  ImageU8 varies(w, h, 1, 0);
-  parallelFor(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) varies.at(x, y) = localRange(coarser, coarserStencil, coarserHit, x, y) > tau;
+ImageF localRanges(const ImageF& c, const ImageU8& stencil, const ImageU8& hit) {
+  ImageF v = ImageF::uninitialised(c.width, c.height);
+  parallelFor(0, c.height, [&](int y) {
+    for (int x = 0; x < c.width; ++x) v.at(x, y) = localRange(c, stencil, hit, x, y);
   });
-  // 2. each finer pixel takes its coarser parent's mark
+  return v;
+}
+
+ImageF localRangesSeparable(const ImageF& c, const ImageU8& stencil, const ImageU8& hit) {
+  const int w = c.width, h = c.height, ch = c.channels;
+  constexpr float kNone = std::numeric_limits<float>::infinity();
+  const auto valid = [&](int x, int y) { return stencil.at(x, y) && hit.at(x, y); };
+  // 1a. along x: the min and max of each channel over (x − 1 .. x + 1, y), excluded pixels neutral
+  ImageF lo = ImageF::uninitialised(w, h, ch), hi = ImageF::uninitialised(w, h, ch);
+  parallelFor(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < ch; ++k) {
+        float a = kNone, b = -kNone;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx;
+          if (xx < 0 || xx >= w || !valid(xx, y)) continue;
+          a = std::min(a, c.at(xx, y, k));
+          b = std::max(b, c.at(xx, y, k));
+        }
+        lo.at(x, y, k) = a;
+        hi.at(x, y, k) = b;
+      }
+  });
+  // 1b. along y: over (x, y − 1 .. y + 1) of those; v = the largest max − min over the channels
+  ImageF v = ImageF::uninitialised(w, h);
+  parallelFor(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      if (!valid(x, y)) {
+        v.at(x, y) = -1.0f;
+        continue;
+      }
+      float range = 0.0f;
+      for (int k = 0; k < ch; ++k) {
+        float a = kNone, b = -kNone;
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int yy = y + dy;
+          if (yy < 0 || yy >= h) continue;
+          a = std::min(a, lo.at(x, yy, k));
+          b = std::max(b, hi.at(x, yy, k));
+        }
+        range = std::max(range, b - a);
+      }
+      v.at(x, y) = range;
+    }
+  });
+  return v;
+}
+
+ImageU8 variesAbove(const ImageF& range, float tau) {
+  ImageU8 varies = ImageU8::uninitialised(range.width, range.height);
+  for (size_t i = 0; i < varies.data.size(); ++i) varies.data[i] = range.data[i] > tau;
+  return varies;
+}
+
+ImageU8 parentMarks(const ImageU8& varies, int ratio, int finerWidth, int finerHeight) {
+  const int w = varies.width, h = varies.height;
   ImageU8 marks = ImageU8::uninitialised(finerWidth, finerHeight);
   parallelFor(0, finerHeight, [&](int y) {
     const int py = std::min(y / ratio, h - 1);
     for (int x = 0; x < finerWidth; ++x) marks.at(x, y) = varies.at(std::min(x / ratio, w - 1), py);
   });
   return marks;
+}
+
+ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, const ImageU8& coarserHit, int ratio,
+                        int finerWidth, int finerHeight, float tau) {
+  // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood (separably)
+  const ImageU8 varies = variesAbove(localRangesSeparable(coarser, coarserStencil, coarserHit), tau);
+  // 2. each finer pixel takes its coarser parent's mark
+  return parentMarks(varies, ratio, finerWidth, finerHeight);
 }
 
 void refineMasksReference(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {

@@ -32,12 +32,25 @@ ImageU8 wideningOnly(const ImageU8& widened, const ImageU8& geometry);
 // largest over the channels; −1 where q itself is not such a pixel (never marked).
 float localRange(const ImageF& c, const ImageU8& stencil, const ImageU8& hit, int x, int y);
 
+// SPEC §12.2 step 1's v at every pixel of the level (−1 where q is not a shaded hit pixel), made
+// separably: per channel the min and max over each pixel's row of three, the excluded pixels
+// neutral (+∞, −∞), then over the column of three of those. min and max are exact and the
+// centre is always in both, so it equals localRange at every pixel
+// (EffectMasks.SeparableRangeEqualsTheWholeNeighbourhood). `localRanges` is the readable form.
+ImageF localRanges(const ImageF& c, const ImageU8& stencil, const ImageU8& hit);
+ImageF localRangesSeparable(const ImageF& c, const ImageU8& stencil, const ImageU8& hit);
+
 // SPEC §12.2, a posteriori, step 1: the marks at a finer level from its next coarser level's
 // result c (SSAO: after the bilateral blur): the local range v(q) = max − min of c over q's 3×3
 // neighbourhood of shaded (S = 1) hit pixels, the largest over the channels; a finer pixel p is
 // marked where v(⌊p / ratio⌋) > τ. `finerWidth` × `finerHeight` is the finer level's grid.
 ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, const ImageU8& coarserHit, int ratio,
                         int finerWidth, int finerHeight, float tau);
+// Its two parts: 1. [v(q) > τ] from v (localRangesSeparable); 2. each finer pixel p takes the mark
+// of its parent (min(⌊p_x / ratio⌋, w_n − 1), min(⌊p_y / ratio⌋, h_n − 1)). With SPEC §12.4's budget
+// step 1 is the selection (common/effect_budget.h) instead.
+ImageU8 variesAbove(const ImageF& range, float tau);
+ImageU8 parentMarks(const ImageU8& varies, int ratio, int finerWidth, int finerHeight);
 
 // SPEC §12.2 step 2: M_ℓ ∨= marks; a_ℓ = G(σ_ℓ²) ∗ M_ℓ again; S_ℓ ∨= [a_ℓ > 0] (what the closure
 // gave S_ℓ from finer levels is kept). Not for the coarsest enabled level (a ≡ 1).

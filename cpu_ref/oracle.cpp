@@ -16,6 +16,7 @@
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
+#include "cpu_ref/temporal.h"
 
 namespace mrr {
 
@@ -149,14 +150,32 @@ Masks OracleStages::masks(const FrameResult& in, MaskBuilder builder, ImageU8* r
   return {};
 }
 
-ImageU8 OracleStages::marks(const FrameResult& in, int l) const {
+ImageU8 OracleStages::marks(const FrameResult& in, int l, RefinementSelection* selection) const {
   const Constants& c = in.constants;
   const int next = c.nextCoarserEnabled(l);
   const LevelResult& coarser = in.levels[static_cast<size_t>(next)];
   const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+  const RefinementRecord& budget = in.refinement[static_cast<size_t>(l)];
+  // 1. which coarser pixels vary: v(q) > τ_v, or with a budget the selection (SPEC §12.4)
+  const ImageF range = localRangesSeparable(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit);
+  ImageU8 varies;
+  if (budget.budgeted) {
+    // the prices from the a-priori S_ℓ: made here before the refinement, or the frame's own (kept)
+    std::vector<double> prices = !budget.candidatePrices.empty()
+                                     ? budget.candidatePrices
+                                     : candidatePrices(in.levels[static_cast<size_t>(l)].masks.stencil,
+                                                       in.levels[0].gbuffer.hit, in.pcfSample, c, l, next, budget.prices);
+    RefinementSelection chosen =
+        selectRefinement(range, prices, budget.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis, nullptr);
+    chosen.prices = std::move(prices);
+    varies = chosen.varies;
+    if (selection) *selection = std::move(chosen);
+  } else {
+    varies = variesAbove(range, c.effectMask.posterior);
+  }
   Masks marks;  // level ℓ's marks alone, so that SPEC §13's limit clears them as it cleared M_ℓ
-  marks[static_cast<size_t>(l)].mask = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit,
-                                                       1 << (next - l), lc.width, lc.height, c.effectMask.posterior);
+  // 2. each finer pixel takes its parent's mark
+  marks[static_cast<size_t>(l)].mask = parentMarks(varies, 1 << (next - l), lc.width, lc.height);
   if (const ImageU8* limit = limitOf(in)) applyLevelLimit(marks, *limit, c);
   return std::move(marks[static_cast<size_t>(l)].mask);
 }
@@ -264,6 +283,17 @@ BlendResult OracleStages::blendStepwise(const FrameResult& in) const {
   }
   if (coarser >= 0) out.final = in.blend.composite[static_cast<size_t>(coarser)];  // the finest composite is the final image
   return out;
+}
+
+// ---- §14. The temporal term ----------------------------------------------------------------
+
+TemporalImages OracleStages::temporal(const FrameResult& in, const FrameHistory& history) const {
+  const Constants& c = in.constants;
+  require(history.result.width == c.width && history.result.height == c.height &&
+              history.result.channels == in.blend.final.channels,
+          "the temporal term: the previous frame is " + std::to_string(history.result.width) + "x" +
+              std::to_string(history.result.height) + ", this one " + std::to_string(c.width) + "x" + std::to_string(c.height));
+  return temporalTerm(in, in.blend.final, history);
 }
 
 // ---- 6. The shaded image ----------------------------------------------------------------------

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/driver.h"
+#include "common/effect_budget.h"
 #include "common/frame.h"
 #include "common/params.h"
 #include "common/scene.h"
@@ -75,7 +76,10 @@ class OracleStages {
   ImageU8 tileRates(const FrameResult& in) const;
   // §12.2: level ℓ's a-posteriori marks from its next coarser enabled level's result, limited
   // as M_ℓ was. Reads: sub, stencil and gbuffer.hit of that level; levellimit.
-  ImageU8 marks(const FrameResult& in, int level) const;
+  // With SPEC §12.4's budget (in.refinement[ℓ].budgeted) the coarser pixels are marked by the
+  // selection instead of τ_v alone (also reads gbuffer.L0's hit, stencil.Lℓ, the PCF sample and
+  // in.refinement[ℓ]); `selection`, if given, receives it (empty without a budget).
+  ImageU8 marks(const FrameResult& in, int level, RefinementSelection* selection = nullptr) const;
   // §12.2 step 2: M_ℓ ∨= marks, a_ℓ blurred again, S_ℓ ∨= [a_ℓ > 0].
   void refine(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) const;
 
@@ -93,6 +97,11 @@ class OracleStages {
   // c_ℓ, S_ℓ, a_ℓ; c'_ℓ from its ĉ_ℓ, α_ℓ and c'_coarser); the peers' composition as `blend`.
   // Levels whose blend images `in` does not hold are left empty.
   BlendResult blendStepwise(const FrameResult& in) const;
+
+  // §14's temporal term: the previous frame's result reprojected and blended where the coarser
+  // levels serve the pixel. Reads: final (the blend's), gbuffer.L0, stencil.L0, alpha.L0, view;
+  // the history.
+  TemporalImages temporal(const FrameResult& in, const FrameHistory& history) const;
 
   // 6. The shaded image for viewing (§6). Reads: gbuffer.L0, final, shadowtest, view; the light.
   ImageF shaded(const FrameResult& in) const;

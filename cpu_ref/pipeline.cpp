@@ -5,6 +5,7 @@
 
 #include "common/driver.h"
 #include "common/stages.h"
+#include "cpu_ref/temporal.h"
 
 namespace mrr {
 
@@ -73,12 +74,29 @@ class OracleFrame final : public FrameBackend {
 
   void refineMasks(FrameResult& f, int l) override {
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    ImageU8 marks = stages_.marks(f, l);
+    RefinementSelection selection;
+    ImageU8 marks = stages_.marks(f, l, &selection);
+    RefinementRecord& r = f.refinement[static_cast<size_t>(l)];  // SPEC §12.4: what the budget bought
+    if (r.budgeted) {
+      r.spentNs = selection.spentNs;
+      r.candidates = selection.candidates;
+      r.taken = selection.taken;
+      r.kept = selection.kept;
+      r.candidatePrices = std::move(selection.prices);
+      f.levels[static_cast<size_t>(l)].marked = std::move(selection.varies);
+    }
     stages_.refine(lr.masks, marks, f.constants.levels[static_cast<size_t>(l)]);
     lr.marks = std::move(marks);
   }
 
   void blend(FrameResult& f) override { f.blend = stages_.blend(f, options_.keepStages); }
+  void temporal(FrameResult& f, const FrameHistory* history) override {
+    if (history && !history->empty()) {
+      f.temporal = stages_.temporal(f, *history);
+      if (options_.keepStages) f.temporal.previous = std::make_shared<const FrameHistory>(*history);
+    }
+    f.history = makeHistory(f);
+  }
   void shade(FrameResult& f) override { f.shaded = stages_.shaded(f); }
 
  private:

@@ -15,6 +15,8 @@
 #include "cpu_ref/ssao.h"
 #include "cpu_ref/ssgi.h"
 #include "cpu_ref/ssm.h"
+#include "cpu_ref/temporal.h"
+#include "common/effect_budget.h"
 
 namespace mrr {
 
@@ -51,14 +53,18 @@ CoverageArms coverageArms(const FrameResult& f) {
     geometry[l].mask = effect && c.effectMask.effectOnly ? ImageU8(g.width, g.height, 1, 0) : g;
     arms.widened[l].mask = effect ? arms.stages.widened[l] : g;
   }
-  const bool posterior = method.aPosteriori && c.effectMask.posterior > 0.0f && !f.fallback.fellBack;
+  const bool posterior = method.aPosteriori && c.effectMask.refines() && !f.fallback.fellBack;
   for (int l = 0; l < kLevelCount; ++l) {
     const int next = c.nextCoarserEnabled(l);
     if (!posterior || !c.levels[static_cast<size_t>(l)].enabled || next < 0 || l < c.effectMask.posteriorFinest) continue;
     const LevelResult& coarser = f.levels[static_cast<size_t>(next)];
     const ImageU8& m = arms.widened[static_cast<size_t>(l)].mask;
-    marks[static_cast<size_t>(l)].mask = refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit,
-                                                         1 << (next - l), m.width, m.height, c.effectMask.posterior);
+    const ImageU8& marked = f.levels[static_cast<size_t>(l)].marked;  // SPEC §12.4: the budget's selection
+    marks[static_cast<size_t>(l)].mask =
+        f.refinement[static_cast<size_t>(l)].budgeted && !marked.empty()
+            ? parentMarks(marked, 1 << (next - l), m.width, m.height)
+            : refinementMarks(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit, 1 << (next - l), m.width,
+                              m.height, c.effectMask.posterior);
   }
   // 2. their blurs, before and after SPEC §13's limit
   arms.limited = !f.levelLimit.empty();
@@ -157,6 +163,14 @@ std::array<nlohmann::json, kLevelCount> coverageWhy(const FrameResult& f, int x,
       j["mark_range"] = localRange(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit, px, py);
       j["tau"] = c.effectMask.posterior;
       j["a_marks"] = arms.aMarks[li].at(qx, qy);
+      const RefinementRecord& budget = f.refinement[li];
+      if (budget.budgeted) {  // SPEC §12.4: the parent's price and the level's budget
+        const std::vector<double>& prices = budget.candidatePrices;
+        const size_t at = static_cast<size_t>(py) * static_cast<size_t>(coarser.sub.width) + static_cast<size_t>(px);
+        if (at < prices.size()) j["mark_price_ns"] = prices[at];
+        j["budget_ns"] = budget.budgetNs;
+        j["budget_spent_ns"] = budget.spentNs;
+      }
     }
     if (reason == Coverage::Effect && arms.widened[li].mask.at(qx, qy) && !arms.stages.reach[li].empty()) {
       // the nearest edge pixel whose square of side 2K + 1 holds q (SPEC §12 step 3)
@@ -324,6 +338,15 @@ nlohmann::json probePixel(const FrameResult& f, int x, int y) {
   }
   j["finest_contributing_level"] = f.blend.levelMap.at(x, y);
   j[partName(Part::Final)] = scalarOrVec(f.blend.final, x, y);
+  if (!f.temporal.empty()) {  // SPEC §14: whether the pixel kept the previous frame's result, and how much
+    const float lambdaP = f.temporal.weight.at(x, y);
+    j[partName(Part::Temporal)] = {{"kept_history", lambdaP > 0.0f},
+                                   {"lambda", c.temporal.lambda},
+                                   {"alpha0", levelZeroAlpha(f.levels[0].masks, c.levels[0].weight, x, y)},
+                                   {"lambda_p", lambdaP},
+                                   {"history", scalarOrVec(f.temporal.history, x, y)},
+                                   {"result", scalarOrVec(f.temporal.result, x, y)}};
+  }
   return j;
 }
 
@@ -448,6 +471,17 @@ std::string formatProbe(const nlohmann::json& j) {
       << fmt(l["alpha"]) << "  -> composite c' " << fmt(l[partName(Part::Composite)]) << "\n";
   }
   o << "finest contributing level " << j["finest_contributing_level"] << ", final " << fmt(j[partName(Part::Final)]) << "\n";
+  if (j.contains(partName(Part::Temporal))) {  // SPEC §14
+    const auto& t = j[partName(Part::Temporal)];
+    if (t["kept_history"].get<bool>())
+      o << "temporal (SPEC 14): kept the previous frame's result: lambda_p = lambda " << fmt(t["lambda"]) << " x (1 - alpha_0 "
+        << fmt(t["alpha0"]) << ") = " << fmt(t["lambda_p"]) << " of its reprojected h " << fmt(t["history"]) << " -> "
+        << fmt(t["result"]) << "\n";
+    else
+      o << "temporal (SPEC 14): no history kept here (off geometry, at full res, or no tap of the previous frame shows "
+           "the same surface) -> "
+        << fmt(t["result"]) << "\n";
+  }
   return o.str();
 }
 

@@ -406,6 +406,12 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
       out.caption = "the finest level with alpha > 0: one ramp colour per level, 0 (full) dark to 3 (1/8) bright";
       break;
     case Part::Final: effect(f.final(), "the effect buffer"); break;
+    case Part::Temporal:  // SPEC §14: the share of the previous frame each pixel kept
+      out.kind = LayerKind::Effect;
+      out.values = f.temporal.weight;
+      out.channels = {"lambda_p"};
+      out.caption = "SPEC 14: lambda_p, the share of the previous frame's result the pixel kept (0: none)";
+      break;
     case Part::Shaded:
       out.kind = LayerKind::Colour;
       out.values = f.shaded;

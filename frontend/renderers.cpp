@@ -32,4 +32,26 @@ BenchPath benchPath(const std::string& path, int threads, const PathOptions& opt
           }};
 }
 
+FrameHistory previousFrameHistory(const FrameRenderer& renderer, const Camera& camera, const Settings& settings,
+                                  float framedSize, const CostModel* costs, const ProgressFn& progress) {
+  const Constants c = makeConstants(settings, framedSize);
+  if (!c.temporal.on() || !settings.foveation.motion) return {};
+  Settings previous = settings;  // the previous frame: no previous one of its own
+  previous.foveation.motion = previous.foveation.panned = false;
+  previous.foveation.pan = 0.0f;
+  Camera before = camera;
+  if (settings.foveation.panned) {  // SPEC §13 step 3's previous view: the eye (and target) moved by −pan·right
+    const View view = makeView(camera, c.width, c.height, c.paddedWidth, c.paddedHeight);
+    before.eye = camera.eye - settings.foveation.pan * view.right;
+    before.target = camera.target - settings.foveation.pan * view.right;
+  } else {
+    before.eye = settings.foveation.prevEye;
+    before.target = settings.foveation.prevTarget;
+    before.up = settings.foveation.prevUp;
+    before.yfov = settings.foveation.prevYfov;
+  }
+  FrameResult f = renderer.render(before, makeConstants(previous, framedSize), {false, progress, costs});
+  return std::move(f.history);
+}
+
 }  // namespace mrr

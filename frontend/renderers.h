@@ -19,4 +19,11 @@ std::unique_ptr<FrameRenderer> makeRenderer(const std::string& path, const Scene
 // port's context is probed here, so a missing EGL device is one line before any work.
 BenchPath benchPath(const std::string& path, int threads, const PathOptions& options = {});
 
+// SPEC §14: the history a frame with the temporal term reads, when its previous camera is known
+// (--prev-frame's, or --pan's: this camera moved by −pan along its right axis): that frame
+// rendered first with the same settings and radii (`framedSize`), itself without a history or
+// motion term, and what it leaves. Empty when the term is off or no previous camera is given.
+FrameHistory previousFrameHistory(const FrameRenderer& renderer, const Camera& camera, const Settings& settings,
+                                  float framedSize, const CostModel* costs, const ProgressFn& progress = {});
+
 }  // namespace mrr

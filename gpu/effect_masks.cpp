@@ -91,41 +91,88 @@ Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, 
   return only;
 }
 
-Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
-                           unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau,
-                           const std::vector<glm::ivec4>* shaded, ImageU8* blocks, int blockSize) {
+Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
+                     unsigned coarserPositionHit, float tau, const std::vector<glm::ivec4>* shaded, bool rangeOut,
+                     bool whole) {
   int width = 0, height = 0;  // the coarser level's grid
   glBindTexture(GL_TEXTURE_2D, coarser);
   glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &width);
   glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, &height);
-  // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
-  const unsigned varies =
-      scene.program("refinement_marks.1." + std::to_string(channels), "fullscreen.vert", "refinement_marks.frag",
-                    "#define STEP 1\n#define CHANNELS " + std::to_string(channels) + "\n");
-  Target coarse = startPass(scene, varies, width, height, Texel::R8,
-                            {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
-  glUniform1f(uniform(varies, "tau"), tau);
-  drawOver(scene, shaded && !shaded->empty() ? shaded : nullptr, width, height, 0.0f);  // no mark off S_n
-  checkGl("refinement_marks varies");
-  std::vector<glm::ivec4> markedRects;  // the finer level's pixels in the blocks holding a mark
-  if (blocks) {
-    *blocks = blocksOf(coarse->readBinary(0), blockSize);
-    for (const auto& run : blockRects(*blocks, 1, blockSize, width, height))  // coarser pixels → finer
-      markedRects.push_back(glm::min(run * ratio, glm::ivec4(finerWidth, finerHeight, finerWidth, finerHeight)));
+  const std::vector<glm::ivec4>* rects = shaded && !shaded->empty() ? shaded : nullptr;  // no mark off S_n
+  const std::string shape = "#define STEP 1\n#define CHANNELS " + std::to_string(channels) + "\n#define RANGE_OUT " +
+                            (rangeOut ? "1" : "0") + "\n";
+  const std::string key = std::to_string(channels) + (rangeOut ? ".range" : "");
+  const Texel out = rangeOut ? Texel::R32f : Texel::R8;
+  const float outside = rangeOut ? -1.0f : 0.0f;
+  if (whole) {
+    // 1. v(q) over each whole 3×3 (the readable form)
+    const unsigned program = scene.program("refinement_marks.1.0." + key, "fullscreen.vert", "refinement_marks.frag",
+                                           shape + "#define PASS 0\n");
+    Target t = startPass(scene, program, width, height, out,
+                         {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
+    glUniform1f(uniform(program, "tau"), tau);
+    drawOver(scene, rects, width, height, outside);
+    checkGl("refinement_marks whole");
+    return t;
   }
+  // 1a. along x: each channel's min and max over the row of three
+  const unsigned across = scene.program("refinement_marks.1.1." + key, "fullscreen.vert", "refinement_marks.frag",
+                                        shape + "#define PASS 1\n");
+  Target extremes = scene.target(width, height, {Texel::Rgba32f, Texel::Rgba32f}, false);
+  extremes->bind();
+  glUseProgram(across);
+  bindTextures(across, {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
+  glUniform1f(uniform(across, "tau"), tau);
+  scene.drawFullscreen();  // every pixel: a row's neighbours off S_n still read their (neutral) extremes
+  checkGl("refinement_marks across");
+  // 1b. along y: v, then [v > τ] or v
+  const unsigned down = scene.program("refinement_marks.1.2." + key, "fullscreen.vert", "refinement_marks.frag",
+                                      shape + "#define PASS 2\n");
+  Target t = startPass(scene, down, width, height, out,
+                       {{"source", extremes->texture(0)}, {"maxima", extremes->texture(1)}, {"stencil", coarserStencil},
+                        {"positionHit", coarserPositionHit}});
+  glUniform1f(uniform(down, "tau"), tau);
+  drawOver(scene, rects, width, height, outside);
+  checkGl("refinement_marks down");
+  return t;
+}
+
+Target drawParentMarks(const GpuScene& scene, unsigned varies, int ratio, int finerWidth, int finerHeight,
+                       const std::vector<glm::ivec4>* rects) {
   // 2. each finer pixel takes its coarser parent's mark
   const unsigned parent =
       scene.program("refinement_marks.2." + std::to_string(ratio), "fullscreen.vert", "refinement_marks.frag",
                     "#define STEP 2\n#define RATIO " + std::to_string(ratio) + "\n");
-  Target marks = startPass(scene, parent, finerWidth, finerHeight, Texel::R8, {{"source", coarse->texture(0)}});
-  if (blocks && markedRects.empty()) {  // no mark: nothing to draw
+  Target marks = startPass(scene, parent, finerWidth, finerHeight, Texel::R8, {{"source", varies}});
+  if (rects && rects->empty()) {  // no mark: nothing to draw
     const float zero[4] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, zero);
   } else {
-    drawOver(scene, blocks ? &markedRects : nullptr, finerWidth, finerHeight, 0.0f);
+    drawOver(scene, rects, finerWidth, finerHeight, 0.0f);
   }
   checkGl("refinement_marks parent");
   return marks;
+}
+
+std::vector<glm::ivec4> markedRects(const ImageU8& blocks, int blockSize, int ratio, int coarserWidth, int coarserHeight,
+                                    int finerWidth, int finerHeight) {
+  std::vector<glm::ivec4> rects;  // the finer level's pixels in the blocks holding a mark
+  for (const auto& run : blockRects(blocks, 1, blockSize, coarserWidth, coarserHeight))  // coarser pixels → finer
+    rects.push_back(glm::min(run * ratio, glm::ivec4(finerWidth, finerHeight, finerWidth, finerHeight)));
+  return rects;
+}
+
+Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
+                           unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau,
+                           const std::vector<glm::ivec4>* shaded, ImageU8* blocks, int blockSize) {
+  // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
+  const Target coarse = drawRangeTest(scene, coarser, channels, coarserStencil, coarserPositionHit, tau, shaded, false);
+  if (!blocks) return drawParentMarks(scene, coarse->texture(0), ratio, finerWidth, finerHeight, nullptr);
+  // 2. each finer pixel takes its coarser parent's mark, drawn over the blocks holding one
+  *blocks = blocksOf(coarse->readBinary(0), blockSize);
+  const std::vector<glm::ivec4> rects =
+      markedRects(*blocks, blockSize, ratio, coarse->width(), coarse->height(), finerWidth, finerHeight);
+  return drawParentMarks(scene, coarse->texture(0), ratio, finerWidth, finerHeight, &rects);
 }
 
 }  // namespace mrr::gpu

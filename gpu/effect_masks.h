@@ -48,4 +48,21 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
                            const std::vector<glm::ivec4>* shaded = nullptr, ImageU8* blocks = nullptr,
                            int blockSize = 1);
 
+// Its two steps apart. Step 1 at level n: [v(q) > τ] (R8), or with `rangeOut` v(q) itself (R32F,
+// −1 where q is not a shaded hit pixel: SPEC §12.4's budget selects on the host), drawn over
+// `shaded` as above; by the separable passes along x then y (localRangesSeparable), or with
+// `whole` the readable single pass over each 3×3 (localRange): the same bits.
+Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
+                     unsigned coarserPositionHit, float tau, const std::vector<glm::ivec4>* shaded, bool rangeOut,
+                     bool whole = false);
+// Step 2 at level ℓ: each pixel takes its parent's mark in `varies` (level n's R8), drawn over
+// `rects` (the finer level's pixels of the blocks holding a mark; null: the whole level; empty:
+// nothing, every mark 0).
+Target drawParentMarks(const GpuScene& scene, unsigned varies, int ratio, int finerWidth, int finerHeight,
+                       const std::vector<glm::ivec4>* rects);
+// The finer level's rectangles under the blocks of `blocks` (blockSize level-n pixels each) that hold
+// a mark, for drawParentMarks.
+std::vector<glm::ivec4> markedRects(const ImageU8& blocks, int blockSize, int ratio, int coarserWidth, int coarserHeight,
+                                    int finerWidth, int finerHeight);
+
 }  // namespace mrr::gpu

@@ -43,9 +43,10 @@ const std::vector<ShaderFault>& shaderFaults() {
        "the ablation's effect-only arm without the AND NOT M_l (SPEC 12.3): each widened level keeps its edges too",
        partName(Part::Mask)},
       {"marks-2x2", "refinement_marks.frag",
-       "for (int dy = -1; dy <= 1; ++dy)\n        for (int dx = -1; dx <= 1; ++dx) {",
-       "for (int dy = 0; dy <= 1; ++dy)\n        for (int dx = 0; dx <= 1; ++dx) {",
-       "mrr-effect's a-posteriori range over a 2x2 neighbourhood, not 3x3 (SPEC 12.2 step 1)", partName(Part::Marks)},
+       "for (int d = -1; d <= 1; ++d) {\n    ivec2 q = ivec2(p.x + d, p.y);",
+       "for (int d = 0; d <= 1; ++d) {\n    ivec2 q = ivec2(p.x + d, p.y);",
+       "mrr-effect's a-posteriori range over 2 columns of the 3x3 neighbourhood (SPEC 12.2 step 1; the separable "
+       "pass along x)", partName(Part::Marks)},
       {"marks-inclusive", "refinement_marks.frag", "marked = range > tau ? 1.0 : 0.0;",
        "marked = range >= tau ? 1.0 : 0.0;",
        "mrr-effect's a-posteriori test with >= for >: a range of exactly tau_v is marked", partName(Part::Marks)},

@@ -9,6 +9,7 @@
 
 #include "common/cost_model.h"
 #include "common/driver.h"
+#include "common/effect_budget.h"
 #include "common/error.h"
 #include "common/stages.h"
 #include "gpu/bilateral.h"
@@ -25,6 +26,7 @@
 #include "gpu/ssgi.h"
 #include "gpu/ssm.h"
 #include "gpu/stencil.h"
+#include "gpu/temporal.h"
 
 namespace mrr::gpu {
 
@@ -247,10 +249,35 @@ class PortFrame final : public FrameBackend {
     // the marks' blocks on the coarsest level's grid (2^{3−n} level-n pixels each): the
     // refinement is drawn near them and M_ℓ's (gpu::refineMasks)
     ImageU8 marksBlocks;
-    Target marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
-                                       gbuffers_[n]->texture(0), 1 << (next - l), lc.width, lc.height,
-                                       c.effectMask.posterior, &maskTargets_->supportRects[n], &marksBlocks,
-                                       1 << (kLevelCount - 1 - next));
+    const int blockSize = 1 << (kLevelCount - 1 - next);
+    Target marks;
+    RefinementRecord& r = f.refinement[i];
+    if (r.budgeted) {
+      // SPEC §12.4: v(q) read back, the marks selected on the host (common/effect_budget.h) and drawn
+      const Target range = drawRangeTest(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
+                                         gbuffers_[n]->texture(0), c.effectMask.posterior,
+                                         &maskTargets_->supportRects[n], true);
+      const std::vector<double> prices =
+          candidatePrices(f.levels[i].masks.stencil, fullResHit(f), f.pcfSample, c, l, next, r.prices);
+      RefinementSelection chosen = selectRefinement(range->read(0, 1), prices, r.budgetNs, c.effectMask.posterior,
+                                                    c.effectMask.hysteresis, nullptr);
+      r.spentNs = chosen.spentNs;
+      r.candidates = chosen.candidates;
+      r.taken = chosen.taken;
+      r.kept = chosen.kept;
+      r.candidatePrices = prices;
+      marksBlocks = blocksOf(chosen.varies, blockSize);
+      TextureSet uploaded;
+      const unsigned varies = uploaded.add(uploadBinary(chosen.varies));
+      const std::vector<glm::ivec4> rects =
+          markedRects(marksBlocks, blockSize, 1 << (next - l), range->width(), range->height(), lc.width, lc.height);
+      marks = drawParentMarks(scene_, varies, 1 << (next - l), lc.width, lc.height, &rects);
+      f.levels[i].marked = std::move(chosen.varies);
+    } else {
+      marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
+                                  gbuffers_[n]->texture(0), 1 << (next - l), lc.width, lc.height,
+                                  c.effectMask.posterior, &maskTargets_->supportRects[n], &marksBlocks, blockSize);
+    }
     if (limit_) marks = drawLevelLimited(scene_, marks->texture(0), l, limit_->texture(0), c);
     gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c, &marksBlocks);
     refined_ = true;
@@ -278,6 +305,30 @@ class PortFrame final : public FrameBackend {
     // a refined level's α reaches past the edge blocks' neighbourhood (SPEC §12.2): blended everywhere
     const ImageU8* edgeBlocks = maskTargets_->drawn && !refined_ ? &maskTargets_->edgeBlocks : nullptr;
     f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_, &maskTargets_->widenedBy);
+  }
+  // SPEC §14: temporal.frag with the previous frame's history, uploaded; final' becomes the image
+  // shade.frag reads. Then, either way, the history for the next frame (level 0's depth and normal
+  // read back).
+  void temporal(FrameResult& f, const FrameHistory* history) override {
+    const Constants& c = f.constants;
+    if (history && !history->empty()) {
+      Target t = drawTemporal(scene_, final_.texture(), *gbuffers_[0], maskTargets_->stencil[0],
+                              maskTargets_->alpha[0], *history, f.view, c);
+      f.temporal.result = t->read(0, c.channels());
+      if (keep_) {
+        const ImageF aux = t->read(1);
+        f.temporal.history = ImageF::uninitialised(c.width, c.height, c.channels());
+        f.temporal.weight = ImageF::uninitialised(c.width, c.height, 1);
+        for (size_t i = 0; i < aux.pixelCount(); ++i) {
+          for (size_t k = 0; k < static_cast<size_t>(c.channels()); ++k)
+            f.temporal.history.data[i * static_cast<size_t>(c.channels()) + k] = aux.data[4 * i + k];
+          f.temporal.weight.data[i] = aux.data[4 * i + 3];
+        }
+      }
+      final_ = GpuImage{std::move(t), 0};
+      if (keep_) f.temporal.previous = std::make_shared<const FrameHistory>(*history);
+    }
+    f.history = readHistory(*gbuffers_[0], f.final(), f.view, c);
   }
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {

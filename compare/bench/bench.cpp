@@ -343,15 +343,21 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
             progress.step(path.name + " stability " + sceneName + " " + kind + " " + std::to_string(o.frames) + " frames " +
                           effectName);
             std::map<std::string, FlickerMeter> meters;
+            // SPEC §14: each method's frames in sequence, each reading what the previous one left
+            // (a method whose temporal term is off leaves nothing, and reads nothing).
+            std::map<std::string, FrameHistory> histories;
             const auto [w, h] = o.stabilitySize;
             for (const Camera& cam : cameraPath(sc.camera, kind, o.frames)) {
               const FrameResult full = sc.render(
                   cam, makeConstants(settingsFor(referenceMethod(), e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
               for (const std::string& m : o.methods) {
                 if (m == referenceMethod()) continue;
-                const FrameResult f =
-                    sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
+                RenderOptions options{false, {}, nullptr};
+                FrameHistory& history = histories[m];
+                if (!history.empty()) options.history = &history;
+                FrameResult f = sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), options);
                 meters[m].add(f.final(), full.final());
+                history = std::move(f.history);
               }
             }
             for (const auto& [m, meter] : meters)

@@ -93,6 +93,11 @@ void putPart(FrameResult& f, Part part, int level, const ImageF& image) {
     case Part::Composite: f.blend.composite[l] = image; break;
     case Part::LevelMap: f.blend.levelMap = toBytes(image); break;
     case Part::Final: f.blend.final = image; break;
+    case Part::Temporal: {  // SPEC §14: h in the first channels, λ_p in the last
+      f.temporal.history = channels(image, 0, image.channels - 1);
+      f.temporal.weight = channel(image, image.channels - 1);
+      break;
+    }
     case Part::Shaded: f.shaded = image; break;
   }
 }

@@ -349,6 +349,7 @@ StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& 
     case Part::Composite: return valueView(o.blend.composite[li], p.blend.composite[li], "c′_ℓ");
     case Part::LevelMap: return binaryView(o.blend.levelMap, p.blend.levelMap, "level map");
     case Part::Final: return valueView(o.final(), p.final(), "the final effect buffer");
+    case Part::Temporal: return valueView(o.temporal.weight, p.temporal.weight, "lambda_p, the share of the history kept (SPEC §14)");
     case Part::Shaded: return valueView(o.shaded, p.shaded, "the shaded image (linear RGB)");
   }
   return none;

@@ -325,7 +325,7 @@ bool Rows::decisionAndMaskRows() {
   // G-buffer, limited by its own level limit; each refined level's masks refined with the port's
   // own marks (the levels are judged apart: a level's marks read the coarser level as refined).
   std::array<ImageU8, kLevelCount> sameMarks;
-  const bool posterior = multires && method.aPosteriori && c.effectMask.posterior > 0.0f;
+  const bool posterior = multires && method.aPosteriori && c.effectMask.refines();
   for (int l = 0; posterior && l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled || l == c.coarsestEnabled || l < c.effectMask.posteriorFinest) continue;
@@ -400,7 +400,8 @@ std::optional<StageCheck> Rows::blendRows() {
          check("blend.same_input", diffImages(p.blend.composite[i], same.composite[i], blendThreshold, {}))});
   }
   if (same.final.data.empty()) return std::nullopt;
-  return check("blend.same_input", diffImages(p.final(), same.final, blendThreshold, {}));
+  // the blend's own final image (SPEC §14's temporal term, where it ran, is judged apart)
+  return check("blend.same_input", diffImages(p.blend.final, same.final, blendThreshold, {}));
 }
 
 }  // namespace
@@ -427,6 +428,31 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   // The final image is the finest composite; end to end it carries everything above.
   rows.add({partName(Part::Final), -1, 1,
        check(endToEndRule(Part::Final), diffImages(p.final(), o.final(), tolerance(endToEndRule(Part::Final)).pixelThreshold, {})), finalSame});
+
+  // SPEC §14: the temporal term, end to end and on the port's own blend, level-0 G-buffer and masks
+  // and the history it read (the port's previous frame). The final row above judged the result.
+  if (!p.temporal.empty() && p.temporal.previous && !p.levels[0].gbuffer.depth.empty()) {
+    const TemporalImages same = oracle.temporal(p, *p.temporal.previous);
+    const auto joined = [](const TemporalImages& t) {  // h and λ_p as one image, the part's channels
+      ImageF out(t.history.width, t.history.height, t.history.channels + 1);
+      for (size_t i = 0; i < t.history.pixelCount(); ++i) {
+        for (int k = 0; k < t.history.channels; ++k)
+          out.data[i * static_cast<size_t>(out.channels) + static_cast<size_t>(k)] = t.history.data[i * static_cast<size_t>(t.history.channels) + static_cast<size_t>(k)];
+        out.data[i * static_cast<size_t>(out.channels) + static_cast<size_t>(t.history.channels)] = t.weight.data[i];
+      }
+      return out;
+    };
+    const ImageF portPart = joined(p.temporal);
+    std::optional<StageCheck> endToEnd;
+    if (!o.temporal.empty())
+      endToEnd = check(endToEndRule(Part::Temporal),
+                       diffImages(portPart, joined(o.temporal), tolerance(endToEndRule(Part::Temporal)).pixelThreshold, {}));
+    rows.add({partName(Part::Temporal), -1, 1, endToEnd,
+              check("temporal.same_input", diffImages(portPart, joined(same), tolerance("temporal.same_input").pixelThreshold, {}))});
+    rows.add({partName(Part::Final) + ".temporal", -1, 1, {},
+              check("temporal.same_input",
+                    diffImages(p.temporal.result, same.result, tolerance("temporal.same_input").pixelThreshold, {}))});
+  }
 
   // 6. The shaded image: end to end, and the oracle's shadeFinal on the port's own level-0
   // G-buffer, final image and one-tap test (shade.frag's arithmetic alone).

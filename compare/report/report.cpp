@@ -185,6 +185,37 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                       {"shaded_pixels_4x2_blocks", f.levels[static_cast<size_t>(l)].shadedBlockPixels}});
   }
   j["levels"] = levels;
+  // SPEC §12.4: per shaded level, the cost model's prediction on its final stencil beside the
+  // measured time of its effect stages (so the model can be checked), and the budget's figures.
+  if (methodInfo(c.mode).neverSlower && !f.fallback.early) {
+    nlohmann::json budget = nlohmann::json::array();
+    for (int l = 0; l < kLevelCount; ++l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled || !lc.shaded) continue;
+      double measured = 0.0;
+      for (const StageTiming& t : f.timings)
+        for (const Timed kind : {Timed::Planes, Timed::Direct, Timed::Effect, Timed::Bilateral})
+          if (t.stage == timedName(kind, l)) measured += t.ms;
+      const RefinementRecord& r = f.refinement[static_cast<size_t>(l)];
+      nlohmann::json lj = {{"level", l}, {"predicted_ms", f.predictedLevelMs[static_cast<size_t>(l)]}, {"measured_ms", measured}};
+      if (r.budgeted)
+        lj.update({{"budget_ms", r.budgetNs * 1e-6}, {"spent_ms", r.spentNs * 1e-6}, {"candidates", r.candidates},
+                   {"taken", r.taken}, {"kept", r.kept}});
+      budget.push_back(lj);
+    }
+    j[std::string(paramInfo(Param::EffectBudget).key)] = {{"budget", c.effectMask.budget}, {"levels", budget}};
+  }
+  // SPEC §14: the temporal term, where it ran: its λ and the pixels that kept part of the history.
+  if (!f.temporal.empty() && !f.temporal.weight.empty()) {
+    int64_t kept = 0;
+    double weight = 0.0;
+    for (float w : f.temporal.weight.data) {
+      kept += w > 0.0f;
+      weight += w;
+    }
+    j["temporal"] = {{"lambda", c.temporal.lambda}, {"pixels_keeping_history", kept},
+                     {"mean_lambda_p", f.temporal.weight.data.empty() ? 0.0 : weight / static_cast<double>(f.temporal.weight.data.size())}};
+  }
   j["shaded_pixels_total"] = f.shadedPixelsTotal;
   j["ideal_speedup"] = f.idealSpeedup;
   j["ideal_speedup_hit"] = f.idealSpeedupHit;  // over pixels that hit geometry: background is free in full too
@@ -275,6 +306,15 @@ std::vector<ExrPart> stageParts(const FrameResult& f) {
   }
   parts.push_back({partName(Part::LevelMap), toFloat(f.blend.levelMap), partChannels(Part::LevelMap)});
   parts.push_back({partName(Part::Final), f.final(), partChannels(Part::Final, f.final().channels)});
+  if (!f.temporal.empty() && !f.temporal.weight.empty()) {  // SPEC §14: h and λ_p
+    const int ch = f.temporal.history.channels;
+    ImageF t(c.width, c.height, ch + 1);
+    for (size_t i = 0; i < t.pixelCount(); ++i) {
+      for (int k = 0; k < ch; ++k) t.data[i * static_cast<size_t>(ch + 1) + static_cast<size_t>(k)] = f.temporal.history.data[i * static_cast<size_t>(ch) + static_cast<size_t>(k)];
+      t.data[i * static_cast<size_t>(ch + 1) + static_cast<size_t>(ch)] = f.temporal.weight.data[i];
+    }
+    parts.push_back({partName(Part::Temporal), t, partChannels(Part::Temporal, ch)});
+  }
   parts.push_back({partName(Part::Shaded), f.shaded, partChannels(Part::Shaded)});
   return parts;
 }

@@ -15,6 +15,7 @@
 
 #include "common/error.h"
 #include "common/frame_params.h"
+#include "common/methods.h"
 #include "frontend/frame_file.h"
 #include "frontend/frame_options.h"
 #include "frontend/renderers.h"
@@ -66,8 +67,11 @@ TEST(FrameParams, AFrameFileHoldsExactlyTheRowsMarkedForIt) {
   const ResolvedScene rs = resolveScene(fo.sceneRequest());
   const nlohmann::json frame = fo.frame(rs, fo.settings());
   std::set<std::string> expected = {"mrr_frame"};
-  for (const FrameParamInfo& p : frameParams())  // prev_frame names a file: written only when given
-    if (p.frameFile && p.param != Param::PrevFrame) expected.insert(std::string(p.key));
+  for (const FrameParamInfo& p : frameParams()) {  // prev_frame names a file: written only when given
+    bool otherMethods = false;  // a parameter another method owns is in that method's files only
+    for (const MethodInfo& m : methods()) otherMethods |= m.mode != Mode::MrrEffect && m.owns(p.param);
+    if (p.frameFile && p.param != Param::PrevFrame && !otherMethods) expected.insert(std::string(p.key));
+  }
   std::set<std::string> written;
   for (const auto& [key, value] : frame.items()) written.insert(key);
   EXPECT_EQ(written, expected);

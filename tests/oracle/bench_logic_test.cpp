@@ -237,6 +237,7 @@ TEST(TimedStages, EveryNameAnOracleFrameRecordsIsInTheStageList) {
         s.setSamples(effect == Effect::Ssm ? 16 : 4);
         s.ssm.shadowMapSize = 128;
         s.neverSlower = variant > 0;
+        if (mode == Mode::MrrEffect) s.effectMask.temporal = 0.5f;  // the temporal stage runs (and keeps its history)
         RenderOptions options{false, {}, variant == 2 ? &dear : nullptr, true};
         const FrameResult f = renderer.render(rs.camera, makeConstants(s, rs.framed.size), options);
         const std::string what = toString(effect) + " " + toString(mode) + " variant " + std::to_string(variant);

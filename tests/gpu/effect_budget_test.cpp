@@ -1,0 +1,158 @@
+// mrr-effect beyond the catalogue on the port: the separable range test gives the whole 3×3's bits
+// and the oracle's (SPEC §12.2), the budget's marks are the oracle's selection on the port's own
+// v (SPEC §12.4), and the temporal term is the oracle's on the port's own blend and history (§14).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "common/cost_model.h"
+#include "common/stages.h"
+#include "common/tolerance.h"
+#include "compare/parity/parity.h"
+#include "cpu_ref/effect_masks.h"
+#include "gpu/context.h"
+#include "gpu/effect_masks.h"
+#include "gpu/gbuffer.h"
+#include "gpu/pipeline.h"
+#include "scenes/cameras.h"
+#include "tests/gpu/gl_test.h"
+#include "tests/oracle/render_helpers.h"
+
+namespace mrr {
+namespace {
+
+bool sameBits(const ImageF& a, const ImageF& b) {
+  return a.width == b.width && a.height == b.height && a.data.size() == b.data.size() &&
+         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
+}
+
+const StageRow* findRow(const ParityResult& r, const std::string& stage) {
+  for (const StageRow& row : r.rows)
+    if (row.stage == stage) return &row;
+  return nullptr;
+}
+
+// refinement_marks.frag step 1: the separable passes (PASS 1, 2) and the whole 3×3 (PASS 0) give
+// the same v, bit for bit, and the oracle's localRanges; the marks [v > τ] likewise.
+TEST(GpuEffectBudget, SeparableRangeEqualsTheWholeNeighbourhoodAndTheOracle) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  gpu::GlContext context;
+  Scene empty;
+  const gpu::GpuScene scene(empty);
+  std::mt19937 rng(11);
+  for (const int channels : {1, 3}) {
+    const int w = 61, h = 37;
+    ImageF c(w, h, channels == 1 ? 1 : 4), positionHit(w, h, 4);
+    ImageF oracleC(w, h, channels);
+    ImageU8 stencil(w, h), hit(w, h);
+    std::uniform_real_distribution<float> value(-0.3f, 1.2f);
+    std::uniform_int_distribution<int> coin(0, 9);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        stencil.at(x, y) = coin(rng) > 1;
+        hit.at(x, y) = coin(rng) > 0;
+        positionHit.at(x, y, 3) = hit.at(x, y);
+        for (int k = 0; k < channels; ++k) oracleC.at(x, y, k) = c.at(x, y, k) = value(rng);
+      }
+    gpu::TextureSet textures;
+    const unsigned ct = textures.add(gpu::uploadTexture(c)), st = textures.add(gpu::uploadBinary(stencil)),
+                   pt = textures.add(gpu::uploadTexture(positionHit));
+    const gpu::Target separable = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, nullptr, true, false);
+    const gpu::Target whole = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, nullptr, true, true);
+    const ImageF a = separable->read(0, 1), b = whole->read(0, 1);
+    EXPECT_TRUE(sameBits(a, b)) << channels << " channels";
+    EXPECT_TRUE(sameBits(a, localRanges(oracleC, stencil, hit))) << channels << " channels: the oracle's v";
+    const gpu::Target marks = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, nullptr, false, false);
+    EXPECT_EQ(marks->readBinary(0).data, variesAbove(localRanges(oracleC, stencil, hit), 0.2f).data);
+  }
+}
+
+struct BothPaths {
+  test::Rendered oracle;
+  FrameResult cpu, port;
+};
+
+// SPEC §12.4 on both paths: the port's marks are the oracle's selection on the port's own v and
+// prices (exact), every stage within its rule, and each level spends no more than its share.
+TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const CostModel model = CostModel::defaults("cpu");
+  for (const Effect e : {Effect::Ssao, Effect::Ssgi}) {
+    Settings s = defaultSettings(e);
+    s.width = 97;
+    s.height = 61;
+    s.setSamples(16);
+    s.mode = Mode::MrrEffect;
+    s.neverSlower = false;
+    s.effectMask.cap = 4;
+    s.effectMask.posterior = 0.01f;
+    s.effectMask.budget = 0.5f;
+    BothPaths b;
+    b.oracle = test::renderScene("builtin:demo", s);
+    const Constants k = makeConstants(s, b.oracle.framedSize);
+    b.cpu = b.oracle.renderer->render(b.oracle.camera, k, {true, {}, &model, true});
+    const gpu::GpuRenderer port(*b.oracle.scene);
+    b.port = port.render(b.oracle.camera, k, {true, {}, &model, true});
+    const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+    EXPECT_TRUE(r.pass()) << toString(e) << ": first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+    int64_t taken = 0;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const RefinementRecord& rec = b.port.refinement[static_cast<size_t>(l)];
+      if (!rec.budgeted) continue;
+      EXPECT_LE(rec.spentNs, rec.budgetNs + 1e-6);
+      taken += rec.taken;
+      const StageRow* marks = findRow(r, "marks.L" + std::to_string(l));
+      ASSERT_NE(marks, nullptr) << formatParityTable(r);
+      ASSERT_TRUE(marks->sameInput);
+      EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0) << "marks.L" << l;
+    }
+    EXPECT_GT(taken, 0) << toString(e) << ": the budget took nothing, the check would be vacuous";
+  }
+}
+
+// SPEC §14 on both paths along an orbit: each path carries its own history; on the third frame the
+// port's temporal term is the oracle's on the port's own blend, G-buffer, masks and history.
+TEST(GpuTemporal, TheTermIsTheOraclesOnThePortsOwnHistory) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const CostModel model = CostModel::defaults("cpu");
+  for (const Effect e : {Effect::Ssao, Effect::Ssgi}) {
+    Settings s = defaultSettings(e);
+    s.width = 97;
+    s.height = 61;
+    s.setSamples(16);
+    s.mode = Mode::MrrEffect;
+    s.neverSlower = false;
+    s.effectMask.temporal = 0.6f;
+    test::Rendered base = test::renderScene("builtin:demo", s);
+    const Constants k = makeConstants(s, base.framedSize);
+    const gpu::GpuRenderer port(*base.scene);
+    const std::vector<Camera> path = cameraPath(base.camera, "orbit", 12);
+    FrameHistory cpuHistory, portHistory;
+    FrameResult cpu, gpuFrame;
+    for (int t = 0; t < 3; ++t) {
+      RenderOptions co{true, {}, &model}, po{true, {}, &model};
+      if (!cpuHistory.empty()) co.history = &cpuHistory;
+      if (!portHistory.empty()) po.history = &portHistory;
+      cpu = base.renderer->render(path[static_cast<size_t>(t)], k, co);
+      gpuFrame = port.render(path[static_cast<size_t>(t)], k, po);
+      cpuHistory = cpu.history;
+      portHistory = gpuFrame.history;
+    }
+    ASSERT_FALSE(gpuFrame.temporal.empty());
+    const ParityResult r = compareFrames(cpu, gpuFrame, base.scene->light);
+    EXPECT_TRUE(r.pass()) << toString(e) << ": first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+    const StageRow* row = findRow(r, partName(Part::Temporal));
+    ASSERT_NE(row, nullptr) << formatParityTable(r);
+    ASSERT_TRUE(row->sameInput);
+    EXPECT_TRUE(row->sameInput->pass);
+    int64_t kept = 0;
+    for (float w : gpuFrame.temporal.weight.data) kept += w > 0.0f;
+    EXPECT_GT(kept, 0) << "no pixel kept its history: the check would be vacuous";
+  }
+}
+
+}  // namespace
+}  // namespace mrr

@@ -5,6 +5,7 @@
 // and a name the list does not know an error, in the list and in the never-slower rule's sums.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -128,6 +129,34 @@ TEST(StageList, EveryInputNamesAPartThatExists) {
   s.mode = Mode::Tiles;
   c = makeConstants(s, 1.0f);
   EXPECT_EQ(partInputNames(Part::Final, -1, c).size(), 3u * kLevelCount + 1);
+}
+
+// README's output-files table lists every part of the stages EXR, in the list's order, with its channels.
+TEST(StageList, TheReadmesPartTableListsEveryRow) {
+  std::ifstream readme(std::string(MRR_SOURCE_DIR) + "/README.md");
+  ASSERT_TRUE(readme) << "README.md";
+  std::string line;
+  while (std::getline(readme, line) && line.rfind("| part | channels | what |", 0) != 0) {}
+  ASSERT_TRUE(readme) << "README.md has no part table";
+  std::getline(readme, line);  // |---|
+  std::vector<std::pair<std::string, std::string>> rows;  // name (without .Lℓ), channels cell
+  while (std::getline(readme, line) && line.rfind("| `", 0) == 0) {
+    const size_t end = line.find('`', 3);
+    std::string name = line.substr(3, end - 3);
+    if (const size_t level = name.find(".L"); level != std::string::npos) name.resize(level);
+    const size_t cell = line.find('|', end);
+    rows.emplace_back(name, line.substr(cell, line.find('|', cell + 1) - cell));
+  }
+  ASSERT_EQ(rows.size(), std::size(kParts));
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const PartInfo& p = kParts[i];
+    EXPECT_EQ(rows[i].first, p.name) << "row " << i;
+    for (const std::string& channel : partChannels(p.part)) {  // "P.x" may be written "P.x/y/z"
+      const size_t dot = channel.find('.');
+      const std::string head = dot == std::string::npos ? "`" + channel + "`" : channel.substr(0, dot + 1);
+      EXPECT_NE(rows[i].second.find(head), std::string::npos) << p.name << ": channel " << channel;
+    }
+  }
 }
 
 TEST(TimedStages, EveryNameReadsBackAsItsRowAndLevel) {

@@ -30,7 +30,9 @@ ImageU8 toBytes(const ImageF& image) {
 }
 
 // A padded full-res grid (docs/spec.md §0) as its EXR part: the top-left W×H, as floats.
-ImageF screen(const ImageF& padded, const Constants& c) { return padded.empty() ? ImageF() : crop(padded, c.width, c.height); }
+ImageF screen(const ImageF& padded, const Constants& c) {
+  return padded.empty() ? ImageF() : crop(padded, c.width, c.height);
+}
 ImageF screen(const ImageU8& padded, const Constants& c) {
   return padded.empty() ? ImageF() : toFloat(crop(padded, c.width, c.height));
 }
@@ -40,7 +42,8 @@ ImageF screen(const ImageU8& padded, const Constants& c) {
 template <class T>
 void overwrite(Image<T>& padded, const ImageF& image, const Constants& c) {
   if (padded.empty() || padded.channels != image.channels)
-    padded = Image<T>(std::max(c.paddedWidth, image.width), std::max(c.paddedHeight, image.height), image.channels, T(0));
+    padded =
+        Image<T>(std::max(c.paddedWidth, image.width), std::max(c.paddedHeight, image.height), image.channels, T(0));
   for (int y = 0; y < image.height && y < padded.height; ++y)
     for (int x = 0; x < image.width && x < padded.width; ++x)
       for (int k = 0; k < image.channels; ++k) {
@@ -119,24 +122,41 @@ constexpr PartImageAccess byteImage() {
 // The same for a padded full-res grid, cropped to W×H.
 template <auto Get>
 constexpr PartImageAccess screenImage() {
-  return {holdsImage<Get>, [](const FrameResult& f, int level) { return screen(*Get(f, level), f.constants); },
-          [](FrameResult& f, int level, const ImageF& image) { overwrite(*writable<Get>(f, level), image, f.constants); }};
+  return {
+      holdsImage<Get>, [](const FrameResult& f, int level) { return screen(*Get(f, level), f.constants); },
+      [](FrameResult& f, int level, const ImageF& image) { overwrite(*writable<Get>(f, level), image, f.constants); }};
 }
 
 // Where each image lies: null for a per-level part at a level outside [0, kLevelCount), which no
 // frame holds and the writers refuse. The writers take the frame as const and cast (the frame is
 // theirs to write): one getter serves both.
-const ImageU8* marksOf(const FrameResult& f, int l) { return validLevel(l) ? &f.levels[static_cast<size_t>(l)].marks : nullptr; }
-const ImageU8* maskOf(const FrameResult& f, int l) { return validLevel(l) ? &f.levels[static_cast<size_t>(l)].masks.mask : nullptr; }
-const ImageF* alphaOf(const FrameResult& f, int l) { return validLevel(l) ? &f.levels[static_cast<size_t>(l)].masks.alpha : nullptr; }
+const ImageU8* marksOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.levels[static_cast<size_t>(l)].marks : nullptr;
+}
+const ImageU8* maskOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.levels[static_cast<size_t>(l)].masks.mask : nullptr;
+}
+const ImageF* alphaOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.levels[static_cast<size_t>(l)].masks.alpha : nullptr;
+}
 const ImageU8* stencilOf(const FrameResult& f, int l) {
   return validLevel(l) ? &f.levels[static_cast<size_t>(l)].masks.stencil : nullptr;
 }
-const ImageF* rawOf(const FrameResult& f, int l) { return validLevel(l) ? &f.levels[static_cast<size_t>(l)].raw : nullptr; }
-const ImageF* subOf(const FrameResult& f, int l) { return validLevel(l) ? &f.levels[static_cast<size_t>(l)].sub : nullptr; }
-const ImageF* upsampleOf(const FrameResult& f, int l) { return validLevel(l) ? &f.blend.upsampled[static_cast<size_t>(l)] : nullptr; }
-const ImageF* blendAlphaOf(const FrameResult& f, int l) { return validLevel(l) ? &f.blend.alpha[static_cast<size_t>(l)] : nullptr; }
-const ImageF* compositeOf(const FrameResult& f, int l) { return validLevel(l) ? &f.blend.composite[static_cast<size_t>(l)] : nullptr; }
+const ImageF* rawOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.levels[static_cast<size_t>(l)].raw : nullptr;
+}
+const ImageF* subOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.levels[static_cast<size_t>(l)].sub : nullptr;
+}
+const ImageF* upsampleOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.blend.upsampled[static_cast<size_t>(l)] : nullptr;
+}
+const ImageF* blendAlphaOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.blend.alpha[static_cast<size_t>(l)] : nullptr;
+}
+const ImageF* compositeOf(const FrameResult& f, int l) {
+  return validLevel(l) ? &f.blend.composite[static_cast<size_t>(l)] : nullptr;
+}
 const ImageU8* shadowLitOf(const FrameResult& f, int) { return &f.shadowLit; }
 const ImageF* eccentricityOf(const FrameResult& f, int) { return &f.eccentricity; }
 const ImageF* motionOf(const FrameResult& f, int) { return &f.motion; }
@@ -208,7 +228,10 @@ void writeEdges(FrameResult& f, int, const ImageF& image) {
 
 }  // namespace
 
-const PartImageAccess kGBufferImage = {[](const FrameResult& f, int l) { return validLevel(l) && !f.levels[static_cast<size_t>(l)].gbuffer.depth.empty(); },
+const PartImageAccess kGBufferImage = {[](const FrameResult& f, int l) {
+                                         return validLevel(l) &&
+                                                !f.levels[static_cast<size_t>(l)].gbuffer.depth.empty();
+                                       },
                                        readGBuffer, writeGBuffer};
 const PartImageAccess kShadowMapImage = {[](const FrameResult& f, int) { return !f.shadowMap.depth.empty(); },
                                          readShadowMap, writeShadowMap};
@@ -259,18 +282,22 @@ std::vector<std::string> partChannels(Part part, const ImageF& image) {
   std::vector<std::string> names = partChannels(part, image.channels == 3 ? 3 : 1);
   if (static_cast<int>(names.size()) != image.channels) names = partChannels(part, 1);
   require(static_cast<int>(names.size()) >= image.channels,
-          "part " + std::string(partInfo(part).name) + ": " + std::to_string(image.channels) + " channels, the stage list names " +
-              std::to_string(names.size()));
+          "part " + std::string(partInfo(part).name) + ": " + std::to_string(image.channels) +
+              " channels, the stage list names " + std::to_string(names.size()));
   names.resize(static_cast<size_t>(image.channels));
   return names;
 }
 
 bool inputApplies(InputWhen when, const Constants& c) {
   switch (when) {
-    case InputWhen::Always: return true;
-    case InputWhen::Ssm: return c.effect == Effect::Ssm;
-    case InputWhen::Footprint: return methodInfo(c.mode).masks == MaskBuilder::EffectEdges;
-    case InputWhen::Peer: return methodInfo(c.mode).peer();
+    case InputWhen::Always:
+      return true;
+    case InputWhen::Ssm:
+      return c.effect == Effect::Ssm;
+    case InputWhen::Footprint:
+      return methodInfo(c.mode).masks == MaskBuilder::EffectEdges;
+    case InputWhen::Peer:
+      return methodInfo(c.mode).peer();
   }
   return false;
 }
@@ -284,8 +311,12 @@ std::vector<std::string> partInputNames(Part part, int level, const Constants& c
   for (const PartInput& in : partInfo(part).inputs) {
     if (!inputApplies(in.when, c)) continue;
     switch (in.level) {
-      case InputLevel::Same: add(in.part, level); break;
-      case InputLevel::Zero: add(in.part, 0); break;
+      case InputLevel::Same:
+        add(in.part, level);
+        break;
+      case InputLevel::Zero:
+        add(in.part, 0);
+        break;
       case InputLevel::NextCoarser: {
         const int next = level >= 0 ? c.nextCoarserEnabled(level) : -1;
         if (next >= 0) add(in.part, next);
@@ -306,19 +337,25 @@ std::string viewCaption(Part part, int channels) {
   const PartView& v = partInfo(part).view;
   const std::string caption(v.caption);
   switch (v.display) {
-    case Display::Binary: return caption + ": 1 white, 0 black";
-    case Display::Levels: return caption + ": one ramp colour per value, 0 dark to 3 bright";
-    case Display::Effect: return caption + (channels == 3 ? " (RGB)" : "") + ", clamped to [0, 1]: 0 black, 1 white";
+    case Display::Binary:
+      return caption + ": 1 white, 0 black";
+    case Display::Levels:
+      return caption + ": one ramp colour per value, 0 dark to 3 bright";
+    case Display::Effect:
+      return caption + (channels == 3 ? " (RGB)" : "") + ", clamped to [0, 1]: 0 black, 1 white";
     case Display::Scalar: {
       if (!(v.hi > v.lo)) return caption + " on the ramp over its range";
       char range[64];
-      std::snprintf(range, sizeof range, " on the ramp over [%g, %g]", static_cast<double>(v.lo), static_cast<double>(v.hi));
+      std::snprintf(range, sizeof range, " on the ramp over [%g, %g]", static_cast<double>(v.lo),
+                    static_cast<double>(v.hi));
       return caption + range;
     }
-    case Display::Colour: return caption + ", linear RGB shown sRGB-encoded";
+    case Display::Colour:
+      return caption + ", linear RGB shown sRGB-encoded";
     case Display::GBuffer:
     case Display::ShadowMap:
-    case Display::Edges: return caption;
+    case Display::Edges:
+      return caption;
   }
   return caption;
 }

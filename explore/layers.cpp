@@ -92,7 +92,8 @@ void maskArms(const FrameResult& f, int l, std::vector<std::string>& names) {
   if (arms && l != c.coarsestEnabled && method.masks == MaskBuilder::EffectEdges) {
     names.push_back(mask + ".geometry");
     names.push_back(mask + ".footprint");
-    if (method.aPosteriori && c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest) names.push_back(mask + ".marks");
+    if (method.aPosteriori && c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest)
+      names.push_back(mask + ".marks");
   }
   if (arms) names.push_back(mask + ".why");
 }
@@ -136,7 +137,8 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
         const int l = blend ? kLevelCount - 1 - k : k;
         if (!c.levels[static_cast<size_t>(l)].enabled) continue;
         for (size_t r = i; r < end; ++r)
-          if ((kParts[r].step == 5) == blend && holdsPart(f, kParts[r].part, l)) partLayers(f, {kParts[r].part, l}, names);
+          if ((kParts[r].step == 5) == blend && holdsPart(f, kParts[r].part, l))
+            partLayers(f, {kParts[r].part, l}, names);
       }
     i = end;
   }
@@ -296,10 +298,12 @@ void maskArmLayer(const FrameResult& f, int level, const std::string& arm, const
   const CoverageArms arms = coverageArms(f);
   require(arms.active, "no layer " + name);
   if (arm == "geometry") {
-    binaryLayer(toFloat(arms.stages.geometry[li]), "the mask from edges alone (mrr's M, before the effect's widening)", out);
+    binaryLayer(toFloat(arms.stages.geometry[li]), "the mask from edges alone (mrr's M, before the effect's widening)",
+                out);
   } else if (arm == "marks") {
     require(!arms.marks[li].empty(), "no layer " + name);
-    binaryLayer(toFloat(arms.marks[li]), "the a-posteriori marks: the next coarser result varies by more than tau over 3x3", out);
+    binaryLayer(toFloat(arms.marks[li]),
+                "the a-posteriori marks: the next coarser result varies by more than tau over 3x3", out);
   } else if (arm == "footprint") {
     require(!arms.stages.footprintMax[li].empty(), "no layer " + name);
     out.kind = LayerKind::Scalar;
@@ -313,7 +317,8 @@ void maskArmLayer(const FrameResult& f, int level, const std::string& arm, const
     out.kind = LayerKind::Reason;
     out.values = ImageF(stencil.width, stencil.height, 1);
     for (int y = 0; y < stencil.height; ++y)
-      for (int x = 0; x < stencil.width; ++x) out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
+      for (int x = 0; x < stencil.width; ++x)
+        out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
     out.channels = {"why"};
     out.lo = 0.0f;
     out.hi = static_cast<float>(Coverage::Limit);
@@ -352,7 +357,8 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
     case Grid::Light: out.scale = 0; break;  // the light's grid, not the screen's
   }
   out.what = std::string(row.what);
-  const std::string sub = tokens.size() == (row.perLevel ? 3u : 2u) ? tokens.back() : "";  // a channel group, kind or arm
+  // A G-buffer channel group, an edge kind or a mask's arm.
+  const std::string sub = tokens.size() == (row.perLevel ? 3u : 2u) ? tokens.back() : "";
   const size_t li = static_cast<size_t>(std::max(level, 0));
   switch (row.view.display) {  // the multi-channel parts' own layers, and the masks' arms
     case Display::GBuffer: gbufferLayer(f.levels[li].gbuffer, sub, name, out); break;
@@ -454,7 +460,8 @@ nlohmann::json layerMeta(const LayerImage& l) {
   if (l.kind == LayerKind::Binary) {
     long long ones = 0;
     const size_t ch = static_cast<size_t>(std::max(l.values.channels, 1));
-    for (size_t p = 0; p < l.values.pixelCount(); ++p) ones += l.values.data[p * ch + static_cast<size_t>(l.channel)] != 0.0f;
+    for (size_t p = 0; p < l.values.pixelCount(); ++p)
+      ones += l.values.data[p * ch + static_cast<size_t>(l.channel)] != 0.0f;
     j["ones"] = ones;
   }
   if (l.kind == LayerKind::Levels) {

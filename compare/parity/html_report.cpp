@@ -81,8 +81,10 @@ ImageU8 displayBinary(const ImageF& src, int c) {
 // Channel `c` of `src`, small integers (levels, tile rates): one ramp colour each, as explore shows them.
 ImageU8 displayLevels(const ImageF& src, int c) {
   ImageU8 out(src.width, src.height, 3, 0);
-  for (size_t i = 0; i < src.pixelCount(); ++i)
-    rampColour(0.15 + 0.8 * src.data[i * static_cast<size_t>(src.channels) + static_cast<size_t>(c)] / 3.0, &out.data[i * 3]);
+  for (size_t i = 0; i < src.pixelCount(); ++i) {
+    const float level = src.data[i * static_cast<size_t>(src.channels) + static_cast<size_t>(c)];
+    rampColour(0.15 + 0.8 * level / 3.0, &out.data[i * 3]);
+  }
   return out;
 }
 
@@ -358,7 +360,8 @@ StageView partView(Part part, int level, const FrameResult& o, const FrameResult
       if (!(hi > lo)) {  // the oracle's finite range
         lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
         for (size_t i = 0; i < a.pixelCount(); ++i)
-          if (const float x = a.data[i * static_cast<size_t>(a.channels)]; std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+          if (const float x = a.data[i * static_cast<size_t>(a.channels)]; std::isfinite(x))
+            lo = std::min(lo, x), hi = std::max(hi, x);
         if (lo > hi) lo = hi = 0.0f;
       }
       v.oracle = displayRamp(a, lo, hi);

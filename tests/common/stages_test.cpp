@@ -77,7 +77,8 @@ TEST(StageList, EveryRowCarriesItsAccessorCaptionAndDisplay) {
     EXPECT_LT(p.view.channel, static_cast<int>(partChannels(p.part).size())) << p.name << ": shows a channel it lacks";
     if (p.view.display == Display::Scalar) EXPECT_LT(p.view.lo, p.view.hi) << p.name << ": a scalar's ramp";
     EXPECT_NE(viewCaption(p.part, 1).find(std::string(p.view.caption)), std::string::npos) << p.name;
-    EXPECT_TRUE(p.grid == Grid::Level || !p.perLevel || p.step == 5) << p.name << ": a per-level part off its level's grid";
+    EXPECT_TRUE(p.grid == Grid::Level || !p.perLevel || p.step == 5)
+        << p.name << ": a per-level part off its level's grid (only the blend's are at full res)";
     // Nothing held by a frame that holds nothing.
     const FrameResult empty;
     EXPECT_FALSE(p.image->holds(empty, 0)) << p.name;
@@ -118,9 +119,11 @@ TEST(StageList, EveryInputNamesAPartThatExists) {
   EXPECT_EQ(partInputNames(Part::Edges, -1, c), (Names{"gbuffer.L0", "shadowtest"}));
   EXPECT_EQ(partInputNames(Part::Stencil, 2, c),
             (Names{"edges", "levellimit", "tilerates", "marks.L2", "gbuffer.L0", "shadowmap"}));
-  EXPECT_EQ(partInputNames(Part::Composite, 1, c), (Names{"upsample.L1", "blendalpha.L1", "composite.L2", "composite.L3"}));
+  EXPECT_EQ(partInputNames(Part::Composite, 1, c),
+            (Names{"upsample.L1", "blendalpha.L1", "composite.L2", "composite.L3"}));
   EXPECT_EQ(partInputNames(Part::Raw, 2, c), (Names{"gbuffer.L2", "stencil.L2", "shadowmap"}));
-  s.effect = Effect::Ssgi;  // SSGI's edges do not read its shadow test; mrr's masks no footprint; tiles compose as a peer
+  // SSGI's edges do not read its shadow test; mrr's masks read no footprint; tiles compose as a peer.
+  s.effect = Effect::Ssgi;
   s.mode = Mode::Mrr;
   c = makeConstants(s, 1.0f);
   EXPECT_EQ(partInputNames(Part::Edges, -1, c), (Names{"gbuffer.L0"}));

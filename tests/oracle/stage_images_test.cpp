@@ -2,13 +2,14 @@
 // reads back as written, in a frame that holds only the constants and in a copy of the frame
 // itself (what `compare --against` does: padded grids keep their padding); every image lies on
 // its row's grid with the channels its row names; and the stages EXR keeps its order.
+#include "common/stage_images.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <set>
 
 #include "common/error.h"
-#include "common/stage_images.h"
 #include "compare/report/report.h"
 #include "tests/oracle/render_helpers.h"
 
@@ -32,7 +33,8 @@ std::string firstDifference(const FrameResult& a, const FrameResult& b) {
     const std::string L = ".L" + std::to_string(l);
     if (!same(x.gbuffer.depth, y.gbuffer.depth) || !same(x.gbuffer.position, y.gbuffer.position) ||
         !same(x.gbuffer.normal, y.gbuffer.normal) || !same(x.gbuffer.albedo, y.gbuffer.albedo) ||
-        !same(x.gbuffer.hit, y.gbuffer.hit) || x.gbuffer.width != y.gbuffer.width || x.gbuffer.height != y.gbuffer.height)
+        !same(x.gbuffer.hit, y.gbuffer.hit) || x.gbuffer.width != y.gbuffer.width ||
+        x.gbuffer.height != y.gbuffer.height)
       return "gbuffer" + L;
     if (!same(x.marks, y.marks)) return "marks" + L;
     if (!same(x.masks.mask, y.masks.mask)) return "mask" + L;
@@ -101,10 +103,14 @@ const Frames& frames() {
 std::pair<int, int> gridSize(const FrameResult& f, Part part, int level) {
   const Constants& c = f.constants;
   switch (partInfo(part).grid) {
-    case Grid::Level: return {c.levels[static_cast<size_t>(level)].width, c.levels[static_cast<size_t>(level)].height};
-    case Grid::Screen: return {c.width, c.height};
-    case Grid::Tiles: return {(c.paddedWidth + kTileSize - 1) / kTileSize, (c.paddedHeight + kTileSize - 1) / kTileSize};
-    case Grid::Light: return {c.ssm.shadowMapSize, c.ssm.shadowMapSize};
+    case Grid::Level:
+      return {c.levels[static_cast<size_t>(level)].width, c.levels[static_cast<size_t>(level)].height};
+    case Grid::Screen:
+      return {c.width, c.height};
+    case Grid::Tiles:
+      return {(c.paddedWidth + kTileSize - 1) / kTileSize, (c.paddedHeight + kTileSize - 1) / kTileSize};
+    case Grid::Light:
+      return {c.ssm.shadowMapSize, c.ssm.shadowMapSize};
   }
   return {-1, -1};
 }
@@ -176,7 +182,8 @@ TEST(StageImages, TheStagesExrKeepsItsPartsOrderAndChannels) {
   const FrameResult& f = frames().rendered[0].frame;  // SSM, mrr-effect with marks, gaze and motion
   std::vector<std::string> expected;
   for (int l = 0; l < kLevelCount; ++l) expected.push_back("gbuffer.L" + std::to_string(l));
-  for (const char* p : {"shadowmap", "shadowtest", "edges", "eccentricity", "motion", "levellimit"}) expected.push_back(p);
+  for (const char* p : {"shadowmap", "shadowtest", "edges", "eccentricity", "motion", "levellimit"})
+    expected.push_back(p);
   for (int l = 0; l < kLevelCount; ++l)
     for (const char* p : {"marks", "mask", "alpha", "stencil", "raw", "sub", "upsample", "blendalpha", "composite"})
       if (std::string(p) != "marks" || !f.levels[static_cast<size_t>(l)].marks.empty())
@@ -193,7 +200,7 @@ TEST(StageImages, TheStagesExrKeepsItsPartsOrderAndChannels) {
     return std::vector<std::string>{};
   };
   EXPECT_EQ(channelsOf("gbuffer.L2"), (std::vector<std::string>{"depth", "P.x", "P.y", "P.z", "N.x", "N.y", "N.z",
-                                                                 "albedo.R", "albedo.G", "albedo.B", "hit"}));
+                                                                "albedo.R", "albedo.G", "albedo.B", "hit"}));
   EXPECT_EQ(channelsOf("edges"), (std::vector<std::string>{"normal", "depth", "background", "E", "shadow"}));
   EXPECT_EQ(channelsOf("levellimit"), (std::vector<std::string>{"fovea", "motion", "limit"}));
   EXPECT_EQ(channelsOf("raw.L1"), std::vector<std::string>{"c_raw"});
@@ -201,7 +208,8 @@ TEST(StageImages, TheStagesExrKeepsItsPartsOrderAndChannels) {
   // SSGI's effect parts are RGB; SSAO's edges have no shadow kind; tiles write their rates.
   const std::vector<ExrPart> ssgi = stageParts(frames().rendered[1].frame);
   for (const ExrPart& p : ssgi)
-    if (p.name == "composite.L2") EXPECT_EQ(p.channelNames, (std::vector<std::string>{"c_prime.R", "c_prime.G", "c_prime.B"}));
+    if (p.name == "composite.L2")
+      EXPECT_EQ(p.channelNames, (std::vector<std::string>{"c_prime.R", "c_prime.G", "c_prime.B"}));
   const std::vector<ExrPart> tiles = stageParts(frames().rendered[2].frame);
   std::vector<std::string> tileNames;
   for (const ExrPart& p : tiles) tileNames.push_back(p.name);

@@ -1,5 +1,7 @@
 #include "common/cost_model.h"
 
+#include "common/frame_params.h"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -125,7 +127,7 @@ CostModel CostModel::defaults(const std::string& path) {
 CostModel CostModel::fromJson(const nlohmann::json& j, const std::string& origin) {
   CostModel m;
   try {
-    m.source = j.value("source", std::string("--cost-model"));
+    m.source = j.value("source", optionName(Param::CostModel));
     for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
       const nlohmann::json& ej = j.at("effects").at(toString(e));
       EffectCost& ec = m.effect[static_cast<size_t>(e)];
@@ -177,7 +179,7 @@ CostModel CostModel::fromJson(const nlohmann::json& j, const std::string& origin
 }
 
 CostModel CostModel::fromFile(const std::string& file) {
-  return fromJson(readJsonObjectFile(file, "--cost-model"), "--cost-model " + file);
+  return fromJson(readJsonObjectFile(file, optionName(Param::CostModel)), optionName(Param::CostModel) + " " + file);
 }
 
 nlohmann::json CostModel::toJson() const {

@@ -141,6 +141,9 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
           r.budgeted = true;
           r.budgetNs = budgetLeft / levelsLeft;
           r.prices = refinementPrices(model, c, l, f.counts);
+          // SPEC §14.2: what the previous frame selected here, for the marks' hysteresis
+          if (c.effectMask.hysteresis > 0.0f && options.history)
+            r.previousMarked = options.history->marked[static_cast<size_t>(l)];
         }
         stage(stageName(Part::Stencil), [&] { b.refineMasks(f, l); });
         budgetLeft = std::max(0.0, budgetLeft - r.spentNs);

@@ -139,6 +139,9 @@ struct RefinementRecord {
   // Each candidate's price (level n's grid, row-major), from the a-priori S_ℓ: the selection's
   // input besides v, kept so that it can be made again on this frame's images (compare, probe).
   std::vector<double> candidatePrices;
+  // SPEC §14.2: the previous frame's selection at this level (its `marked`), where it has one of
+  // this level's size: the marks' hysteresis reads it. Empty: none.
+  ImageU8 previousMarked;
 };
 
 struct StageTiming {

@@ -103,6 +103,8 @@ struct EffectMaskSettings {
   // SPEC §14.2, the marks' hysteresis: a candidate the previous frame refined keeps its mark while
   // its variation stays above (1 − h) × what a new one needs, [0, 1); 0 = off.
   float hysteresis = 0.0f;
+  // The a-posteriori term runs (coarse to fine shading, §12.2): a threshold or a budget.
+  bool refines() const { return posterior > 0.0f || budget > 0.0f; }
   static constexpr int kDefaultCap = 8;
 };
 
@@ -229,19 +231,7 @@ struct Constants {
     std::vector<glm::vec3> kernel;   // same generator as SSAO's
     uint32_t seed = 0;               // the sampling seed of the rotations (Settings::seed)
   } ssgi;
-  struct EffectMask {  // mode mrr-effect (SPEC §12)
-    float scale = 1.0f;
-    int cap = 0;
-    int firstLevel = 1;
-    float posterior = 0.0f;
-    int posteriorFinest = 0;
-    bool effectOnly = false;
-    float budget = 0.0f;      // SPEC §12.4 (0: off)
-    float temporal = 0.0f;    // SPEC §14 λ (0: off)
-    float hysteresis = 0.0f;  // SPEC §14.2 h (0: off)
-    // The a-posteriori term runs (coarse to fine shading, §12.2): a threshold or a budget.
-    bool refines() const { return posterior > 0.0f || budget > 0.0f; }
-  } effectMask;
+  EffectMaskSettings effectMask;  // mrr-effect (SPEC §12): its settings as given, nothing derived
   // SPEC §14: the temporal term, resolved for the frame's method (mrr-effect's λ, tiles' own;
   // 0 for every other method). It runs only when the frame has a previous one (RenderOptions::history).
   struct Temporal {
@@ -250,25 +240,15 @@ struct Constants {
     float normalCos = 0.0f;       // κ: ... and its normal · this one's ≥ κ
     bool on() const { return lambda > 0.0f; }
   } temporal;
-  // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before.
-  struct Foveation {
-    bool gaze = false, motion = false;
-    bool foveate = true;  // false: eccentricity is measured, the eye allows level 0 only (a baseline)
-    int gazeX = 0, gazeY = 0;
-    float ppd = 67.0f;
+  // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before. The
+  // settings as given, and the thresholds derived from them (makeFoveationConstants).
+  struct Foveation : FoveationSettings {
     double mar0 = 0.0, marSlope = 0.0;  // ω0 (degrees) and m (degrees per degree), Guenter et al. 2012
     // Step 2: level ℓ ≥ 1 is allowed by the eye where d² ≥ radius2[ℓ] (d the distance to the gaze
     // in full-res pixels, an integer): exact integer thresholds made on the host.
     std::array<int64_t, kLevelCount> radius2{};
     // Step 4: level ℓ ≥ 1 is allowed by motion where (scale·v)² ≥ speed2[ℓ], v in full-res pixels.
     std::array<float, kLevelCount> speed2{};
-    int motionCap = 2;
-    float motionScale = 1.0f;
-    glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
-    float prevYfov = 0.9f;
-    bool panned = false;  // --pan: the previous view is this frame's, moved by −pan along its right axis
-    float pan = 0.0f;
-    bool active() const { return gaze || motion; }
   } foveation;
   struct Bilateral {
     int radius = 0;

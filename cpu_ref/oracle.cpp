@@ -166,7 +166,8 @@ ImageU8 OracleStages::marks(const FrameResult& in, int l, RefinementSelection* s
                                      : candidatePrices(in.levels[static_cast<size_t>(l)].masks.stencil,
                                                        in.levels[0].gbuffer.hit, in.pcfSample, c, l, next, budget.prices);
     RefinementSelection chosen =
-        selectRefinement(range, prices, budget.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis, nullptr);
+        selectRefinement(range, prices, budget.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis,
+                         budget.previousMarked.empty() ? nullptr : &budget.previousMarked);
     chosen.prices = std::move(prices);
     varies = chosen.varies;
     if (selection) *selection = std::move(chosen);

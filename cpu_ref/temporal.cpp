@@ -120,6 +120,7 @@ FrameHistory makeHistory(const FrameResult& f) {
   const GBuffer& g = f.levels[0].gbuffer;
   h.depth = crop(g.depth, c.width, c.height);
   h.normal = crop(g.normal, c.width, c.height);
+  for (size_t l = 0; l < kLevelCount; ++l) h.marked[l] = f.levels[l].marked;  // SPEC §14.2
   return h;
 }
 

@@ -259,8 +259,9 @@ class PortFrame final : public FrameBackend {
                                          &maskTargets_->supportRects[n], true);
       const std::vector<double> prices =
           candidatePrices(f.levels[i].masks.stencil, fullResHit(f), f.pcfSample, c, l, next, r.prices);
-      RefinementSelection chosen = selectRefinement(range->read(0, 1), prices, r.budgetNs, c.effectMask.posterior,
-                                                    c.effectMask.hysteresis, nullptr);
+      RefinementSelection chosen =
+          selectRefinement(range->read(0, 1), prices, r.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis,
+                           r.previousMarked.empty() ? nullptr : &r.previousMarked);
       r.spentNs = chosen.spentNs;
       r.candidates = chosen.candidates;
       r.taken = chosen.taken;
@@ -329,6 +330,7 @@ class PortFrame final : public FrameBackend {
       if (keep_) f.temporal.previous = std::make_shared<const FrameHistory>(*history);
     }
     f.history = readHistory(*gbuffers_[0], f.final(), f.view, c);
+    for (size_t l = 0; l < kLevelCount; ++l) f.history.marked[l] = f.levels[l].marked;  // SPEC §14.2
   }
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {

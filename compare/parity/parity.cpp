@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "common/stage_images.h"
 #include "common/stages.h"
 #include "cpu_ref/oracle.h"  // the oracle's stages, run on the port's inputs
 
@@ -433,25 +434,13 @@ ParityResult compareFrames(const FrameResult& o, const FrameResult& p, const Dir
   // and the history it read (the port's previous frame). The final row above judged the result.
   if (!p.temporal.empty() && p.temporal.previous && !p.levels[0].gbuffer.depth.empty()) {
     const TemporalImages same = oracle.temporal(p, *p.temporal.previous);
-    const auto joined = [](const TemporalImages& t) {  // h and λ_p as one image, the part's channels
-      ImageF out(t.history.width, t.history.height, t.history.channels + 1);
-      for (size_t i = 0; i < t.history.pixelCount(); ++i) {
-        for (int k = 0; k < t.history.channels; ++k)
-          out.data[i * static_cast<size_t>(out.channels) + static_cast<size_t>(k)] = t.history.data[i * static_cast<size_t>(t.history.channels) + static_cast<size_t>(k)];
-        out.data[i * static_cast<size_t>(out.channels) + static_cast<size_t>(t.history.channels)] = t.weight.data[i];
-      }
-      return out;
-    };
-    const ImageF portPart = joined(p.temporal);
+    const ImageF portPart = temporalPartImage(p.temporal);
     std::optional<StageCheck> endToEnd;
     if (!o.temporal.empty())
       endToEnd = check(endToEndRule(Part::Temporal),
-                       diffImages(portPart, joined(o.temporal), tolerance(endToEndRule(Part::Temporal)).pixelThreshold, {}));
+                       diffImages(portPart, temporalPartImage(o.temporal), tolerance(endToEndRule(Part::Temporal)).pixelThreshold, {}));
     rows.add({partName(Part::Temporal), -1, 1, endToEnd,
-              check("temporal.same_input", diffImages(portPart, joined(same), tolerance("temporal.same_input").pixelThreshold, {}))});
-    rows.add({partName(Part::Final) + ".temporal", -1, 1, {},
-              check("temporal.same_input",
-                    diffImages(p.temporal.result, same.result, tolerance("temporal.same_input").pixelThreshold, {}))});
+              check("temporal.same_input", diffImages(portPart, temporalPartImage(same), tolerance("temporal.same_input").pixelThreshold, {}))});
   }
 
   // 6. The shaded image: end to end, and the oracle's shadeFinal on the port's own level-0

@@ -140,6 +140,38 @@ TEST(EffectBudget, BudgetedFramesSpendWithinTheirShare) {
   }
 }
 
+// SPEC §14.2 on a frame: the second frame of a still camera reads the first one's selection; with
+// the hysteresis the candidates the first frame marked need less variation, so there are at least as
+// many candidates, and some of those taken were taken before.
+TEST(EffectBudget, TheMarksHysteresisKeepsWhatThePreviousFrameSelected) {
+  Settings s = ssaoSettings(160, 96, 8);
+  s.mode = Mode::MrrEffect;
+  s.effectMask.posterior = 0.02f;
+  s.effectMask.budget = 0.6f;
+  s.effectMask.temporal = 0.5f;  // the history that carries the selection
+  s.effectMask.hysteresis = 0.5f;
+  auto first = renderScene("builtin:demo", s);
+  ASSERT_FALSE(first.frame.fallback.fellBack);
+  RenderOptions o;
+  o.history = &first.frame.history;
+  const FrameResult second = first.renderer->render(first.camera, makeConstants(s, first.framedSize), o);
+  int64_t kept = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const RefinementRecord &a = first.frame.refinement[static_cast<size_t>(l)], &b = second.refinement[static_cast<size_t>(l)];
+    if (!b.budgeted) continue;
+    EXPECT_EQ(a.kept, 0) << "the first frame has no previous one";
+    EXPECT_FALSE(b.previousMarked.empty()) << "level " << l;
+    EXPECT_GE(b.candidates, a.candidates) << "level " << l;
+    EXPECT_LE(b.kept, b.taken);
+    kept += b.kept;
+  }
+  EXPECT_GT(kept, 0);
+  // without the hysteresis the previous selection is not read
+  s.effectMask.hysteresis = 0.0f;
+  const FrameResult plain = first.renderer->render(first.camera, makeConstants(s, first.framedSize), o);
+  for (const RefinementRecord& r : plain.refinement) EXPECT_EQ(r.kept, 0);
+}
+
 // SPEC §14: the same camera twice, the history its own previous frame: every pixel the coarser levels
 // serve keeps λ (1 − α_0) of a history equal to its own value, so the result is the blend's within
 // rounding; a pixel at full resolution (α_0 = 1) and every pixel off geometry are the blend's bit for bit.

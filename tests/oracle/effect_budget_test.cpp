@@ -103,6 +103,7 @@ TEST(EffectBudget, BudgetedFramesSpendWithinTheirShare) {
   Settings s = ssaoSettings(160, 96, 16);
   s.mode = Mode::MrrEffect;
   s.effectMask.posterior = 0.02f;
+  s.effectMask.budget = 0.0f;  // τ_v alone
   const auto unbudgeted = renderScene("builtin:demo", s);
   for (const float budget : {0.3f, 0.6f, 1.0f}) {
     s.effectMask.budget = budget;

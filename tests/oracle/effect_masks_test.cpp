@@ -76,6 +76,7 @@ TEST(EffectMasks, APosterioriTermRefinesAndKeepsTheLevelLimit) {
   Settings s = ssaoSettings(160, 96, 8);
   s.mode = Mode::MrrEffect;
   s.neverSlower = false;
+  s.effectMask.budget = 0.0f;  // τ_v alone (SPEC §12.2; §12.4's budget is tested apart)
   const auto prior = renderScene("builtin:demo", s);
   s.effectMask.posterior = 2.0f;  // no 3×3 range of AO exceeds it
   const auto none = renderScene("builtin:demo", s);
@@ -155,6 +156,7 @@ TEST(EffectMasks, NoFootprintIsMrrExactly) {
     if (tinyRadius) s.ssao.radius = 1e-6f;
     const auto mrr = renderScene("builtin:demo", s);
     s.mode = Mode::MrrEffect;
+    s.effectMask.budget = 0.0f;  // the a-priori masks alone
     if (!tinyRadius) s.effectMask.scale = 0.0f;
     s.effectMask.firstLevel = 0;  // every level could widen
     const auto eff = renderScene("builtin:demo", s);

@@ -811,6 +811,7 @@ TEST(NeverSlower, PricesMrrEffectsMasksAndItsAPosterioriPasses) {
   CostModel m = handMadeModel();
   const Constants mrr = makeConstants(ssaoSettings(64, 32, 16), 1.0f);
   Settings es = ssaoSettings(64, 32, 16, Mode::MrrEffect);
+  es.effectMask.budget = 0.0f;  // a priori: no a-posteriori term (SPEC §12.4's budget refines)
   const Constants effect = makeConstants(es, 1.0f);
   es.effectMask.posterior = 0.3f;
   const Constants posterior = makeConstants(es, 1.0f);

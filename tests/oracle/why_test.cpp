@@ -28,6 +28,7 @@ TEST(CoverageWhy, AnEdgeIsGeometryAndAPixelWithinReachIsTheEffect) {
   Settings s = ssaoSettings(160, 96, 8);
   const auto mrr = renderScene("builtin:demo", s);
   s.mode = Mode::MrrEffect;
+  s.effectMask.budget = 0.0f;  // the a-priori arms alone (the marks: TheLevelLimitAndTheMarks)
   const auto eff = renderScene("builtin:demo", s);
   const FrameResult& f = eff.frame;
   const Constants& c = f.constants;
@@ -107,6 +108,7 @@ TEST(CoverageWhy, AnEdgeIsGeometryAndAPixelWithinReachIsTheEffect) {
 // exactly the pixels the widening adds, and no level is covered for an edge.
 TEST(CoverageWhy, EffectOnlyShadesWhatTheWideningAdds) {
   Settings s = ssaoSettings(160, 96, 8, Mode::MrrEffect);
+  s.effectMask.budget = 0.0f;  // the a-priori arms alone
   const auto both = renderScene("builtin:demo", s);
   s.effectMask.effectOnly = true;
   const auto only = renderScene("builtin:demo", s);

@@ -47,6 +47,10 @@ const std::vector<ShaderFault>& shaderFaults() {
        "for (int d = 0; d <= 1; ++d) {\n    ivec2 q = ivec2(p.x + d, p.y);",
        "mrr-effect's a-posteriori range over 2 columns of the 3x3 neighbourhood (SPEC 12.2 step 1; the separable "
        "pass along x)", partName(Part::Marks)},
+      {"temporal-keeps-level-zero", "temporal.frag", "float lambdaP = weight > 0.0 ? lambda * (1.0 - a0) : 0.0;",
+       "float lambdaP = weight > 0.0 ? lambda : 0.0;",
+       "the temporal term without its (1 - alpha_0): pixels level 0 shades keep the history too (SPEC 14 step 5)",
+       partName(Part::Temporal)},
       {"marks-inclusive", "refinement_marks.frag", "marked = range > tau ? 1.0 : 0.0;",
        "marked = range >= tau ? 1.0 : 0.0;",
        "mrr-effect's a-posteriori test with >= for >: a range of exactly tau_v is marked", partName(Part::Marks)},

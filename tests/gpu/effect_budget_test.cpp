@@ -3,6 +3,7 @@
 // v (SPEC §12.4), and the temporal term is the oracle's on the port's own blend and history (§14).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <random>
 
@@ -152,6 +153,42 @@ TEST(GpuTemporal, TheTermIsTheOraclesOnThePortsOwnHistory) {
     for (float w : gpuFrame.temporal.weight.data) kept += w > 0.0f;
     EXPECT_GT(kept, 0) << "no pixel kept its history: the check would be vacuous";
   }
+}
+
+// The planted fault temporal-keeps-level-zero (λ_p = λ, the (1 − α_0) dropped): the port's second
+// frame of a still camera fails first at the temporal part; without the fault it passes.
+TEST(GpuTemporal, APlantedFaultFailsAtTheTemporalPart) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const CostModel model = CostModel::defaults("cpu");
+  Settings s = defaultSettings(Effect::Ssao);
+  s.width = 97;
+  s.height = 61;
+  s.setSamples(16);
+  s.mode = Mode::MrrEffect;
+  s.neverSlower = false;
+  s.effectMask.temporal = 0.6f;
+  test::Rendered base = test::renderScene("builtin:demo", s);
+  const Constants k = makeConstants(s, base.framedSize);
+  const auto second = [&](const FrameRenderer& r) {
+    const FrameResult first = r.render(base.camera, k, {false, {}, &model});
+    RenderOptions o{true, {}, &model};
+    o.history = &first.history;
+    return r.render(base.camera, k, o);
+  };
+  const FrameResult cpu = second(*base.renderer);
+  {
+    const gpu::GpuRenderer clean(*base.scene);
+    const ParityResult ok = compareFrames(cpu, second(clean), base.scene->light);
+    EXPECT_TRUE(ok.pass()) << "without the fault\n" << formatParityTable(ok);
+  }
+  setenv("MRR_GPU_FAULT", "temporal-keeps-level-zero", 1);
+  const gpu::GpuRenderer faulty(*base.scene);
+  const ParityResult bad = compareFrames(cpu, second(faulty), base.scene->light);
+  unsetenv("MRR_GPU_FAULT");
+  EXPECT_FALSE(bad.pass()) << formatParityTable(bad);
+  EXPECT_EQ(bad.firstFailing().rfind(partName(Part::Temporal), 0), 0u)
+      << "first failing stage " << bad.firstFailing() << ", expected temporal\n" << formatParityTable(bad);
 }
 
 }  // namespace

@@ -733,6 +733,7 @@ Settings effectOnlySettings(Effect effect, bool fromLevel0) {
   Settings s = peerSettings(effect, Mode::MrrEffect, 97, 61);
   s.ssm.lightAngle = 0.4f;
   s.effectMask.effectOnly = true;
+  s.effectMask.budget = 0.0f;  // the ablation's arms are a priori
   if (fromLevel0) {
     s.effectMask.firstLevel = 0;
     s.effectMask.cap = 3;
@@ -815,6 +816,7 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
   Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
   s.ssm.lightAngle = 0.4f;
   s.effectMask.cap = 4;
+  s.effectMask.budget = 0.0f;  // a priori, then τ_v's marks (SPEC §12.4's budget: GpuEffectBudget)
   const BothPaths prior = renderBoth("builtin:" + pc.scene, s, model);
   s.effectMask.posterior = posteriorTau(pc.effect);
   const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
@@ -1172,6 +1174,7 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     Settings s = peerSettings(fc.effect, Mode::MrrEffect, 161, 97);
     s.effectMask.cap = 4;
     s.effectMask.posterior = posteriorTau(fc.effect);
+    s.effectMask.budget = 0.0f;  // τ_v's marks, drawn by refinement_marks.frag where the faults are
     if (fc.fault == "refine-stencil-replaced") {
       s.levels[1].sigma2 = 0.0f;
       s.effectMask.firstLevel = 2;

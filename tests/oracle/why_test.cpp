@@ -156,6 +156,7 @@ TEST(CoverageWhy, TheLevelLimitAndTheMarks) {
 
   s = ssaoSettings(160, 96, 8, Mode::MrrEffect);
   s.effectMask.posterior = 0.05f;
+  s.effectMask.budget = 0.0f;  // τ_v's marks (SPEC §12.2), every one over τ
   const auto post = renderScene("builtin:demo", s);
   const CoverageArms arms = coverageArms(post.frame);
   int marked = 0;

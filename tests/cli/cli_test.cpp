@@ -329,8 +329,10 @@ TEST_F(CliRenderTest, MrrEffectsWideningTravelsInFrameFiles) {
   std::map<std::string, int64_t> shaded;
   for (const std::string path : {"cpu", "gpu"}) {
     if (path == "gpu" && !glAvailable(dir)) continue;
+    // a priori (--effect-budget 0): the budget prices with each path's own cost model (SPEC §12.4)
     const RunResult a = runMrr({"render", "--scene", "builtin:demo", "--method", "mrr-effect", "--effect-cap", "3",
-                                "--effect-first-level", "0", "--size", "96x64", "--samples", "8", "-q", "--path", path,
+                                "--effect-first-level", "0", "--effect-budget", "0", "--size", "96x64", "--samples", "8",
+                                "-q", "--path", path,
                                 "--out", at(path + "e.exr"), "--report", at(path + "e.json"), "--frame-out",
                                 at(path + "ef.json")},
                                dir);
@@ -357,8 +359,8 @@ TEST_F(CliRenderTest, MrrEffectsWideningTravelsInFrameFiles) {
     if (path == "gpu" && !glAvailable(dir)) continue;
     for (const bool only : {false, true}) {
       std::vector<std::string> args = {"render", "--scene", "builtin:demo", "--method", "mrr-effect",
-                                       "--effect-posterior", "0.05", "--size", "96x64", "--samples", "8", "-q",
-                                       "--never-slower", "off", "--path", path, "--out", at("p.exr"), "--report",
+                                       "--effect-posterior", "0.05", "--effect-budget", "0", "--size", "96x64",
+                                       "--samples", "8", "-q", "--never-slower", "off", "--path", path, "--out", at("p.exr"), "--report",
                                        at("p.json"), "--frame-out", at("pf.json")};
       if (only) args.push_back("--effect-only");
       const RunResult p = runMrr(args, dir);
@@ -383,8 +385,8 @@ TEST_F(CliRenderTest, MrrEffectsPosteriorTermTravelsInFrameFiles) {
   for (const std::string path : {"cpu", "gpu"}) {
     if (path == "gpu" && !glAvailable(dir)) continue;
     const std::vector<std::string> frame = {"render", "--scene", "builtin:demo", "--method", "mrr-effect", "--effect-cap",
-                                            "4", "--never-slower", "off", "--size", "96x64", "--samples", "8", "-q",
-                                            "--path", path};
+                                            "4", "--effect-budget", "0", "--never-slower", "off", "--size", "96x64",
+                                            "--samples", "8", "-q", "--path", path};
     std::vector<std::string> refined = frame;
     refined.insert(refined.end(), {"--effect-posterior", "0.05", "--effect-posterior-finest", "0", "--out",
                                    at(path + "p.exr"), "--report", at(path + "p.json"), "--frame-out", at(path + "pf.json")});
@@ -1580,7 +1582,7 @@ TEST(CliOutputTest, BenchRunsTheEffectOnlyArmOnBothPaths) {
   if (!glAvailable(dir)) GTEST_SKIP() << "no EGL device with GL 3.3 core here: the port's arm needs the GL path";
   const std::string json = (fs::path(dir) / "e.json").string();
   const RunResult r = runMrr({"bench", "--paths", "cpu", "gpu", "--scenes", "builtin:demo", "--sizes", "320x180",
-                              "--effects", "ssao", "--methods", "mrr-effect", "mrr-effect+e", "--cameras", "1",
+                              "--effects", "ssao", "--methods", "mrr-effect+b0", "mrr-effect+e+b0", "--cameras", "1",
                               "--repeats", "1", "--no-sweeps", "--frames", "0", "--no-stress", "--no-fovea", "--json",
                               json},
                              dir);
@@ -1592,10 +1594,11 @@ TEST(CliOutputTest, BenchRunsTheEffectOnlyArmOnBothPaths) {
     EXPECT_FALSE(run["fell_back_to_full"].get<bool>()) << path << " " << method;
     shaded[path][method] = run["shaded_pixels"].get<int64_t>();
   }
+  // a priori (+b0): the budget prices with each path's own cost model, so its marks may differ
   for (const char* path : {"cpu", "gpu"}) {
-    ASSERT_EQ(shaded[path].count("mrr-effect+e"), 1u) << path << "\n" << describe(r);
-    EXPECT_GT(shaded[path]["mrr-effect+e"], 0) << path;
-    EXPECT_LT(shaded[path]["mrr-effect+e"], shaded[path]["mrr-effect"]) << path;
+    ASSERT_EQ(shaded[path].count("mrr-effect+e+b0"), 1u) << path << "\n" << describe(r);
+    EXPECT_GT(shaded[path]["mrr-effect+e+b0"], 0) << path;
+    EXPECT_LT(shaded[path]["mrr-effect+e+b0"], shaded[path]["mrr-effect+b0"]) << path;
   }
   EXPECT_EQ(shaded["gpu"], shaded["cpu"]);
 }

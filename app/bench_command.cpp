@@ -17,7 +17,7 @@ namespace mrr {
 
 namespace {
 
-// The foveation group (issue 37, SPEC §13; compare/bench/bench_fovea.h).
+// The foveation group (SPEC §13; compare/bench/bench_fovea.h).
 void addFoveaOptions(CLI::App& b, BenchCommand& c) {
   BenchOptions& o = c.options;
   b.add_flag("--no-fovea", c.noFovea, "skip the foveation group");

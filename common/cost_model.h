@@ -113,7 +113,7 @@ struct CostModel {
   // common/cost_models/<path>.json, compiled in. Throws MrrError for another path.
   static CostModel defaults(const std::string& path);
   // Throws MrrError naming `origin` (the file, or the option) and the missing or bad key.
-  static CostModel fromJson(const nlohmann::json& j, const std::string& origin = "--cost-model");
+  static CostModel fromJson(const nlohmann::json& j, const std::string& origin = "a cost model");
   // A JSON file `mrr bench --calibrate` wrote (`--cost-model FILE`): throws MrrError on a file it
   // cannot read, that is not a JSON object, or that fromJson refuses.
   static CostModel fromFile(const std::string& file);

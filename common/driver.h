@@ -1,5 +1,5 @@
 #pragma once
-// One frame, one order of stages, for both paths (issue 16; after Filament's driver API and
+// One frame, one order of stages, for both paths (after Filament's driver API and
 // Falcor's render passes). renderFrame walks the pipeline's steps in the order of the stage
 // list (common/stages.h), names and times each, reports progress, applies the never-slower rule
 // and counts the shaded pixels; a FrameBackend does each step's work on its own images (the

@@ -159,10 +159,10 @@ struct FrameResult {
   double idealSpeedup = 1.0;  // W·H / Σ|S_ℓ| (SPEC §4)
   // The same over pixels that hit geometry, what full mode really pays for (background costs
   // nothing in either mode): hit pixels of W×H / Σ|S_ℓ ∩ hit|, a level pixel (x, y) counting
-  // as hit when full-res pixel (x·s + s/2, y·s + s/2) is (issue 18). countHitPixels sets it.
+  // as hit when full-res pixel (x·s + s/2, y·s + s/2) is. countHitPixels sets it.
   double idealSpeedupHit = 1.0;
   // The same over whole 4×2 blocks: llvmpipe skips a block only when all eight fail the
-  // stencil (PLATFORM.md), so this is the most a stencilled pass can gain there.
+  // stencil (docs/platform.md), so this is the most a stencilled pass can gain there.
   double blockIdealSpeedup = 1.0;
   std::vector<StageTiming> timings;  // in pipeline order; "total" last
 

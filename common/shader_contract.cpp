@@ -143,7 +143,7 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"depthMapping", "vec2", "(A, B): z_clip = A z + B, standard perspective depth for near/far"}},
        {{"viewPosition", "out vec3", "view-space position"}, {"viewNormal", "out vec3", "view-space normal"},
         {"surfaceTexcoord", "out vec2", "the texture coordinate, for the cutout and the base-colour texture"}},
-       "cpu_ref/camera: the pinhole View (px = cx + f x/(-z), py = cy - f y/(-z)); GL row 0 is image row 0."},
+       "common/camera.h: the pinhole View (px = cx + f x/(-z), py = cy - f y/(-z)); GL row 0 is image row 0."},
       {"hash.frag", "test", "hash (tests only)", "", {}, {kLevel},
        {{"halves", "vec4 -> RGBA32F", "pixelHash(x, y, level) as two exact 16-bit halves", 0}},
        "common/hash.h pixelHash, bit for bit."},

@@ -61,7 +61,7 @@ struct BenchResults {
   FoveaResults fovea;  // the foveation group (compare/bench/bench_fovea.h)
 };
 
-// The figures' sanity (issue 7's done-when): full's error is 0 (its repeats give the same
+// The figures' sanity: full's error is 0 (its repeats give the same
 // bits); it shades W·H pixels; no method is measured faster than its ideal speedup (beyond
 // timing noise); every error is finite. One line per failure.
 std::vector<std::string> sanityChecks(const BenchResults& results);

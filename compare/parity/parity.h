@@ -1,5 +1,5 @@
 #pragma once
-// Oracle against port, stage by stage (SPEC §8; issue 6). Every stage the two paths share is
+// Oracle against port, stage by stage (SPEC §8). Every stage the two paths share is
 // compared twice where the stage allows it:
 //   - end to end: the port's stage against the oracle's;
 //   - on the same input ("cascade awareness"): the port's stage against the oracle's

@@ -1,4 +1,4 @@
-// Issue 17, bring your own: `mrr shaders export`, `--shaders DIR` (the port with a user's
+// Bring your own: `mrr shaders export`, `--shaders DIR` (the port with a user's
 // GLSL) and `compare --against FILE` (another renderer's stages), run through the real binary.
 // Each test edits a shader or a stage the way a user's bug would and checks the verdict and the
 // stage `compare` names on its last line. Frames are small (160x90 or less, few samples).

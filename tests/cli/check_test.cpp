@@ -1,4 +1,4 @@
-// Issue 38, `mrr check DIR`: a suite of frame files, run through the real binary. The frames are
+// `mrr check DIR`: a suite of frame files, run through the real binary. The frames are
 // tiny (64x36, few samples) so that a suite takes seconds. CheckDocs runs the commands of
 // docs/validate-your-own.md's section 5 as they stand there and checks each exit status and line.
 #include <gtest/gtest.h>
@@ -207,7 +207,7 @@ TEST(Check, AgainstAFolderOfStages) {
       << r.out;
 }
 
-// check --noise-aware (issue 40): a renderer with its own noise (here the oracle's stages drawn
+// check --noise-aware: a renderer with its own noise (here the oracle's stages drawn
 // with --seed 7) fails every SSAO case exactly and passes them noise-aware; the same 3% too dark
 // fails noise-aware at raw.L0, and SSM (no stochastic stage) is judged as without the flag.
 TEST(Check, NoiseAwareJudgesOwnNoiseStatistically) {

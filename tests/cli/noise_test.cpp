@@ -1,4 +1,4 @@
-// Issue 40: `--seed` and `compare --noise-aware`, through the real binary on small frames. The
+// `--seed` and `compare --noise-aware`, through the real binary on small frames. The
 // oracle's own stages rendered with another seed stand for a renderer with its own noise: they
 // pass noise-aware; the same 3% too dark fails at raw.L0 naming the bias; without
 // --noise-aware the comparison is exactly today's.
@@ -76,7 +76,7 @@ TEST(Seed, ChangesTheEffectAndIsRecordedInTheFrameFile) {
   EXPECT_NE(r.err.find("mrr: error: --seed -1: must be in [0, 1073741823]"), std::string::npos) << r.err;
 }
 
-// Done when (issue 40): another seed passes noise-aware; exactly, it fails as it does today.
+// Another seed passes noise-aware; exactly, it fails as it does today.
 TEST(NoiseAware, AnotherSeedPassesNoiseAwareAndFailsExactly) {
   const std::string dir = test::scratchDir();
   const std::string seven = stages(dir, "seed7.exr", {"--seed", "7"});
@@ -205,7 +205,7 @@ TEST(NoiseAware, TheOwnNoiseExampleThroughThePort) {
   }
 }
 
-// probe --path both --noise-aware (issue 40's "Probe and explore show a stochastic pixel's mean, its
+// probe --path both --noise-aware ("Probe and explore show a stochastic pixel's mean, its
 // interval, and where the user's value falls in it"): inside for another seed; a pixel planted at 0
 // is OUTSIDE, below the mean by more than a half-width; its interval is the one compare
 // --noise-aware accepts (the same worst pixel, the same bounds), at Šidák's level over the stage's

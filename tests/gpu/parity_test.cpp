@@ -242,10 +242,10 @@ TEST(GpuPipeline, SsaoFinalImageMatchesTheOracle) {
 namespace mrr {
 namespace {
 
-// A driver error names the stage and carries the driver's log, on one line (issue 5).
+// A driver error names the stage and carries the driver's log, on one line.
 // A compile error names the file, the variant (its #defines) and the driver's log, on one line;
 // not the program's cache key ("planted" here, "blend.final.7.3.covered" in the port), which
-// means nothing to a user (issue 34).
+// means nothing to a user.
 TEST(GpuProgram, CompileErrorNamesTheFileItsVariantAndTheDriversLog) {
   MRR_REQUIRE_GL_OR_SKIP();
   gpu::GlContext context;
@@ -267,7 +267,7 @@ TEST(GpuProgram, CompileErrorNamesTheFileItsVariantAndTheDriversLog) {
 }  // namespace mrr
 
 // ---------------------------------------------------------------------------------------------
-// SSM and SSGI (issue 5): the shadow map, its one-tap test, the shadow edges, the SSM and SSGI
+// SSM and SSGI: the shadow map, its one-tap test, the shadow edges, the SSM and SSGI
 // sub-images, each against the oracle's stage end to end and against the oracle's stage run on
 // the port's own inputs; then the final image of both effects in both modes.
 namespace mrr {
@@ -340,7 +340,7 @@ class GpuShadowParity : public ::testing::TestWithParam<ShadowCase> {
 TEST_P(GpuShadowParity, SsmStagesMatchTheOracle) {
   const ShadowCase& p = GetParam();
   // The Cornell box under the built-in default light, as these tolerances were measured: the light
-  // chosen for its view (issue 34, from +z at 30 degrees) flips 24 more shadow-test pixels end to
+  // chosen for its view (from +z at 30 degrees) flips 24 more shadow-test pixels end to
   // end (same input exact) and its ssm RMS, 0.042, is over the rule's 0.03 (open, see the report).
   const std::optional<glm::vec3> light =
       p.scene == "cornell" ? std::optional<glm::vec3>(-DirectionalLight{}.direction) : std::nullopt;
@@ -1210,7 +1210,7 @@ TEST(GpuEffectOnlyFaults, KeepingTheEdgesFailsAtTheMask) {
   expectCaughtAt(r, k, model, cpu, *fault, "");
 }
 
-// Issue 40: a sampling seed other than mrr's own (--seed) changes the kernels and the rotations on
+// A sampling seed other than mrr's own (--seed) changes the kernels and the rotations on
 // both paths alike: every stage still matches the oracle, and the effect differs from seed 0's.
 TEST(GpuSeed, ANonDefaultSeedStillMatchesTheOracle) {
   MRR_REQUIRE_GL_OR_SKIP();

@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "common/error.h"
 #include "common/frame_params.h"
@@ -371,6 +372,31 @@ std::pair<ImageF, ImageF> imagePair(const py::handle& test, const py::handle& re
   return {std::move(a), std::move(b)};
 }
 
+// A stages EXR part with its channels in the stage list's order (EXR files keep channels sorted by
+// name: the G-buffer's depth, P.x, ... come back as N.x, N.y, ...); other parts as the file holds them.
+ImageF inStageOrder(ExrPart& part) {
+  const PartInfo* info = nullptr;
+  int level = -1;
+  try {
+    std::tie(info, level) = parseStage(part.name);
+  } catch (const py::key_error&) {
+    return std::move(part.image);
+  }
+  const std::vector<std::string> order = partChannels(info->part, part.image);
+  const size_t n = part.channelNames.size();
+  if (order.size() != n) return std::move(part.image);
+  std::vector<size_t> from(n);
+  for (size_t k = 0; k < n; ++k) {
+    const auto at = std::find(part.channelNames.begin(), part.channelNames.end(), order[k]);
+    if (at == part.channelNames.end()) return std::move(part.image);
+    from[k] = static_cast<size_t>(at - part.channelNames.begin());
+  }
+  ImageF out(part.image.width, part.image.height, part.image.channels);
+  for (size_t p = 0; p < out.pixelCount(); ++p)
+    for (size_t k = 0; k < n; ++k) out.data[p * n + k] = part.image.data[p * n + from[k]];
+  return out;
+}
+
 // A frame-parameter row as a dict, for mrr.params().
 py::dict paramDict(const FrameParamInfo& p) {
   static const char* kKinds[] = {"text", "int", "number", "triple", "flag", "levels", "per_level", "switch"};
@@ -492,8 +518,10 @@ PYBIND11_MODULE(_mrr, m) {
       "read_parts",
       [](const std::string& path) {
         py::dict parts;
-        for (ExrPart& p : readParts(path)) parts[py::str(p.name)] = ownedArray(std::move(p.image));
+        for (ExrPart& p : readParts(path)) parts[py::str(p.name)] = ownedArray(inStageOrder(p));
         return parts;
       },
-      py::arg("path"), "Every part of a multi-part EXR (`mrr render --stages`) by name, as float32");
+      py::arg("path"),
+      "Every part of a multi-part EXR (`mrr render --stages`) by name, as float32, a stage's channels in "
+      "the stage list's order");
 }

@@ -33,6 +33,7 @@ std::string shapeText(int height, int width) {
   return "(" + std::to_string(height) + ", " + std::to_string(width) + ")";
 }
 
+// An array's shape as Python prints it: "(4,)", "(54, 96, 3)".
 std::string shapeText(const py::array& a) {
   std::ostringstream out;
   out << "(";

@@ -196,6 +196,8 @@ std::pair<const PartInfo*, int> parseStage(const std::string& name) {
 // mrr.Frame: one frame's options, as `mrr render` takes them, its render and its stages.
 class PyFrame {
  public:
+  // The frame's options from keyword arguments, through the words `mrr render` parses (frameWords,
+  // FrameOptions::add), checked as the command line checks them: a bad one is a ValueError here.
   PyFrame(std::shared_ptr<PyScene> scene, const py::kwargs& kwargs) : scene_(std::move(scene)) {
     py::kwargs params;
     for (const auto& [k, v] : kwargs) {
@@ -309,6 +311,7 @@ class PyFrame {
     return ownedArray(access.read(f, level));
   }
 
+  // Whether the frame holds the stage `name` (false before it is rendered, and for no stage).
   bool contains(const std::string& name) const {
     if (!frame_) return false;
     try {
@@ -326,12 +329,16 @@ class PyFrame {
     return names;
   }
 
+  // The report, as `mrr render --report` writes it.
   py::object report() const {
     rendered();
     return toPython(report_);
   }
+  // The frame file, as `mrr render --frame-out` writes it (the camera and light as resolved).
   py::object frameFile() const { return toPython(options_.frame(loaded_->rs, settings_)); }
+  // Whether render() has run.
   bool isRendered() const { return frame_ != nullptr; }
+  // "mrr.Frame(builtin:demo, effect=ssao, method=mrr, size=160x96, path=cpu, rendered)".
   std::string repr() const {
     return "mrr.Frame(" + scene_->name + ", effect=" + toString(settings_.effect) +
            ", method=" + toString(settings_.mode) + ", size=" + std::to_string(settings_.width) + "x" +
@@ -347,6 +354,7 @@ class PyFrame {
   }
 
  private:
+  // The rendered frame; ValueError before render().
   const FrameResult& rendered() const {
     if (!frame_) throw py::value_error("the frame is not rendered yet: call frame.render() first");
     return *frame_;
@@ -449,6 +457,10 @@ PYBIND11_MODULE(_mrr, m) {
                       "Frame(scene, effect='ssao', method='mrr', size=(W, H), masks=None, **params): one frame, "
                       "with the command line's parameters as keyword arguments (mrr.params())")
       .def(py::init<std::shared_ptr<PyScene>, const py::kwargs&>(), py::arg("scene"))
+      .def(py::init([](const std::string& name, const py::kwargs& params) {
+             return PyFrame(std::make_shared<PyScene>(name), params);  // a scene by name: loaded here
+           }),
+           py::arg("scene"))
       .def("render", &PyFrame::render, py::arg("reference") = false, py::return_value_policy::reference_internal,
            "Renders the frame as `mrr render` does; reference=True also renders mode full and adds error_vs_full")
       .def("__getitem__", &PyFrame::stage, py::arg("stage"), "A stage by name ('final', 'mask.L1') as float32")

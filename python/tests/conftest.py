@@ -15,7 +15,7 @@ SAMPLES = 16
 EFFECTS = ("ssao", "ssm", "ssgi")
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def mrr_binary():
     """The command line the module is checked against (MRR, set by ctest)."""
     path = os.environ.get("MRR")
@@ -24,7 +24,7 @@ def mrr_binary():
     return path
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def demo():
     return mrr.load_scene("builtin:demo")
 

@@ -2,6 +2,7 @@
 stage list readable as an array of its part's shape and dtype, the report, and the parameters
 taken by the command line's names (docs/python.md)."""
 import math
+import subprocess
 
 import numpy as np
 import pytest
@@ -120,6 +121,17 @@ def test_parameters_by_their_command_line_names(demo, mrr_binary, tmp_path):
     cli = render_cli(mrr_binary, tmp_path, **{k: v for k, v in params.items() if k != "disable_level"},
                      disable_level=1)
     assert same_bits(frame["final"], cli["final"])
+
+
+def test_a_frame_file_and_a_scene_by_name(mrr_binary, tmp_path):
+    """frame="F.json" reads a frame file as `--frame` does; keywords given win over its values."""
+    frame_file = tmp_path / "frame.json"
+    subprocess.run([mrr_binary, "render", "--quiet", "--scene", "builtin:steps", "--effect", "ssm", "--size", "96x54",
+                    "--samples", "16", "--camera", "0", "--frame-out", str(frame_file)], check=True)
+    f = mrr.Frame("builtin:steps", frame=str(frame_file), never_slower="off").render()
+    assert f.report["frame"]["effect"] == "ssm" and f.report["frame"]["never_slower"] == "off"
+    cli = render_cli(mrr_binary, tmp_path, scene="builtin:steps", frame=str(frame_file), never_slower="off")
+    assert same_bits(f["final"], cli["final"])
 
 
 def test_every_row_of_the_parameter_table_is_a_keyword():

@@ -29,3 +29,9 @@ def test_the_port_or_a_clear_exception(demo):
 def test_an_unknown_path(demo):
     with pytest.raises(ValueError, match="path"):
         mrr.Frame(demo, path="tpu", size=SIZE).render()
+
+
+def test_a_device_that_is_not_there_is_a_clear_exception(demo):
+    """An EGL failure (here: a device index past the last) is mrr.PortUnavailable naming why."""
+    with pytest.raises(mrr.PortUnavailable, match="path gpu: the GL port cannot start here"):
+        mrr.Frame(demo, path="gpu", gl_device=99, size=SIZE).render()

@@ -10,9 +10,12 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
+#include <thread>
 #include <tuple>
 
 #include "common/error.h"
@@ -44,27 +47,33 @@ py::object toPython(const nlohmann::json& j) { return py::module_::import("json"
 // As `mrr render`: 0 threads is every core TBB may use (app/command_support.cpp: threadCount).
 int threadCount(int requested) { return requested > 0 ? requested : tbb::this_task_arena::max_concurrency(); }
 
+// A renderer and who uses it: one frame at a time (a renderer's scratch and the port's GL context
+// are its own), and the port only on the thread that made its GL context, where it is current.
+struct RendererSlot {
+  std::shared_ptr<FrameRenderer> renderer;
+  std::mutex busy;                      // held while a frame renders (the GIL released)
+  std::atomic<std::thread::id> user{};  // the thread rendering now, if any
+  std::thread::id maker = std::this_thread::get_id();
+};
+
 // A scene loaded at one request (camera, light, aspect), with the renderers made on it, by path.
 struct LoadedScene {
   ResolvedScene rs;
-  std::map<std::string, std::shared_ptr<FrameRenderer>> renderers;
+  std::map<std::string, std::shared_ptr<RendererSlot>> renderers;
 
   // The path's renderer (frontend/renderers.h, the one place a path is chosen), made once.
-  std::shared_ptr<FrameRenderer> renderer(const std::string& path, const PathOptions& options) {
+  std::shared_ptr<RendererSlot> renderer(const std::string& path, const PathOptions& options) {
     const std::string key = path + "/" + std::to_string(options.glDevice) + "/" + options.gpuTiming;
     auto it = renderers.find(key);
     if (it != renderers.end()) return it->second;
-    std::shared_ptr<FrameRenderer> r;
+    auto slot = std::make_shared<RendererSlot>();
     try {
-      r = makeRenderer(path, rs.scene, options);
-    } catch (const MrrError& e) {
-      if (path != "gpu") throw;
-      throw PortUnavailable(std::string("path gpu: the GL port cannot start here: ") + e.what());
+      slot->renderer = makeRenderer(path, rs.scene, options);
     } catch (const std::exception& e) {
       if (path != "gpu") throw;
       throw PortUnavailable(std::string("path gpu: the GL port cannot start here: ") + e.what());
     }
-    return renderers[key] = r;
+    return renderers[key] = slot;
   }
 };
 
@@ -244,7 +253,15 @@ class PyFrame {
     require(masks_.is_none() || options_.path == "cpu",
             "masks: a frame takes masks from Python on the oracle (path cpu) only");
     const PathOptions pathOptions = options_.pathOptions();
-    std::shared_ptr<FrameRenderer> renderer = loaded_->renderer(options_.path, pathOptions);
+    const std::shared_ptr<RendererSlot> slot = loaded_->renderer(options_.path, pathOptions);
+    const std::thread::id me = std::this_thread::get_id();
+    if (slot->user.load() == me)
+      throw BadValue("render: this thread is rendering a frame of this scene already (a mask rule may not render)");
+    if (options_.path == "gpu" && slot->maker != me)
+      throw PortUnavailable(
+          "path gpu: the port's GL context is current on the thread that first rendered this "
+          "scene on it; render the scene's gpu frames on that thread");
+    FrameRenderer* renderer = slot->renderer.get();
     const Constants constants = makeConstants(settings_, loaded_->rs.framed.size);
     const CostModel costs = options_.costModel(options_.path);
     RenderOptions ro;
@@ -267,6 +284,12 @@ class PyFrame {
     std::optional<FrameErrors> errors;
     {
       py::gil_scoped_release nogil;
+      const std::lock_guard<std::mutex> lock(slot->busy);  // another thread's frame of this scene first
+      slot->user = me;
+      const struct Done {
+        std::atomic<std::thread::id>& user;
+        ~Done() { user = std::thread::id(); }
+      } done{slot->user};
       tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
                              static_cast<size_t>(threadCount(options_.threads)));
       *frame = renderer->render(loaded_->rs.camera, constants, ro);

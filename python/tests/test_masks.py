@@ -136,3 +136,26 @@ def test_the_oracle_runs_without_the_gil(demo):
         stop.set()
         t.join()
     assert len(ticks) > 5
+
+
+def test_a_rule_may_not_render_and_threads_take_turns(demo):
+    """A frame rendered from inside a mask rule is a ValueError, not a re-entered renderer; frames of
+    one scene rendered from several Python threads at once take turns and give the same bits."""
+    with pytest.raises(ValueError, match="a mask rule may not render"):
+        frame(demo, masks=lambda ctx: frame(demo).render() and None).render()
+    alone = frame(demo, effect="ssgi").render()["final"]
+    results, errors = [], []
+
+    def work():
+        try:
+            results.append(frame(demo, effect="ssgi").render()["final"])
+        except Exception as e:  # noqa: BLE001 (reported below)
+            errors.append(e)
+
+    threads = [threading.Thread(target=work) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors and len(results) == 3
+    assert all(same_bits(r, alone) for r in results)

@@ -35,3 +35,20 @@ def test_a_device_that_is_not_there_is_a_clear_exception(demo):
     """An EGL failure (here: a device index past the last) is mrr.PortUnavailable naming why."""
     with pytest.raises(mrr.PortUnavailable, match="path gpu: the GL port cannot start here"):
         mrr.Frame(demo, path="gpu", gl_device=99, size=SIZE).render()
+
+
+def test_the_port_stays_on_the_thread_of_its_context(demo):
+    """The port's GL context is current on one thread: a frame of the same scene rendered on another
+    thread is mrr.PortUnavailable saying so, not a crash."""
+    import threading
+    scene = mrr.load_scene("builtin:steps")
+    try:
+        mrr.Frame(scene, path="gpu", size=SIZE, samples=SAMPLES).render()
+    except mrr.PortUnavailable as e:
+        pytest.skip(str(e))
+    caught = []
+    t = threading.Thread(target=lambda: caught.append(pytest.raises(
+        mrr.PortUnavailable, mrr.Frame(scene, path="gpu", size=SIZE, samples=SAMPLES).render)))
+    t.start()
+    t.join()
+    assert len(caught) == 1 and "on that thread" in str(caught[0].value)

@@ -101,6 +101,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
     masks = buildMasks(b, shading.masks, f);
   else
     stage(stageName(Part::Stencil), [&] { masks = buildMasks(b, shading.masks, f); });
+  if (options.replaceMasks && !fellBackEarly) options.replaceMasks(f, masks);  // RenderOptions::replaceMasks
   // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
   if (method.neverSlower && !fellBackEarly) {
     stage(timedName(Timed::Rule), [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });

@@ -193,6 +193,12 @@ struct RenderOptions {
   // report's predictions are the rule's own. `bench --calibrate` and `--rule-sweep` read them from
   // frames rendered with the rule off; a user who turned the rule off does not pay for them.
   bool sampleWithRuleOff = false;
+  // A caller's own masks (the Python module's masks from numpy, docs/python.md): called once the
+  // method's mask builder has made `masks` and before the never-slower rule counts them, with the
+  // frame so far (G-buffers, edges, the level limit); it may replace any level's M_ℓ, a_ℓ, S_ℓ.
+  // Not called when the rule sent the frame to full resolution before its masks. The oracle shades
+  // what it leaves; the port shades the masks it drew, so callers use it with the oracle.
+  std::function<void(const FrameResult& f, Masks& masks)> replaceMasks;
 };
 
 // SPEC §11 on a frame whose stencils are `masks` (counted into f.counts) and nothing else of

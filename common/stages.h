@@ -80,11 +80,14 @@ struct FrameResult;  // common/frame.h
 // disabled level, a stage the method or effect skips, a frame rendered without keepStages).
 // `write` puts such an image in place of the frame's own (`compare --against`): a padded grid
 // keeps its padding (allocated from the frame's constants when absent). `holds` is `read`'s
-// emptiness without the copy. `level` is ignored by a part not per level.
+// emptiness without the copy. `level` is ignored by a part not per level. `view`, where the frame
+// holds the part as a float image in its EXR layout already, is that image itself, to be read in
+// place (the Python module's arrays, docs/python.md); null for the parts `read` converts.
 struct PartImageAccess {
   bool (*holds)(const FrameResult& frame, int level);
   ImageF (*read)(const FrameResult& frame, int level);
   void (*write)(FrameResult& frame, int level, const ImageF& image);
+  const ImageF* (*view)(const FrameResult& frame, int level);
 };
 extern const PartImageAccess kGBufferImage, kShadowMapImage, kShadowTestImage, kEdgesImage, kEccentricityImage,
     kMotionImage, kLevelLimitImage, kTileRatesImage, kMarksImage, kMaskImage, kAlphaImage, kStencilImage, kRawImage,

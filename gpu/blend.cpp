@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/blocks.h"
 #include "gpu/masks.h"
 #include "gpu/program.h"
 
@@ -20,7 +21,7 @@ namespace {
 // `coarsestCovered`: the coarsest level's S is 1 on its whole grid (drawn masks); drawn over
 // `rects`, or the whole frame when null.
 void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
-                   int fine, bool coarsestCovered, const std::vector<glm::ivec4>* rects) {
+                   int fine, bool coarsestCovered, const Cover& cover) {
   // The levels and the coarsest's scale are constants of the variant, so bilinearTap's
   // division by the scale is by a known power of two.
   const int coarsest = c.coarsestEnabled;
@@ -28,9 +29,9 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
                               "\n#define COARSEST_LEVEL " + std::to_string(coarsest) + "\n#define COARSEST_SCALE " +
                               std::to_string(c.levels[static_cast<size_t>(coarsest)].scale) + "\n" +
                               (coarsestCovered ? "#define COARSEST_COVERED\n" : "");
-  const unsigned program = scene.program("blend.final." + std::to_string(fine) + "." + std::to_string(coarsest) +
-                                             (coarsestCovered ? ".covered" : ""),
-                                         "fullscreen.vert", "blend.frag", variant);
+  const unsigned program = scene.passProgram("blend.final." + std::to_string(fine) + "." + std::to_string(coarsest) +
+                                                 (coarsestCovered ? ".covered" : ""),
+                                             "blend.frag", variant, cover);
   glUseProgram(program);
   const LevelTextures& base = levels[static_cast<size_t>(coarsest)];
   bindTextures(program, {{"subC", base.sub}, {"stencilC", base.stencil}});
@@ -45,14 +46,11 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
   }
   const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
   if (fine) glUniform1fv(uniform(program, "weights"), 3, weights);  // without finer levels, nothing reads them
-  if (rects)
-    scene.drawRects(*rects, c.width, c.height);
-  else
-    scene.drawFullscreen();
+  scene.draw(cover, c.width, c.height);
 }
 
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                           const Constants& c, const ImageU8* edgeBlocks, GpuImage* finalOnGpu,
+                           const Constants& c, const Framebuffer* edgeBlocks, GpuImage* finalOnGpu,
                            const std::array<int, kLevelCount>* widenedBy) {
   int fine = 0;  // the enabled levels finer than C, a bit each (the shader's FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
@@ -64,8 +62,9 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
     // is > 0 only within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within one
     // level pixel of it (+1 for rounding): beyond the widest such reach each finer α is 0, and
     // blendStep(0, f, c) = c. A level widened by up to K level pixels (mrr-effect, SPEC §12) reaches
-    // K further. (Blocks split by which levels reach them draw more, smaller
-    // rectangles, and measured slower on llvmpipe.)
+    // K further. The near blocks are a block map on the GPU (gpu/blocks.h): the near and the far
+    // pass are drawn over its set and its clear runs. (Blocks split by which levels reach them
+    // draw more, smaller rectangles, and measured slower on llvmpipe.)
     const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
     int reach = 0;
     for (int l = 0; l < c.coarsestEnabled; ++l) {
@@ -73,26 +72,23 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
       const int widened = widenedBy ? (*widenedBy)[static_cast<size_t>(l)] : 0;
       if (lc.enabled) reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + widened + 2) * lc.scale);
     }
-    const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
-    const std::vector<glm::ivec4> nearRects = blockRects(near, 1, blockSize, c.width, c.height),
-                                  farRects = blockRects(near, 0, blockSize, c.width, c.height);
-    if (!nearRects.empty()) drawFinalOnly(scene, levels, c, fine, true, &nearRects);
-    if (!farRects.empty()) drawFinalOnly(scene, levels, c, 0, true, &farRects);
+    const int d = blocksWithin(reach, blockSize);
+    const Target near = dilateBlocks(scene, *edgeBlocks, d, d);
+    target->bind();
+    drawFinalOnly(scene, levels, c, fine, true, Cover::blocksOf(*near, blockSize, 1));
+    drawFinalOnly(scene, levels, c, 0, true, Cover::blocksOf(*near, blockSize, 0));
   } else {
-    drawFinalOnly(scene, levels, c, fine, edgeBlocks != nullptr, nullptr);
+    drawFinalOnly(scene, levels, c, fine, edgeBlocks != nullptr, Cover::whole());
   }
   checkGl("blend");
-  BlendResult r;
-  r.final = target->read(0, channels);
-  r.levelMap = target->readBytes(1);
-  if (finalOnGpu) *finalOnGpu = {std::move(target), 0};
-  return r;
+  if (finalOnGpu) *finalOnGpu = {std::move(target), 0};  // the level map beside it, in target 1
+  return {};
 }
 
 }  // namespace
 
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks, GpuImage* finalOnGpu,
+                        const Constants& c, bool keepStages, const Framebuffer* edgeBlocks, GpuImage* finalOnGpu,
                         const std::array<int, kLevelCount>* widenedBy) {
   if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks, finalOnGpu, widenedBy);
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");

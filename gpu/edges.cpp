@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "gpu/blocks.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -41,8 +42,8 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
   return target;
 }
 
-ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                       unsigned shadowLitTexture) {
+Target drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                      unsigned shadowLitTexture) {
   const bool shadowEdges = shadowLitTexture != 0;
   const unsigned program = scene.program(std::string("edgesample") + (shadowEdges ? ".shadow" : ""), "fullscreen.vert",
                                          "edges.frag",
@@ -50,19 +51,13 @@ ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const
   // 1–2. E at each block's diagonal pixels, a block's eight side by side in one row
   const int blocksX = (gbuffer0.width() + kEdgeSampleStep - 1) / kEdgeSampleStep;
   const int blocksY = (gbuffer0.height() + kEdgeSampleStep - 1) / kEdgeSampleStep;
-  const Target target = scene.target(blocksX * kEdgeSampleStep, blocksY, 1, false, Texel::R8);
-  drawEdgePass(scene, program, *target, gbuffer0, settings, shadowLitTexture, "edgesample");
-  const ImageU8 diagonals = target->readBinary(0);
-  // 3. Ê: any of a block's eight
-  ImageU8 sample(blocksX, blocksY);
-  for (int y = 0; y < blocksY; ++y)
-    for (int x = 0; x < blocksX; ++x) {
-      uint8_t any = 0;
-      for (int i = 0; i < kEdgeSampleStep; ++i) any |= diagonals.at(x * kEdgeSampleStep + i, y);
-      sample.at(x, y) = any;
-    }
-  return sample;
+  const Target diagonals = scene.target(blocksX * kEdgeSampleStep, blocksY, 1, false, Texel::R8);
+  drawEdgePass(scene, program, *diagonals, gbuffer0, settings, shadowLitTexture, "edgesample");
+  // 3. Ê: any of a block's eight (a block map on the GPU, gpu/blocks.h)
+  return poolBlocks(scene, *diagonals, kEdgeSampleStep, 1);
 }
+
+ImageU8 readEdgeSample(const Framebuffer& sample) { return sample.readBinary(0); }
 
 EdgeImages readEdges(const Framebuffer& target) {
   const ImageF e = target.read(0, 4);

@@ -19,10 +19,13 @@ inline int edgeChannel(bool combinedOnly) { return combinedOnly ? 0 : 3; }
 // Reads drawEdges' targets back into the oracle's structure.
 EdgeImages readEdges(const Framebuffer& edges);
 
-// The never-slower rule's edge sample (SPEC §11; cpu_ref/edges.h edgeSample), read back: one byte
-// per 8×8 block, 1 where E holds at a pixel of its diagonal. The same inputs as drawEdges.
-ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                       unsigned shadowLitTexture = 0);
+// The never-slower rule's edge sample (SPEC §11; cpu_ref/edges.h edgeSample) on the GPU: a block
+// map (R8, gpu/blocks.h) of the 8×8 blocks, 1 where E holds at a pixel of its diagonal. The same
+// inputs as drawEdges.
+Target drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                      unsigned shadowLitTexture = 0);
+// It read back, one byte (0/1) per block.
+ImageU8 readEdgeSample(const Framebuffer& sample);
 
 // Draw and read back in one call.
 EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,

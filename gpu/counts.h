@@ -1,0 +1,32 @@
+#pragma once
+// Counts summed on the GPU (gpu/shaders/counts.frag) and read as a few integers: what the
+// never-slower rule decides on and what the report says of a frame (|S_ℓ|, the ideal speedups),
+// without an image coming back (docs/port.md, "What a frame costs the host"). A pass writes a few
+// counts per block into RGBA32UI targets (gpu/rule.h); a batch sums each target down to one
+// texel and reads them all in one small read (gpu/traffic.h readCounts).
+#include <cstdint>
+#include <vector>
+
+#include "gpu/gbuffer.h"
+
+namespace mrr::gpu {
+
+class CountBatch {
+ public:
+  explicit CountBatch(const GpuScene& scene) : scene_(scene) {}
+  // Queues the sums of every target of `perBlock` (RGBA32UI, up to 4 targets; the batch keeps it
+  // until read); returns the index of its first target's sums in read()'s values (4 per target,
+  // in the targets' order).
+  size_t add(Target perBlock);
+  // One gather pass and one small read: 4 sums per queued target, in the order they were added.
+  // At most kMaxTargets targets a batch.
+  std::vector<int64_t> read();
+  static constexpr int kMaxTargets = 8;
+
+ private:
+  const GpuScene& scene_;
+  std::vector<Target> kept_;       // the summed targets, alive until read()
+  std::vector<unsigned> textures_;  // one per queued target: its sums so far, at most 16×16 texels
+};
+
+}  // namespace mrr::gpu

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "gpu/blocks.h"
 #include "gpu/masks.h"
 #include "gpu/program.h"
+#include "gpu/probe_timing.h"
 
 namespace mrr::gpu {
 
@@ -50,35 +50,24 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
 }
 
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                           const Constants& c, const Framebuffer* edgeBlocks, GpuImage* finalOnGpu,
-                           const std::array<int, kLevelCount>* widenedBy) {
+                           const Constants& c, const BlockMap& nearBlocks, GpuImage* finalOnGpu) {
   int fine = 0;  // the enabled levels finer than C, a bit each (the shader's FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
   Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
   target->bind();
-  if (edgeBlocks && fine) {
-    // Near an edge, every level; far from every edge, the coarsest alone. A finer level's α
-    // is > 0 only within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within one
-    // level pixel of it (+1 for rounding): beyond the widest such reach each finer α is 0, and
-    // blendStep(0, f, c) = c. A level widened by up to K level pixels (mrr-effect, SPEC §12) reaches
-    // K further. The near blocks are a block map on the GPU (gpu/blocks.h): the near and the far
-    // pass are drawn over its set and its clear runs. (Blocks split by which levels reach them
-    // draw more, smaller rectangles, and measured slower on llvmpipe.)
-    const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
-    int reach = 0;
-    for (int l = 0; l < c.coarsestEnabled; ++l) {
-      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      const int widened = widenedBy ? (*widenedBy)[static_cast<size_t>(l)] : 0;
-      if (lc.enabled) reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + widened + 2) * lc.scale);
-    }
-    const int d = blocksWithin(reach, blockSize);
-    const Target near = dilateBlocks(scene, *edgeBlocks, d, d);
-    target->bind();
-    drawFinalOnly(scene, levels, c, fine, true, Cover::blocksOf(*near, blockSize, 1));
-    drawFinalOnly(scene, levels, c, 0, true, Cover::blocksOf(*near, blockSize, 0));
+  if (nearBlocks && fine) {
+    // Near an edge, every level; far from every edge, the coarsest alone (MaskTargets::blendNear:
+    // beyond a finer level's reach its α is 0, and blendStep(0, f, c) = c). The near and the far
+    // pass are drawn over the map's set and its clear runs. (Blocks split by which levels reach
+    // them draw more, smaller rectangles, and measured slower on llvmpipe.)
+    const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per block
+    { ProbeClock clock("blend near");
+    drawFinalOnly(scene, levels, c, fine, true, Cover::blocksOf(nearBlocks, blockSize, 1)); }
+    { ProbeClock clock("blend far");
+    drawFinalOnly(scene, levels, c, 0, true, Cover::blocksOf(nearBlocks, blockSize, 0)); }
   } else {
-    drawFinalOnly(scene, levels, c, fine, edgeBlocks != nullptr, Cover::whole());
+    drawFinalOnly(scene, levels, c, fine, static_cast<bool>(nearBlocks), Cover::whole());
   }
   checkGl("blend");
   if (finalOnGpu) *finalOnGpu = {std::move(target), 0};  // the level map beside it, in target 1
@@ -88,9 +77,8 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
 }  // namespace
 
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& c, bool keepStages, const Framebuffer* edgeBlocks, GpuImage* finalOnGpu,
-                        const std::array<int, kLevelCount>* widenedBy) {
-  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks, finalOnGpu, widenedBy);
+                        const Constants& c, bool keepStages, const BlockMap& nearBlocks, GpuImage* finalOnGpu) {
+  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, nearBlocks, finalOnGpu);
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const Texel color = effectTexel(channels);
   BlendResult r;

@@ -18,12 +18,12 @@ struct LevelTextures {
 // α_ℓ and c'_ℓ read back beside the final image and level map. Without it (the benchmark, a
 // plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), nothing read
 // back: the result is empty and the final image stays in `finalOnGpu` (target 0; the level map,
-// R8, in its target 1) for the passes after and for the host when it asks. With `edgeBlocks`
-// (MaskTargets::edgeBlocks, a block map on the GPU), that pass blends the finer levels only near
-// edges; `widenedBy` (MaskTargets::widenedBy, null: none) adds each level's widening (SPEC §12) to
-// the reach.
+// R8, in its target 1) for the passes after and for the host when it asks. With `nearBlocks`
+// (MaskTargets::blendNear, a block map on the GPU: the 8×8 blocks within a finer level's reach
+// of an edge block, its widening included), that pass blends the finer levels only there; the
+// coarsest level's S is then known to be 1 everywhere (drawn masks).
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& constants, bool keepStages = true, const Framebuffer* edgeBlocks = nullptr,
-                        GpuImage* finalOnGpu = nullptr, const std::array<int, kLevelCount>* widenedBy = nullptr);
+                        const Constants& constants, bool keepStages = true, const BlockMap& nearBlocks = {},
+                        GpuImage* finalOnGpu = nullptr);
 
 }  // namespace mrr::gpu

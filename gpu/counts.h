@@ -14,19 +14,18 @@ namespace mrr::gpu {
 class CountBatch {
  public:
   explicit CountBatch(const GpuScene& scene) : scene_(scene) {}
-  // Queues the sums of every target of `perBlock` (RGBA32UI, up to 4 targets; the batch keeps it
-  // until read); returns the index of its first target's sums in read()'s values (4 per target,
-  // in the targets' order).
+  // Queues the sums of every target of `perBlock` (RGBA32UI; the batch keeps it until read);
+  // returns the index of its first target's sums in read()'s values (4 per target, in the
+  // targets' order). At most kMaxTargets targets a batch.
   size_t add(Target perBlock);
-  // One gather pass and one small read: 4 sums per queued target, in the order they were added.
-  // At most kMaxTargets targets a batch.
+  // The sums: targets of one size reduced together (one pass per step of 16×16, up to 8 targets a
+  // pass), then one gather pass and one small read: 4 sums per queued target, in the order added.
   std::vector<int64_t> read();
   static constexpr int kMaxTargets = 8;
 
  private:
   const GpuScene& scene_;
-  std::vector<Target> kept_;       // the summed targets, alive until read()
-  std::vector<unsigned> textures_;  // one per queued target: its sums so far, at most 16×16 texels
+  std::vector<Target> kept_;  // the queued targets, alive until read()
 };
 
 }  // namespace mrr::gpu

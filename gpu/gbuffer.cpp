@@ -371,9 +371,9 @@ void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int he
   glBindVertexArray(0);
 }
 
-Cover Cover::blocksOf(const Framebuffer& map, int blockSize, int value) {
+Cover Cover::blocksOf(const BlockMap& map, int blockSize, int value) {
   Cover c;
-  c.blocks = map.texture(0);
+  c.blocks = map.texture();
   c.blockWidth = map.width();
   c.blockHeight = map.height();
   c.blockSize = blockSize;

@@ -76,6 +76,19 @@ struct GpuImage {
   unsigned texture() const { return target ? target->texture(attachment) : 0; }
 };
 
+// A block map (gpu/blocks.h): an R8 attachment of a target, one texel per block, 1 where the
+// block may hold a pass's work.
+struct BlockMap {
+  const Framebuffer* target = nullptr;
+  int attachment = 0;
+  BlockMap() = default;
+  BlockMap(const Framebuffer& t, int a = 0) : target(&t), attachment(a) {}  // NOLINT: a target's map
+  explicit operator bool() const { return target != nullptr; }
+  unsigned texture() const { return target->texture(attachment); }
+  int width() const { return target->width(); }
+  int height() const { return target->height(); }
+};
+
 // Where an image-space pass is drawn: every pixel of its target, host rectangles, or the runs of
 // a block map on the GPU (blocks.geom). A pass drawn over part of its target clears the rest to
 // what it gives there. Block covers keep the frame resident: the host never sees where the work is.
@@ -87,8 +100,8 @@ struct Cover {
   int value = 1;          // 1: the set blocks; 0: the clear ones
   static Cover whole() { return {}; }
   static Cover over(const std::vector<glm::ivec4>* r) { return {r, 0, 0, 0, 0, 1}; }
-  // `map`'s runs of `value` (a Framebuffer whose target 0 is the block map), blockSize pixels a block.
-  static Cover blocksOf(const Framebuffer& map, int blockSize, int value = 1);
+  // `map`'s runs of `value`, blockSize pixels a block.
+  static Cover blocksOf(const BlockMap& map, int blockSize, int value = 1);
   bool isWhole() const { return !rects && !blocks; }
   bool byBlocks() const { return blocks != 0; }
 };

@@ -13,6 +13,7 @@
 #include "gpu/blocks.h"
 #include "gpu/effect_masks.h"
 #include "gpu/program.h"
+#include "gpu/probe_timing.h"
 
 namespace mrr::gpu {
 
@@ -54,6 +55,7 @@ struct Pass {
   }
   // One step into `target`, over in.cover; with `clear`, the rest 0, else kept.
   void draw(int step, const Framebuffer& target, const Inputs& in, bool clear) const {
+    ProbeClock clock(in.cover.byBlocks() ? "masks pass (blocks)" : "masks pass (whole)");
     const unsigned prog = program(step, in);
     const int width = target.width(), height = target.height();
     target.bind();
@@ -124,13 +126,13 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 }
 
 Cover MaskTargets::supportCover(int level) const {
-  const Framebuffer* blocks = supportBlocks[static_cast<size_t>(level)];
-  return blocks ? Cover::blocksOf(*blocks, 1 << (kLevelCount - 1 - level)) : Cover::whole();
+  const BlockMap& blocks = supportBlocks[static_cast<size_t>(level)];
+  return blocks ? Cover::blocksOf(blocks, 1 << (kLevelCount - 1 - level)) : Cover::whole();
 }
 
-const Framebuffer* MaskTargets::keep(Target map) {
+BlockMap MaskTargets::keep(Target map) {
   blockMaps.push_back(std::move(map));
-  return blockMaps.back().get();
+  return BlockMap(*blockMaps.back());
 }
 
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c,
@@ -142,12 +144,13 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   auto& stencil = out->stencilTarget;
   constexpr int kCoarsest = kLevelCount - 1;
   static_assert(kLevelCount == 4, "the pyramid below is written for levels 0–3");
+  auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
   // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels
   // too. M_2 first, straight from E (a 4×4 max-pool is the max-pool of 2×2 max-pools), then
   // M_3. Their texels are the block maps of E on the 4×4 and the 8×8 grid (which blocks hold
   // an edge: gpu/blocks.h); they stay on the GPU, and every pass below that has work only near
-  // an edge is drawn over their runs. M_1 is drawn only over M_2's edge blocks; elsewhere it is 0.
-  auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
+  // an edge is drawn over the runs of maps made from them. M_1 is drawn only over M_2's edge
+  // blocks; elsewhere it is 0.
   auto maxPool = [&](int l, unsigned source, int channel, int factor, const Cover& cover) {
     Pass::Inputs in;
     in.source = source;
@@ -158,26 +161,81 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   };
   maxPool(2, edges, edgeChannel, 4, Cover::whole());
   maxPool(3, mask[2]->texture(0), 0, 2, Cover::whole());
-  const Framebuffer& fineBlocks = *mask[kCoarsest - 1];  // the 4×4 grid's edge blocks (M_2)
-  const Framebuffer& edgeBlocks = *mask[kCoarsest];      // the 8×8 grid's (M_3)
-  out->edgeBlocks = &edgeBlocks;
+  const BlockMap fineBlocks(*mask[kCoarsest - 1]);  // the 4×4 grid's edge blocks (M_2)
+  const BlockMap edgeBlocks(*mask[kCoarsest]);      // the 8×8 grid's (M_3)
+  out->edgeBlocks = edgeBlocks;
   maxPool(1, edges, edgeChannel, 2, Cover::blocksOf(fineBlocks, 2));
-  // maskBlocks[ℓ]: the blocks outside which M_ℓ is 0, blockSize(ℓ) level pixels each: level 0
-  // on the 4×4 grid (M_2), the others on the 8×8 one (the coarsest level's pixels)
+
+  // 1a. Every block map the passes below are drawn over, in two passes (gpu/blocks.h blockMaps):
+  // level 0's on the 4×4 grid (its support is narrow), the others' on the 8×8 one, each a box
+  // dilation of E's blocks (nearBlocks: ceil(r / blockSize) blocks), boxes about one block
+  // composing into one: M_ℓ's blocks, widened by mrr-effect's cap (SPEC §12) along x then y; the
+  // blur's, r_ℓ further along x, then y; S_ℓ's, the union of every finer enabled level's (the
+  // closure); and the blend's near blocks, within a finer level's reach.
   const auto blockSize = [](int l) { return l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l); };
-  const auto cover = [&](const Framebuffer* blocks, int l) { return Cover::blocksOf(*blocks, blockSize(l)); };
-  std::array<const Framebuffer*, kLevelCount> maskBlocks;
-  for (int l = 0; l < kLevelCount; ++l) maskBlocks[static_cast<size_t>(l)] = l == 0 ? &fineBlocks : &edgeBlocks;
+  const auto cover = [&](const BlockMap& blocks, int l) { return Cover::blocksOf(blocks, blockSize(l)); };
+  const int cap = c.effectMask.cap;
+  struct LevelMaps {
+    bool blurred = false, widened = false;
+    int capBlocks = 0, blurBlocks = 0;  // cap and r_ℓ in blocks of the level's grid
+    int acrossCap = -1, within = -1, across = -1, near = -1, support = -1;  // indices into the maps
+  };
+  std::array<LevelMaps, kLevelCount> lm;
+  std::vector<MapSpec> fine, coarse;  // the 4×4 grid's maps (level 0), the 8×8 grid's
+  int supportA = -1, supportB = -1;   // the closure so far: its reach in 8×8 blocks, and level 0's in 4×4 ones
+  int blendReach = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = level(l);
+    LevelMaps& m = lm[static_cast<size_t>(l)];
+    if (!lc.enabled || l == c.coarsestEnabled) continue;
+    m.blurred = true;
+    m.widened = footprint && l >= c.effectMask.firstLevel;
+    m.capBlocks = m.widened ? blocksWithin(cap, blockSize(l)) : 0;
+    m.blurBlocks = blocksWithin(static_cast<int>(lc.gaussian.size() / 2), blockSize(l));
+    const int k = m.capBlocks, r = m.capBlocks + m.blurBlocks;
+    std::vector<MapSpec>& grid = l == 0 ? fine : coarse;
+    const auto add = [&](MapSpec spec) {
+      grid.push_back(spec);
+      return static_cast<int>(grid.size()) - 1;
+    };
+    const auto along = [](int x, int y) { return MapSpec{x, y, -1, -1}; };
+    if (m.widened) {
+      m.acrossCap = add(along(k, 0));
+      m.within = add(along(k, k));
+    }
+    m.across = add(along(r, k));
+    m.near = add(along(r, r));
+    if (l == 0) supportB = r;
+    else supportA = std::max(supportA, r);
+    m.support = static_cast<int>(coarse.size());
+    coarse.push_back({supportA, supportA, supportB, supportB});  // S_ℓ's: every enabled level's so far
+    blendReach = std::max(blendReach, (static_cast<int>(lc.gaussian.size() / 2) + (m.widened ? cap : 0) + 2) * lc.scale);
+  }
+  // level 0 widened: M'_0's blocks on the 8×8 grid (refineMasks' maskBlocks[0])
+  const int pooledWithin0 = lm[0].widened ? static_cast<int>(coarse.size()) : -1;
+  if (lm[0].widened) coarse.push_back({-1, -1, lm[0].capBlocks, lm[0].capBlocks});
+  // the blend's near blocks (blendFinalOnly): a finer α is 0 beyond its reach (and 1 more pixel)
+  const int blendNear = static_cast<int>(coarse.size());
+  coarse.push_back({blocksWithin(blendReach, 1 << kCoarsest), blocksWithin(blendReach, 1 << kCoarsest), -1, -1});
+  std::vector<Target> fineMaps = fine.empty() ? std::vector<Target>() : blockMaps(scene, fineBlocks, fineBlocks, fine);
+  std::vector<Target> coarseMaps = blockMaps(scene, edgeBlocks, fineBlocks, coarse);
+  const auto mapOf = [](const std::vector<Target>& maps, int index) {
+    return index < 0 ? BlockMap() : BlockMap(*maps[static_cast<size_t>(index / 8)], index % 8);
+  };
+  const auto levelMap = [&](int l, int index) { return mapOf(l == 0 ? fineMaps : coarseMaps, index); };
+  out->blendNear = mapOf(coarseMaps, blendNear);
+
   // 1b. mrr-effect (SPEC §12, gpu/effect_masks.cpp): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's
   // M_ℓ but the coarsest, from ℓ_first on, widened by its reach into M'_ℓ. The pyramid above
   // stays E's own. F is 0 off the edges, so F_ℓ is drawn over the edge blocks alone; the
   // widening reaches at most `cap` level pixels past M_ℓ, so its passes are drawn over the
   // blocks within `cap` of M_ℓ's (along x, then along y too), and the blur below over those.
+  std::array<BlockMap, kLevelCount> maskBlocks;
+  for (int l = 0; l < kLevelCount; ++l) maskBlocks[static_cast<size_t>(l)] = l == 0 ? fineBlocks : edgeBlocks;
   if (footprint) {
     Target pooled;
     // F, drawn over E's 4×4 blocks
     unsigned fl = footprint(Cover::blocksOf(fineBlocks, 1 << (kCoarsest - 1)));
-    const int cap = c.effectMask.cap;
     for (int l = 0; l < kLevelCount; ++l) {
       const LevelConstants& lc = level(l);
       const size_t i = static_cast<size_t>(l);
@@ -198,9 +256,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       }
       const unsigned source = l == 0 ? edges : mask[i]->texture(0);
       const int channel = l == 0 ? edgeChannel : 0;
-      const int reach = blocksWithin(cap, blockSize(l));
-      const Framebuffer* across = out->keep(dilateBlocks(scene, *maskBlocks[i], reach, 0));  // within cap along x
-      const Framebuffer* within = out->keep(dilateBlocks(scene, *across, 0, reach));         // ... and along y
+      const BlockMap across = levelMap(l, lm[i].acrossCap), within = levelMap(l, lm[i].within);
       Target dilated = drawDilateByReach(scene, source, channel, fl, lc.width, lc.height, lc.scale, cap,
                                          cover(across, l), cover(within, l));
       if (c.effectMask.effectOnly)  // SPEC §12.3: M'_ℓ ∧ ¬M_ℓ
@@ -210,8 +266,6 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       out->widenedBy[i] = cap;
     }
   }
-  // support[ℓ]: the 8×8 grid's blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
-  std::array<const Framebuffer*, kLevelCount> support{};
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
@@ -222,18 +276,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       continue;
     }
     // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of M_ℓ's (an edge's, or a
-    // widened level's reach); 3. S_ℓ = [a_ℓ > 0]
-    const int radius = static_cast<int>(lc.gaussian.size() / 2);
-    // The horizontal pass is non-zero only within r across of M_ℓ's blocks (its rows); the
-    // vertical one within r across and down. Level 0 on the 4×4 grid, whose support is narrow;
-    // the closure below works on the 8×8 grid: the max-pool.
-    const int reach = blocksWithin(radius, blockSize(l));
-    const Framebuffer* across = out->keep(dilateBlocks(scene, *maskBlocks[i], reach, 0));  // within r across
-    const Framebuffer* near = out->keep(dilateBlocks(scene, *across, 0, reach));            // ... and within r down
-    support[i] = l == 0 ? out->keep(poolBlocks(scene, *near, 2)) : near;
-    out->maskBlocks[i] = l != 0                   ? maskBlocks[i]
-                         : maskBlocks[i] == &fineBlocks ? &edgeBlocks  // M_2 pooled is M_3
-                                                        : out->keep(poolBlocks(scene, *maskBlocks[i], 2));
+    // widened level's reach); 3. S_ℓ = [a_ℓ > 0]. The horizontal pass is non-zero only within r
+    // across of M_ℓ's blocks (its rows); the vertical one within r across and down.
+    out->supportBlocks[i] = mapOf(coarseMaps, lm[i].support);
+    out->maskBlocks[i] = l != 0 ? maskBlocks[i] : lm[0].widened ? mapOf(coarseMaps, pooledWithin0) : edgeBlocks;
     Pass::Inputs horizontal;
     horizontal.source = mask[i] ? mask[i]->texture(0) : edges;  // M_0 = E unless mrr-effect replaced it
     horizontal.sourceChannel = mask[i] ? 0 : edgeChannel;
@@ -250,10 +296,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     out->blurSource[i] = horizontal.source;
     out->blurSourceChannel[i] = horizontal.sourceChannel;
     horizontal.weights = &lc.gaussian;
-    horizontal.cover = cover(across, l);
+    horizontal.cover = cover(levelMap(l, lm[i].across), l);
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Pass::Inputs vertical = horizontal;
-    vertical.cover = cover(near, l);
+    vertical.cover = cover(levelMap(l, lm[i].near), l);
     vertical.source = h->texture(0);
     vertical.sourceChannel = 0;
     vertical.direction = {0, 1};
@@ -261,7 +307,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     Target both = pass.run(2, {Texel::R32f, Texel::R8}, lc.width, lc.height, vertical);
     out->alphaTarget[i] = std::move(both);  // a_ℓ in target 0, S_ℓ in target 1
   }
-  // 4. coverage closure, fine to coarse, across disabled levels
+  // 4. coverage closure, fine to coarse, across disabled levels: S_next ∨ max-pool(S_ℓ) is 0
+  // outside both supports, drawn over their union (S_next's, which holds every finer level's)
   auto stencilTexture = [&](size_t l) {
     return stencil[l] ? stencil[l]->texture(0) : out->alphaTarget[l]->texture(1);
   };
@@ -270,17 +317,15 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     if (!c.levels[static_cast<size_t>(l)].enabled || next < 0) continue;
     const LevelConstants& ln = c.levels[static_cast<size_t>(next)];
     if (next == c.coarsestEnabled) continue;  // already all 1
-    // S_next ∨ max-pool(S_ℓ) is 0 outside both supports: drawn over their union only
-    const Framebuffer*& into = support[static_cast<size_t>(next)];
-    into = out->keep(uniteBlocks(scene, *into, *support[static_cast<size_t>(l)]));
     Pass::Inputs in;
     in.source = stencilTexture(static_cast<size_t>(l));
     in.previous = stencilTexture(static_cast<size_t>(next));
     in.factor = 1 << (next - l);
-    in.cover = Cover::blocksOf(*into, 1 << (kCoarsest - next));
+    in.cover = Cover::blocksOf(out->supportBlocks[static_cast<size_t>(next)], 1 << (kCoarsest - next));
     stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
-  out->supportBlocks = support;
+  for (Target& t : fineMaps) out->blockMaps.push_back(std::move(t));
+  for (Target& t : coarseMaps) out->blockMaps.push_back(std::move(t));
   for (size_t l = 0; l < kLevelCount; ++l)
     if (c.levels[l].enabled) {
       out->alpha[l] = out->alphaTarget[l]->texture(0);
@@ -300,7 +345,8 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
 }
 
 void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& c,
-                 const Framebuffer* marksBlocks) {
+                 const BlockMap& marksIn) {
+  BlockMap marksBlocks = marksIn;
   const size_t i = static_cast<size_t>(level);
   const LevelConstants& lc = c.levels[i];
   require(masks.drawn && masks.blurSource[i] != 0, "refineMasks: level " + std::to_string(level) + " has no drawn blur");
@@ -308,10 +354,10 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
   // rest cleared to 0, what the step gives there), as drawMasks' passes: level-ℓ pixels per block
   const int blockSize = 1 << (kLevelCount - 1 - level);
   if (marksBlocks && (!masks.maskBlocks[i] || !masks.supportBlocks[i] ||
-                      marksBlocks->width() != masks.maskBlocks[i]->width() ||
-                      marksBlocks->height() != masks.maskBlocks[i]->height()))
-    marksBlocks = nullptr;  // blocks on another grid: the whole level
-  const auto coverOf = [&](const Framebuffer* blocks) { return Cover::blocksOf(*blocks, blockSize); };
+                      marksBlocks.width() != masks.maskBlocks[i].width() ||
+                      marksBlocks.height() != masks.maskBlocks[i].height()))
+    marksBlocks = BlockMap();  // blocks on another grid: the whole level
+  const auto coverOf = [&](const BlockMap& blocks) { return Cover::blocksOf(blocks, blockSize); };
   // The step's program: refine_masks.frag STEP 1 or 3 (SOURCE_CHANNEL: M_ℓ's channel, step 1).
   const auto step = [&](int n, int channel, std::initializer_list<std::pair<const char*, unsigned>> textures,
                         const Cover& cover) {
@@ -332,7 +378,7 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     return target;
   };
   // 1. M_ℓ ∨= marks: 0 outside M_ℓ's blocks and the marks'
-  const Framebuffer* refined = marksBlocks ? masks.keep(uniteBlocks(scene, *masks.maskBlocks[i], *marksBlocks)) : nullptr;
+  const BlockMap refined = marksBlocks ? masks.keep(uniteBlocks(scene, masks.maskBlocks[i], marksBlocks)) : BlockMap();
   masks.refinedTarget[i] = step(1, masks.blurSourceChannel[i], {{"source", masks.blurSource[i]}, {"marks", marks->texture(0)}},
                                 refined ? coverOf(refined) : Cover::whole());
   masks.marksTarget[i] = std::move(marks);
@@ -351,15 +397,15 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}}, Cover::whole());
     masks.alphaTarget[i] = std::move(alpha);
     masks.stencilTarget[i] = std::move(stencil);
-    masks.supportBlocks[i] = nullptr;  // the whole level
+    masks.supportBlocks[i] = BlockMap();  // the whole level
   } else {
     // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again. M_ℓ changed in the marks' blocks alone, so a_ℓ changes within
     // r_ℓ of them alone (each pixel's sum is the blur's own, term for term): a copy of a_ℓ, the
     // vertical pass redrawn there, the horizontal one where that reads it (r_ℓ further down).
     // Without a mark the covers are empty: a_ℓ and S_ℓ are copied as they were.
     const int radius = blocksWithin(static_cast<int>(lc.gaussian.size() / 2), blockSize);
-    const Framebuffer* changed = masks.keep(dilateBlocks(scene, *marksBlocks, radius, radius));
-    const Framebuffer* rows = masks.keep(dilateBlocks(scene, *changed, 0, radius));
+    const BlockMap changed = masks.keep(dilateBlocks(scene, marksBlocks, radius, radius));
+    const BlockMap rows = masks.keep(dilateBlocks(scene, changed, 0, radius));
     horizontal.cover = coverOf(rows);
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Target alpha = scene.target(lc.width, lc.height, 1, false, Texel::R32f);
@@ -381,7 +427,7 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     masks.alphaTarget[i] = std::move(alpha);
     masks.stencilTarget[i] = std::move(stencil);
     masks.maskBlocks[i] = refined;
-    masks.supportBlocks[i] = masks.keep(uniteBlocks(scene, *masks.supportBlocks[i], *changed));
+    masks.supportBlocks[i] = masks.keep(uniteBlocks(scene, masks.supportBlocks[i], changed));
   }
   masks.alpha[i] = masks.alphaTarget[i]->texture(0);
   masks.stencil[i] = masks.stencilTarget[i]->texture(0);

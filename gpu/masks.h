@@ -35,12 +35,13 @@ struct MaskTargets final : DeviceMasks {
   bool drawn = false;  // the edge pyramid's (drawMasks): the fast paths below know where work is
   // Drawn: block maps on the coarsest level's grid (gpu/blocks.h; blocks of 2^{3−ℓ} level-ℓ
   // pixels, 8×8 full-res pixels): the blocks outside which the M_ℓ the blur read is 0 (E's edge
-  // blocks, or a widened level's reach past them), and those outside which S_ℓ is 0 (null: the
+  // blocks, or a widened level's reach past them), and those outside which S_ℓ is 0 (none: the
   // whole level, the coarsest); refineMasks extends both. The effect passes' stencil fill is drawn
   // over supportBlocks[ℓ] (supportCover).
-  std::array<const Framebuffer*, kLevelCount> maskBlocks{}, supportBlocks{};
-  const Framebuffer* edgeBlocks = nullptr;  // drawn: M of the coarsest level (which blocks hold an edge)
-  std::vector<Target> blockMaps;            // the block maps above, owned
+  std::array<BlockMap, kLevelCount> maskBlocks{}, supportBlocks{};
+  BlockMap edgeBlocks;  // drawn: M of the coarsest level (which blocks hold an edge)
+  BlockMap blendNear;   // drawn: the blocks within a finer level's reach of an edge block (the blend's)
+  std::vector<Target> blockMaps;  // the block maps above, owned
   // Drawn, mrr-effect (SPEC §12): the most level pixels each level's M'_ℓ reaches past M_ℓ (its
   // cap where widened, else 0), for the blend's reach from the edge blocks.
   std::array<int, kLevelCount> widenedBy{};
@@ -49,8 +50,8 @@ struct MaskTargets final : DeviceMasks {
 
   // Where S_ℓ can be set: supportBlocks[ℓ]'s runs, or the whole level.
   Cover supportCover(int level) const;
-  // Keeps a block map and returns it.
-  const Framebuffer* keep(Target map);
+  // Keeps a block map target and returns its first map.
+  BlockMap keep(Target map);
 };
 
 // mrr-effect (SPEC §12): F on the padded full-res grid (R32F, gpu/effect_masks.h drawFootprint),
@@ -88,7 +89,7 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
 // ones (no mark leaves a_ℓ and S_ℓ as they were). Both give the same bits. Not for the coarsest
 // enabled level.
 void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& constants,
-                 const Framebuffer* marksBlocks = nullptr);
+                 const BlockMap& marksBlocks = {});
 
 // Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
 // unless `stencilsOnly`.

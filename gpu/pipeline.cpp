@@ -112,6 +112,7 @@ class PortFrame final : public FrameBackend {
     if (wantSample) sample = drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges);
     f.edgeSampled = gpu::countEarly(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0,
                                     sample ? sample->texture(0) : 0, f.constants, f.counts, wantSample);
+    hitsCounted_ = true;  // H, which the report's idealSpeedupHit needs too
     if (keep_ && f.edgeSampled) f.edgeSample = readEdgeSample(*sample);
   }
   void countStencils(FrameResult& f, const FrameMasks& masks) override {
@@ -126,7 +127,7 @@ class PortFrame final : public FrameBackend {
   }
   void countHitPixels(FrameResult& f) override {
     if (keep_) return f.countHitPixels(f.levels[0].gbuffer.hit);
-    gpu::countShaded(scene_, *gbuffers_[0], maskTargets_->stencil, f);
+    gpu::countShaded(scene_, *gbuffers_[0], maskTargets_->stencil, f, hitsCounted_ ? f.counts.hitPixels : -1);
   }
 
   // G-buffers: level 0 rasterised, the coarser levels subsampled from it.
@@ -293,7 +294,7 @@ class PortFrame final : public FrameBackend {
                                        c.effectMask.posterior, maskTargets_->supportCover(next), &marksBlocks,
                                        1 << (kLevelCount - 1 - next));
     if (limit_) marks = drawLevelLimited(scene_, marks->texture(0), l, limit_->texture(0), c);
-    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c, marksBlocks.get());
+    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c, BlockMap(*marksBlocks));
     refined_ = true;
     if (keep_) {
       MaskLevel& m = f.levels[i].masks;
@@ -320,8 +321,8 @@ class PortFrame final : public FrameBackend {
     std::array<LevelTextures, kLevelCount> inputs;
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture_[l], maskTargets_->stencil[l], maskTargets_->alpha[l]};
     // a refined level's α reaches past the edge blocks' neighbourhood (SPEC §12.2): blended everywhere
-    const Framebuffer* edgeBlocks = maskTargets_->drawn && !refined_ ? maskTargets_->edgeBlocks : nullptr;
-    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_, &maskTargets_->widenedBy);
+    const BlockMap nearBlocks = maskTargets_->drawn && !refined_ ? maskTargets_->blendNear : BlockMap();
+    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, nearBlocks, &final_);
   }
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {
@@ -402,6 +403,7 @@ class PortFrame final : public FrameBackend {
   bool peerComposed_ = false;  // final_ is composePeer's target (its level map a float in target 1)
   Target limit_;  // SPEC §13's level limit (limit.frag), when a term is on
   bool refined_ = false;  // SPEC §12.2 refined a level's masks (refineMasks)
+  bool hitsCounted_ = false;  // the rule counted H (f.counts.hitPixels)
 };
 }  // namespace
 

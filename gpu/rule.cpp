@@ -8,6 +8,7 @@
 
 #include "gpu/counts.h"
 #include "gpu/program.h"
+#include "gpu/probe_timing.h"
 
 namespace mrr::gpu {
 
@@ -17,9 +18,12 @@ static_assert(kBlock == 8 && kPcfSampleStep == 8 && kLevelCount == 4, "rule.frag
 
 // A rule.frag pass over the per-block grid of the padded full-res grid (width × height blocks).
 Target rulePass(const GpuScene& scene, int step, bool withPcf, int targets, int width, int height,
-                const std::function<void(unsigned)>& setInputs, int level = -1) {
-  const std::string defines = level >= 0 ? "#define LEVEL " + std::to_string(level) + "\n" : "";
+                const std::function<void(unsigned)>& setInputs, int level = -1, bool withSample = false) {
+  ProbeClock clock(step == 1 ? "rule hits" : step == 2 ? "rule reach" : step == 3 ? "rule stencils" : "rule shaded");
+  const std::string defines = (level >= 0 ? "#define LEVEL " + std::to_string(level) + "\n" : "") +
+                              "#define WITH_SAMPLE " + (withSample ? "1" : "0") + "\n";
   const unsigned program = scene.program("rule." + std::to_string(step) + (withPcf ? ".pcf" : "") +
+                                             (withSample ? ".sample" : "") +
                                              (level >= 0 ? ".L" + std::to_string(level) : ""),
                                          "fullscreen.vert", "rule.frag",
                                          "#define STEP " + std::to_string(step) + "\n#define WITH_PCF " +
@@ -33,13 +37,16 @@ Target rulePass(const GpuScene& scene, int step, bool withPcf, int targets, int 
   return target;
 }
 
-// STEP 1 (countHits' counts per block).
-Target drawHits(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, const Constants& c) {
+// STEP 1 (countHits' counts per block; with the edge sample's diagonals, Ê per block too).
+Target drawHits(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
+                const Constants& c) {
   return rulePass(scene, 1, pcfSample != 0, 3, gbuffer0.width() / kBlock, gbuffer0.height() / kBlock, [&](unsigned p) {
     bindTextures(p, {{"positionHit", gbuffer0.texture(0)}});
-    if (pcfSample) bindTextures(p, {{"pcfSample", pcfSample}}, 1);
+    int unit = 1;
+    if (pcfSample) bindTextures(p, {{"pcfSample", pcfSample}}, unit++);
+    if (edgeSample) bindTextures(p, {{"edgeSample", edgeSample}}, unit++);
     glUniform2i(uniform(p, "frame"), c.width, c.height);
-  });
+  }, -1, edgeSample != 0);
 }
 
 // H, H_a, H_p, F and B_ℓ from STEP 1's sums (values[first..first+8)), as countHits sets them.
@@ -60,7 +67,7 @@ bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcf
   n.edgeBlocks = 0;
   n.reach = n.reachHits = {};
   CountBatch batch(scene);
-  Target hits = drawHits(scene, gbuffer0, pcfSample, c);
+  Target hits = drawHits(scene, gbuffer0, pcfSample, edgeSample, c);
   const unsigned hitsPerBlock = hits->texture(2);
   Target reach;
   if (edgeSample) {
@@ -75,10 +82,9 @@ bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcf
       if (lc.enabled && lc.shaded) reachBlocks[lc.index] = widest;
     }
     reach = rulePass(scene, 2, false, 2, gbuffer0.width() / kBlock, gbuffer0.height() / kBlock, [&](unsigned p) {
-      bindTextures(p, {{"edgeSample", edgeSample}});
-      glActiveTexture(GL_TEXTURE1);
+      glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, hitsPerBlock);
-      glUniform1i(uniform(p, "hits"), 1);
+      glUniform1i(uniform(p, "hits"), 0);
       glUniform3i(uniform(p, "reachBlocks"), reachBlocks[0], reachBlocks[1], reachBlocks[2]);
     });
   }
@@ -130,10 +136,10 @@ void countStencils(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned 
 }
 
 void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::array<unsigned, kLevelCount>& stencils,
-                 FrameResult& f) {
+                 FrameResult& f, int64_t hitPixels) {
   const Constants& c = f.constants;
   CountBatch batch(scene);
-  const size_t hitsAt = batch.add(drawHits(scene, gbuffer0, 0, c));  // H (the hits target's first)
+  const size_t hitsAt = hitPixels < 0 ? batch.add(drawHits(scene, gbuffer0, 0, 0, c)) : 0;  // H, unless known
   std::array<size_t, kLevelCount> at{};
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -163,7 +169,7 @@ void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::
   const double pixels = static_cast<double>(c.width) * c.height;
   f.idealSpeedup = pixels / static_cast<double>(std::max<int64_t>(f.shadedPixelsTotal, 1));
   f.blockIdealSpeedup = pixels / static_cast<double>(std::max<int64_t>(blockTotal, 1));
-  f.idealSpeedupHit = static_cast<double>(std::max<int64_t>(v[hitsAt], 1)) /
+  f.idealSpeedupHit = static_cast<double>(std::max<int64_t>(hitPixels < 0 ? v[hitsAt] : hitPixels, 1)) /
                       static_cast<double>(std::max<int64_t>(shadedOnGeometry, 1));
 }
 

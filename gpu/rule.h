@@ -16,8 +16,9 @@ namespace mrr::gpu {
 
 // countHits into `counts` (H, H_a, H_p, F, B_ℓ) from level 0's G-buffer and, SSM, the PCF sample
 // (`pcfSample`: ssm.frag PCF_SAMPLE's R8 target, or 0: none). Then, with `edgeSample` (edges.frag
-// EDGE_SAMPLE's R8 target; 0: none) and where `wantSample(counts)` says so, countEdgeSample's Ê,
-// R_ℓ and their hit pixels; returns whether it counted them. One small read.
+// EDGE_SAMPLE's diagonals, gpu/edges.h drawEdgeSample; 0: none) and where `wantSample(counts)`
+// says so, countEdgeSample's Ê, R_ℓ and their hit pixels; returns whether it counted them. Both
+// in one small read.
 bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
                 const Constants& constants, FrameCounts& counts,
                 const std::function<bool(const FrameCounts&)>& wantSample);
@@ -28,8 +29,9 @@ void countStencils(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned 
                    const std::array<unsigned, kLevelCount>& stencils, const Constants& constants, FrameCounts& counts);
 
 // What the report says of the frame's stencils, into f (FrameResult::countShadedPixels and
-// countHitPixels: |S_ℓ| and its 4×2 blocks per enabled level, the ideal speedups). One small read.
+// countHitPixels: |S_ℓ| and its 4×2 blocks per enabled level, the ideal speedups). H is
+// `hitPixels` where the rule counted it (≥ 0), else counted here. One small read.
 void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::array<unsigned, kLevelCount>& stencils,
-                 FrameResult& f);
+                 FrameResult& f, int64_t hitPixels = -1);
 
 }  // namespace mrr::gpu

@@ -2,8 +2,8 @@
 // Sums of counts on the GPU (gpu/counts.cpp): a pass writes a few counts per block into RGBA32UI
 // targets (rule.frag); these passes add them up, so the host reads a few integers instead of an
 // image (docs/port.md, "What a frame costs the host"). One pass per step:
-//   STEP 1 reduce: each of the TARGETS outputs sums a FACTOR×FACTOR tile of its input (texels past
-//     the input's edge count 0)
+//   STEP 1 reduce: each of the TARGETS outputs (up to 8, inputs of one size) sums a FACTOR×FACTOR
+//     tile of its input (texels past the input's edge count 0)
 //   STEP 2 gather: fragment k of a SOURCES×1 row sums the whole of input k (at most 16×16 texels)
 #if STEP == 1
 uniform usampler2D values0;
@@ -19,6 +19,22 @@ layout(location = 2) out uvec4 sum2;
 #if TARGETS > 3
 uniform usampler2D values3;
 layout(location = 3) out uvec4 sum3;
+#endif
+#if TARGETS > 4
+uniform usampler2D values4;
+layout(location = 4) out uvec4 sum4;
+#endif
+#if TARGETS > 5
+uniform usampler2D values5;
+layout(location = 5) out uvec4 sum5;
+#endif
+#if TARGETS > 6
+uniform usampler2D values6;
+layout(location = 6) out uvec4 sum6;
+#endif
+#if TARGETS > 7
+uniform usampler2D values7;
+layout(location = 7) out uvec4 sum7;
 #endif
 
 uvec4 tile(usampler2D values, ivec2 p) {
@@ -40,6 +56,18 @@ void main() {
 #endif
 #if TARGETS > 3
   sum3 = tile(values3, p);
+#endif
+#if TARGETS > 4
+  sum4 = tile(values4, p);
+#endif
+#if TARGETS > 5
+  sum5 = tile(values5, p);
+#endif
+#if TARGETS > 6
+  sum6 = tile(values6, p);
+#endif
+#if TARGETS > 7
+  sum7 = tile(values7, p);
 #endif
 }
 #else

@@ -5,10 +5,11 @@
 // count for count (tests/gpu/rule_counts_test.cpp holds them equal). One pass per step:
 //   STEP 1 hits (countHits): in W×H, H, H_a, H_p and F (counts0); B_0..B_3, the pixels and the
 //     2×2, 4×4 and 8×8 blocks holding a silhouette pixel (counts1); the block's hit pixels over
-//     the padded grid and whether it holds a silhouette pixel (counts2)
-//   STEP 2 reach (countEdgeSample): Ê = the edge sample or a silhouette block; per level ℓ < 3,
-//     R_ℓ: Ê within reachBlocks[ℓ] blocks (the union of the finer levels' boxes); counts0 (Ê,
-//     R_0, R_1, R_2), counts1 (the hit pixels of R_0, R_1, R_2)
+//     the padded grid, and Ê: it holds a silhouette pixel or (WITH_SAMPLE) its diagonal an edge
+//     (counts2). A row of the block and its border is 10 bits, so a pixel's 4-neighbours are shifts.
+//   STEP 2 reach (countEdgeSample): per level ℓ < 3, R_ℓ: Ê within reachBlocks[ℓ] blocks (the
+//     union of the finer levels' boxes); counts0 (Ê, R_0, R_1, R_2), counts1 (the hit pixels of
+//     R_0, R_1, R_2)
 //   STEP 3 stencils (countForRule): per level ℓ of `counted`, |S_ℓ|, |S_ℓ ∩ hit|, |S_ℓ ∩ hit ∩
 //     searched|, |S_ℓ ∩ hit ∩ pcf| over the block's level-ℓ pixels (counts0..3)
 //   STEP 4 shaded (countShadedPixels, countHitPixels), one fragment per 4×2 block of level
@@ -44,32 +45,48 @@ ivec2 pays(ivec2 b) {
 
 #if STEP == 1
 uniform ivec2 frame;  // W×H
+#if WITH_SAMPLE
+uniform sampler2D edgeSample;  // edges.frag EDGE_SAMPLE: a block's eight diagonal pixels side by side in a row
+#endif
+// 10 hit flags of row y as bits (bit i: column o.x − 1 + i), clamped to the image: a 4-neighbour
+// outside it is the pixel itself, as countHits takes it
+uint rowBits(ivec2 o, int y, ivec2 last) {
+  int yc = clamp(y, 0, last.y);
+  uint bits = 0u;
+  for (int i = 0; i < 10; ++i) bits |= hitAt(ivec2(clamp(o.x - 1 + i, 0, last.x), yc)) ? 1u << uint(i) : 0u;
+  return bits;
+}
+uint ones(uint v) {  // the set bits of v (GLSL 3.30 has no bitCount)
+  v = v - ((v >> 1) & 0x55555555u);
+  v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+  return (((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
+}
 void main() {
   ivec2 b = ivec2(gl_FragCoord.xy), o = b * 8, last = textureSize(positionHit, 0) - 1;
-  // the block and a pixel around it, a 4-neighbour outside the image being the pixel itself (clamped)
-  bool win[100];
-  for (int j = 0; j < 10; ++j)
-    for (int i = 0; i < 10; ++i) win[j * 10 + i] = hitAt(clamp(o + ivec2(i - 1, j - 1), ivec2(0), last));
+  uint inW = (1u << uint(clamp(frame.x - o.x, 0, 8))) - 1u;  // the block's columns inside W, bits 0–7
   uint hits = 0u, padded = 0u, b0 = 0u, b1 = 0u, b2 = 0u;
-  bool any2[4] = bool[4](false, false, false, false), any3 = false;
-  bool any1[16];
-  for (int k = 0; k < 16; ++k) any1[k] = false;
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      int c = (j + 1) * 10 + (i + 1);
-      bool h = win[c];
-      padded += h ? 1u : 0u;
-      if (o.x + i >= frame.x || o.y + j >= frame.y) continue;  // outside W×H
-      hits += h ? 1u : 0u;
-      bool silhouette = h && (!win[c - 1] || !win[c + 1] || !win[c - 10] || !win[c + 10]);
-      if (!silhouette) continue;
-      b0 += 1u;
-      any1[(j / 2) * 4 + i / 2] = true;
-      any2[(j / 4) * 2 + i / 4] = true;
-      any3 = true;
+  uint pair = 0u, quad0 = 0u, quad1 = 0u;  // silhouette bits OR-ed over row pairs and row quads
+  uint up = rowBits(o, o.y - 1, last), cur = rowBits(o, o.y, last);
+  for (int j = 0; j < 8; ++j) {
+    uint down = rowBits(o, o.y + j + 1, last);
+    uint row = (cur >> 1) & 0xFFu;  // the block's 8 columns
+    padded += ones(row);
+    bool inH = o.y + j < frame.y;
+    // a pixel on geometry with a 4-neighbour off it (in W×H)
+    uint silhouette = inH ? (cur & ~((cur << 1) & (cur >> 1) & up & down)) >> 1 & 0xFFu & inW : 0u;
+    hits += inH ? ones(row & inW) : 0u;
+    b0 += ones(silhouette);
+    pair |= silhouette;
+    if ((j & 1) == 1) {  // B_1: the 2×2 sub-blocks holding one
+      b1 += ones((pair | (pair >> 1)) & 0x55u);
+      if (j < 4) quad0 |= pair; else quad1 |= pair;
+      pair = 0u;
     }
-  for (int k = 0; k < 16; ++k) b1 += any1[k] ? 1u : 0u;
-  for (int k = 0; k < 4; ++k) b2 += any2[k] ? 1u : 0u;
+    up = cur;
+    cur = down;
+  }
+  b2 = ones((quad0 | quad0 >> 1 | quad0 >> 2 | quad0 >> 3) & 0x11u) + ones((quad1 | quad1 >> 1 | quad1 >> 2 | quad1 >> 3) & 0x11u);
+  bool any3 = (quad0 | quad1) != 0u;
   ivec2 paid = pays(b);
   uint searched = paid.x != int(kPcfSampleNone) ? hits : 0u;
   uint pcf = paid.x == int(kPcfSamplePcf) ? hits : 0u;
@@ -78,30 +95,33 @@ void main() {
 #else
   uint footprint = 0u;  // F without a sample: none
 #endif
+  // Ê for step 2: a silhouette block, or (with the sample) one whose diagonal holds an edge
+  bool sampled = any3;
+#if WITH_SAMPLE
+  for (int i = 0; i < 8; ++i) sampled = sampled || texelFetch(edgeSample, ivec2(b.x * 8 + i, b.y), 0).r > 0.5;
+#endif
   counts0 = uvec4(hits, searched, pcf, footprint);
   counts1 = uvec4(b0, b1, b2, any3 ? 1u : 0u);
-  counts2 = uvec4(padded, any3 ? 1u : 0u, 0u, 0u);
+  counts2 = uvec4(padded, sampled ? 1u : 0u, 0u, 0u);
 }
 #elif STEP == 2
-uniform sampler2D edgeSample;  // Ê's sample per block (R8, edges.frag EDGE_SAMPLE)
-uniform usampler2D hits;       // STEP 1's counts2: hit pixels, silhouette
-uniform ivec3 reachBlocks;     // per level ℓ < 3: the box R_ℓ spans, in blocks; -1: not counted
-bool sampled(ivec2 b) { return texelFetch(edgeSample, b, 0).r > 0.5 || texelFetch(hits, b, 0).y != 0u; }
+uniform usampler2D hits;     // STEP 1's counts2: hit pixels over the padded grid, Ê
+uniform ivec3 reachBlocks;   // per level ℓ < 3: the box R_ℓ spans, in blocks; -1: not counted
 void main() {
-  ivec2 b = ivec2(gl_FragCoord.xy), last = textureSize(edgeSample, 0) - 1;
+  ivec2 b = ivec2(gl_FragCoord.xy), last = textureSize(hits, 0) - 1;
   int widest = max(reachBlocks.x, max(reachBlocks.y, reachBlocks.z));
   bvec3 reached = bvec3(false);
   for (int j = -widest; j <= widest; ++j)
     for (int i = -widest; i <= widest; ++i) {
       ivec2 q = b + ivec2(i, j);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThan(q, last)) || !sampled(q)) continue;
+      if (any(lessThan(q, ivec2(0))) || any(greaterThan(q, last)) || texelFetch(hits, q, 0).y == 0u) continue;
       int d = max(abs(i), abs(j));
       reached = bvec3(reached.x || d <= reachBlocks.x, reached.y || d <= reachBlocks.y, reached.z || d <= reachBlocks.z);
     }
-  uint blockHits = texelFetch(hits, b, 0).x;
+  uvec2 own = texelFetch(hits, b, 0).xy;
   uvec3 r = uvec3(reached);
-  counts0 = uvec4(sampled(b) ? 1u : 0u, r);
-  counts1 = uvec4(r * blockHits, 0u);
+  counts0 = uvec4(own.y, r);
+  counts1 = uvec4(r * own.x, 0u);
 }
 #elif STEP == 3
 uniform sampler2D stencil0, stencil1, stencil2, stencil3;  // S_ℓ (R8)

@@ -73,6 +73,25 @@ TEST(GpuBlockMaps, EqualTheHostsAndTheirRunsCoverEachBlockOnce) {
   for (size_t i = 0; i < both.data.size(); ++i) both.data[i] |= other.data[i];
   EXPECT_EQ(gpu::uniteBlocks(scene, *map, *otherMap)->readBinary(0).data, both.data);
   EXPECT_EQ(gpu::poolBlocks(scene, *map, 2)->readBinary(0).data, gpu::blocksOf(blocks, 2).data);
+  // several maps in one pass (what drawMasks draws every cover from): boxes of the grid's own map,
+  // and of the grid twice as fine pooled
+  const ImageU8 fine = sparseMask(2 * w, 2 * h, 80, rng);
+  const gpu::Target fineMap = targetOf(scene, fine);
+  const std::vector<gpu::MapSpec> specs = {{1, 0, -1, -1}, {2, 2, -1, -1}, {-1, -1, 1, 1}, {3, 1, 2, 0},
+                                           {0, 0, -1, -1}, {1, 1, 0, 0},   {-1, -1, 0, 0}, {2, 0, 3, 3},
+                                           {4, 4, -1, -1}};  // nine: two passes
+  const std::vector<gpu::Target> maps = gpu::blockMaps(scene, *map, *fineMap, specs);
+  ASSERT_EQ(maps.size(), 2u);
+  for (size_t k = 0; k < specs.size(); ++k) {
+    const gpu::MapSpec& m = specs[k];
+    ImageU8 want(w, h);
+    if (m.ax >= 0) want = nearBlocks(blocks, 1, m.ax, m.ay);
+    if (m.bx >= 0) {
+      const ImageU8 pooled = gpu::blocksOf(nearBlocks(fine, 1, m.bx, m.by), 2);
+      for (size_t i = 0; i < want.data.size(); ++i) want.data[i] |= pooled.data[i];
+    }
+    EXPECT_EQ(maps[k / 8]->readBinary(static_cast<int>(k % 8)).data, want.data) << "map " << k;
+  }
   ImageU8 rows((w + 7) / 8, h);  // 8 × 1 (the edge sample's diagonals)
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) rows.at(x / 8, y) |= blocks.at(x, y);
@@ -170,9 +189,11 @@ Refined refine(const gpu::GpuScene& scene, const ImageU8& edges, const ImageF& f
   auto targets = gpu::drawMasks(scene, e, 0, c, [&](const gpu::Cover&) { return f; });
   gpu::Target marksTarget = targetOf(scene, marks);
   const gpu::Target blocksTarget = marksBlocks ? targetOf(scene, *marksBlocks) : gpu::Target();
-  gpu::refineMasks(scene, *targets, level, std::move(marksTarget), c, blocksTarget.get());
-  Refined r{gpu::readMasks(*targets, c, false), targets->supportBlocks[static_cast<size_t>(level)] == nullptr, {}};
-  if (!r.wholeLevel) r.support = targets->supportBlocks[static_cast<size_t>(level)]->readBinary(0);
+  gpu::refineMasks(scene, *targets, level, std::move(marksTarget), c,
+                   blocksTarget ? gpu::BlockMap(*blocksTarget) : gpu::BlockMap());
+  const gpu::BlockMap& support = targets->supportBlocks[static_cast<size_t>(level)];
+  Refined r{gpu::readMasks(*targets, c, false), !support, {}};
+  if (support) r.support = support.target->readBinary(support.attachment);
   return r;
 }
 

@@ -1,8 +1,13 @@
 #include "common/cost_model.h"
 
+#include "common/frame_params.h"
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
+#include "common/cost_model_files.h"
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/shader_constants.h"
@@ -98,86 +103,31 @@ double coarseGbuffersAndBlendNs(const CostModel& m, const Constants& c) {
 }  // namespace
 
 CostModel CostModel::defaults(const std::string& path) {
-  CostModel m;
-  // `mrr bench --calibrate FILE --paths cpu gpu` on the CI machine (2-core AMD EPYC VM; the
-  // port on llvmpipe, LLVM 15): docs/figures.md. By Effect (ssao, ssm, ssgi), each figure by name
-  // (cost_model.h: a, b, d, c, e, s, k, k₀, ρ, ν).
-  if (path == "gpu") {
-    // gpu: one run (--repeats 5) of the GPU-resident port on llvmpipe (2026-11-25: SSM's searches
-    // priced by their map footprint, ν; builtin:corner in the calibration, the early estimate's
-    // edge band η).
-    m.source =
-        "built-in default (gpu: llvmpipe on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
-    m.effect = {
-        EffectCost{.nsPerShadedPixel = 214, .nsPerSample = 5.416, .nsPerLevelPixel = 0, .nsPerBackgroundPixel = 26.82,
-                   .nsPerPcfSample = 0, .sparseFactor = 1.426, .fixedMs = 2.184, .fullFixedMs = 0.4216,
-                   .nsPerRulePixel = 6.811, .nsPerFootprintTexel = 0},  // ssao
-        EffectCost{.nsPerShadedPixel = 148.9, .nsPerSample = 0, .nsPerLevelPixel = 0, .nsPerBackgroundPixel = 32.72,
-                   .nsPerPcfSample = 1.637, .sparseFactor = 1.75, .fixedMs = 1.825, .fullFixedMs = 0.3498,
-                   .nsPerRulePixel = 10.34, .nsPerFootprintTexel = 5.848},  // ssm
-        EffectCost{.nsPerShadedPixel = 27.56, .nsPerSample = 7.012, .nsPerLevelPixel = 12.09, .nsPerBackgroundPixel = 19.42,
-                   .nsPerPcfSample = 0, .sparseFactor = 1.515, .fixedMs = 4.065, .fullFixedMs = 1.265,
-                   .nsPerRulePixel = 6.765, .nsPerFootprintTexel = 0}};  // ssgi
-    m.nsPerCoarseGbufferPixel = 16.45;
-    m.nsPerFullBlendPixel = 4.978;
-    m.nsPerBlendPixel = 1.995;
-    m.nsPerFineBlendPixel = 37.92;
-    m.nsPerEdgePixel = 10.77;
-    m.nsPerEdgeHitPixel = 8.57;
-    m.nsPerMaskPixel = 4.006;
-    m.nsPerMaskReachPixel = 33.32;
-    m.stencilFill = {0.905, 0.87, 0.89};
-    m.edgeBandFill = {0.9857, 2.788, 6.924};
-    m.estimateSpread = 0.1863;
-    m.edgesMasksFixedMs = 0.9804;
-    // μ_e, μ_v (issue 35): not from a calibration run but from one loaded bench (2026-11-27, the
-    // 2-core Xeon VM, llvmpipe at 640×360, 4 scenes × 2 cameras): the median of mrr-effect's masks
-    // less mrr's per padded pixel (236 ns), divided by that run's load (full's effect time against
-    // the quiet chart's, median 9.1×; docs/figures.md). The port draws a widened level's blur and
-    // closure over the whole level. No a-posteriori term on the port: μ_v 0.
-    m.nsPerEffectMaskPixel = 26.0;
-    m.nsPerRefinePixel = 0.0;
-  } else {
-    // cpu: one run (--repeats 5, the same hour and code as the port's).
-    m.source =
-        "built-in default (cpu: 2 threads on the 2-core AMD EPYC CI VM, calibrated on builtin:corner, demo and bumpy)";
-    m.effect = {
-        EffectCost{.nsPerShadedPixel = 204.3, .nsPerSample = 8.411, .nsPerLevelPixel = 0.9984, .nsPerBackgroundPixel = 3.206,
-                   .nsPerPcfSample = 0, .sparseFactor = 1.104, .fixedMs = 0.2277, .fullFixedMs = 0.04672,
-                   .nsPerRulePixel = 2.348, .nsPerFootprintTexel = 0},  // ssao
-        EffectCost{.nsPerShadedPixel = 71.5, .nsPerSample = 0, .nsPerLevelPixel = 0, .nsPerBackgroundPixel = 2.472,
-                   .nsPerPcfSample = 1.526, .sparseFactor = 1.26, .fixedMs = 0.2452, .fullFixedMs = 0.01562,
-                   .nsPerRulePixel = 3.27, .nsPerFootprintTexel = 1.982},  // ssm
-        EffectCost{.nsPerShadedPixel = 30.72, .nsPerSample = 9.841, .nsPerLevelPixel = 16.93, .nsPerBackgroundPixel = 3.58,
-                   .nsPerPcfSample = 0, .sparseFactor = 1.418, .fixedMs = 0.4483, .fullFixedMs = 0.079,
-                   .nsPerRulePixel = 2.154, .nsPerFootprintTexel = 0}};  // ssgi
-    m.nsPerCoarseGbufferPixel = 7.377;
-    m.nsPerFullBlendPixel = 3.567;
-    m.nsPerBlendPixel = 2.105;
-    m.nsPerFineBlendPixel = 1.62;
-    m.nsPerEdgePixel = 1.2;
-    m.nsPerEdgeHitPixel = 3.506;
-    m.nsPerMaskPixel = 2.6;
-    m.nsPerMaskReachPixel = 0.5162;
-    m.stencilFill = {0.905, 0.87, 0.89};
-    m.edgeBandFill = {0.9857, 2.788, 6.924};
-    m.estimateSpread = 0.253;
-    m.edgesMasksFixedMs = 0.07053;
-    // μ_e, μ_v (issue 35): from a quiet `mrr bench --calibrate --paths cpu --repeats 1 --threads 2`
-    // (2026-11-27, the 2-core Xeon VM, nothing else running; docs/bench/rule/calibrate-cpu-quiet.json).
-    // Its other figures stay the CI VM's above (five repeats, the rule's sweep tuned on them); this
-    // run's differ from them by 0.3-1.6x. The port's μ_e stays: its fit (4.5 ns) and its stage
-    // medians (21.7 ns) disagree, and the port's rule is right to send SSM to full at 640×360.
-    m.nsPerEffectMaskPixel = 3.84;
-    m.nsPerRefinePixel = 3.0;
+  // common/cost_models/<path>.json, compiled in (common/embed_cost_models.cmake): what
+  // `mrr bench --calibrate` wrote on this project's CI machine (common/cost_models/README.md).
+  // Parsed once per path; a file that does not parse fails the build's tests, not a render.
+  static const std::vector<std::pair<std::string, CostModel>> parsed = [] {
+    std::vector<std::pair<std::string, CostModel>> models;
+    for (const CostModelFile& f : kCostModelFiles) {
+      const nlohmann::json j = nlohmann::json::parse(f.text, nullptr, false);
+      const std::string where = "common/cost_models/" + std::string(f.path) + ".json (built in)";
+      if (j.is_discarded() || !j.is_object()) throw MrrError(where + ": not a JSON object");
+      models.emplace_back(f.path, fromJson(j, where));
+    }
+    return models;
+  }();
+  std::string known;
+  for (const auto& [name, model] : parsed) {
+    if (name == path) return model;
+    known += (known.empty() ? "" : ", ") + name;
   }
-  return m;
+  throw MrrError("no built-in cost model for path '" + path + "' (common/cost_models/ has " + known + ")");
 }
 
-CostModel CostModel::fromJson(const nlohmann::json& j) {
+CostModel CostModel::fromJson(const nlohmann::json& j, const std::string& origin) {
   CostModel m;
   try {
-    m.source = j.value("source", std::string("--cost-model"));
+    m.source = j.value("source", optionName(Param::CostModel));
     for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
       const nlohmann::json& ej = j.at("effects").at(toString(e));
       EffectCost& ec = m.effect[static_cast<size_t>(e)];
@@ -188,14 +138,14 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
       ec.nsPerPcfSample = ej.at("ns_per_pcf_sample").get<double>();
       ec.sparseFactor = ej.at("sparse_factor").get<double>();
       if (!(ec.sparseFactor >= kMinSparseFactor && ec.sparseFactor <= kMaxSparseFactor))
-        throw MrrError("--cost-model: effects." + toString(e) + ".sparse_factor: " + std::to_string(ec.sparseFactor) +
+        throw MrrError(origin + ": effects." + toString(e) + ".sparse_factor: " + std::to_string(ec.sparseFactor) +
                        " is outside [1, 2] (SPEC §11)");
       ec.fixedMs = ej.at("fixed_ms").get<double>();
       ec.fullFixedMs = ej.at("full_fixed_ms").get<double>();
       ec.nsPerRulePixel = ej.at("ns_per_rule_pixel").get<double>();
       ec.nsPerFootprintTexel = ej.at("ns_per_footprint_texel").get<double>();
       if (!(ec.nsPerFootprintTexel >= 0.0) || !std::isfinite(ec.nsPerFootprintTexel))
-        throw MrrError("--cost-model: effects." + toString(e) + ".ns_per_footprint_texel: " +
+        throw MrrError(origin + ": effects." + toString(e) + ".ns_per_footprint_texel: " +
                        std::to_string(ec.nsPerFootprintTexel) + " is not a number >= 0 (SPEC §11)");
     }
     m.nsPerCoarseGbufferPixel = j.at("ns_per_coarse_gbuffer_pixel").get<double>();
@@ -211,24 +161,26 @@ CostModel CostModel::fromJson(const nlohmann::json& j) {
     auto perLevel = [&](const char* key, std::array<double, kLevelCount - 1>& into) {
       const nlohmann::json& v = j.at(key);
       if (!v.is_array() || v.size() != into.size())
-        throw MrrError(std::string("--cost-model: ") + key + ": expected " + std::to_string(into.size()) + " numbers (levels 0-2)");
+        throw MrrError(origin + ": " + key + ": expected " + std::to_string(into.size()) + " numbers (levels 0-2)");
       for (size_t l = 0; l < into.size(); ++l) into[l] = v.at(l).get<double>();
     };
     perLevel("stencil_fill", m.stencilFill);
     perLevel("edge_band_fill", m.edgeBandFill);
     for (double band : m.edgeBandFill)
       if (!(band > 0.0) || !std::isfinite(band))
-        throw MrrError("--cost-model: edge_band_fill: " + std::to_string(band) + " is not a positive number (SPEC §11)");
+        throw MrrError(origin + ": edge_band_fill: " + std::to_string(band) + " is not a positive number (SPEC §11)");
     m.estimateSpread = j.at("estimate_spread").get<double>();
     m.nsPerEffectMaskPixel = j.at("ns_per_effect_mask_pixel").get<double>();
     m.nsPerRefinePixel = j.at("ns_per_refine_pixel").get<double>();
   } catch (const nlohmann::json::exception& e) {
-    throw MrrError(std::string("--cost-model: ") + e.what());
+    throw MrrError(origin + ": " + e.what());
   }
   return m;
 }
 
-CostModel CostModel::fromFile(const std::string& file) { return fromJson(readJsonObjectFile(file, "--cost-model")); }
+CostModel CostModel::fromFile(const std::string& file) {
+  return fromJson(readJsonObjectFile(file, optionName(Param::CostModel)), optionName(Param::CostModel) + " " + file);
+}
 
 nlohmann::json CostModel::toJson() const {
   nlohmann::json effects;

@@ -14,9 +14,10 @@
 // coarse G-buffers cost a copy of their pixels (level 0 subsampled, SPEC §1), and the effect
 // costs per pixel and per sample. The costs are measured, not guessed:
 // `mrr bench --calibrate` fits them on the machine at hand, for each path, and writes the JSON
-// `--cost-model` reads; the defaults below are that command's output on this project's CI
-// machine (docs/figures.md). Every input is a count, never a clock: the oracle's decision, and
-// so its image, is the same on every run and any thread count.
+// `--cost-model` reads; the defaults, common/cost_models/cpu.json and gpu.json (compiled in),
+// are that command's output on this project's CI machine (docs/figures.md). Every input is a
+// count, never a clock: the oracle's decision, and so its image, is the same on every run and
+// any thread count.
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -108,9 +109,11 @@ struct CostModel {
   // is taken as uniform on R̂ (1 ± w) (√3 × the calibration frames' RMS relative difference).
   double estimateSpread = 0.0;
 
-  // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu").
+  // The defaults, measured on this project's CI machine for the path ("cpu" or "gpu"):
+  // common/cost_models/<path>.json, compiled in. Throws MrrError for another path.
   static CostModel defaults(const std::string& path);
-  static CostModel fromJson(const nlohmann::json& j);  // throws MrrError naming the missing key
+  // Throws MrrError naming `origin` (the file, or the option) and the missing or bad key.
+  static CostModel fromJson(const nlohmann::json& j, const std::string& origin = "--cost-model");
   // A JSON file `mrr bench --calibrate` wrote (`--cost-model FILE`): throws MrrError on a file it
   // cannot read, that is not a JSON object, or that fromJson refuses.
   static CostModel fromFile(const std::string& file);

@@ -219,7 +219,14 @@ std::string exactFloat(float v) {
 
 std::string ParamRange::text() const {
   if (!any()) return "";
-  const auto num = [](double v) { return number(v); };
+  // Whole numbers in full ("1073741823"), a large power of ten as one ("1e6"), others as %g.
+  const auto num = [](double v) {
+    const double a = std::fabs(v);
+    if (a >= 1e6 && std::pow(10.0, std::round(std::log10(a))) == a)
+      return std::string(v < 0 ? "-" : "") + "1e" + std::to_string(static_cast<int>(std::round(std::log10(a))));
+    if (v == std::round(v) && a < 1e15) return std::to_string(static_cast<long long>(v));
+    return number(v);
+  };
   if (hi == kInf) return std::string(loOpen ? "> " : ">= ") + num(lo);
   return std::string(loOpen ? "(" : "[") + num(lo) + ", " + num(hi) + (hiOpen ? ")" : "]");
 }

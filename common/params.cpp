@@ -128,22 +128,9 @@ void Constants::fallBackToFull() {
 }
 
 void makeFoveationConstants(const FoveationSettings& s, Constants::Foveation& f) {
-  f.gaze = s.gaze;
-  f.foveate = s.foveate;
-  f.motion = s.motion;
-  f.gazeX = s.gazeX;
-  f.gazeY = s.gazeY;
-  f.ppd = s.ppd;
+  static_cast<FoveationSettings&>(f) = s;
   f.mar0 = kMar0Degrees;
   f.marSlope = kMarSlope;
-  f.motionCap = s.motionCap;
-  f.motionScale = s.motionScale;
-  f.panned = s.panned;
-  f.pan = s.pan;
-  f.prevEye = s.prevEye;
-  f.prevTarget = s.prevTarget;
-  f.prevUp = s.prevUp;
-  f.prevYfov = s.prevYfov;
   for (int l = 0; l < kLevelCount; ++l) {
     // Step 2: level ℓ's pixel, s_ℓ/ppd degrees, at most ω(e)/k: e ≥ e_ℓ = (k s_ℓ/ppd − ω0)/m,
     // r_ℓ = e_ℓ·ppd full-res pixels; d² ≥ ⌈r_ℓ²⌉ ⇔ d ≥ r_ℓ for a whole d² (double on the host).
@@ -190,12 +177,7 @@ Constants makeConstants(const Settings& s, float framedSize) {
     if (c.levels[static_cast<size_t>(l)].enabled) c.coarsestEnabled = l;
   c.edges = s.edges;
   c.neverSlower = s.neverSlower && methodInfo(s.mode).neverSlower;
-  c.effectMask.scale = s.effectMask.scale;
-  c.effectMask.cap = s.effectMask.cap;
-  c.effectMask.firstLevel = s.effectMask.firstLevel;
-  c.effectMask.posterior = s.effectMask.posterior;
-  c.effectMask.posteriorFinest = s.effectMask.posteriorFinest;
-  c.effectMask.effectOnly = s.effectMask.effectOnly;
+  c.effectMask = s.effectMask;
   makeFoveationConstants(s.foveation, c.foveation);
 
   c.renderCoarseGBuffer = s.renderCoarseGBuffer;

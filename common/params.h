@@ -210,33 +210,16 @@ struct Constants {
     std::vector<glm::vec3> kernel;   // same generator as SSAO's
     uint32_t seed = 0;               // the sampling seed of the rotations (Settings::seed)
   } ssgi;
-  struct EffectMask {  // mode mrr-effect (SPEC §12)
-    float scale = 1.0f;
-    int cap = 0;
-    int firstLevel = 1;
-    float posterior = 0.0f;
-    int posteriorFinest = 0;
-    bool effectOnly = false;
-  } effectMask;
-  // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before.
-  struct Foveation {
-    bool gaze = false, motion = false;
-    bool foveate = true;  // false: eccentricity is measured, the eye allows level 0 only (a baseline)
-    int gazeX = 0, gazeY = 0;
-    float ppd = 67.0f;
+  EffectMaskSettings effectMask;  // mrr-effect (SPEC §12): its settings as given, nothing derived
+  // SPEC §13: the level limit. Off (active() false) leaves every mode exactly as before. The
+  // settings as given, and the thresholds derived from them (makeFoveationConstants).
+  struct Foveation : FoveationSettings {
     double mar0 = 0.0, marSlope = 0.0;  // ω0 (degrees) and m (degrees per degree), Guenter et al. 2012
     // Step 2: level ℓ ≥ 1 is allowed by the eye where d² ≥ radius2[ℓ] (d the distance to the gaze
     // in full-res pixels, an integer): exact integer thresholds made on the host.
     std::array<int64_t, kLevelCount> radius2{};
     // Step 4: level ℓ ≥ 1 is allowed by motion where (scale·v)² ≥ speed2[ℓ], v in full-res pixels.
     std::array<float, kLevelCount> speed2{};
-    int motionCap = 2;
-    float motionScale = 1.0f;
-    glm::vec3 prevEye{0.0f}, prevTarget{0.0f, 0.0f, -1.0f}, prevUp{0.0f, 1.0f, 0.0f};
-    float prevYfov = 0.9f;
-    bool panned = false;  // --pan: the previous view is this frame's, moved by −pan along its right axis
-    float pan = 0.0f;
-    bool active() const { return gaze || motion; }
   } foveation;
   struct Bilateral {
     int radius = 0;

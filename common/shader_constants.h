@@ -1,10 +1,15 @@
 #pragma once
-// Numbers both paths use, defined once (issue 16: "constants defined once"). The oracle reads
-// these C++ constants; the port's shaders see the same values as GLSL `const float`
-// declarations that gpu/program.cpp pastes after each shader's #version line, printed with
-// enough digits (%.9g) that the GLSL compiler rounds them back to the same float.
+// Numbers both paths use, defined once. The oracle reads these C++ constants; the port's shaders
+// see the same values as GLSL `const int` and `const float` declarations (kShaderConstants below,
+// the GLSL type following the C++ one) that gpu/program.cpp pastes after each shader's #version
+// line, floats printed with enough digits (%.9g) that the GLSL compiler rounds them back to the
+// same float (docs/shader-contract.md lists them). A shader must not declare these names itself.
 // Per-frame numbers (thresholds, radii, kernels) are uniforms made from Constants instead.
 #include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "common/params.h"  // kLevelCount, kTileSize
 
 namespace mrr {
 
@@ -44,25 +49,73 @@ inline constexpr int pcfSampleFootprintSteps(uint8_t value) { return value >> kP
 // edge on the block's diagonal.
 inline constexpr int kEdgeSampleStep = 8;
 
+// SSM, PCSS (docs/spec.md §6.4): the blocker search's half-width, and so the penumbra's, is at
+// most this many shadow-map texels.
+inline constexpr float kMaxSearchTexels = 64.0f;
+// The port's SSM pass takes the grid tap factors as uniform arrays of these sizes (ssm.frag:
+// blockerFactors, pcfFactors): the blocker search's grid side is at most kMaxBlockerGrid
+// (validateSettings: [1, 16]), PCF's at most kMaxPcfGrid (kMaxSsmSamples = 1024 = 32²).
+inline constexpr int kMaxBlockerGrid = 16;
+inline constexpr int kMaxPcfGrid = 32;
+
+// SSGI (docs/spec.md §6.3): senders within ~0.06° of either surface's tangent plane count as
+// coplanar: their form factor is zero up to rounding, and a plane must not light itself.
+inline constexpr float kGrazingCosine = 1e-3f;
+
+// The level limit's motion (docs/spec.md §13, cpu_ref/foveation.h motionAt): the screen motion
+// of a surface point behind the previous camera, in full-res pixels (so fast that motion alone
+// allows the coarsest level motionCap allows).
+inline constexpr float kMotionBehind = 1.0e9f;
+
+// A constant as the shaders see it: GLSL `const int` where the C++ constant is an integer
+// (kTileSize, kPcfSampleStep: array sizes, strides and loop bounds), `const float` where it is a
+// float. The constructor picks the type from the C++ value's (an 8-bit class byte promotes to int).
 struct ShaderConstant {
   const char* name;  // the same identifier in C++ and GLSL
-  float value;
+  bool isInt;
+  int intValue;
+  float floatValue;
+  constexpr ShaderConstant(const char* n, int v) : name(n), isInt(true), intValue(v), floatValue(0.0f) {}
+  constexpr ShaderConstant(const char* n, float v) : name(n), isInt(false), intValue(0), floatValue(v) {}
+  const char* glslType() const { return isInt ? "int" : "float"; }
+  // The GLSL literal: an int, or a float with enough digits (%.9g) to round back to the same
+  // float, and always a point or an exponent, so it is a float literal.
+  std::string glslValue() const {
+    char text[32];
+    if (isInt) {
+      std::snprintf(text, sizeof text, "%d", intValue);
+      return text;
+    }
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(floatValue));
+    std::string literal = text;
+    if (literal.find_first_of(".e") == std::string::npos) literal += ".0";
+    return literal;
+  }
+  // "const float kNoBlocker = 2.99999995e+38;"
+  std::string glslDeclaration() const { return std::string("const ") + glslType() + " " + name + " = " + glslValue() + ";"; }
 };
 inline constexpr ShaderConstant kShaderConstants[] = {
+    {"kLevelCount", kLevelCount},
+    {"kTileSize", kTileSize},
     {"kGrazingCosine2", kGrazingCosine2},
     {"kNoBlocker", kNoBlocker},
     {"kReceiverMinCosine", kReceiverMinCosine},
     {"kSkyRed", kSkyRed},
     {"kSkyGreen", kSkyGreen},
     {"kSkyBlue", kSkyBlue},
-    {"kPcfSampleStep", static_cast<float>(kPcfSampleStep)},
+    {"kPcfSampleStep", kPcfSampleStep},
     {"kPcfSampleNone", kPcfSampleNone},
     {"kPcfSampleSearch", kPcfSampleSearch},
     {"kPcfSamplePcf", kPcfSamplePcf},
-    {"kPcfSampleClassBits", static_cast<float>(kPcfSampleClassBits)},
+    {"kPcfSampleClassBits", kPcfSampleClassBits},
     {"kFootprintSteps", kFootprintSteps},
     {"kMaxFootprintTexels", kMaxFootprintTexels},
-    {"kEdgeSampleStep", static_cast<float>(kEdgeSampleStep)},
+    {"kEdgeSampleStep", kEdgeSampleStep},
+    {"kMaxSearchTexels", kMaxSearchTexels},
+    {"kMaxBlockerGrid", kMaxBlockerGrid},
+    {"kMaxPcfGrid", kMaxPcfGrid},
+    {"kGrazingCosine", kGrazingCosine},
+    {"kMotionBehind", kMotionBehind},
 };
 
 }  // namespace mrr

@@ -5,6 +5,7 @@
 // The table leaves `location` and `variant` out where they do not apply.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 
+#include "common/shader_constants.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
 
@@ -492,9 +493,9 @@ std::string shaderContractMarkdown() {
         "loads each file present in DIR in place of the built-in one (docs/validate-your-own.md).\n\n";
   md += "## Conventions\n\n";
   md += "- GLSL 3.30 core. The host pastes, right after the `#version` line, the variant's `#define`s and the shared "
-        "constants of common/shader_constants.h as `const float` lines, then `#line 2 0`: driver logs keep your "
-        "file's line numbers. `#include \"FILE\"` at the start of a line pastes FILE (yours if DIR has it) as source "
-        "string k (`#line 1 k`), so an error in it is reported as FILE:LINE.\n";
+        "constants of common/shader_constants.h as `const int` and `const float` lines (Shared constants, below), then "
+        "`#line 2 0`: driver logs keep your file's line numbers. `#include \"FILE\"` at the start of a line pastes FILE "
+        "(yours if DIR has it) as source string k (`#line 1 k`), so an error in it is reported as FILE:LINE.\n";
   md += "- Full-screen passes: `fullscreen.vert` draws one triangle over the target (or pixel rectangles, "
         "`useRects`); a fragment's pixel is `ivec2(gl_FragCoord.xy)`, its centre at (x + 0.5, y + 0.5). Every texture "
         "is read with `texelFetch` at integer texels (no filtering, no normalised coordinates). Images are stored "
@@ -519,6 +520,13 @@ std::string shaderContractMarkdown() {
           " | " + cell(p.shader) + " | " + cell(p.channels) + " | " + (p.endToEnd.empty() ? "-" : cell(p.endToEnd)) +
           " | " + (p.sameInput.empty() ? "-" : cell(p.sameInput)) + " | " + cell(p.what) + " |\n";
   md += "\n`effect:X` is X for SSAO and SSM (one channel) and X.R, X.G, X.B for SSGI.\n\n";
+  md += "## Shared constants\n\n";
+  md += "The numbers the oracle and the shaders share, from common/shader_constants.h (which says what each is), "
+        "exactly as the host pastes them into every shader, yours too: use them, and do not declare these names "
+        "yourself (a second declaration does not compile). The GLSL type is the C++ one.\n\n";
+  md += "```glsl\n";
+  for (const ShaderConstant& k : kShaderConstants) md += k.glslDeclaration() + "\n";
+  md += "```\n\n";
   md += "## Files\n\n";
   for (const ShaderContract& c : shaderContracts()) {
     md += "### " + std::string(c.file) + "\n\n";
@@ -546,7 +554,8 @@ std::string shaderExportReadme() {
       "files you do not change. `compare` judges every stage against the oracle and names the first\n"
       "stage that fails on its last line. Compile errors are reported as FILE:LINE, exit 2.\n\n"
       "The contract, in short (docs/shader-contract.md has every input, uniform and output):\n\n"
-      "- the host pastes the variant's #defines and the shared constants after #version, then `#line 2 0`;\n"
+      "- the host pastes the variant's #defines and the shared constants after #version, then `#line 2 0` (do not "
+      "declare those constants again: docs/shader-contract.md lists them);\n"
       "- full-screen passes: pixel = ivec2(gl_FragCoord.xy), read textures with texelFetch;\n"
       "- the effect passes run only where the stencil S_l = 1;\n"
       "- keep every uniform the built-in uses (`seed` excepted: a shader with its own noise may drop it), and every "

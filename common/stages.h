@@ -1,27 +1,32 @@
 #pragma once
-// The stage list: every image of a frame, declared once (issue 16; Filament's DriverAPI.inc,
-// Falcor's pass reflection). Each row names the image's part in the stages EXR and its rows in
-// `mrr compare`, whether it is per level, its channels, the tolerance rules that judge it
-// (common/tolerance.h), the pipeline step and shader that make it, and what it holds. The
-// oracle's and the port's frames (common/frame.h), the stages EXR (compare/report/report.cpp), the
-// comparison (compare/parity/parity.cpp), its HTML page, the golden digests and the planted-fault
-// catalogue (gpu/faults.cpp) all name parts through this list: adding a stage is one row here,
-// one CPU function and one shader.
+// The stage list: every image of a frame, declared once (Filament's DriverAPI.inc, Falcor's pass
+// reflection). Each row names the image's part in the stages EXR and its rows in `mrr compare`,
+// whether it is per level, its channels, the tolerance rules that judge it (common/tolerance.h),
+// the pipeline step and shader that make it, and what it holds; and it carries the part's data:
+// where its image lies in a FrameResult (an accessor that reads it in its EXR channel layout and
+// writes it back), the parts its same-input check reads, and how a viewer shows it. The stages
+// EXR (compare/report/report.cpp), `compare --against` (compare/parity/against.cpp), the compare
+// page (compare/parity/html_report.cpp) and `mrr explore`'s layers (explore/layers.cpp) loop over
+// the rows; the comparison (compare/parity/parity.cpp), the golden digests and the planted-fault
+// catalogue (gpu/faults.cpp) name parts through it. docs/architecture.md ("Adding a stage") lists
+// what a new stage takes.
 //
-// Below it, the timed stages (issue 33): every name a frame's timings carry (FrameResult::timings,
-// the reports' timings_ms, progress lines, the benchmark's and the rule sweep's stage medians),
-// each with its cost class, the account it falls in for SPEC §11's never-slower fits
-// (compare/rule/rule.cpp). Both paths and renderFrame (common/driver.cpp) take every timing name from
-// it; a name it does not know is an error where the fits read it: adding a timed sub-stage is
-// one row there.
+// Below it, the timed stages: every name a frame's timings carry (FrameResult::timings, the
+// reports' timings_ms, progress lines, the benchmark's and the rule sweep's stage medians), each
+// with its cost class, the account it falls in for docs/spec.md §11's never-slower fits
+// (compare/rule/rule.cpp). Both paths and renderFrame (common/driver.cpp) take every timing name
+// from it; a name it does not know is an error where the fits read it: adding a timed sub-stage
+// is one row there.
 #include <algorithm>
 #include <array>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "common/error.h"
+#include "common/image.h"
 #include "common/params.h"
 
 namespace mrr {
@@ -67,6 +72,86 @@ enum class Part {
   Shaded,      // 6. the shaded image for viewing
 };
 
+struct FrameResult;  // common/frame.h
+
+// A part's image in a frame (common/stage_images.cpp defines one per row). `read` gives it in its
+// EXR channel layout, as `mrr render --stages` writes it: padded full-res grids cropped to W×H,
+// byte images as floats, the shadow map's misses as -1; empty when the frame does not hold it (a
+// disabled level, a stage the method or effect skips, a frame rendered without keepStages).
+// `write` puts such an image in place of the frame's own (`compare --against`): a padded grid
+// keeps its padding (allocated from the frame's constants when absent). `holds` is `read`'s
+// emptiness without the copy. `level` is ignored by a part not per level.
+struct PartImageAccess {
+  bool (*holds)(const FrameResult& frame, int level);
+  ImageF (*read)(const FrameResult& frame, int level);
+  void (*write)(FrameResult& frame, int level, const ImageF& image);
+};
+extern const PartImageAccess kGBufferImage, kShadowMapImage, kShadowTestImage, kEdgesImage, kEccentricityImage,
+    kMotionImage, kLevelLimitImage, kTileRatesImage, kMarksImage, kMaskImage, kAlphaImage, kStencilImage, kRawImage,
+    kSubImage, kUpsampleImage, kBlendAlphaImage, kCompositeImage, kLevelMapImage, kFinalImage, kShadedImage;
+
+// Where a part's image lies: the size of its EXR part.
+enum class Grid {
+  Level,   // level ℓ's padded grid (s_ℓ full-res pixels a texel, docs/spec.md §0)
+  Screen,  // the W×H full-res pixels (a padded full-res grid cropped)
+  Tiles,   // one texel per kTileSize² tile of the padded full-res grid (docs/spec.md §9)
+  Light,   // the shadow map's texels: not the screen's grid
+};
+
+// Which level of an input part a same-input check reads, for the part at level ℓ.
+enum class InputLevel {
+  Same,         // ℓ (a part not per level: the part itself)
+  Zero,         // level 0 (the full-res G-buffer)
+  NextCoarser,  // the next coarser enabled level (docs/spec.md §12.2's marks); none at the coarsest
+  Coarser,      // every coarser level (the blend's c'_coarser)
+  Every,        // every level
+};
+// When a check reads the input: always, or only for some effects or methods (the part alone
+// would not say: SSGI has a shadow test its edges do not read).
+enum class InputWhen {
+  Always,
+  Ssm,        // the effect is SSM (its edges read the shadow test's kind, docs/spec.md §2)
+  Footprint,  // the method widens its masks by the effect's footprint (mrr-effect, docs/spec.md §12)
+  Peer,       // the method composes as a peer (docs/spec.md §9: G-buffers and tile rates)
+};
+struct PartInput {
+  Part part;
+  InputLevel level = InputLevel::Same;
+  InputWhen when = InputWhen::Always;
+};
+// A row's inputs: a short constexpr list.
+struct PartInputs {
+  static constexpr int kMax = 8;
+  std::array<PartInput, kMax> items{};
+  int count = 0;
+  constexpr PartInputs() = default;
+  constexpr PartInputs(std::initializer_list<PartInput> list) {
+    for (const PartInput& i : list) items[static_cast<size_t>(count++)] = i;  // > kMax: not a constant
+  }
+  constexpr const PartInput* begin() const { return items.data(); }
+  constexpr const PartInput* end() const { return items.data() + count; }
+  constexpr bool empty() const { return count == 0; }
+};
+
+// How a viewer (the compare page, explore) shows a part's values.
+enum class Display {
+  Binary,     // 0/1: black, white
+  Levels,     // small integers (a level, a tile rate): one ramp colour each, 0 dark to 3 bright
+  Effect,     // the effect's values: grey (SSGI: RGB), clamped to [0, 1]
+  Scalar,     // non-colour data on the false-colour ramp over [lo, hi]
+  Colour,     // linear RGB, shown sRGB-encoded
+  GBuffer,    // bespoke: a view per channel group (depth, normal, albedo, position, hit)
+  ShadowMap,  // bespoke: distance from the light plane, texels with no blocker apart
+  Edges,      // bespoke: a binary view per edge kind, and E
+};
+struct PartView {
+  Display display;
+  std::string_view caption;   // what a viewer shows, a phrase (each viewer adds how: "…: 1 white, 0 black")
+  float lo = 0.0f, hi = 0.0f;  // Scalar: the ramp's ends (hi <= lo: the image's own finite range)
+  int channel = 0;            // Binary, Levels: the channel a view shows of a multi-channel part
+  bool shadedOnly = false;    // values only where S_ℓ = 1 (never evaluated elsewhere): |Δ| there, the rest grey
+};
+
 struct PartInfo {
   Part part;
   std::string_view name;      // EXR part and compare row; per-level parts add ".L<ℓ>"
@@ -74,55 +159,113 @@ struct PartInfo {
   int step;                   // the pipeline step that makes it (SPEC's numbering, README)
   Timed stage;                // that step's timed stage (kTimed): cpu_ref/<its name>.cpp
   std::string_view shader;    // the port's shader file for it (gpu/shaders/)
-  std::string_view channels;  // EXR channels; "effect:X" = X, or X.R/G/B for SSGI's RGB
+  std::string_view channels;  // EXR channels; "effect:X" = X, or X.R/G/B for SSGI's RGB; trailing
+                              // channels a frame lacks are left out (edges: shadow, SSM only)
   std::string_view endToEnd;  // tolerance rule against the oracle's stage ("" : none)
   std::string_view sameInput; // tolerance rule against the oracle on the port's inputs ("" : none)
   std::string_view what;      // one line, for pages and docs
+  Grid grid;                  // where its image lies (its EXR part's size)
+  const PartImageAccess* image;  // its image in a FrameResult (common/stage_images.cpp)
+  PartInputs inputs;          // what its same-input check reads (cpu_ref/oracle.h's "Reads:"); none without one
+  PartView view;              // how the compare page and explore show it
 };
 
 inline constexpr PartInfo kParts[] = {
     {Part::GBuffer, "gbuffer", true, 1, Timed::GBuffer, "gbuffer.frag",
      "depth P.x P.y P.z N.x N.y N.z albedo.R albedo.G albedo.B hit", "gbuffer.*", "",
-     "the level's G-buffer: view depth, position, normal, albedo, hit"},
+     "the level's G-buffer: view depth, position, normal, albedo, hit", Grid::Level, &kGBufferImage, {},
+     {Display::GBuffer, "the G-buffer: view depth, position, normal, albedo, hit"}},
     {Part::ShadowMap, "shadowmap", false, 1, Timed::ShadowMap, "shadowmap.frag", "depth", "shadowmap.depth", "",
-     "the light's shadow map: distance from the light plane (-1: no blocker)"},
+     "the light's shadow map: distance from the light plane (-1: no blocker)", Grid::Light, &kShadowMapImage, {},
+     {Display::ShadowMap, "distance from the light plane"}},
     {Part::ShadowTest, "shadowtest", false, 1, Timed::ShadowTest, "shadowmap.frag", "lit", "shadowtest",
-     "shadowtest.same_input", "the one-tap shadow test at full res (1 = lit)"},
+     "shadowtest.same_input", "the one-tap shadow test at full res (1 = lit)", Grid::Screen, &kShadowTestImage,
+     {{Part::GBuffer, InputLevel::Zero}, {Part::ShadowMap}},
+     {Display::Binary, "the one-tap shadow test (1 = lit)"}},
     {Part::Edges, "edges", false, 2, Timed::Edges, "edges.frag", "normal depth background E shadow", "edges",
-     "edges.same_input", "each edge kind (SSM adds shadow) and E, their OR"},
+     "edges.same_input", "each edge kind (SSM adds shadow) and E, their OR", Grid::Screen, &kEdgesImage,
+     {{Part::GBuffer, InputLevel::Zero}, {Part::ShadowTest, InputLevel::Same, InputWhen::Ssm}},
+     {Display::Edges, "the edge image E, the OR of the kinds"}},
     {Part::Eccentricity, "eccentricity", false, 3, Timed::Masking, "limit.frag", "e", "eccentricity", "",
-     "foveation: the angle from the gaze, degrees (d / ppd)"},
+     "foveation: the angle from the gaze, degrees (d / ppd)", Grid::Screen, &kEccentricityImage, {},
+     {Display::Scalar, "eccentricity from the gaze (degrees)", 0.0f, 30.0f}},
     {Part::Motion, "motion", false, 3, Timed::Masking, "limit.frag", "v", "motion", "motion.same_input",
-     "motion: how far the pixel's surface point moved on screen since the previous frame, pixels"},
+     "motion: how far the pixel's surface point moved on screen since the previous frame, pixels", Grid::Screen,
+     &kMotionImage, {{Part::GBuffer, InputLevel::Zero}},
+     {Display::Scalar, "screen motion since the previous frame (pixels)", 0.0f, 16.0f}},
     {Part::LevelLimit, "levellimit", false, 3, Timed::Masking, "limit.frag", "fovea motion limit",
-     "levellimit", "levellimit.same_input", "the coarsest level the eye allows, the coarsest motion allows, and the limit l_min (M_l = 0 below it)"},
+     "levellimit", "levellimit.same_input",
+     "the coarsest level the eye allows, the coarsest motion allows, and the limit l_min (M_l = 0 below it)",
+     Grid::Screen, &kLevelLimitImage, {{Part::GBuffer, InputLevel::Zero}},
+     {Display::Levels, "the level limit ℓ_min: the finest level the eye and motion leave (finer levels' masks cleared)",
+      0.0f, 0.0f, 2}},
     {Part::TileRates, "tilerates", false, 3, Timed::Masking, "peers.frag", "rate", "stencil", "masks.same_input",
-     "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)"},
+     "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)", Grid::Tiles, &kTileRatesImage,
+     {{Part::Edges}, {Part::LevelLimit}},
+     {Display::Levels, "each 16x16 tile's rate: 0 = 1x1, 1 = 2x2, 2 = 4x4"}},
     {Part::Marks, "marks", true, 3, Timed::Masking, "refinement_marks.frag", "marks", "", "marks.same_input",
      "mrr-effect with tau_v (SPEC 12.2): where the next coarser level's shaded result varies by more than tau_v over "
-     "3x3 (after the level limit); M_l, a_l and S_l are then refined with them (refine_masks.frag)"},
+     "3x3 (after the level limit); M_l, a_l and S_l are then refined with them (refine_masks.frag)",
+     Grid::Level, &kMarksImage,
+     {{Part::Sub, InputLevel::NextCoarser}, {Part::Stencil, InputLevel::NextCoarser},
+      {Part::GBuffer, InputLevel::NextCoarser}, {Part::LevelLimit}},
+     {Display::Binary, "the a-posteriori marks this frame refined with (docs/spec.md §12.2, after the level limit)"}},
     {Part::Mask, "mask", true, 3, Timed::Masking, "masks.frag effect_masks.frag", "M", "", "masks.same_input",
-     "the max-pooled edge mask M_l (mrr-effect: widened by the effect's footprint, M'_l; with tau_v: OR the marks)"},
+     "the max-pooled edge mask M_l (mrr-effect: widened by the effect's footprint, M'_l; with tau_v: OR the marks)",
+     Grid::Level, &kMaskImage,
+     {{Part::Edges}, {Part::LevelLimit}, {Part::TileRates}, {Part::Marks},
+      {Part::GBuffer, InputLevel::Zero, InputWhen::Footprint},
+      {Part::ShadowMap, InputLevel::Same, InputWhen::Footprint}},
+     {Display::Binary, "the mask M_ℓ the blur reads (mrr-effect: widened by the effect's footprint, with any marks)"}},
     {Part::Alpha, "alpha", true, 3, Timed::Masking, "masks.frag", "a", "", "alpha.same_input",
-     "the blurred mask a_l (1 at the coarsest level)"},
+     "the blurred mask a_l (1 at the coarsest level)", Grid::Level, &kAlphaImage,
+     {{Part::Edges}, {Part::LevelLimit}, {Part::TileRates}, {Part::Marks},
+      {Part::GBuffer, InputLevel::Zero, InputWhen::Footprint},
+      {Part::ShadowMap, InputLevel::Same, InputWhen::Footprint}},
+     {Display::Scalar, "the blurred mask a_ℓ", 0.0f, 1.0f}},
     {Part::Stencil, "stencil", true, 3, Timed::Masking, "masks.frag", "S", "stencil", "masks.same_input",
-     "S_l = [a_l > 0] after the coverage closure"},
+     "S_l = [a_l > 0] after the coverage closure", Grid::Level, &kStencilImage,
+     {{Part::Edges}, {Part::LevelLimit}, {Part::TileRates}, {Part::Marks},
+      {Part::GBuffer, InputLevel::Zero, InputWhen::Footprint},
+      {Part::ShadowMap, InputLevel::Same, InputWhen::Footprint}},
+     {Display::Binary, "the stencil S_ℓ: shaded at this level"}},
     {Part::Raw, "raw", true, 4, Timed::Effect, "ssao.frag ssm.frag ssgi.frag", "effect:c_raw", "<effect>",
-     "<effect>.same_input", "the effect where S_l = 1 (0 elsewhere: never evaluated)"},
+     "<effect>.same_input", "the effect where S_l = 1 (0 elsewhere: never evaluated)", Grid::Level, &kRawImage,
+     {{Part::GBuffer}, {Part::Stencil}, {Part::ShadowMap}},
+     {Display::Effect, "the effect before the blur, where S_ℓ = 1", 0.0f, 0.0f, 0, true}},
     {Part::Sub, "sub", true, 4, Timed::Bilateral, "bilateral.frag", "effect:c", "", "bilateral.same_input",
-     "the sub-image c_l (SSAO: after the mask-aware bilateral blur)"},
+     "the sub-image c_l (SSAO: after the mask-aware bilateral blur)", Grid::Level, &kSubImage,
+     {{Part::Raw}, {Part::Stencil}, {Part::GBuffer}},
+     {Display::Effect, "the sub-image c_ℓ (SSAO: after the bilateral blur)", 0.0f, 0.0f, 0, true}},
     {Part::Upsample, "upsample", true, 5, Timed::Blend, "blend.frag", "effect:c_hat", "", "blend.same_input",
-     "masked-bilinear c^_l at full res"},
+     "masked-bilinear c^_l at full res", Grid::Screen, &kUpsampleImage,
+     {{Part::Sub}, {Part::Stencil}, {Part::Alpha}, {Part::GBuffer, InputLevel::Every, InputWhen::Peer},
+      {Part::TileRates, InputLevel::Same, InputWhen::Peer}},
+     {Display::Effect, "the masked-bilinear upsampled ĉ_ℓ"}},
     {Part::BlendAlpha, "blendalpha", true, 5, Timed::Blend, "blend.frag", "alpha", "", "blend.same_input",
-     "alpha_l = min(a^_l w_l, 1)"},
+     "alpha_l = min(a^_l w_l, 1)", Grid::Screen, &kBlendAlphaImage,
+     {{Part::Stencil}, {Part::Alpha}, {Part::GBuffer, InputLevel::Every, InputWhen::Peer},
+      {Part::TileRates, InputLevel::Same, InputWhen::Peer}},
+     {Display::Scalar, "α_ℓ = min(â_ℓ w_ℓ, 1)", 0.0f, 1.0f}},
     {Part::Composite, "composite", true, 5, Timed::Blend, "blend.frag", "effect:c_prime", "", "blend.same_input",
-     "the composite c'_l after blending level l"},
+     "the composite c'_l after blending level l", Grid::Screen, &kCompositeImage,
+     {{Part::Upsample}, {Part::BlendAlpha}, {Part::Composite, InputLevel::Coarser},
+      {Part::Sub, InputLevel::Every, InputWhen::Peer},
+      {Part::GBuffer, InputLevel::Every, InputWhen::Peer}, {Part::TileRates, InputLevel::Same, InputWhen::Peer}},
+     {Display::Effect, "the composite c′_ℓ after blending level ℓ"}},
     {Part::LevelMap, "levelmap", false, 5, Timed::Blend, "blend.frag", "level", "", "",
-     "the finest level with alpha > 0 at each pixel"},
+     "the finest level with alpha > 0 at each pixel", Grid::Screen, &kLevelMapImage, {},
+     {Display::Levels, "the finest level with α > 0 at each pixel"}},
     {Part::Final, "final", false, 5, Timed::Blend, "blend.frag", "effect:Y", "final", "blend.same_input",
-     "the effect buffer (= --out)"},
+     "the effect buffer (= --out)", Grid::Screen, &kFinalImage,
+     {{Part::Composite, InputLevel::Every}, {Part::Sub, InputLevel::Every},
+      {Part::GBuffer, InputLevel::Every, InputWhen::Peer},
+      {Part::TileRates, InputLevel::Same, InputWhen::Peer}},
+     {Display::Effect, "the final effect buffer"}},
     {Part::Shaded, "shaded", false, 6, Timed::Shade, "shade.frag", "R G B", "shaded", "",
-     "the shaded image for viewing (= --shaded)"},
+     "the shaded image for viewing (= --shaded)", Grid::Screen, &kShadedImage,
+     {{Part::GBuffer, InputLevel::Zero}, {Part::Final}, {Part::ShadowTest}},
+     {Display::Colour, "the shaded image"}},
 };
 
 inline constexpr const PartInfo& partInfo(Part part) { return kParts[static_cast<int>(part)]; }
@@ -131,6 +274,11 @@ static_assert([] {
     if (static_cast<int>(kParts[i].part) != i) return false;
   return true;
 }(), "kParts must list every Part in enum order");
+static_assert([] {
+  for (const PartInfo& p : kParts)
+    if (p.image == nullptr || p.view.caption.empty()) return false;
+  return true;
+}(), "every kParts row needs its image's accessor (common/stage_images.cpp) and a caption");
 
 // The part's name, with ".L<ℓ>" for a per-level part ("stencil.L2"); `level` is ignored for the others.
 inline std::string partName(Part part, int level = -1) {

@@ -9,6 +9,7 @@
 #include "common/frame.h"
 #include "common/image.h"
 #include "common/params.h"
+#include "common/shader_constants.h"
 
 namespace mrr {
 
@@ -20,9 +21,9 @@ float eccentricityAt(int x, int y, const Constants::Foveation& f);
 int foveationLevel(int x, int y, const Constants::Foveation& f);
 // Step 3: the screen motion of (x, y), full-res pixels, from this frame to the previous one:
 // its surface point (the level-0 G-buffer's position) projected by the previous camera, less the
-// pixel's centre, times motionScale. Background: 0. A point behind the previous camera: kBehind.
+// pixel's centre, times motionScale. Background: 0. A point behind the previous camera:
+// kMotionBehind on both axes (common/shader_constants.h, shared with limit.frag).
 glm::vec2 motionAt(const GBuffer& g, int x, int y, const View& view, const View& previous, float scale);
-inline constexpr float kMotionBehind = 1.0e9f;
 // Step 4: the coarsest level motion allows: the largest ℓ ≤ motionCap with |v|² ≥ speed2[ℓ]
 // (a box blur of width |v| holds k = 2 level pixels of level ℓ).
 int motionLevel(const glm::vec2& v, const Constants::Foveation& f);

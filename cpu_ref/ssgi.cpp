@@ -1,6 +1,7 @@
 #include "cpu_ref/ssgi.h"
 
 #include "common/parallel.h"
+#include "common/shader_constants.h"  // kGrazingCosine
 
 #include <algorithm>
 
@@ -11,9 +12,6 @@ namespace mrr {
 
 namespace {
 constexpr float kPi = 3.14159265358979323846f;
-// Senders within ~0.06° of either surface's tangent plane count as coplanar: their form
-// factor is zero up to rounding, and a plane must not light itself.
-constexpr float kGrazingCosine = 1e-3f;
 
 // Ritschel et al. 2009, Eq. 2: the form factor of a sender patch of area A at distance d,
 // A cos θ_s cos θ_r / (π d²). Samples are spread through the ball, not over the senders'

@@ -5,13 +5,12 @@
 #include <cmath>
 
 #include "common/parallel.h"
+#include "common/shader_constants.h"  // kMaxSearchTexels
 #include "cpu_ref/stencil.h"
 
 namespace mrr {
 
 namespace {
-constexpr float kMaxSearchTexels = 64.0f;  // caps the blocker search (and so the penumbra)
-
 // Offset of tap i of an n-tap regular grid spanning [−half, half] (texel centres of the grid).
 float gridOffset(int i, int n, float half) { return gridTapFactor(i, n) * half; }
 

@@ -6,6 +6,7 @@
 
 #include "frontend/options.h"
 #include "common/error.h"
+#include "common/stage_images.h"
 #include "common/stages.h"
 #include "compare/metrics/false_colour.h"
 #include "compare/metrics/flip.h"
@@ -17,12 +18,6 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr int kShadowMapShown = 512;  // larger shadow maps are shown point-sampled down to this
-
-ImageF fromBytes(const ImageU8& src) {
-  ImageF out(src.width, src.height, 1, 0.0f);
-  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = src.data[i * static_cast<size_t>(src.channels)];
-  return out;
-}
 
 // `src` with background pixels (hit = 0) as NaN: the page shows them as "background".
 ImageF maskedByHit(const ImageF& src, const ImageU8& hit) {
@@ -76,60 +71,77 @@ constexpr uint8_t kReasonColours[][3] = {{0, 0, 0},     {255, 255, 255}, {0, 200
 ColourMap colourMapOf(const LayerImage& l) {
   if (l.name.find(".normal") != std::string::npos) return ColourMap::Signed;
   if (l.name.find(".position") != std::string::npos) return ColourMap::Scaled;
-  if (l.name == "shaded") return ColourMap::Srgb;
+  Part part{};
+  if (partOf(l.name, part) && partInfo(part).view.display == Display::Colour) return ColourMap::Srgb;  // linear RGB
   return ColourMap::Plain;
 }
 
 }  // namespace
 
+namespace {
+
+// SPEC §12.3's arms of level ℓ's mask (mrr, mrr-effect): the mask from edges alone, the footprint
+// and the marks (mrr-effect, below the coarsest level), and why the level covers each pixel.
+void maskArms(const FrameResult& f, int l, std::vector<std::string>& names) {
+  const Constants& c = f.constants;
+  const size_t li = static_cast<size_t>(l);
+  const MethodInfo& method = methodInfo(c.mode);
+  const bool arms = !f.edges.combined.empty() && method.blurredMasks() && c.levels[li].enabled &&
+                    !f.levels[li].masks.stencil.empty();
+  const std::string mask = partName(Part::Mask, l);
+  if (arms && l != c.coarsestEnabled && method.masks == MaskBuilder::EffectEdges) {
+    names.push_back(mask + ".geometry");
+    names.push_back(mask + ".footprint");
+    if (method.aPosteriori && c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest)
+      names.push_back(mask + ".marks");
+  }
+  if (arms) names.push_back(mask + ".why");
+}
+
+// A part's layers: one, or the multi-channel parts' several (the G-buffer's channel groups, each
+// edge kind and E), and after a mask its arms.
+void partLayers(const FrameResult& f, const PartRef& ref, std::vector<std::string>& names) {
+  const std::string name = ref.name();
+  switch (partInfo(ref.part).view.display) {
+    case Display::GBuffer:
+      for (const char* group : {"depth", "normal", "albedo", "position", "hit"}) names.push_back(name + "." + group);
+      break;
+    case Display::Edges:  // the kinds in the part's channel order, E last; shadow where the frame has it
+      for (const std::string& kind : partChannels(ref.part))
+        if (kind != "E" && (kind != "shadow" || !f.edges.shadow.empty())) names.push_back(name + "." + kind);
+      names.push_back(name);
+      break;
+    default: names.push_back(name);
+  }
+  if (ref.part == Part::Mask) maskArms(f, ref.level, names);
+}
+
+}  // namespace
+
 std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
+  // The parts the frame holds, in the table's order as the stages EXR (heldParts), but in a run of
+  // per-level rows the blend's (step 5) come after every level's masks and sub-images, coarse to
+  // fine: the order the blend runs in.
   std::vector<std::string> names;
   const Constants& c = f.constants;
-  auto levelEnabled = [&](int l) { return !f.levels[static_cast<size_t>(l)].gbuffer.depth.empty(); };
-  for (int l = 0; l < kLevelCount; ++l)
-    if (levelEnabled(l))
-      for (const char* ch : {"depth", "normal", "albedo", "position", "hit"})
-        names.push_back(partName(Part::GBuffer, l) + "." + ch);
-  if (!f.shadowMap.depth.empty()) names.push_back(partName(Part::ShadowMap));
-  if (!f.shadowLit.empty()) names.push_back(partName(Part::ShadowTest));
-  if (!f.edges.combined.empty()) {
-    const std::string e = partName(Part::Edges);
-    for (const char* kind : {"normal", "depth", "background"}) names.push_back(e + "." + kind);
-    if (!f.edges.shadow.empty()) names.push_back(e + ".shadow");
-    names.push_back(e);
-  }
-  if (!f.tileRates.empty()) names.push_back(partName(Part::TileRates));
-  if (!f.eccentricity.empty()) names.push_back(partName(Part::Eccentricity));  // SPEC §13
-  if (!f.motion.empty()) names.push_back(partName(Part::Motion));
-  if (!f.levelLimit.empty()) names.push_back(partName(Part::LevelLimit));
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    const size_t li = static_cast<size_t>(l);
-    if (!lr.masks.mask.empty()) names.push_back(partName(Part::Mask, l));
-    if (!lr.marks.empty()) names.push_back(partName(Part::Marks, l));
-    // SPEC §12.3's arms (mrr, mrr-effect): the mask from edges alone, the footprint, the marks, and why
-    const MethodInfo& method = methodInfo(c.mode);
-    const bool arms = !f.edges.combined.empty() && method.blurredMasks() && c.levels[li].enabled && !lr.masks.stencil.empty();
-    if (arms && l != c.coarsestEnabled && method.masks == MaskBuilder::EffectEdges) {
-      names.push_back(partName(Part::Mask, l) + ".geometry");
-      names.push_back(partName(Part::Mask, l) + ".footprint");
-      if (method.aPosteriori && c.effectMask.posterior > 0.0f && l >= c.effectMask.posteriorFinest) names.push_back(partName(Part::Mask, l) + ".marks");
+  for (size_t i = 0; i < std::size(kParts);) {
+    if (!kParts[i].perLevel) {
+      if (holdsPart(f, kParts[i].part)) partLayers(f, {kParts[i].part}, names);
+      ++i;
+      continue;
     }
-    if (arms) names.push_back(partName(Part::Mask, l) + ".why");
-    if (!lr.masks.alpha.empty()) names.push_back(partName(Part::Alpha, l));
-    if (!lr.masks.stencil.empty()) names.push_back(partName(Part::Stencil, l));
-    if (!lr.raw.empty() && c.levels[li].shaded) names.push_back(partName(Part::Raw, l));
-    if (!lr.sub.empty() && c.levels[li].shaded) names.push_back(partName(Part::Sub, l));
+    size_t end = i;
+    while (end < std::size(kParts) && kParts[end].perLevel) ++end;
+    for (const bool blend : {false, true})
+      for (int k = 0; k < kLevelCount; ++k) {
+        const int l = blend ? kLevelCount - 1 - k : k;
+        if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+        for (size_t r = i; r < end; ++r)
+          if ((kParts[r].step == 5) == blend && holdsPart(f, kParts[r].part, l))
+            partLayers(f, {kParts[r].part, l}, names);
+      }
+    i = end;
   }
-  for (int l = kLevelCount - 1; l >= 0; --l) {  // the blend runs coarse to fine
-    const size_t li = static_cast<size_t>(l);
-    if (!f.blend.upsampled[li].empty()) names.push_back(partName(Part::Upsample, l));
-    if (!f.blend.alpha[li].empty()) names.push_back(partName(Part::BlendAlpha, l));
-    if (!f.blend.composite[li].empty()) names.push_back(partName(Part::Composite, l));
-  }
-  if (!f.blend.levelMap.empty()) names.push_back(partName(Part::LevelMap));
-  names.push_back(partName(Part::Final));
-  if (!f.shaded.empty()) names.push_back(partName(Part::Shaded));
   if (hasReference) names.insert(names.end(), {"difference", "flip"});
   return names;
 }
@@ -137,11 +149,50 @@ std::vector<std::string> layerNames(const FrameResult& f, bool hasReference) {
 namespace {
 
 // A 0/1 image, white and black.
-void binaryLayer(const ImageU8& img, const std::string& caption, LayerImage& out) {
+void binaryLayer(const ImageF& img, const std::string& caption, LayerImage& out) {
   out.kind = LayerKind::Binary;
-  out.values = fromBytes(img);
+  out.values = img;
   out.channels = {"value"};
+  out.lo = 0.0f;
+  out.hi = 1.0f;
   out.caption = caption + ": 1 white, 0 black";
+}
+
+// A part as its row shows it (common/stages.h PartView), read by the row's accessor.
+void partLayer(const FrameResult& f, Part part, int level, LayerImage& out) {
+  const PartView& shown = partInfo(part).view;
+  out.values = readPart(f, part, level);
+  if (out.values.empty()) return;
+  out.channels = partChannels(part, out.values);
+  out.channel = shown.channel;
+  out.caption = viewCaption(part, out.values.channels);
+  out.lo = 0.0f;
+  out.hi = 1.0f;
+  switch (shown.display) {
+    case Display::Binary: out.kind = LayerKind::Binary; break;
+    case Display::Levels:
+      out.kind = LayerKind::Levels;
+      out.hi = static_cast<float>(kLevelCount - 1);
+      break;
+    case Display::Scalar:
+      out.kind = LayerKind::Scalar;
+      out.lo = shown.lo;
+      out.hi = shown.hi;
+      if (!(out.hi > out.lo)) finiteRange(out.values, out.lo, out.hi);
+      break;
+    case Display::Colour: out.kind = LayerKind::Colour; break;
+    default: out.kind = LayerKind::Effect; break;
+  }
+  if (shown.shadedOnly) {  // never evaluated where S_ℓ = 0: shown grey
+    const ImageF stencil = readPart(f, Part::Stencil, level);
+    const size_t ch = static_cast<size_t>(out.values.channels);
+    if (stencil.pixelCount() == out.values.pixelCount()) {
+      for (size_t p = 0; p < stencil.data.size(); ++p)
+        if (stencil.data[p] == 0.0f)
+          for (size_t k = 0; k < ch; ++k) out.values.data[p * ch + k] = kNaN;
+      out.caption += "; grey where S_ℓ = 0 (not evaluated)";
+    }
+  }
 }
 
 // |frame - full resolution|, max over channels, scaled by `gain` on the ramp.
@@ -198,7 +249,7 @@ LayerImage flipLayer(const FrameResult& f, const FrameResult& reference) {
 // One channel of a level's G-buffer: hit, depth, normal, albedo or position.
 void gbufferLayer(const GBuffer& g, const std::string& channel, const std::string& name, LayerImage& out) {
   if (channel == "hit") {
-    binaryLayer(g.hit, "hit (geometry)", out);
+    binaryLayer(toFloat(g.hit), "hit (geometry)", out);
   } else if (channel == "depth") {
     out.kind = LayerKind::Scalar;
     out.values = maskedByHit(g.depth, g.hit);
@@ -241,6 +292,44 @@ void shadowMapLayer(const ShadowMap& m, LayerImage& out) {
                 (factor > 1 ? "; shown every " + std::to_string(factor) + "th texel" : std::string());
 }
 
+// SPEC §12.3's arms of level ℓ's mask: "geometry", "footprint", "marks" or "why".
+void maskArmLayer(const FrameResult& f, int level, const std::string& arm, const std::string& name, LayerImage& out) {
+  const size_t li = static_cast<size_t>(level);
+  const CoverageArms arms = coverageArms(f);
+  require(arms.active, "no layer " + name);
+  if (arm == "geometry") {
+    binaryLayer(toFloat(arms.stages.geometry[li]), "the mask from edges alone (mrr's M, before the effect's widening)",
+                out);
+  } else if (arm == "marks") {
+    require(!arms.marks[li].empty(), "no layer " + name);
+    binaryLayer(toFloat(arms.marks[li]),
+                "the a-posteriori marks: the next coarser result varies by more than tau over 3x3", out);
+  } else if (arm == "footprint") {
+    require(!arms.stages.footprintMax[li].empty(), "no layer " + name);
+    out.kind = LayerKind::Scalar;
+    out.values = arms.stages.footprintMax[li];
+    out.channels = {"F"};
+    finiteRange(out.values, out.lo, out.hi);
+    out.caption = "the effect's footprint F at edge pixels (max over each level pixel's block), full-res pixels, on "
+                  "the ramp; its reach K = min(cap, round(F / s)) level pixels";
+  } else if (arm == "why") {
+    const ImageU8& stencil = f.levels[li].masks.stencil;
+    out.kind = LayerKind::Reason;
+    out.values = ImageF(stencil.width, stencil.height, 1);
+    for (int y = 0; y < stencil.height; ++y)
+      for (int x = 0; x < stencil.width; ++x)
+        out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
+    out.channels = {"why"};
+    out.lo = 0.0f;
+    out.hi = static_cast<float>(Coverage::Limit);
+    out.caption = "why this level covers each pixel (docs/spec.md 12.3): white an edge (geometry), cyan the "
+                  "effect's footprint, orange the a-posteriori marks, blue-grey the closure (a finer level "
+                  "shades inside), dark grey the coarsest level; not covered: black nothing, red the level limit";
+  } else {
+    throw MrrError("no layer " + name);
+  }
+}
+
 }  // namespace
 
 LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameResult* reference, float gain) {
@@ -252,173 +341,45 @@ LayerImage makeLayer(const FrameResult& f, const std::string& name, const FrameR
   if (name == "flip") return flipLayer(f, *reference);
   Part part{};
   require(partOf(name, part), "no layer " + name);
+  const PartInfo& row = partInfo(part);
   const std::vector<std::string> tokens = split(name, '.');
   int level = -1;
-  if (partInfo(part).perLevel) {
+  if (row.perLevel) {
     require(tokens.size() >= 2 && tokens[1].size() == 2 && tokens[1][0] == 'L' && tokens[1][1] >= '0' &&
                 tokens[1][1] < '0' + kLevelCount,
             "no layer " + name);
     level = tokens[1][1] - '0';
-    // the blend's images are on the W×H grid; the other per-level parts on their level's
-    const bool fullRes = part == Part::Upsample || part == Part::BlendAlpha || part == Part::Composite;
-    out.scale = fullRes ? 1 : f.constants.levels[static_cast<size_t>(level)].scale;
   }
-  out.what = std::string(partInfo(part).what);
+  switch (row.grid) {  // full-res pixels a texel
+    case Grid::Level: out.scale = f.constants.levels[static_cast<size_t>(std::max(level, 0))].scale; break;
+    case Grid::Screen: out.scale = 1; break;
+    case Grid::Tiles: out.scale = kTileSize; break;
+    case Grid::Light: out.scale = 0; break;  // the light's grid, not the screen's
+  }
+  out.what = std::string(row.what);
+  // A G-buffer channel group, an edge kind or a mask's arm.
+  const std::string sub = tokens.size() == (row.perLevel ? 3u : 2u) ? tokens.back() : "";
   const size_t li = static_cast<size_t>(std::max(level, 0));
-  const LevelResult& lr = f.levels[li];
-  const auto binary = [&](const ImageU8& img, const std::string& caption) { binaryLayer(img, caption, out); };
-  const auto effect = [&](const ImageF& img, const std::string& caption) {
-    out.kind = LayerKind::Effect;
-    out.values = img;
-    out.channels = img.channels == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"value"};
-    out.caption = caption + (img.channels == 3 ? " (RGB)" : "") + ", clamped to [0, 1]: 0 black, 1 white";
-  };
-  switch (part) {
-    case Part::GBuffer: gbufferLayer(lr.gbuffer, tokens.size() == 3 ? tokens[2] : "", name, out); break;
-    case Part::ShadowMap: shadowMapLayer(f.shadowMap, out); break;
-    case Part::ShadowTest: binary(f.shadowLit, "the one-tap shadow test (1 = lit)"); break;
-    case Part::Edges: {
-      const std::string kind = tokens.size() == 2 ? tokens[1] : "E";
-      const EdgeImages& e = f.edges;
-      const ImageU8* img = kind == "normal"       ? &e.normal
-                           : kind == "depth"      ? &e.depth
-                           : kind == "background" ? &e.background
-                           : kind == "shadow"     ? &e.shadow
-                           : kind == "E"          ? &e.combined
-                                                  : nullptr;
-      require(img != nullptr && !img->empty(), "no layer " + name);
-      binary(*img, kind == "E" ? "the edge image E, the OR of the kinds" : kind + " edges");
+  switch (row.view.display) {  // the multi-channel parts' own layers, and the masks' arms
+    case Display::GBuffer: gbufferLayer(f.levels[li].gbuffer, sub, name, out); break;
+    case Display::ShadowMap: shadowMapLayer(f.shadowMap, out); break;
+    case Display::Edges: {
+      const ImageF edges = readPart(f, part);
+      const std::vector<std::string> kinds = partChannels(part, edges);
+      const std::string kind = sub.empty() ? "E" : sub;
+      const auto at = std::find(kinds.begin(), kinds.end(), kind);
+      require(at != kinds.end(), "no layer " + name);
+      binaryLayer(imageChannel(edges, static_cast<int>(at - kinds.begin())),
+                  kind == "E" ? viewCaption(part, 1) : kind + " edges", out);
       break;
     }
-    case Part::TileRates:
-      out.kind = LayerKind::Levels;
-      out.values = fromBytes(f.tileRates);
-      out.scale = kTileSize;
-      out.channels = {"rate"};
-      out.lo = 0.0f;
-      out.hi = 3.0f;
-      out.caption = "each 16x16 tile's rate: 0 = 1x1, 1 = 2x2, 2 = 4x4";
-      break;
-    case Part::Eccentricity:
-    case Part::Motion: {  // SPEC §13
-      const bool ecc = part == Part::Eccentricity;
-      const ImageF& img = ecc ? f.eccentricity : f.motion;
-      require(!img.empty(), "no layer " + name);
-      out.kind = LayerKind::Scalar;
-      out.values = crop(img, f.constants.width, f.constants.height);
-      for (float& v : out.values.data) v = std::min(v, ecc ? 30.0f : 16.0f);
-      out.channels = {ecc ? "e" : "v"};
-      out.lo = 0.0f;
-      out.hi = ecc ? 30.0f : 16.0f;
-      out.caption = ecc ? "eccentricity from the gaze, degrees, on the ramp over [0, 30]"
-                        : "screen motion since the previous frame, pixels, on the ramp over [0, 16]";
-      break;
-    }
-    case Part::LevelLimit: {
-      require(!f.levelLimit.empty(), "no layer " + name);
-      const ImageU8 cropped = crop(f.levelLimit, f.constants.width, f.constants.height);
-      out.kind = LayerKind::Levels;
-      out.values = ImageF(cropped.width, cropped.height, 1);
-      for (int y = 0; y < cropped.height; ++y)
-        for (int x = 0; x < cropped.width; ++x) out.values.at(x, y) = static_cast<float>(cropped.at(x, y, 2));
-      out.channels = {"limit"};
-      out.lo = 0.0f;
-      out.hi = 3.0f;
-      out.caption = "the level limit l_min: the finest level the eye and motion leave (masks below it cleared)";
-      break;
-    }
-    case Part::Mask: {
-      const std::string sub = tokens.size() == 3 ? tokens[2] : "";
-      if (sub.empty()) {
-        binary(lr.masks.mask, methodInfo(f.constants.mode).masks == MaskBuilder::EffectEdges
-                                 ? "the mask M' the blur reads (widened, with any marks)"
-                                 : "the max-pooled edge mask M");
-        break;
-      }
-      const CoverageArms arms = coverageArms(f);  // SPEC §12.3
-      require(arms.active, "no layer " + name);
-      if (sub == "geometry") {
-        binary(arms.stages.geometry[li], "the mask from edges alone (mrr's M, before the effect's widening)");
-      } else if (sub == "marks") {
-        require(!arms.marks[li].empty(), "no layer " + name);
-        binary(arms.marks[li], "the a-posteriori marks: the next coarser result varies by more than tau over 3x3");
-      } else if (sub == "footprint") {
-        require(!arms.stages.footprintMax[li].empty(), "no layer " + name);
-        out.kind = LayerKind::Scalar;
-        out.values = arms.stages.footprintMax[li];
-        out.channels = {"F"};
-        finiteRange(out.values, out.lo, out.hi);
-        out.caption = "the effect's footprint F at edge pixels (max over each level pixel's block), full-res pixels, on "
-                      "the ramp; its reach K = min(cap, round(F / s)) level pixels";
-      } else if (sub == "why") {
-        const int w = lr.masks.stencil.width, h = lr.masks.stencil.height;
-        out.kind = LayerKind::Reason;
-        out.values = ImageF(w, h, 1);
-        for (int y = 0; y < h; ++y)
-          for (int x = 0; x < w; ++x)
-            out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
-        out.channels = {"why"};
-        out.lo = 0.0f;
-        out.hi = static_cast<float>(Coverage::Limit);
-        out.caption = "why this level covers each pixel (docs/spec.md 12.3): white an edge (geometry), cyan the "
-                      "effect's footprint, orange the a-posteriori marks, blue-grey the closure (a finer level "
-                      "shades inside), dark grey the coarsest level; not covered: black nothing, red the level limit";
-      } else {
-        throw MrrError("no layer " + name);
-      }
-      break;
-    }
-    case Part::Marks:  // SPEC §12.2: the frame's own marks (the port's, on a port frame)
-      require(!lr.marks.empty(), "no layer " + name);
-      binary(lr.marks, "the a-posteriori marks this frame refined with (after the level limit)");
-      break;
-    case Part::Stencil: binary(lr.masks.stencil, "the stencil S: shaded at this level"); break;
-    case Part::Alpha:
-      out.kind = LayerKind::Scalar;
-      out.values = lr.masks.alpha;
-      out.channels = {"a"};
-      out.caption = "the blurred mask a on the ramp over [0, 1]";
-      break;
-    case Part::Raw: {
-      ImageF raw = lr.raw;  // not evaluated where S = 0: shown grey
-      const size_t ch = static_cast<size_t>(raw.channels);
-      for (size_t p = 0; p < lr.masks.stencil.data.size() && p * ch < raw.data.size(); ++p)
-        if (!lr.masks.stencil.data[p])
-          for (size_t k = 0; k < ch; ++k) raw.data[p * ch + k] = kNaN;
-      effect(raw, "the effect where S = 1 (grey: not evaluated)");
-      break;
-    }
-    case Part::Sub: effect(lr.sub, "the sub-image c after the bilateral blur"); break;
-    case Part::Upsample: effect(f.blend.upsampled[li], "the masked-bilinear upsampled c^"); break;
-    case Part::Composite: effect(f.blend.composite[li], "the composite c' after blending this level"); break;
-    case Part::BlendAlpha:
-      out.kind = LayerKind::Scalar;
-      out.values = f.blend.alpha[li];
-      out.channels = {"alpha"};
-      out.caption = "alpha = min(a^ w, 1) on the ramp over [0, 1]";
-      break;
-    case Part::LevelMap:
-      out.kind = LayerKind::Levels;
-      out.values = fromBytes(f.blend.levelMap);
-      out.channels = {"level"};
-      out.lo = 0.0f;
-      out.hi = 3.0f;
-      out.caption = "the finest level with alpha > 0: one ramp colour per level, 0 (full) dark to 3 (1/8) bright";
-      break;
-    case Part::Final: effect(f.final(), "the effect buffer"); break;
-    case Part::Shaded:
-      out.kind = LayerKind::Colour;
-      out.values = f.shaded;
-      out.channels = {"R", "G", "B"};
-      out.caption = "the shaded image, linear RGB shown sRGB-encoded";
-      break;
+    default:
+      if (part == Part::Mask && !sub.empty())
+        maskArmLayer(f, level, sub, name, out);
+      else
+        partLayer(f, part, level, out);
   }
   require(!out.values.empty(), "layer " + name + " is empty in this frame");
-  if (out.kind == LayerKind::Binary || out.kind == LayerKind::Effect || part == Part::Alpha ||
-      part == Part::BlendAlpha) {
-    out.lo = 0.0f;
-    out.hi = 1.0f;
-  }
   return out;
 }
 
@@ -430,7 +391,7 @@ ImageU8 colourise(const LayerImage& l) {
   const float span = l.hi > l.lo ? l.hi - l.lo : 1.0f;
   for (size_t p = 0; p < v.pixelCount(); ++p) {
     uint8_t* rgb = &out.data[p * 3];
-    const float first = v.data[p * ch];
+    const float first = v.data[p * ch + std::min(static_cast<size_t>(l.channel), ch - 1)];  // the channel shown
     if (std::isnan(first)) {  // background, not evaluated, no blocker
       rgb[0] = rgb[1] = rgb[2] = 72;
       continue;
@@ -498,7 +459,9 @@ nlohmann::json layerMeta(const LayerImage& l) {
   if (l.kind == LayerKind::Flip) j["mean"] = flipStats(l.values).mean;
   if (l.kind == LayerKind::Binary) {
     long long ones = 0;
-    for (const float v : l.values.data) ones += v != 0.0f;
+    const size_t ch = static_cast<size_t>(std::max(l.values.channels, 1));
+    for (size_t p = 0; p < l.values.pixelCount(); ++p)
+      ones += l.values.data[p * ch + static_cast<size_t>(l.channel)] != 0.0f;
     j["ones"] = ones;
   }
   if (l.kind == LayerKind::Levels) {

@@ -1,6 +1,7 @@
 #pragma once
-// `mrr explore`'s layers: every stage image of a frame (common/stages.h) as a picture the page
-// shows, with its legend and the values under the cursor. G-buffer channels and edge kinds are
+// `mrr explore`'s layers: every stage image of a frame as a picture the page shows, with its
+// legend and the values under the cursor; each part's image, caption and display are its row's
+// (common/stages.h, read by common/stage_images.h). G-buffer channels and edge kinds are
 // layers of their own ("gbuffer.L1.normal", "edges.depth"; "edges" is E); per-level parts carry
 // ".L<l>"; "difference" is |this frame − the full-resolution frame| and "flip" the LDR-FLIP map of
 // this frame's effect buffer against the full-resolution one's (both need the reference).
@@ -31,6 +32,7 @@ struct LayerImage {
   int scale = 1;        // full-res pixels per layer pixel (s_l; 1 for full-res layers)
   ImageF values;        // the stage's values on its own grid (padded grids included)
   std::vector<std::string> channels;  // the channel names of `values`
+  int channel = 0;                    // the channel shown of several (levellimit: l_min); the rest are read out
   float lo = 0.0f, hi = 1.0f;         // the range shown (Scalar: the ramp's ends)
   std::string caption;  // what it shows and how
   std::string what;     // the stage list's line

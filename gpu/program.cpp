@@ -113,11 +113,7 @@ std::string locateShaderError(const std::string& log, const std::vector<std::str
 
 std::string sharedConstantsGlsl() {
   std::string text;
-  for (const ShaderConstant& k : kShaderConstants) {
-    char line[96];
-    std::snprintf(line, sizeof line, "const float %s = %.9g;\n", k.name, static_cast<double>(k.value));
-    text += line;
-  }
+  for (const ShaderConstant& k : kShaderConstants) text += k.glslDeclaration() + "\n";
   return text;
 }
 

@@ -32,8 +32,8 @@ bool shaderOverridden(const std::string& name);
 // Where a shader comes from, for messages: "DIR/ssao.frag" or "gpu/shaders/ssao.frag".
 std::string shaderPath(const std::string& name);
 
-// The shared constants (common/shader_constants.h) as GLSL `const float` lines, pasted after
-// every shader's #version line.
+// The shared constants (common/shader_constants.h) as GLSL `const int` and `const float`
+// lines, one per kShaderConstants entry in its order, pasted after every shader's #version line.
 std::string sharedConstantsGlsl();
 
 // The first error of a driver's compile log as "FILE:LINE: message", FILE named through the

@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "common/kernels.h"
+#include "common/shader_constants.h"  // kMaxBlockerGrid, kMaxPcfGrid: ssm.frag's array sizes
 #include "gpu/program.h"
 #include "gpu/shadowmap.h"
 #include "gpu/stencil.h"
@@ -14,9 +15,6 @@
 namespace mrr::gpu {
 
 namespace {
-constexpr int kMaxBlockerGrid = 16;  // ssm.frag: blockerFactors[16] (validateSettings: [1, 16])
-constexpr int kMaxPcfGrid = 32;      // ssm.frag: pcfFactors[32] (kMaxSsmSamples = 1024 = 32²)
-
 // The n tap factors of a grid (common/kernels.h: gridTapFactor) as a uniform array.
 void setTapFactors(unsigned program, const char* name, int n) {
   std::vector<float> factors(static_cast<size_t>(n));

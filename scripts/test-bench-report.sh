@@ -49,7 +49,7 @@ for path in ("cpu", "gpu"):
         if not got: fail("no %s run of %s in the main sweep" % (path, method))
     for group in ("samples", "resolution", "stress"):
         if not [r for r in runs if r["path"] == path and r["group"] == group]: fail("no %s %s runs" % (path, group))
-    if not [r for r in runs if r["path"] == path and r["method"] == "mrr-norule"]: fail("no mrr-norule stress run")
+    if not [r for r in runs if r["path"] == path and r["method"] == "mrr+norule"]: fail("no mrr+norule stress run")
     if not [s for s in j["stability"] if s["path"] == path]: fail("no %s stability runs" % path)
 for r in runs:
     if r["method"] == "full" and (r["rms"] != 0 or r["ideal_speedup"] != 1): fail("full has error or ideal != 1: %s" % r)

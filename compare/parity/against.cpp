@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/stage_images.h"
 #include "common/stages.h"
 #include "compare/report/report.h"
 
@@ -15,136 +16,9 @@ namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-ImageU8 toBytes(const ImageF& image) {
-  ImageU8 out(image.width, image.height, image.channels);
-  for (size_t i = 0; i < image.data.size(); ++i) out.data[i] = static_cast<uint8_t>(std::lround(std::max(image.data[i], 0.0f)));
-  return out;
-}
-
-// Channel `c` of `image` as a one-channel image.
-ImageF channel(const ImageF& image, int c) {
-  ImageF out(image.width, image.height, 1);
-  for (size_t p = 0; p < out.data.size(); ++p) out.data[p] = image.data[p * static_cast<size_t>(image.channels) + static_cast<size_t>(c)];
-  return out;
-}
-
-// Channels [first, first + n) of `image`.
-ImageF channels(const ImageF& image, int first, int n) {
-  ImageF out(image.width, image.height, n);
-  for (size_t p = 0; p < image.pixelCount(); ++p)
-    for (int k = 0; k < n; ++k)
-      out.data[p * static_cast<size_t>(n) + static_cast<size_t>(k)] =
-          image.data[p * static_cast<size_t>(image.channels) + static_cast<size_t>(first + k)];
-  return out;
-}
-
-// Writes the top-left of `padded` (the full-res grids are padded, SPEC §0) from `image`.
-void overwrite(ImageU8& padded, const ImageF& image) {
-  for (int y = 0; y < image.height && y < padded.height; ++y)
-    for (int x = 0; x < image.width && x < padded.width; ++x)
-      padded.at(x, y) = static_cast<uint8_t>(std::lround(std::max(image.at(x, y), 0.0f)));
-}
-
 int levelOf(const std::string& name) {
   const size_t at = name.find(".L");
   return at == std::string::npos ? -1 : std::stoi(name.substr(at + 2));
-}
-
-// The inverse of stageParts (compare/report/report.cpp): `image` (in the part's channel order) in
-// place of the frame's own stage.
-void putPart(FrameResult& f, Part part, int level, const ImageF& image) {
-  const size_t l = level < 0 ? 0 : static_cast<size_t>(level);
-  LevelResult& lr = f.levels[l];
-  switch (part) {
-    case Part::GBuffer: {
-      GBuffer& g = lr.gbuffer;
-      g.depth = channel(image, 0);
-      g.position = channels(image, 1, 3);
-      g.normal = channels(image, 4, 3);
-      g.albedo = channels(image, 7, 3);
-      g.hit = toBytes(channel(image, 10));
-      break;
-    }
-    case Part::ShadowMap: {
-      ImageF depth = image;
-      for (float& v : depth.data)
-        if (v == -1.0f) v = ShadowMap::kNoBlocker;  // stageParts writes misses as -1
-      f.shadowMap.depth = depth;
-      break;
-    }
-    case Part::ShadowTest: overwrite(f.shadowLit, image); break;
-    case Part::Edges: {
-      ImageU8* kinds[] = {&f.edges.normal, &f.edges.depth, &f.edges.background, &f.edges.combined, &f.edges.shadow};
-      for (int k = 0; k < image.channels; ++k) overwrite(*kinds[k], channel(image, k));
-      break;
-    }
-    case Part::TileRates: f.tileRates = toBytes(image); break;
-    case Part::Eccentricity: f.eccentricity = image; break;  // SPEC §13
-    case Part::Motion: f.motion = image; break;
-    case Part::LevelLimit: f.levelLimit = toBytes(image); break;
-    case Part::Marks: lr.marks = toBytes(image); break;  // SPEC §12.2
-    case Part::Mask: lr.masks.mask = toBytes(image); break;
-    case Part::Alpha: lr.masks.alpha = image; break;
-    case Part::Stencil: lr.masks.stencil = toBytes(image); break;
-    case Part::Raw: lr.raw = image; break;
-    case Part::Sub: lr.sub = image; break;
-    case Part::Upsample: f.blend.upsampled[l] = image; break;
-    case Part::BlendAlpha: f.blend.alpha[l] = image; break;
-    case Part::Composite: f.blend.composite[l] = image; break;
-    case Part::LevelMap: f.blend.levelMap = toBytes(image); break;
-    case Part::Final: f.blend.final = image; break;
-    case Part::Shaded: f.shaded = image; break;
-  }
-}
-
-// The parts a row's same-input check reads from the frame compared (compare/parity/parity.cpp): the
-// oracle's function runs on these.
-std::vector<std::string> sameInputSources(Part part, int level, const Constants& c) {
-  const bool shadowMap = c.needsShadowMap();
-  const auto at = [&](Part p) { return partName(p, level); };
-  switch (part) {
-    case Part::ShadowTest: return {partName(Part::GBuffer, 0), partName(Part::ShadowMap)};
-    case Part::Edges: {
-      std::vector<std::string> in = {partName(Part::GBuffer, 0)};
-      if (c.effect == Effect::Ssm) in.push_back(partName(Part::ShadowTest));
-      return in;
-    }
-    case Part::Marks: {  // SPEC §12.2: the next coarser enabled level's result, stencil and G-buffer
-      const int next = c.nextCoarserEnabled(level);
-      std::vector<std::string> in;
-      if (next >= 0) in = {partName(Part::Sub, next), partName(Part::Stencil, next), partName(Part::GBuffer, next)};
-      if (c.foveation.active()) in.push_back(partName(Part::LevelLimit));
-      return in;
-    }
-    case Part::TileRates:
-    case Part::Mask:
-    case Part::Alpha:
-    case Part::Stencil: return {partName(Part::Edges), partName(Part::TileRates)};
-    case Part::Raw: {
-      std::vector<std::string> in = {at(Part::GBuffer), at(Part::Stencil)};
-      if (shadowMap) in.push_back(partName(Part::ShadowMap));
-      return in;
-    }
-    case Part::Sub: return {at(Part::Raw), at(Part::Stencil), at(Part::GBuffer)};
-    case Part::Upsample:
-    case Part::BlendAlpha:
-    case Part::Composite: {
-      std::vector<std::string> in = {at(Part::Sub), at(Part::Stencil), at(Part::Alpha), at(Part::Upsample),
-                                     at(Part::BlendAlpha)};
-      for (int k = level + 1; k < kLevelCount; ++k) in.push_back(partName(Part::Composite, k));
-      return in;
-    }
-    case Part::Final: {
-      std::vector<std::string> in;
-      for (int k = 0; k < kLevelCount; ++k) {
-        in.push_back(partName(Part::Composite, k));
-        in.push_back(partName(Part::Sub, k));
-      }
-      return in;
-    }
-    case Part::Shaded: return {partName(Part::GBuffer, 0), partName(Part::Final), partName(Part::ShadowTest)};
-    default: return {};
-  }
 }
 }  // namespace
 
@@ -202,7 +76,7 @@ ForeignStages readForeignStages(const std::string& path, const FrameResult& orac
       for (size_t p = 0; p < image.pixelCount(); ++p)
         image.data[p * e->channelNames.size() + k] = g.image.data[p * g.channelNames.size() + from];
     }
-    putPart(f.frame, part, levelOf(g.name), image);
+    writePart(f.frame, part, levelOf(g.name), image);  // the inverse of stageParts: the row's accessor
     f.supplied.insert(g.name);
   }
   require(!f.supplied.empty(), "--against " + path + ": not a stages file: no part is named like a stage of " +
@@ -223,7 +97,7 @@ ParityResult compareForeign(const FrameResult& oracle, const ForeignStages& fore
     const std::string key = partName(part, row.level);
     if (!foreign.supplied.count(key)) continue;
     if (row.sameInput && row.endToEnd) {
-      const std::vector<std::string> sources = sameInputSources(part, row.level, c);
+      const std::vector<std::string> sources = partInputNames(part, row.level, c);  // the row's inputs
       const bool own = std::any_of(sources.begin(), sources.end(), [&](const std::string& s) { return foreign.supplied.count(s) > 0; });
       if (!own) row.sameInput.reset();  // on the oracle's own inputs it would only repeat end to end, stricter
     }

@@ -1,5 +1,5 @@
 #pragma once
-// Another renderer's stages against the oracle (issue 17: `mrr compare --against FILE`). FILE is
+// Another renderer's stages against the oracle (`mrr compare --against FILE`). FILE is
 // a multi-part EXR with the parts and channels `mrr render --stages` writes (any subset; `final`
 // alone is enough), or a folder of single-part PART.exr files. Each part present takes the place
 // of the oracle's in a copy of the oracle's frame, and that frame goes through the one

@@ -15,6 +15,7 @@
 #include "common/image_io.h"
 #include "compare/metrics/flip.h"
 #include "common/parallel.h"
+#include "common/stage_images.h"
 #include "common/stages.h"
 #include "common/tolerance.h"
 #include "compare/metrics/false_colour.h"
@@ -69,9 +70,32 @@ ImageU8 displayClamped(const ImageF& src) {
   return display(src, [](float v) { return v; });
 }
 
-ImageU8 displayBinary(const ImageU8& src) {
+// Channel `c` of `src`: 0 black, anything else white.
+ImageU8 displayBinary(const ImageF& src, int c) {
   ImageU8 out(src.width, src.height, 1, 0);
-  for (size_t i = 0; i < out.data.size(); ++i) out.data[i] = src.data[i * static_cast<size_t>(src.channels)] ? 255 : 0;
+  for (size_t i = 0; i < out.data.size(); ++i)
+    out.data[i] = src.data[i * static_cast<size_t>(src.channels) + static_cast<size_t>(c)] != 0.0f ? 255 : 0;
+  return out;
+}
+
+// Channel `c` of `src`, small integers (levels, tile rates): one ramp colour each, as explore shows them.
+ImageU8 displayLevels(const ImageF& src, int c) {
+  ImageU8 out(src.width, src.height, 3, 0);
+  for (size_t i = 0; i < src.pixelCount(); ++i) {
+    const float level = src.data[i * static_cast<size_t>(src.channels) + static_cast<size_t>(c)];
+    rampColour(0.15 + 0.8 * level / 3.0, &out.data[i * 3]);
+  }
+  return out;
+}
+
+// Channel 0 of `src` on the ramp over [lo, hi]; NaN black.
+ImageU8 displayRamp(const ImageF& src, float lo, float hi) {
+  ImageU8 out(src.width, src.height, 3, 0);
+  const float span = hi > lo ? hi - lo : 1.0f;
+  for (size_t i = 0; i < src.pixelCount(); ++i) {
+    const float v = src.data[i * static_cast<size_t>(src.channels)];
+    if (!std::isnan(v)) rampColour((v - lo) / span, &out.data[i * 3]);
+  }
   return out;
 }
 
@@ -133,42 +157,29 @@ std::string gridText(int w, int h) { return std::to_string(w) + "×" + std::to_s
 
 bool sameSize(const ImageF& a, const ImageF& b) { return a.width == b.width && a.height == b.height; }
 
-StageView binaryView(const ImageU8& o, const ImageU8& p, const std::string& what) {
+StageView missingView(bool oracleMissing) {
   StageView v;
-  if (o.empty() || p.empty()) {
-    v.missing = "not rendered on " + std::string(o.empty() ? "the oracle" : "the port");
-    return v;
-  }
-  v.oracle = displayBinary(o);
-  v.port = displayBinary(p);
-  v.delta = absDiff(toFloat(o), toFloat(p));
+  v.missing = "not rendered on " + std::string(oracleMissing ? "the oracle" : "the port");
+  return v;
+}
+
+// Channel `c` of two 0/1 images.
+StageView binaryView(const ImageF& o, const ImageF& p, int c, const std::string& caption) {
+  if (o.empty() || p.empty()) return missingView(o.empty());
+  StageView v;
+  v.oracle = displayBinary(o, c);
+  v.port = displayBinary(p, c);
+  v.delta = o.channels == p.channels ? absDiff(imageChannel(o, c), imageChannel(p, c)) : ImageF();
   v.binary = true;
   v.gridW = o.width;
   v.gridH = o.height;
-  v.valueCaption = what + ": 0 black, 1 white";
+  v.valueCaption = caption;
   v.deltaCaption = "|Δ| of a 0/1 image: every mismatch at full scale";
   return v;
 }
 
-StageView valueView(const ImageF& o, const ImageF& p, const std::string& what,
-                    const std::function<bool(size_t)>& include = {}, const std::string& where = {}) {
-  StageView v;
-  if (o.empty() || p.empty()) {
-    v.missing = "not rendered on " + std::string(o.empty() ? "the oracle" : "the port");
-    return v;
-  }
-  v.oracle = displayClamped(o);
-  v.port = displayClamped(p);
-  v.delta = absDiff(o, p, include);
-  v.gridW = o.width;
-  v.gridH = o.height;
-  v.valueCaption = what + (o.channels == 1 ? "" : " (RGB)") + ", clamped to [0, 1]";
-  v.deltaCaption = "|Δ| = max over channels of |port − oracle|" + where;
-  return v;
-}
-
 StageView gbufferView(const GBuffer& o, const GBuffer& p, const std::string& part) {
-  if (part == "hit") return binaryView(o.hit, p.hit, "hit (1 = geometry)");
+  if (part == "hit") return binaryView(toFloat(o.hit), toFloat(p.hit), 0, "hit (1 = geometry): 1 white, 0 black");
   StageView v;
   if (o.depth.empty() || p.depth.empty()) {
     v.missing = "not rendered on " + std::string(o.depth.empty() ? "the oracle" : "the port");
@@ -296,12 +307,83 @@ StageView shadowMapView(const ShadowMap& o, const ShadowMap& p) {
   return v;
 }
 
+// One edge kind (a channel of the edges part, named by the row: "edges.depth"; "edges" is E).
+StageView edgesView(const FrameResult& o, const FrameResult& p, const std::string& kind) {
+  const ImageF a = readPart(o, Part::Edges), b = readPart(p, Part::Edges);
+  if (a.empty() || b.empty()) return missingView(a.empty());
+  const std::string channel = kind == partName(Part::Edges) ? "E" : kind;
+  const std::vector<std::string> names = partChannels(Part::Edges, a);
+  const auto at = std::find(names.begin(), names.end(), channel);
+  StageView none;
+  if (at == names.end() || a.channels != b.channels) {
+    none.missing = "no edge kind \"" + kind + "\" on both paths";
+    return none;
+  }
+  const std::string caption = channel == "E"            ? viewCaption(Part::Edges, 1)
+                              : channel == "normal"     ? "normal edges (first derivative of N)"
+                              : channel == "depth"      ? "depth edges (second derivative of 1/z)"
+                              : channel == "background" ? "background edges (a background 4-neighbour)"
+                                                        : "shadow edges (the one-tap test differs)";
+  return binaryView(a, b, static_cast<int>(at - names.begin()), caption + ": 1 white, 0 black");
+}
+
+// A part as its row shows it (common/stages.h PartView), both sides read by the row's accessor.
+StageView partView(Part part, int level, const FrameResult& o, const FrameResult& p) {
+  const PartView& shown = partInfo(part).view;
+  const ImageF a = readPart(o, part, level), b = readPart(p, part, level);
+  if (a.empty() || b.empty()) return missingView(a.empty());
+  if (shown.display == Display::Binary) return binaryView(a, b, shown.channel, viewCaption(part, a.channels));
+  StageView v;
+  v.gridW = a.width;
+  v.gridH = a.height;
+  v.valueCaption = viewCaption(part, a.channels);
+  std::function<bool(size_t)> include;
+  std::string where;
+  if (shown.shadedOnly) {  // |Δ| where both stencils shade: elsewhere nothing was evaluated
+    const ImageF so = readPart(o, Part::Stencil, level), sp = readPart(p, Part::Stencil, level);
+    if (so.data.size() == a.pixelCount() && sp.data.size() == a.pixelCount()) {
+      include = [so, sp](size_t i) { return so.data[i] != 0.0f && sp.data[i] != 0.0f; };
+      where = " where both stencils shade";
+    }
+  }
+  v.delta = absDiff(a, b, include);
+  v.deltaCaption = "|Δ| = max over channels of |port − oracle|" + where;
+  switch (shown.display) {
+    case Display::Levels:
+      v.oracle = displayLevels(a, shown.channel);
+      v.port = displayLevels(b, shown.channel);
+      v.binary = true;  // a level or rate: any mismatch at full scale
+      v.deltaCaption += "; every mismatch at full scale";
+      break;
+    case Display::Scalar: {
+      float lo = shown.lo, hi = shown.hi;
+      if (!(hi > lo)) {  // the oracle's finite range
+        lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+        for (size_t i = 0; i < a.pixelCount(); ++i)
+          if (const float x = a.data[i * static_cast<size_t>(a.channels)]; std::isfinite(x))
+            lo = std::min(lo, x), hi = std::max(hi, x);
+        if (lo > hi) lo = hi = 0.0f;
+      }
+      v.oracle = displayRamp(a, lo, hi);
+      v.port = displayRamp(b, lo, hi);
+      break;
+    }
+    case Display::Colour:
+      v.oracle = displayClamped(linearToDisplay(a));
+      v.port = displayClamped(linearToDisplay(b));
+      break;
+    default:  // the effect's values
+      v.oracle = displayClamped(a);
+      v.port = displayClamped(b);
+      break;
+  }
+  return v;
+}
+
 StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& p) {
   const std::string& stage = row.stage;
-  const std::string sub = stage.substr(stage.rfind('.') + 1);  // a G-buffer channel or an edge kind
   const int l = row.level;
   const bool hasLevel = l >= 0 && l < kLevelCount;
-  const size_t li = hasLevel ? static_cast<size_t>(l) : 0;
   StageView none;
   Part part{};
   if (!partOf(stage, part)) {  // a decision row (fallback): no image
@@ -312,46 +394,14 @@ StageView viewFor(const StageRow& row, const FrameResult& o, const FrameResult& 
     none.missing = "no level for stage " + stage;
     return none;
   }
-  const LevelResult& ol = o.levels[li];
-  const LevelResult& pl = p.levels[li];
-  switch (part) {
-    case Part::GBuffer: return gbufferView(ol.gbuffer, pl.gbuffer, sub);
-    case Part::ShadowMap: return shadowMapView(o.shadowMap, p.shadowMap);
-    case Part::ShadowTest: return binaryView(o.shadowLit, p.shadowLit, "one-tap shadow test (1 = lit)");
-    case Part::Edges:
-      if (sub == "normal") return binaryView(o.edges.normal, p.edges.normal, "normal edges (first derivative of N)");
-      if (sub == "depth") return binaryView(o.edges.depth, p.edges.depth, "depth edges (second derivative of 1/z)");
-      if (sub == "background") return binaryView(o.edges.background, p.edges.background, "background edges");
-      if (sub == "shadow") return binaryView(o.edges.shadow, p.edges.shadow, "shadow edges (one-tap test differs)");
-      return binaryView(o.edges.combined, p.edges.combined, "edge image E (the OR of the kinds)");
-    case Part::TileRates: return binaryView(o.tileRates, p.tileRates, "tile rates (0 = 1x1)");
-    case Part::Eccentricity: return valueView(o.eccentricity, p.eccentricity, "eccentricity (degrees)");
-    case Part::Motion: return valueView(o.motion, p.motion, "screen motion |v| (pixels)");
-    case Part::LevelLimit: return binaryView(o.levelLimit, p.levelLimit, "level limit (the eye's, motion's, l_min)");
-    case Part::Marks: return binaryView(ol.marks, pl.marks, "a-posteriori marks (SPEC §12.2)");
-    case Part::Mask: return binaryView(ol.masks.mask, pl.masks.mask, "mask M_ℓ");
-    case Part::Stencil: return binaryView(ol.masks.stencil, pl.masks.stencil, "stencil S_ℓ");
-    case Part::Alpha: return valueView(ol.masks.alpha, pl.masks.alpha, "a_ℓ");
-    case Part::Raw:
-    case Part::Sub: {
-      const bool raw = part == Part::Raw;
-      const ImageF& a = raw ? ol.raw : ol.sub;
-      const ImageF& b = raw ? pl.raw : pl.sub;
-      const bool stencils =
-          ol.masks.stencil.data.size() == a.pixelCount() && pl.masks.stencil.data.size() == a.pixelCount();
-      const auto bothShaded = [&](size_t i) { return ol.masks.stencil.data[i] && pl.masks.stencil.data[i]; };
-      return valueView(a, b, raw ? "the effect before the blur" : "c_ℓ (after the bilateral blur)",
-                       stencils ? std::function<bool(size_t)>(bothShaded) : std::function<bool(size_t)>{},
-                       stencils ? " where both stencils shade" : "");
-    }
-    case Part::Upsample: return valueView(o.blend.upsampled[li], p.blend.upsampled[li], "ĉ_ℓ");
-    case Part::BlendAlpha: return valueView(o.blend.alpha[li], p.blend.alpha[li], "α_ℓ");
-    case Part::Composite: return valueView(o.blend.composite[li], p.blend.composite[li], "c′_ℓ");
-    case Part::LevelMap: return binaryView(o.blend.levelMap, p.blend.levelMap, "level map");
-    case Part::Final: return valueView(o.final(), p.final(), "the final effect buffer");
-    case Part::Shaded: return valueView(o.shaded, p.shaded, "the shaded image (linear RGB)");
+  switch (partInfo(part).view.display) {  // the multi-channel parts' own views
+    case Display::GBuffer:
+      return gbufferView(o.levels[static_cast<size_t>(l)].gbuffer, p.levels[static_cast<size_t>(l)].gbuffer,
+                         stage.substr(stage.rfind('.') + 1));
+    case Display::ShadowMap: return shadowMapView(o.shadowMap, p.shadowMap);
+    case Display::Edges: return edgesView(o, p, stage.substr(stage.find('.') + 1));
+    default: return partView(part, hasLevel ? l : -1, o, p);
   }
-  return none;
 }
 
 // The check whose worst pixel a row reports: the failing one (the same-input check first

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "common/stage_images.h"
 #include "common/stages.h"
 
 namespace mrr {
@@ -219,74 +220,14 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   return j;
 }
 
+// Every part the frame holds, each read by its row's accessor (common/stage_images.h).
 std::vector<ExrPart> stageParts(const FrameResult& f) {
-  const Constants& c = f.constants;
   std::vector<ExrPart> parts;
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    const GBuffer& g = lr.gbuffer;
-    ImageF gb(g.width, g.height, 11);
-    for (int y = 0; y < g.height; ++y)
-      for (int x = 0; x < g.width; ++x) {
-        float v[11] = {g.depth.at(x, y),       g.position.at(x, y, 0), g.position.at(x, y, 1), g.position.at(x, y, 2),
-                       g.normal.at(x, y, 0),   g.normal.at(x, y, 1),   g.normal.at(x, y, 2),   g.albedo.at(x, y, 0),
-                       g.albedo.at(x, y, 1),   g.albedo.at(x, y, 2),   static_cast<float>(g.hit.at(x, y))};
-        for (int k = 0; k < 11; ++k) gb.at(x, y, k) = v[k];
-      }
-    parts.push_back({partName(Part::GBuffer, l), gb, partChannels(Part::GBuffer)});
+  for (const PartRef& ref : heldParts(f)) {
+    ImageF image = readPart(f, ref.part, ref.level);
+    std::vector<std::string> channels = partChannels(ref.part, image);
+    parts.push_back({ref.name(), std::move(image), std::move(channels)});
   }
-  if (!f.shadowMap.depth.empty()) {
-    ImageF depth = f.shadowMap.depth;  // misses as +inf would wreck viewers: write -1
-    for (float& v : depth.data)
-      if (v == ShadowMap::kNoBlocker) v = -1.0f;
-    parts.push_back({partName(Part::ShadowMap), depth, partChannels(Part::ShadowMap)});
-    parts.push_back({partName(Part::ShadowTest), toFloat(crop(f.shadowLit, c.width, c.height)), partChannels(Part::ShadowTest)});
-  }
-  if (!f.edges.combined.empty()) {  // modes mrr and tiles
-    const EdgeImages& e = f.edges;
-    const bool shadow = !e.shadow.empty();
-    ImageF edges(c.width, c.height, shadow ? 5 : 4);
-    for (int y = 0; y < c.height; ++y)
-      for (int x = 0; x < c.width; ++x) {
-        edges.at(x, y, 0) = e.normal.at(x, y);
-        edges.at(x, y, 1) = e.depth.at(x, y);
-        edges.at(x, y, 2) = e.background.at(x, y);
-        edges.at(x, y, 3) = e.combined.at(x, y);
-        if (shadow) edges.at(x, y, 4) = e.shadow.at(x, y);
-      }
-    std::vector<std::string> names = partChannels(Part::Edges);  // the shadow kind last: SSM only
-    if (!shadow) names.pop_back();
-    parts.push_back({partName(Part::Edges), edges, names});
-  }
-  // SPEC §13, with --gaze or --prev-frame: the eccentricity, the motion and the level limit.
-  if (!f.eccentricity.empty())
-    parts.push_back({partName(Part::Eccentricity), crop(f.eccentricity, c.width, c.height), partChannels(Part::Eccentricity)});
-  if (!f.motion.empty())
-    parts.push_back({partName(Part::Motion), crop(f.motion, c.width, c.height), partChannels(Part::Motion)});
-  if (!f.levelLimit.empty())
-    parts.push_back({partName(Part::LevelLimit), toFloat(crop(f.levelLimit, c.width, c.height)), partChannels(Part::LevelLimit)});
-  for (int l = 0; l < kLevelCount; ++l) {
-    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-    const LevelResult& lr = f.levels[static_cast<size_t>(l)];
-    if (!lc.enabled) continue;
-    if (!lr.marks.empty()) parts.push_back({partName(Part::Marks, l), toFloat(lr.marks), partChannels(Part::Marks)});
-    if (!lr.masks.mask.empty()) parts.push_back({partName(Part::Mask, l), toFloat(lr.masks.mask), partChannels(Part::Mask)});
-    parts.push_back({partName(Part::Alpha, l), lr.masks.alpha, partChannels(Part::Alpha)});
-    parts.push_back({partName(Part::Stencil, l), toFloat(lr.masks.stencil), partChannels(Part::Stencil)});
-    parts.push_back({partName(Part::Raw, l), lr.raw, partChannels(Part::Raw, lr.raw.channels)});
-    parts.push_back({partName(Part::Sub, l), lr.sub, partChannels(Part::Sub, lr.sub.channels)});
-    if (f.blend.upsampled[static_cast<size_t>(l)].empty()) continue;  // rendered without keepStages
-    parts.push_back({partName(Part::Upsample, l), f.blend.upsampled[static_cast<size_t>(l)],
-                     partChannels(Part::Upsample, lr.sub.channels)});
-    parts.push_back({partName(Part::BlendAlpha, l), f.blend.alpha[static_cast<size_t>(l)], partChannels(Part::BlendAlpha)});
-    parts.push_back({partName(Part::Composite, l), f.blend.composite[static_cast<size_t>(l)],
-                     partChannels(Part::Composite, lr.sub.channels)});
-  }
-  parts.push_back({partName(Part::LevelMap), toFloat(f.blend.levelMap), partChannels(Part::LevelMap)});
-  parts.push_back({partName(Part::Final), f.final(), partChannels(Part::Final, f.final().channels)});
-  parts.push_back({partName(Part::Shaded), f.shaded, partChannels(Part::Shaded)});
   return parts;
 }
 

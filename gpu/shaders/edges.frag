@@ -82,7 +82,7 @@ void main() {
   // 1. fragment (x, y) of the ⌈W/8⌉·8 × ⌈H/8⌉ target is the diagonal pixel of block (x/8, y) in
   // column x: neighbouring fragments read neighbouring texels (one fragment per block, each
   // reading eight scattered diagonals, took twice as long on llvmpipe)
-  const int step = int(kEdgeSampleStep);
+  const int step = kEdgeSampleStep;
   ivec2 f = ivec2(gl_FragCoord.xy);
   ivec2 q = ivec2(f.x, f.y * step + f.x % step);
   // 2. E there (every kind); 3., Ê as the OR of a block's eight, is the host's (gpu/edges.cpp)

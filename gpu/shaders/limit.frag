@@ -6,13 +6,13 @@
 //   3. motion v: the surface point projected by the previous view, less the pixel centre (motionAt)
 //   4. what motion allows: the largest l ≤ motionCap with |v|² ≥ speed2[l] (motionLevel)
 //   5. the limit: min(coarsest, max(fovea, motion))
-// Output (RGBA32F): e, |v|, fovea + 4 · motion, the limit.
+// Output (RGBA32F): e, |v|, fovea + kLevelCount · motion (= 4 · motion), the limit.
 uniform sampler2D positionHit;  // G-buffer L0: view position, hit
 uniform int gaze, foveate, motion;  // 0/1
 uniform ivec2 gazePixel;
 uniform float ppd;
-uniform int radius2[4];
-uniform float speed2[4];
+uniform int radius2[kLevelCount];
+uniform float speed2[kLevelCount];
 uniform int motionCap, coarsest;
 uniform float motionScale;
 uniform vec3 viewEye, viewRight, viewUp, viewForward;  // this frame's View
@@ -20,7 +20,8 @@ uniform vec3 prevEye, prevRight, prevUp, prevForward;  // the previous frame's V
 uniform float prevFocal, prevCx, prevCy;
 layout(location = 0) out vec4 result;
 
-const float kMotionBehind = 1.0e9;
+// kLevelCount, kMotionBehind (a point behind the previous camera moves this fast):
+// common/shader_constants.h
 
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
@@ -33,7 +34,7 @@ void main() {
     e = sqrt(float(d2)) / ppd;
     // 2. what the eye allows
     if (foveate != 0)
-      for (int l = 1; l < 4; ++l)
+      for (int l = 1; l < kLevelCount; ++l)
         if (d2 >= radius2[l]) fovea = l;
   }
   if (motion != 0) {
@@ -56,10 +57,10 @@ void main() {
     speed = v.x == kMotionBehind ? kMotionBehind : sqrt(v.x * v.x + v.y * v.y);
     // 4. what motion allows
     float v2 = v.x * v.x + v.y * v.y;
-    for (int l = 1; l < 4; ++l)
+    for (int l = 1; l < kLevelCount; ++l)
       if (l <= motionCap && v2 >= speed2[l]) moving = l;
   }
   // 5. the limit
   int limit = min(coarsest, max(fovea, moving));
-  result = vec4(e, speed, float(fovea + 4 * moving), float(limit));
+  result = vec4(e, speed, float(fovea + kLevelCount * moving), float(limit));
 }

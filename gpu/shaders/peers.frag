@@ -11,7 +11,7 @@
 //                  else (tiles) the coarse pixel's value broadcast to its block
 //   LEVEL_STAGES   stage 5 kept per level (--stages, probe, compare): ĉ_ℓ, α_ℓ and c'_ℓ as the
 //                  oracle's hard switch, from the composed value and level map
-const int kTileSize = 16;  // cpu_ref/peers.h: kTileSize
+// kTileSize (full-res pixels per tile side): common/shader_constants.h
 
 #ifdef TILE_MASKS
 uniform int step;

@@ -40,10 +40,8 @@ uniform float patchArea;        // A = πR²/N
 uniform float minDistance2;     // (R/4)²: the sender distance is clamped to it
 layout(location = 0) out vec4 indirect;
 
-const float kPi = 3.14159265358979323846;
-// Senders within ~0.06° of either surface's tangent plane count as coplanar: their form
-// factor is zero up to rounding, and a plane must not light itself.
-const float kGrazingCosine = 1e-3;
+const float kPi = 3.14159265358979323846;  // as cpu_ref/ssgi.cpp's: π itself, not a choice
+// kGrazingCosine (senders this close to either tangent plane are coplanar): common/shader_constants.h
 
 // Ritschel et al. 2009, Eq. 2: the form factor of a sender patch of area A at distance d,
 // A cos θ_s cos θ_r / (π d²), with d clamped to R/4 (docs/spec.md §6.3).

@@ -15,16 +15,16 @@ uniform int blockerGrid;        // blocker-search taps per side
 uniform int grid;               // PCF taps per side, n (N = n²)
 // Tap i of an n-tap grid over [−h, h] sits at factor_i · h; the factors come from the
 // host (cpu_ref/ssm.h: gridTapFactor), so both paths place every tap on the same bits.
-uniform float blockerFactors[16];
-uniform float pcfFactors[32];
+// kMaxBlockerGrid, kMaxPcfGrid, and kMaxSearchTexels (the blocker search's half-width, and so
+// the penumbra's, in map texels, at most): common/shader_constants.h
+uniform float blockerFactors[kMaxBlockerGrid];
+uniform float pcfFactors[kMaxPcfGrid];
 layout(location = 0) out vec4 visibility;
-
-const float kMaxSearchTexels = 64.0;  // caps the blocker search (and so the penumbra)
 
 // Ends the fragment with V = v, or under PCF_SAMPLE with what the pixel paid (the byte `paid`).
 #ifdef PCF_SAMPLE
 float footprintBits = 0.0;  // the byte's high bits: the footprint's steps, once the pixel searches
-#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4((paid + footprintBits) / 255.0); return; }
+#define RETURN_WITHOUT_PCF(v, paid) { visibility = vec4((float(paid) + footprintBits) / 255.0); return; }
 #else
 #define RETURN_WITHOUT_PCF(v, paid) { visibility = v; return; }
 #endif
@@ -66,7 +66,7 @@ float mapFootprintAt(ivec2 pixel, Receiver r) {
 void main() {
 #ifdef PCF_SAMPLE
   // kPcfSample… (the step and the values): common/shader_constants.h
-  const int stride = int(kPcfSampleStep);
+  const int stride = kPcfSampleStep;
   ivec2 pixel = min(ivec2(gl_FragCoord.xy) * stride + stride / 2, textureSize(positionHit, 0) - 1);
 #else
   ivec2 pixel = ivec2(gl_FragCoord.xy);
@@ -79,7 +79,7 @@ void main() {
     RETURN_WITHOUT_PCF(vec4(0.0, 0.0, 0.0, 1.0), kPcfSampleNone);
 #ifdef PCF_SAMPLE
   footprintBits = floor(min(kMaxFootprintTexels, mapFootprintAt(pixel, r)) * kFootprintSteps + 0.5) *
-                  exp2(kPcfSampleClassBits);
+                  float(1 << kPcfSampleClassBits);
 #endif
   // 1. blocker search: the widest penumbra a blocker at the light plane could cast
   float searchTexels = clamp(r.depth * tanHalfAngle / mapTexel, 0.5, kMaxSearchTexels);
@@ -97,7 +97,7 @@ void main() {
   if (blockers == 0)  // nothing in front anywhere in the search region: fully lit
     RETURN_WITHOUT_PCF(vec4(1.0), kPcfSampleSearch);
 #ifdef PCF_SAMPLE
-  visibility = vec4((kPcfSamplePcf + footprintBits) / 255.0);  // PCF runs here
+  visibility = vec4((float(kPcfSamplePcf) + footprintBits) / 255.0);  // PCF runs here
   return;
 #endif
   float blockerDepth = blockerSum / float(blockers);

@@ -233,6 +233,25 @@ TEST(CompareAgainst, TheOraclesOwnStagesPass) {
   EXPECT_EQ(lastLine(r.out), "PASS: every stage within tolerance") << r.out;
 }
 
+// Tiles with a gaze and motion: the tile rates are written and read back, and the padded full-res
+// parts (eccentricity, motion, level limit; W×H in the file) go back into their padded grids: the
+// oracle's own stages pass, each on its own inputs.
+TEST(CompareAgainst, TheOraclesOwnTilesAndFoveationStagesPass) {
+  const std::string dir = test::scratchDir();
+  const std::vector<std::string> frame =
+      with(kFrame, {"--method", "tiles", "--gaze", "40,30", "--ppd", "8", "--pan", "0.3"});
+  const std::string stages = (fs::path(dir) / "tiles-stages.exr").string();
+  Ran r = mrr(with({"render", "--never-slower", "off", "--stages", stages}, frame), dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = mrr(with({"compare", "--against", stages}, frame), dir);
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_EQ(r.out.find("not checked"), std::string::npos) << r.out;
+  for (const char* row : {"\ntilerates ", "\neccentricity ", "\nlevellimit "})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << r.out;
+  EXPECT_NE(r.out.find("levellimit.same_input"), std::string::npos) << r.out;
+  EXPECT_EQ(lastLine(r.out), "PASS: every stage within tolerance") << r.out;
+}
+
 // One part altered the way a bug would: the effect of level 1 a few per cent darker. End to
 // end it is within the SSAO rule; on its own inputs it is not: FAIL at raw.L1.
 TEST(CompareAgainst, AnAlteredPartFailsAtItsStage) {

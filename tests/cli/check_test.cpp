@@ -170,7 +170,7 @@ TEST(Check, BrokenFrameIsOneErrorCase) {
   EXPECT_EQ(got.at("garbage"), "- - ERROR -");
   for (const char* good : {"demo-ssao", "boxes-ssao", "demo-ssm", "demo-ssgi"}) EXPECT_EQ(got.at(good).substr(got.at(good).size() - 6), "PASS -") << good;
   EXPECT_NE(r.out.find("\ntypo: ERROR: " + (fs::path(frames) / "typo.json").string() +
-                       ": \"samples\": expected a whole number >= 0\n"),
+                       ": \"samples\": expected a whole number\n"),
             std::string::npos)
       << r.out;
   const std::string junit = test::readFile((fs::path(dir) / "junit.xml").string());

@@ -226,6 +226,13 @@ void writeBadInputs(const std::string& in) {
   writeFile(path("no-view.json"), R"({"scene": "builtin:demo", "eye": [1, 2, 3], "target": [1, 2, 3]})");
   writeFile(path("negative-size.json"), R"({"scene": "builtin:demo", "size": "-64x48"})");
   writeFile(path("not-a-frame.json"), "[1, 2, 3]");
+  // cost models (--cost-model) in the --calibrate format, one figure missing or out of range
+  nlohmann::json costs = CostModel::defaults("cpu").toJson();
+  costs.erase("ns_per_blend_pixel");
+  writeFile(path("costs-missing-key.json"), costs.dump(2));
+  costs = CostModel::defaults("cpu").toJson();
+  costs["effects"]["ssgi"]["sparse_factor"] = 2.5;
+  writeFile(path("costs-sparse-factor.json"), costs.dump(2));
   // previous frames (--prev-frame, SPEC §13) of another scene or size than the 32x24 builtin:demo frame
   const std::string camera = R"("eye": [0, 1, 5], "target": [0, 1, 0], "up": [0, 1, 0], "fov": 60)";
   writeFile(path("prev-other-scene.json"), R"({"scene": "builtin:corner", "size": "32x24", )" + camera + "}");
@@ -986,6 +993,12 @@ const std::vector<BadCase> kBadCases = {
     {"UnknownMethod", renderArgs("builtin:demo", {"--method", "uniform-3"}), "--method uniform-3"},
     {"BadNeverSlower", renderArgs("builtin:demo", {"--never-slower", "maybe"}), "--never-slower maybe"},
     {"MissingCostModel", renderArgs("builtin:demo", {"--cost-model", "/nonexistent/costs.json"}), "--cost-model"},
+    {"CostModelNotACostModel", renderArgs("builtin:demo", {"--cost-model", "{in}/notgltf.gltf"}),
+     "--cost-model {in}/notgltf.gltf: [json.exception.out_of_range.403] key 'effects' not found"},
+    {"CostModelMissingKey", renderArgs("builtin:demo", {"--cost-model", "{in}/costs-missing-key.json"}),
+     "--cost-model {in}/costs-missing-key.json: [json.exception.out_of_range.403] key 'ns_per_blend_pixel' not found"},
+    {"CostModelSparseFactor", renderArgs("builtin:demo", {"--cost-model", "{in}/costs-sparse-factor.json"}),
+     "--cost-model {in}/costs-sparse-factor.json: effects.ssgi.sparse_factor: 2.500000 is outside [1, 2]"},
     {"UnknownPath", renderArgs("builtin:demo", {"--path", "foo"}), "--path foo"},
 
     {"DisableLevelZero", renderArgs("builtin:demo", {"--disable-level", "0"}), "--disable-level 0"},
@@ -1013,15 +1026,15 @@ const std::vector<BadCase> kBadCases = {
                              "--path", "gpu", "--pixel", "5,5"}, "no EGL device", {.env = {"__EGL_VENDOR_LIBRARY_DIRS=/nonexistent"}}},
     {"EffectCapOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
                                       "--effect-cap", "99"}),
-     "--effect-cap: must be in [0, 64]"},
+     "--effect-cap 99: must be in [0, 64]"},
     {"EffectPosteriorOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
                                             "--effect-posterior", "200"}),
-     "--effect-posterior: must be in [0, 100]"},
+     "--effect-posterior 200: must be in [0, 100]"},
     {"EffectPosteriorFinestOutOfRange", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--method", "mrr-effect",
                                                   "--effect-posterior-finest", "4"}),
-     "--effect-posterior-finest: must be in [0, 3]"},
+     "--effect-posterior-finest 4: must be in [0, 3]"},
     {"BenchUnknownVariant", {"bench", "--paths", "cpu", "--methods", "full", "mrr-effect+q"},
-     "--methods mrr-effect+q: unknown variant +q (expected +cN, +fN, +xF, +pT, +lN, +e, +norule or +noblur)"},
+     "--methods mrr-effect+q: mrr-effect has no variant +q (it takes +cN: the widening's cap"},
     {"GpuTimingUnknown", demoWith({"--size", "16x16", "--out", "{out}/o.exr", "--path", "gpu", "--gpu-timing", "tsc"}),
      "--gpu-timing tsc"},
     {"BenchGpuTimingUnknown", {"bench", "--paths", "gpu", "--gpu-timing", "tsc"}, "--gpu-timing tsc"},

@@ -1,13 +1,26 @@
 """Unit tests of compare/report/report.py (ctest: report_py_unit): the Pareto front of chart 1,
-and one chart drawn from a handful of runs. Run with /usr/bin/python3, as mrr runs the program."""
+and one chart drawn from a handful of runs. Run with /usr/bin/python3, as mrr runs the program:
+test_report.py MRR, where MRR is the mrr binary whose method table (`mrr methods --json`, the
+"methods" a bench's JSON carries) gives the charts their order, colours and markers."""
+import json
 import math
 import os
+import subprocess
 import sys
 import tempfile
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "compare", "report"))
 import report  # noqa: E402
+
+MRR = sys.argv.pop(1) if len(sys.argv) > 1 else os.environ.get("MRR", "mrr")
+METHODS = json.loads(subprocess.run([MRR, "methods", "--json"], check=True, capture_output=True, text=True).stdout)
+report.use_methods(METHODS)  # what bench_charts does with a bench's JSON; sweep() and the rest read it
+
+
+def results(runs, stability=()):
+    """A bench's JSON around some runs: the table's rows, as `mrr bench` writes them."""
+    return {"runs": runs, "stability": list(stability), "devices": {}, "methods": METHODS}
 
 
 class ParetoFrontTest(unittest.TestCase):
@@ -95,7 +108,7 @@ class ChartTest(unittest.TestCase):
         runs = [{"path": "cpu", "scene": "builtin:demo", "group": "main", "method": m, "effect": "ssao",
                  "samples": 64, "width": 320, "height": 180, "rms": r, "flip": f, "measured_speedup": s}
                 for m, r, f, s in (("full", 0.0, 0.0, 1.0), ("mrr", 0.004, 0.009, 1.8), ("uniform-2", 0.02, 0.08, 3.0))]
-        names = [c.name for c in report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])]
+        names = [c.name for c in report.bench_charts(results(runs), [])]
         self.assertEqual(names, ["speed-vs-rms-cpu-ssao", "speed-vs-flip-cpu-ssao"])
         flip = report.speed_vs_rms("cpu", "ssao", runs, "a test machine", key="flip")
         xs = sorted(x for line in flip.ax.get_lines()[:2] for x in line.get_xdata())
@@ -103,7 +116,7 @@ class ChartTest(unittest.TestCase):
         # Bench JSON written before FLIP: the RMS chart alone.
         for r in runs:
             del r["flip"]
-        names = [c.name for c in report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])]
+        names = [c.name for c in report.bench_charts(results(runs), [])]
         self.assertEqual(names, ["speed-vs-rms-cpu-ssao"])
 
     def test_flip_flicker_is_charted_beside_flicker(self):
@@ -111,7 +124,7 @@ class ChartTest(unittest.TestCase):
                       "width": 320, "height": 180, "method": m, "flicker": f, "flip_flicker": ff}
                      for k in ("orbit", "dolly") for m, f, ff in (("uniform-2", 0.004, 0.03), ("mrr", 0.001, 0.002))]
         runs = [{"path": "cpu", "group": "none", "effect": "ssao"}]  # the charts go by the runs' paths
-        names = [c.name for c in report.bench_charts({"runs": runs, "stability": stability, "devices": {}}, [])]
+        names = [c.name for c in report.bench_charts(results(runs, stability), [])]
         self.assertEqual(names, ["flicker-cpu", "flicker-cpu-flip"])
         chart = report.flicker("cpu", stability, "a test machine", key="flip_flicker")
         heights = sorted(round(b.get_height(), 6) for b in chart.ax.patches)
@@ -120,7 +133,7 @@ class ChartTest(unittest.TestCase):
         # Bench JSON written before FLIP: the RMS flicker chart alone.
         for s in stability:
             del s["flip_flicker"]
-        names = [c.name for c in report.bench_charts({"runs": runs, "stability": stability, "devices": {}}, [])]
+        names = [c.name for c in report.bench_charts(results(runs, stability), [])]
         self.assertEqual(names, ["flicker-cpu"])
 
 
@@ -129,7 +142,7 @@ class ChartTest(unittest.TestCase):
         runs = [{"path": "cpu", "scene": "builtin:demo", "group": "main", "method": m, "effect": e, "samples": 64,
                  "width": 320, "height": 180, "rms": 0.001 * (i + 1), "flip": 0.01, "measured_speedup": 1.0 + i}
                 for e in ("ssao", "ssgi") for i, m in enumerate(methods)]
-        charts = report.bench_charts({"runs": runs, "stability": [], "devices": {}}, [])
+        charts = report.bench_charts(results(runs), [])
         colours = []
         for chart in charts:
             by_label = {line.get_label(): line.get_color() for line in chart.ax.get_lines()}

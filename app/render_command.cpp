@@ -179,7 +179,15 @@ int runRenderCommand(RenderCommand& c) {
   // The per-level blend images are debugging output: kept only when something shows them.
   const CostModel costs = fo.costModel(fo.path);
   pages.wait();
-  const FrameResult frame = renderer->render(rs.camera, constants, {keepStages, progressPrinter(fo.quiet, toString(settings.mode)), &costs});
+  RenderOptions options{keepStages, progressPrinter(fo.quiet, toString(settings.mode)), &costs};
+  // What comes back from the port after the frame: the images written, and the maps the report
+  // reads (SPEC §13's, the tiles' rates); a report alone needs none (docs/port.md).
+  const bool reportReadsMaps = !c.report.empty() && (constants.foveation.active() || settings.mode == Mode::Tiles);
+  const bool reportReadsRings = !c.report.empty() && constants.foveation.gaze;  // shaded level pixels per ring
+  options.outputs = c.reference ? kOutputAll
+                                : (!c.out.empty() ? kOutputFinal : 0u) | (!c.shaded.empty() ? kOutputShaded : 0u) |
+                                      (reportReadsMaps ? kOutputMaps : 0u) | (reportReadsRings ? kOutputStencils : 0u);
+  const FrameResult frame = renderer->render(rs.camera, constants, options);
 
   std::optional<FrameErrors> err;
   if (c.reference) {

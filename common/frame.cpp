@@ -355,14 +355,18 @@ double FrameResult::timing(const std::string& stage) const {
   return ms;
 }
 
-void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model) {
+bool applyNeverSlower(FrameResult& f, const CostModel& model) {
   f.fallback = decideFallback(model, f.constants, f.counts);
   f.fallback.evaluated = f.constants.neverSlower;
   f.fallback.wouldFallBack = f.fallback.fellBack;
   if (!f.constants.neverSlower) f.fallback.fellBack = false;  // predicted only
-  if (!f.fallback.fellBack) return;
+  if (!f.fallback.fellBack) return false;
   f.constants.fallBackToFull();
-  masks = fullModeMasks(f.constants);
+  return true;
+}
+
+void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model) {
+  if (applyNeverSlower(f, model)) masks = fullModeMasks(f.constants);
 }
 
 int64_t estimateFrameBytes(const Constants& c, bool keepStages) {

@@ -971,20 +971,23 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
   const Constants k = makeConstants(s, b.oracle.framedSize);
   const CostModel portModel = CostModel::defaults("gpu");
   ASSERT_GT(portModel.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample, 0.0);
-  const FrameResult own = port.render(b.oracle.camera, k, {false, {}, &portModel, true});
+  // (frames that keep their stages: the resident frame keeps its sample on the GPU)
+  const FrameResult own = port.render(b.oracle.camera, k, {true, {}, &portModel, true});
   EXPECT_EQ(own.pcfSample.data, b.port.pcfSample.data);
   CostModel blind = portModel;
   blind.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 0.0;
-  const FrameResult unsampled = port.render(b.oracle.camera, k, {false, {}, &blind, true});
+  const FrameResult unsampled = port.render(b.oracle.camera, k, {true, {}, &blind, true});
   EXPECT_TRUE(unsampled.pcfSample.empty());
   EXPECT_EQ(unsampled.counts.pcfPixels, 0);
   // With the rule off, a frame whose caller does not read the rule's counts pays no sample; with
   // it on, the sample is drawn whatever the caller asks.
   ASSERT_FALSE(k.neverSlower);
-  EXPECT_TRUE(port.render(b.oracle.camera, k, {false, {}, &portModel}).pcfSample.empty());
+  EXPECT_TRUE(port.render(b.oracle.camera, k, {true, {}, &portModel}).pcfSample.empty());
   Constants on = k;
   on.neverSlower = true;
-  EXPECT_EQ(port.render(b.oracle.camera, on, {false, {}, &portModel}).pcfSample.data, b.port.pcfSample.data);
+  EXPECT_EQ(port.render(b.oracle.camera, on, {true, {}, &portModel}).pcfSample.data, b.port.pcfSample.data);
+  // the resident frame counts the same sample on the GPU
+  EXPECT_EQ(port.render(b.oracle.camera, k, {false, {}, &portModel, true}).counts.pcfPixels, own.counts.pcfPixels);
 }
 
 // The edge sample (SPEC §11): edges.frag with EDGE_SAMPLE against the oracle's edgeSample on the
@@ -1018,7 +1021,7 @@ TEST(GpuNeverSlower, ThePortSamplesEdgesAsTheOracleDoes) {
       gpu::drawShadowTest(scene, g0, map, mapTarget->texture(), b.cpu.view, c.ssm.biasTexels, *litTarget);
       lit = gpu::readShadowTest(*litTarget);
     }
-    const ImageU8 port = gpu::drawEdgeSample(scene, g0, c.edges, litTarget ? litTarget->texture(0) : 0);
+    const ImageU8 port = gpu::readEdgeSample(*gpu::drawEdgeSample(scene, g0, c.edges, litTarget ? litTarget->texture(0) : 0));
     const ImageU8 same = edgeSample(g0Read, c.edges, lit.empty() ? nullptr : &lit);
     int64_t sameDiffer = 0, endToEndDiffer = 0, sampled = 0;
     for (size_t i = 0; i < same.data.size(); ++i) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "common/error.h"
+#include "common/shader_constants.h"
 #include "gpu/program.h"
 #include "gpu/traffic.h"
 
@@ -391,7 +392,7 @@ void GpuScene::draw(const Cover& cover, int width, int height) const {
   if (cover.rects) return drawRects(*cover.rects, width, height);
   if (!cover.blocks) return drawFullscreen();
   // blocks.geom: a point per row of the map and segment of kBlockSegment blocks along it
-  constexpr int kBlockSegment = 64;
+  static_assert(2 * kBlockSegment == 128, "blocks.geom's max_vertices");
   constexpr int kBlockUnit = 15;  // the last unit GL 3.3 guarantees: the passes' own textures sit below
   GLint current = 0;
   glGetIntegerv(GL_CURRENT_PROGRAM, &current);

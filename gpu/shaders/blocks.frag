@@ -44,7 +44,6 @@ layout(location = 6) out vec4 map6;
 #if OUTPUTS > 7
 layout(location = 7) out vec4 map7;
 #endif
-const ivec4 kSpecs[8] = ivec4[8](SPEC_0, SPEC_1, SPEC_2, SPEC_3, SPEC_4, SPEC_5, SPEC_6, SPEC_7);
 vec4 bit(uint set, int k) { return vec4((set >> uint(k)) & 1u, 0.0, 0.0, 1.0); }
 #endif
 
@@ -66,6 +65,7 @@ void main() {
   result = vec4(set > 0.5 ? 1.0 : 0.0, 0.0, 0.0, 1.0);
 #else
   // one scan of each window, every map's box tested against each set block found
+  const ivec4 kSpecs[8] = ivec4[8](SPEC_0, SPEC_1, SPEC_2, SPEC_3, SPEC_4, SPEC_5, SPEC_6, SPEC_7);
   uint maps = 0u;
   for (int j = -REACH_A; j <= REACH_A; ++j)
     for (int i = -REACH_A; i <= REACH_A; ++i) {

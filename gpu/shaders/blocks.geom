@@ -1,14 +1,13 @@
 #version 330 core
 // A block map's runs as rectangles (docs/port.md, "The GPU-resident frame"): for one row of the
-// map and one segment of kBlockSegment blocks along it, each run of blocks equal to `blockValue`
-// becomes one rectangle of the target, blockSize pixels a block, clipped to the target. A run
-// that the row above holds too (the same ends, cut at the segment's ends) was drawn from there:
-// the first row of a band draws it down to its last row, so a band along an edge is a few
-// rectangles, as gpu/masks.cpp blockRects makes them on the host. Every pixel of a set block is
-// covered once and no other.
+// map and one segment of kBlockSegment blocks along it (common/shader_constants.h), each run of
+// blocks equal to `blockValue` becomes one rectangle of the target, blockSize pixels a block,
+// clipped to the target. A run that the row above holds too (the same ends, cut at the segment's
+// ends) was drawn from there: the first row of a band draws it down to its last row, so a band
+// along an edge is a few rectangles, as gpu/masks.cpp blockRects makes them on the host. Every
+// pixel of a set block is covered once and no other.
 layout(points) in;
 layout(triangle_strip, max_vertices = 128) out;  // 2 kBlockSegment: a rectangle per two blocks at most
-const int kBlockSegment = 64;
 flat in ivec2 segmentRow[];
 uniform sampler2D blockMap;  // R8: 1 where a block is set
 uniform int blockValue;      // the runs of blocks equal to it: 1 (set) or 0 (clear)

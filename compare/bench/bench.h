@@ -100,6 +100,9 @@ struct OpenScene {
 };
 OpenScene openScene(const std::string& name, const BenchPath& path);
 std::map<std::string, double> stageMs(const FrameResult& f);  // a frame's timings by stage (summed)
+// The method's own time (docs/spec.md §10) from a frame's timings by stage: the frame less the
+// full-res G-buffer and the shaded image for viewing, which every method pays alike.
+double effectMs(const std::map<std::string, double>& ms);
 
 // The CPU's model name, from /proc/cpuinfo.
 std::string cpuModelName();

@@ -333,7 +333,7 @@ def fovea_rings(path, scene, ppd, rings, device, key):
                                                               r0["gaze"][0], r0["gaze"][1]),
               "The %s in each ring of eccentricity around the gaze (SPEC §13). Dashed: the method with the gaze only "
               "measuring (--foveate off), its own decisions; solid: with the gaze foveating (+gaze). The legend gives "
-              "each frame's time less its full-res G-buffer (median of the repeats, the whole frame).%s" % (
+              "each frame's effect time (less its full-res G-buffer and shaded image, SPEC §10; median of the repeats).%s" % (
                   what, "" if key == "shaded_share" else " A ring with no error (0) has no point on the log axis."),
               "eccentricity ring", what + (" (log)" if key != "shaded_share" else ""))
     labels = distinct(ring_label(r) for r in rings)
@@ -365,7 +365,7 @@ def fovea_motion(path, scene, motion, device):
                                                    " and ".join(distinct(m["camera_path"] for m in motion)), m0["frames"]),
               "Each frame of the camera paths after the first: the mean |v| over pixels on geometry (SPEC §13 step 3, "
               "the previous path frame as --prev-frame) against the share of pixels shaded (filled, left axis) and the "
-              "frame's time less its full-res G-buffer (hollow, right axis, median of the repeats). Points alone: the "
+              "frame's effect time (less its full-res G-buffer and shaded image; hollow, right axis, median of the repeats). Points alone: the "
               "method without the previous frame (its share follows the frame's content); joined: with it (+motion).",
               "mean screen speed |v| (full-res pixels per frame)", "shaded level pixels / W·H")
     right = c.ax.twinx()

@@ -10,7 +10,6 @@
 
 #include "gpu/masks.h"
 #include "gpu/program.h"
-#include "gpu/probe_timing.h"
 
 namespace mrr::gpu {
 
@@ -62,10 +61,8 @@ BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures
     // pass are drawn over the map's set and its clear runs. (Blocks split by which levels reach
     // them draw more, smaller rectangles, and measured slower on llvmpipe.)
     const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per block
-    { ProbeClock clock("blend near");
-    drawFinalOnly(scene, levels, c, fine, true, Cover::blocksOf(nearBlocks, blockSize, 1)); }
-    { ProbeClock clock("blend far");
-    drawFinalOnly(scene, levels, c, 0, true, Cover::blocksOf(nearBlocks, blockSize, 0)); }
+    drawFinalOnly(scene, levels, c, fine, true, Cover::blocksOf(nearBlocks, blockSize, 1));
+    drawFinalOnly(scene, levels, c, 0, true, Cover::blocksOf(nearBlocks, blockSize, 0));
   } else {
     drawFinalOnly(scene, levels, c, fine, static_cast<bool>(nearBlocks), Cover::whole());
   }

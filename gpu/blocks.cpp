@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <string>
 
-#include "gpu/probe_timing.h"
 #include "gpu/program.h"
 
 namespace mrr::gpu {
@@ -15,7 +14,6 @@ namespace {
 // One blocks.frag pass into a fresh map (R8 targets, `outputs` of them) of width × height.
 Target blockPass(const GpuScene& scene, const std::string& key, const std::string& defines, int width, int height,
                  std::initializer_list<std::pair<const char*, unsigned>> textures, int outputs = 1) {
-  ProbeClock clock("blocks pass");
   const unsigned program = scene.program("blocks." + key, "fullscreen.vert", "blocks.frag", defines);
   Target target = scene.target(width, height, std::vector<Texel>(static_cast<size_t>(outputs), Texel::R8), false);
   target->bind();

@@ -7,7 +7,6 @@
 
 #include "common/error.h"
 #include "gpu/program.h"
-#include "gpu/probe_timing.h"
 #include "gpu/traffic.h"
 
 namespace mrr::gpu {
@@ -49,7 +48,6 @@ std::vector<int64_t> CountBatch::read() {
                                             "#define STEP 1\n#define FACTOR " + std::to_string(kFactor) +
                                                 "\n#define TARGETS " + std::to_string(n) + "\n");
     while (w > kGathered || h > kGathered) {
-      ProbeClock clock("counts reduce");
       w = (w + kFactor - 1) / kFactor;
       h = (h + kFactor - 1) / kFactor;
       Target next = scene_.target(w, h, std::vector<Texel>(static_cast<size_t>(n), Texel::Rgba32ui), false);
@@ -70,7 +68,6 @@ std::vector<int64_t> CountBatch::read() {
   std::vector<int64_t> values(textures.size() * 4, 0);
   if (sources == 0) return values;
   // 2. One texel per queued target, in one row: a few integers, one small read.
-  ProbeClock clock("counts gather+read");
   const unsigned program = scene_.program("counts.gather." + std::to_string(sources), "fullscreen.vert", "counts.frag",
                                           "#define STEP 2\n#define SOURCES " + std::to_string(sources) + "\n");
   const Target row = scene_.target(sources, 1, {Texel::Rgba32ui}, false);

@@ -13,7 +13,6 @@
 #include "gpu/blocks.h"
 #include "gpu/effect_masks.h"
 #include "gpu/program.h"
-#include "gpu/probe_timing.h"
 
 namespace mrr::gpu {
 
@@ -55,7 +54,6 @@ struct Pass {
   }
   // One step into `target`, over in.cover; with `clear`, the rest 0, else kept.
   void draw(int step, const Framebuffer& target, const Inputs& in, bool clear) const {
-    ProbeClock clock(in.cover.byBlocks() ? "masks pass (blocks)" : "masks pass (whole)");
     const unsigned prog = program(step, in);
     const int width = target.width(), height = target.height();
     target.bind();

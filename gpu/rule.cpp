@@ -8,7 +8,6 @@
 
 #include "gpu/counts.h"
 #include "gpu/program.h"
-#include "gpu/probe_timing.h"
 
 namespace mrr::gpu {
 
@@ -19,7 +18,6 @@ static_assert(kBlock == 8 && kPcfSampleStep == 8 && kLevelCount == 4, "rule.frag
 // A rule.frag pass over the per-block grid of the padded full-res grid (width × height blocks).
 Target rulePass(const GpuScene& scene, int step, bool withPcf, int targets, int width, int height,
                 const std::function<void(unsigned)>& setInputs, int level = -1, bool withSample = false) {
-  ProbeClock clock(step == 1 ? "rule hits" : step == 2 ? "rule reach" : step == 3 ? "rule stencils" : "rule shaded");
   const std::string defines = (level >= 0 ? "#define LEVEL " + std::to_string(level) + "\n" : "") +
                               "#define WITH_SAMPLE " + (withSample ? "1" : "0") + "\n";
   const unsigned program = scene.program("rule." + std::to_string(step) + (withPcf ? ".pcf" : "") +

@@ -4,7 +4,7 @@
 // integers), and waits (glFinish, query results). The report's `gl` object (docs/port.md, "What
 // a frame costs the host") gives what a frame did of each; a test holds the resident frame to
 // none of the first and a few bytes of the second. Nothing in gpu/ calls those GL functions
-// elsewhere (tests/common/gl_calls_test.cpp reads the sources).
+// elsewhere (tests/cli/resident_test.cpp reads the sources).
 #include <cstddef>
 #include <cstdint>
 

@@ -26,8 +26,9 @@ namespace fs = std::filesystem;
 nlohmann::json render(const std::string& dir, const std::string& effect, const std::string& method,
                       const std::vector<std::string>& more) {
   const std::string report = (fs::path(dir) / (effect + "-" + method + ".json")).string();
-  std::vector<std::string> args = {"render", "--path", "gpu", "--scene", "builtin:demo", "--size", "160x90",
-                                   "--samples", "8", "--effect", effect, "--method", method, "--report", report, "-q"};
+  std::vector<std::string> args = {"render",   "--path",  "gpu",  "--scene",  "builtin:demo",
+                                   "--size",   "160x90",  "--samples", effect == "ssm" ? "16" : "8",  // SSM: n×n
+                                   "--effect", effect,    "--method",  method,  "--report", report, "-q"};
   args.insert(args.end(), more.begin(), more.end());
   const Ran r = mrr(args, dir);
   EXPECT_EQ(r.status, 0) << r.err;

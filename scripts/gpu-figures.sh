@@ -6,7 +6,7 @@
 # paper's sweeps
 # that feed Figs. 6 (speedup against samples, at 4K as in the paper), 7 (speedup against
 # resolution) and 9 (RMS against resolution), drawn beside the paper's own points
-# (../shared/design/paper-figures.csv) by the bench's --report. Everything goes into
+# ($MRR_PAPER_FIGURES, docs/figures.md "The paper's sweeps") by the bench's --report. Everything goes into
 # docs/bench/nvidia/ (--out DIR), with a README.md naming the device, the date, every command run
 # and each step's wall time; the HTML reports (tens of MB) go to out/gpu-figures-html/ (--html).
 #

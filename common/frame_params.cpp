@@ -143,7 +143,7 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::Quiet, "quiet", "-q", K::Flag, "", "no progress lines on stderr", kNoFile, kNoPage},
 };
 
-bool rowsInEnumOrder() {
+bool paramRowsInEnumOrder() {
   for (size_t i = 0; i < kFrameParams.size(); ++i)
     if (static_cast<size_t>(kFrameParams[i].param) != i) return false;
   return kFrameParams.back().param == Param::Quiet;
@@ -185,7 +185,7 @@ std::string settingsDefault(Param param) {
 }  // namespace
 
 const std::vector<FrameParamInfo>& frameParams() {
-  static const bool ordered = rowsInEnumOrder();
+  static const bool ordered = paramRowsInEnumOrder();
   require(ordered, "internal: kFrameParams must list every Param in enum order");
   return kFrameParams;
 }

@@ -98,6 +98,8 @@ struct ParityResult {
   // The first row, in pipeline order, whose verdict is FAIL (empty when none): where a
   // shader bug starts.
   std::string firstFailing() const;
+  // The row of a stage by its name ("raw.L0"), or null when the frame has none.
+  const StageRow* row(const std::string& stage) const;
   // The port's shader file(s) that compute a row's stage, from the stage list ("ssao.frag" for
   // raw.L0 of an SSAO frame; "" for a row no shader makes, e.g. the never-slower decision).
   std::string shaderOf(const std::string& stage) const;

@@ -22,14 +22,10 @@ namespace {
 namespace fs = std::filesystem;
 
 using cli::Ran;
+using cli::lastLine;
+using cli::with;
 using cli::quote;
 using cli::mrr;
-
-std::string lastLine(const std::string& text) {
-  std::string t = text;
-  while (!t.empty() && t.back() == '\n') t.pop_back();
-  return t.substr(t.rfind('\n') == std::string::npos ? 0 : t.rfind('\n') + 1);
-}
 
 void writeText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
@@ -211,11 +207,6 @@ TEST(ShadersDir, AnUnusedUniformIsSkippedAndAMissingOutputIsNamed) {
 
 const std::vector<std::string> kFrame = {"--scene", "builtin:demo", "--effect", "ssao", "--size", "160x90", "--samples",
                                          "8", "-q"};
-
-std::vector<std::string> with(std::vector<std::string> head, const std::vector<std::string>& tail) {
-  head.insert(head.end(), tail.begin(), tail.end());
-  return head;
-}
 
 // The oracle's own stages EXR of kFrame (compare turns never-slower off; so does this render).
 std::string oracleStages(const std::string& dir) {

@@ -17,7 +17,7 @@
 namespace mrr {
 namespace {
 
-struct Case {
+struct CountsCase {
   std::string scene;
   Effect effect;
   Mode mode;
@@ -26,16 +26,16 @@ struct Case {
   bool gaze = false;
 };
 
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const CountsCase& c, std::ostream* os) {
   *os << c.scene << " " << toString(c.effect) << " " << toString(c.mode) << " " << c.width << "x" << c.height
       << (c.disabledLevel >= 0 ? " without level " + std::to_string(c.disabledLevel) : "") << (c.gaze ? " gaze" : "");
 }
 
-class GpuRuleCounts : public ::testing::TestWithParam<Case> {};
+class GpuRuleCounts : public ::testing::TestWithParam<CountsCase> {};
 
 TEST_P(GpuRuleCounts, EqualTheHostRulesCountsOfTheSameImages) {
   MRR_REQUIRE_GL_OR_SKIP();
-  const Case& k = GetParam();
+  const CountsCase& k = GetParam();
   SceneRequest req;
   req.scene = k.scene;
   const ResolvedScene rs = resolveScene(req);
@@ -92,8 +92,8 @@ TEST_P(GpuRuleCounts, EqualTheHostRulesCountsOfTheSameImages) {
   EXPECT_EQ(decideEarly(model, c, gpu).predictedMrrMs, decideEarly(model, c, host).predictedMrrMs);
 }
 
-std::string caseName(const ::testing::TestParamInfo<Case>& info) {
-  const Case& c = info.param;
+std::string countsCaseName(const ::testing::TestParamInfo<CountsCase>& info) {
+  const CountsCase& c = info.param;
   std::string name = c.scene.substr(c.scene.find(':') + 1) + "_" + toString(c.effect) + "_" + toString(c.mode) + "_" +
                      std::to_string(c.width) + "x" + std::to_string(c.height);
   if (c.disabledLevel >= 0) name += "_noL" + std::to_string(c.disabledLevel);
@@ -103,8 +103,8 @@ std::string caseName(const ::testing::TestParamInfo<Case>& info) {
   return name;
 }
 
-std::vector<Case> cases() {
-  std::vector<Case> out;
+std::vector<CountsCase> countsCases() {
+  std::vector<CountsCase> out;
   for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
     out.push_back({"builtin:demo", e, Mode::Mrr, 161, 97});
     out.push_back({"builtin:demo", e, Mode::MrrEffect, 160, 90});
@@ -117,7 +117,7 @@ std::vector<Case> cases() {
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Frames, GpuRuleCounts, ::testing::ValuesIn(cases()), caseName);
+INSTANTIATE_TEST_SUITE_P(Frames, GpuRuleCounts, ::testing::ValuesIn(countsCases()), countsCaseName);
 
 }  // namespace
 }  // namespace mrr

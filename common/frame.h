@@ -245,7 +245,7 @@ struct RenderOptions {
   // frame so far (G-buffers, edges, the level limit); it may replace any level's M_ℓ, a_ℓ, S_ℓ.
   // Not called when the rule sent the frame to full resolution before its masks. The oracle shades
   // what it leaves; the port shades the masks it drew, so callers use it with the oracle.
-  std::function<void(const FrameResult& f, Masks& masks)> replaceMasks;
+  std::function<void(const FrameResult& f, Masks& masks)> replaceMasks{};
 };
 
 // SPEC §11 on a frame whose stencils are `masks` (counted into f.counts) and nothing else of

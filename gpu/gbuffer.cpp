@@ -1,4 +1,5 @@
 #include "gpu/gbuffer.h"
+#include "gpu/shadowmap.h"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
@@ -344,6 +345,14 @@ Target GpuScene::target(int width, int height, int colorTargets, bool withDepth,
   return target(width, height, std::vector<Texel>(static_cast<size_t>(colorTargets), format), withDepth);
 }
 
+ShadowMapTarget& GpuScene::shadowMapTarget(int size) const {
+  if (!shadowMapTarget_ || shadowMapTarget_->size() != size) {
+    shadowMapTarget_.reset();
+    shadowMapTarget_ = std::make_unique<ShadowMapTarget>(size);
+  }
+  return *shadowMapTarget_;
+}
+
 void GpuScene::release(Framebuffer* target) const {
   constexpr size_t kMaxFree = 64;  // a frame's working set, a few times over
   target->detachSharedDepthStencil();
@@ -421,6 +430,7 @@ void GpuScene::drawFullscreen() const {
 
 GpuScene::~GpuScene() {
   free_.clear();
+  shadowMapTarget_.reset();
   for (const auto& [stage, program] : programs_) glDeleteProgram(program);
   if (!cutouts_.empty()) glDeleteTextures(static_cast<GLsizei>(cutouts_.size()), cutouts_.data());
   if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());

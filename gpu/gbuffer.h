@@ -25,6 +25,7 @@ enum class Texel { Rgba32f, R32f, R8, Rgba8, Rgba32ui };
 Texel effectTexel(int channels);
 
 class GpuScene;
+class ShadowMapTarget;
 
 // A colour target set for a full-screen or geometry pass (+ depth and stencil).
 class Framebuffer {
@@ -169,6 +170,9 @@ class GpuScene {
   Target target(int width, int height, const std::vector<Texel>& formats, bool withDepth) const;
   Target target(int width, int height, int colorTargets, bool withDepth, Texel format = Texel::Rgba32f) const;
   void release(Framebuffer* target) const;
+  // The shadow map's target of this size (SSM, and SSGI's direct light), kept from frame to frame
+  // for the same reason; a new size replaces it.
+  ShadowMapTarget& shadowMapTarget(int size) const;
 
   // Draws the full-screen triangle (image-space passes; vertex shader fullscreen.vert).
   void drawFullscreen() const;
@@ -185,6 +189,7 @@ class GpuScene {
   unsigned emptyVao_ = 0, rectVao_ = 0, rectBuffer_ = 0;
   mutable std::map<std::string, unsigned> programs_;
   mutable std::vector<std::unique_ptr<Framebuffer>> free_;  // the pool, most recently freed last
+  mutable std::unique_ptr<ShadowMapTarget> shadowMapTarget_;
 };
 
 // Rasterises the full-res (level 0) G-buffer into `target` (the padded full-res size, + depth):

@@ -68,7 +68,7 @@ struct Pass {
       for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
     }
     scene.draw(in.cover, width, height);
-    checkGl("masks");
+    checkGl("masks.s" + std::to_string(step) + ".w" + std::to_string(width) + (in.cover.isWhole() ? ".whole" : ".cover"));
   }
 };
 
@@ -125,7 +125,7 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 
 Cover MaskTargets::supportCover(int level) const {
   const BlockMap& blocks = supportBlocks[static_cast<size_t>(level)];
-  return blocks ? Cover::blocksOf(blocks, 1 << (kLevelCount - 1 - level)) : Cover::whole();
+  return level == 0 && blocks ? Cover::blocksOf(blocks, 1 << (kLevelCount - 1)) : Cover::whole();
 }
 
 BlockMap MaskTargets::keep(Target map) {
@@ -145,10 +145,13 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
   // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels
   // too. M_2 first, straight from E (a 4×4 max-pool is the max-pool of 2×2 max-pools), then
-  // M_3. Their texels are the block maps of E on the 4×4 and the 8×8 grid (which blocks hold
-  // an edge: gpu/blocks.h); they stay on the GPU, and every pass below that has work only near
-  // an edge is drawn over the runs of maps made from them. M_1 is drawn only over M_2's edge
-  // blocks; elsewhere it is 0.
+  // M_1 and M_3. M_2's and M_3's texels are the block maps of E on the 4×4 and the 8×8 grid
+  // (which blocks hold an edge: gpu/blocks.h); they stay on the GPU. Level 0's passes below,
+  // which have work only near an edge, are drawn over the runs of maps made from them. The
+  // coarser levels' passes are drawn whole: they hold a quarter of level 0's pixels or fewer,
+  // and drawing a cover costs more than the pixels it skips there (blocks.geom runs on the host's
+  // cores under llvmpipe; docs/port.md, "The GPU-resident frame"). Either way a pass writes the
+  // same bits: a cover holds every pixel where the pass can be non-zero.
   auto maxPool = [&](int l, unsigned source, int channel, int factor, const Cover& cover) {
     Pass::Inputs in;
     in.source = source;
@@ -162,7 +165,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   const BlockMap fineBlocks(*mask[kCoarsest - 1]);  // the 4×4 grid's edge blocks (M_2)
   const BlockMap edgeBlocks(*mask[kCoarsest]);      // the 8×8 grid's (M_3)
   out->edgeBlocks = edgeBlocks;
-  maxPool(1, edges, edgeChannel, 2, Cover::blocksOf(fineBlocks, 2));
+  maxPool(1, edges, edgeChannel, 2, Cover::whole());
 
   // 1a. Every block map the passes below are drawn over, in two passes (gpu/blocks.h blockMaps):
   // level 0's on the 4×4 grid (its support is narrow), the others' on the 8×8 one, each a box
@@ -171,7 +174,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   // blur's, r_ℓ further along x, then y; S_ℓ's, the union of every finer enabled level's (the
   // closure); and the blend's near blocks, within a finer level's reach.
   const auto blockSize = [](int l) { return l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l); };
-  const auto cover = [&](const BlockMap& blocks, int l) { return Cover::blocksOf(blocks, blockSize(l)); };
+  // a level-0 pass's cover; a coarser level's passes are drawn whole (step 1)
+  const auto cover = [&](const BlockMap& blocks, int l) {
+    return l == 0 ? Cover::blocksOf(blocks, blockSize(l)) : Cover::whole();
+  };
   const int cap = c.effectMask.cap;
   struct LevelMaps {
     bool blurred = false, widened = false;
@@ -198,11 +204,13 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     };
     const auto along = [](int x, int y) { return MapSpec{x, y, -1, -1}; };
     if (m.widened) {
-      m.acrossCap = add(along(k, 0));
-      m.within = add(along(k, k));
+      if (l == 0) m.acrossCap = add(along(k, 0));
+      m.within = add(along(k, k));  // M'_ℓ's blocks: the a-posteriori term's (refineMasks)
     }
-    m.across = add(along(r, k));
-    m.near = add(along(r, r));
+    if (l == 0) {  // the blur's covers (a coarser level's blur is drawn whole)
+      m.across = add(along(r, k));
+      m.near = add(along(r, r));
+    }
     if (l == 0) supportB = r;
     else supportA = std::max(supportA, r);
     m.support = static_cast<int>(coarse.size());
@@ -241,7 +249,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
         Pass::Inputs in;
         in.source = fl;
         in.factor = 2;
-        in.cover = Cover::blocksOf(edgeBlocks, blockSize(l));
+        in.cover = Cover::whole();  // a coarser level (step 1)
         pooled = pass.run(1, {Texel::R32f}, lc.width, lc.height, in);
         fl = pooled->texture(0);
       }
@@ -319,7 +327,7 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     in.source = stencilTexture(static_cast<size_t>(l));
     in.previous = stencilTexture(static_cast<size_t>(next));
     in.factor = 1 << (next - l);
-    in.cover = Cover::blocksOf(out->supportBlocks[static_cast<size_t>(next)], 1 << (kCoarsest - next));
+    in.cover = Cover::whole();  // S_next is a coarser level's (step 1)
     stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
   for (Target& t : fineMaps) out->blockMaps.push_back(std::move(t));

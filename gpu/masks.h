@@ -37,7 +37,7 @@ struct MaskTargets final : DeviceMasks {
   // pixels, 8×8 full-res pixels): the blocks outside which the M_ℓ the blur read is 0 (E's edge
   // blocks, or a widened level's reach past them), and those outside which S_ℓ is 0 (none: the
   // whole level, the coarsest); refineMasks extends both. The effect passes' stencil fill is drawn
-  // over supportBlocks[ℓ] (supportCover).
+  // over supportCover(ℓ).
   std::array<BlockMap, kLevelCount> maskBlocks{}, supportBlocks{};
   BlockMap edgeBlocks;  // drawn: M of the coarsest level (which blocks hold an edge)
   BlockMap blendNear;   // drawn: the blocks within a finer level's reach of an edge block (the blend's)
@@ -48,7 +48,9 @@ struct MaskTargets final : DeviceMasks {
   // Tiles (gpu/peers.h): each 16×16 tile's rate (R32F, tile grid), after SPEC §13's limit.
   Target tileRates;
 
-  // Where S_ℓ can be set: supportBlocks[ℓ]'s runs, or the whole level.
+  // Where to draw level ℓ's passes that have work only where S_ℓ can be set: supportBlocks[0]'s
+  // runs at level 0; the whole level at a coarser one, where a cover costs more than the pixels
+  // it skips (gpu/masks.cpp drawMasks, step 1), and wherever supportBlocks[ℓ] is none.
   Cover supportCover(int level) const;
   // Keeps a block map target and returns its first map.
   BlockMap keep(Target map);

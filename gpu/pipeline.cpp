@@ -147,7 +147,7 @@ class PortFrame final : public FrameBackend {
   void shadowMap(FrameResult& f) override {
     const int size = f.constants.ssm.shadowMapSize;
     f.shadowMap = shadowMapFrame(source_.light, scene_.bounds(), size);
-    shadowMap_ = std::make_unique<ShadowMapTarget>(size);
+    shadowMap_ = &scene_.shadowMapTarget(size);
     drawShadowMap(scene_, f.shadowMap, *shadowMap_);
     if (keep_) f.shadowMap.depth = shadowMap_->read();
   }
@@ -393,7 +393,7 @@ class PortFrame final : public FrameBackend {
   GlTraffic afterFrame_;   // ... when its clock stopped
   std::vector<std::pair<size_t, unsigned>> queries_;
   std::array<Target, kLevelCount> gbuffers_;
-  std::unique_ptr<ShadowMapTarget> shadowMap_;
+  const ShadowMapTarget* shadowMap_ = nullptr;  // the scene's, kept from frame to frame
   Target shadowTest_, edges_, pcfSample_;
   std::shared_ptr<MaskTargets> maskTargets_;
   std::array<Target, kLevelCount> raw_, sub_;

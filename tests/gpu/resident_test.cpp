@@ -238,6 +238,33 @@ TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
   EXPECT_EQ(resident.shadedPixelsTotal, static_cast<int64_t>(s.width) * s.height);
 }
 
+// The shadow map's target is the scene's, kept from frame to frame (GpuScene::shadowMapTarget): a
+// renderer whose frames change the map's size, back and forth, gives each frame the bits a fresh
+// renderer gives it, on SSM and on SSGI (its direct light reads the map too).
+TEST(GpuResidentShadowMap, AKeptTargetGivesAFreshRenderersBitsAcrossSizes) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const ResolvedScene rs = builtinScene("shadows");
+  struct Frame {
+    Effect effect;
+    int size;
+    PixelVector<float> fresh;  // the final image from a renderer of its own
+  };
+  std::vector<Frame> frames;
+  for (const Effect effect : {Effect::Ssm, Effect::Ssgi})
+    for (const int size : {256, 512, 256}) frames.push_back({effect, size, {}});
+  const auto constants = [&](const Frame& f) {
+    Settings s = smallFrame(f.effect, 96, 64, false);
+    s.ssm.shadowMapSize = f.size;
+    return makeConstants(s, rs.framed.size);
+  };
+  // one renderer (one GL context) at a time: a context's display is the process's
+  for (Frame& f : frames) f.fresh = gpu::GpuRenderer(rs.scene).render(rs.camera, constants(f), {false, {}, nullptr}).final().data;
+  const gpu::GpuRenderer kept(rs.scene);
+  for (const Frame& f : frames)
+    EXPECT_EQ(kept.render(rs.camera, constants(f), {false, {}, nullptr}).final().data, f.fresh)
+        << toString(f.effect) << ", a " << f.size << "-texel map after the frames before it";
+}
+
 // The port's rule reads the same counts as the oracle's (SPEC §11): its pixels on geometry and
 // silhouettes, read back from its own G-buffer (equal to the oracle's but for silhouette pixels,
 // where the rasteriser and the rays may disagree). A model where the coarse G-buffers cost more

@@ -58,9 +58,7 @@ Masks fullModeMasks(const Constants& c) {
 }
 
 Masks uniformMasks(const Constants& c) {
-  // The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image: the ones a full-res
-  // pixel can take its value from.
-  auto levelExtent = [](int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; };
+  // levelExtent (frame.h): the level pixels a full-res pixel can take its value from
   Masks levels;
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];

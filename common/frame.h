@@ -294,6 +294,9 @@ inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
 // a pixel at its block's centre (level 0: the pixel itself). Level ℓ's G-buffer is level 0's at
 // these pixels (§1: subsampleGBuffer), and the blend puts its values there (§5).
 inline int levelSamplePixel(int x, int scale) { return x * scale + scale / 2; }
+// The level pixels, along one axis, whose s_ℓ×s_ℓ block starts inside the image's fullExtent
+// pixels: the ones a full-res pixel falls in (the peers' and full's shaded extent, SPEC §9).
+inline int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
 // SPEC §0: the level texel whose sample is nearest an on-screen point at level coordinates
 // u = q/s (q a continuous full-res coordinate, u in [0, level size)), along one axis: the samples
 // sit at x·s + ⌊s/2⌋ + ½, half a full-res pixel past their blocks' centres above level 0, so

@@ -533,7 +533,6 @@ Target insideTarget(const GpuScene& scene, int width, int height, Texel format, 
   checkGl("constant masks");
   return target;
 }
-int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
 }  // namespace
 
 std::unique_ptr<MaskTargets> drawFullMasks(const GpuScene& scene, const Constants& c) {

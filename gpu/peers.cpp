@@ -12,9 +12,6 @@
 namespace mrr::gpu {
 
 namespace {
-// The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image (as cpu_ref/peers.cpp).
-int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
-
 // A small integer (a rate, a level, a 0/1 flag) stored in a float channel.
 uint8_t toLevel(float v) { return static_cast<uint8_t>(v + 0.5f); }
 

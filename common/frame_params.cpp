@@ -17,7 +17,7 @@ constexpr bool kFile = true, kNoFile = false, kPage = true, kNoPage = false;
 constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 constexpr ParamRange closed(double lo, double hi) { return {lo, hi, false, false}; }
 constexpr ParamRange atLeast(double lo) { return {lo, kUnbounded, false, true}; }  // finite, >= lo
-constexpr ParamRange above(double lo) { return {lo, kUnbounded, true, true}; }    // finite, > lo
+constexpr ParamRange above(double lo) { return {lo, kUnbounded, true, true}; }     // finite, > lo
 constexpr ParamRange openClosed(double lo, double hi) { return {lo, hi, true, false}; }
 static_assert(sizeof(PerLevelField::values) / sizeof(float*) == kLevelCount);
 

@@ -77,7 +77,7 @@ struct FrameParamInfo {
   bool frameFile;          // written by `render --frame-out`, read back by --frame
   bool explore;            // the explore page may send it (options naming files or the machine stay on the command line)
   ParamRange range{};      // its values' range, where numeric (none: not checked here)
-  SettingAccessor field{}; // the Settings field it sets, or null: the front end resolves it
+  SettingAccessor field{};  // the Settings field it sets, or null: the front end resolves it
 };
 
 // Every row, in the order of Param (static_assert in the .cpp) — which is also the order of the

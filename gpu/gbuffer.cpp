@@ -1,4 +1,5 @@
 #include "gpu/gbuffer.h"
+
 #include "gpu/shadowmap.h"
 
 #define GL_GLEXT_PROTOTYPES 1

@@ -68,7 +68,7 @@ struct Pass {
       for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
     }
     scene.draw(in.cover, width, height);
-    checkGl("masks.s" + std::to_string(step) + ".w" + std::to_string(width) + (in.cover.isWhole() ? ".whole" : ".cover"));
+    checkGl("masks");
   }
 };
 
@@ -152,20 +152,19 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   // and drawing a cover costs more than the pixels it skips there (blocks.geom runs on the host's
   // cores under llvmpipe; docs/port.md, "The GPU-resident frame"). Either way a pass writes the
   // same bits: a cover holds every pixel where the pass can be non-zero.
-  auto maxPool = [&](int l, unsigned source, int channel, int factor, const Cover& cover) {
+  auto maxPool = [&](int l, unsigned source, int channel, int factor) {
     Pass::Inputs in;
     in.source = source;
     in.sourceChannel = channel;
     in.factor = factor;
-    in.cover = cover;
     mask[static_cast<size_t>(l)] = pass.run(1, {Texel::R8}, level(l).width, level(l).height, in);
   };
-  maxPool(2, edges, edgeChannel, 4, Cover::whole());
-  maxPool(3, mask[2]->texture(0), 0, 2, Cover::whole());
+  maxPool(2, edges, edgeChannel, 4);
+  maxPool(3, mask[2]->texture(0), 0, 2);
   const BlockMap fineBlocks(*mask[kCoarsest - 1]);  // the 4×4 grid's edge blocks (M_2)
   const BlockMap edgeBlocks(*mask[kCoarsest]);      // the 8×8 grid's (M_3)
   out->edgeBlocks = edgeBlocks;
-  maxPool(1, edges, edgeChannel, 2, Cover::whole());
+  maxPool(1, edges, edgeChannel, 2);
 
   // 1a. Every block map the passes below are drawn over, in two passes (gpu/blocks.h blockMaps):
   // level 0's on the 4×4 grid (its support is narrow), the others' on the 8×8 one, each a box

@@ -11,7 +11,7 @@ if grep -n '#include "cpu_ref/' "$here"/gpu/*.h "$here"/gpu/*.cpp; then
   exit 1
 fi
 # Unoptimised and in batches (a unity build): what is proved is that it compiles without the
-# oracle, and this way it takes a third of a Release build's time.
+# oracle, and this way it takes a quarter of a Release build's time (40 s against 158 s).
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O0" -DCMAKE_UNITY_BUILD=ON \
   -DMRR_BUILD_ORACLE=OFF -DCMAKE_CXX_FLAGS="-I$here/tests/no_embree" >/dev/null
 cmake --build "$build" --target mrr_gpu -j2

@@ -21,11 +21,11 @@ namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-using cli::Ran;
 using cli::lastLine;
-using cli::with;
-using cli::quote;
 using cli::mrr;
+using cli::quote;
+using cli::Ran;
+using cli::with;
 
 void writeText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 

@@ -26,9 +26,9 @@ namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-using cli::Ran;
 using cli::lastLine;
 using cli::quote;
+using cli::Ran;
 // Runs in DIR: the suite's folders are named relative to it.
 Ran mrrIn(const std::vector<std::string>& args, const std::string& dir) { return cli::mrr(args, dir, "", true); }
 
@@ -42,8 +42,8 @@ std::string makeFrames(const std::string& dir) {
                                                                                   {"demo-ssm", "builtin:demo", "ssm", "9"},
                                                                                   {"demo-ssgi", "builtin:demo", "ssgi", "8"}}) {
     const Ran r = mrrIn({"render", "--scene", scene, "--effect", effect, "--size", "64x36", "--samples", samples,
-                       "--never-slower", "off", "-q", "--frame-out", (frames / (name + ".json")).string()},
-                      dir);
+                         "--never-slower", "off", "-q", "--frame-out", (frames / (name + ".json")).string()},
+                        dir);
     EXPECT_EQ(r.status, 0) << r.err;
   }
   return frames.string();
@@ -182,13 +182,13 @@ TEST(Check, AgainstAFolderOfStages) {
   fs::create_directories(stages / "demo-ssm");
   for (const char* c : {"demo-ssao", "boxes-ssao"})
     ASSERT_EQ(mrrIn({"render", "--frame", (fs::path(frames) / (std::string(c) + ".json")).string(), "-q", "--stages",
-                   (stages / (std::string(c) + ".exr")).string()},
-                  dir)
+                     (stages / (std::string(c) + ".exr")).string()},
+                    dir)
                   .status,
               0);
   ASSERT_EQ(mrrIn({"render", "--frame", (fs::path(frames) / "demo-ssm.json").string(), "-q", "--out",
-                 (stages / "demo-ssm" / "final.exr").string()},
-                dir)
+                   (stages / "demo-ssm" / "final.exr").string()},
+                  dir)
                 .status,
             0);
   const Ran r = mrrIn({"check", frames, "--against", stages.string(), "-q"}, dir);

@@ -24,13 +24,13 @@ namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-using cli::mrr;
 using cli::lastLine;
-using cli::with;
+using cli::mrr;
 using cli::Ran;
+using cli::with;
 
-const std::vector<std::string> kNoiseFrame = {"--scene", "builtin:demo", "--effect", "ssao", "--size", "160x90", "--samples",
-                                         "16", "-q"};
+const std::vector<std::string> kNoiseFrame = {"--scene", "builtin:demo", "--effect", "ssao", "--size",
+                                              "160x90",  "--samples",    "16",       "-q"};
 
 // The oracle's stages of kNoiseFrame (plus `extra`) as `render --stages` writes them.
 std::string stages(const std::string& dir, const std::string& name, const std::vector<std::string>& extra) {
@@ -58,8 +58,9 @@ TEST(Seed, ChangesTheEffectAndIsRecordedInTheFrameFile) {
   EXPECT_EQ(part(base, "stencil.L1").data, part(seven, "stencil.L1").data);
   // The frame file records a seed other than 0 and reads it back.
   const std::string frame = (fs::path(dir) / "frame.json").string();
-  Ran r = mrr(with({"render", "--seed", "7", "--frame-out", frame, "--out", (fs::path(dir) / "a.exr").string()}, kNoiseFrame),
-              dir);
+  Ran r = mrr(
+      with({"render", "--seed", "7", "--frame-out", frame, "--out", (fs::path(dir) / "a.exr").string()}, kNoiseFrame),
+      dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(test::readFile(frame).find("\"seed\": 7"), std::string::npos) << test::readFile(frame);
   r = mrr({"render", "--seed", "-1", "--size", "8x8", "-q", "--out", (fs::path(dir) / "b.exr").string()}, dir);
@@ -221,7 +222,9 @@ TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
     return at == std::string::npos ? std::string() : text.substr(at + 1, text.find('\n', at + 1) - at - 1);
   };
   Ran r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against",
-                    (fs::path(dir) / "seed7.exr").string()}, kNoiseFrame), dir);
+                    (fs::path(dir) / "seed7.exr").string()},
+                   kNoiseFrame),
+              dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("noise-aware: pixel " + pixel + ", each stochastic stage against the oracle's 16 frames"),
             std::string::npos) << r.out;
@@ -241,7 +244,9 @@ TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
   EXPECT_NE(r.out.find("value lies OUTSIDE the accepted interval at raw.L0:"), std::string::npos) << r.out;
 
   // The same as JSON, and against the verdict's own figures.
-  r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--json", "--against", planted}, kNoiseFrame), dir);
+  r = mrr(
+      with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--json", "--against", planted}, kNoiseFrame),
+      dir);
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out).at("noise_aware");
   EXPECT_EQ(j.at("seeds"), 16);

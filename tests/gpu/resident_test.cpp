@@ -258,7 +258,8 @@ TEST(GpuResidentShadowMap, AKeptTargetGivesAFreshRenderersBitsAcrossSizes) {
     return makeConstants(s, rs.framed.size);
   };
   // one renderer (one GL context) at a time: a context's display is the process's
-  for (Frame& f : frames) f.fresh = gpu::GpuRenderer(rs.scene).render(rs.camera, constants(f), {false, {}, nullptr}).final().data;
+  for (Frame& f : frames)
+    f.fresh = gpu::GpuRenderer(rs.scene).render(rs.camera, constants(f), {false, {}, nullptr}).final().data;
   const gpu::GpuRenderer kept(rs.scene);
   for (const Frame& f : frames)
     EXPECT_EQ(kept.render(rs.camera, constants(f), {false, {}, nullptr}).final().data, f.fresh)

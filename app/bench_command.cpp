@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/methods.h"
 #include "compare/report/report_python.h"
 #include "compare/rule/rule.h"
 #include "frontend/options.h"
@@ -17,7 +18,7 @@ namespace mrr {
 
 namespace {
 
-// The foveation group (issue 37, SPEC §13; compare/bench/bench_fovea.h).
+// The foveation group (SPEC §13; compare/bench/bench_fovea.h).
 void addFoveaOptions(CLI::App& b, BenchCommand& c) {
   BenchOptions& o = c.options;
   b.add_flag("--no-fovea", c.noFovea, "skip the foveation group");
@@ -46,10 +47,10 @@ void addSweepOptions(CLI::App& b, BenchCommand& c) {
   b.add_option("--effects", o.effects, "effects: ssao ssm ssgi")->capture_default_str();
   b.add_option(optionName(Param::Samples), o.samples,
                "sample counts of the main sweep (default: the paper's middle count, ssao 64, ssm 196, ssgi 288)");
-  b.add_option("--methods", o.methods, "methods: full uniform-1 uniform-2 tiles mrr mrr-effect, and mrr-effect's variants +cN, +fN, +xF, +noblur, "
-               "+pT, +lN (the a-posteriori term), +bB (its budget; +b0: the a-priori method), +tL and +hH (the temporal term and the marks' "
-               "hysteresis, on the camera paths), e.g. mrr-effect+c4+p0.3, +e (the ablation's effect-only arm) and +norule (without the "
-               "never-slower rule); tiles+tL (the same temporal term for tiles)")->capture_default_str();
+  b.add_option("--methods", o.methods,
+               "methods: " + methodNames(" and ") +
+                   ", each with its variants' switches (mrr methods lists them), e.g. mrr-effect+c4+p0.3, mrr+norule")
+      ->capture_default_str();
   b.add_option("--cameras", o.cameras, "cameras per scene (the paper: 8)")->capture_default_str();
   b.add_option("--repeats", o.repeats, "timed repeats per configuration")->capture_default_str();
   b.add_option(optionName(Param::Threads), o.threads, "the oracle's threads (0 = all cores)");

@@ -85,7 +85,7 @@ void addShadersCommand(CLI::App& app, ShadersCommand& s) {
 
 namespace {
 
-// mrr's sampling as data (issue 40; docs/spec.md §7.1), for a renderer that wants the oracle's
+// mrr's sampling as data (docs/spec.md §7.1), for a renderer that wants the oracle's
 // exact numbers: the kernels at the default sample counts of seed 0 (JSON and a two-part EXR,
 // one N x 1 RGB row each), and the rotation hash's definition with test vectors.
 void writeSampling(const std::filesystem::path& dir) {

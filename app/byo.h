@@ -1,5 +1,5 @@
 #pragma once
-// Bring your own (issue 17): the command line of `--shaders DIR`, `mrr shaders export|contract`
+// Bring your own: the command line of `--shaders DIR`, `mrr shaders export|contract`
 // and `compare --against FILE`, kept apart from main.cpp so the subcommands share one helper.
 #include <CLI/CLI.hpp>
 

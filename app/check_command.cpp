@@ -1,4 +1,4 @@
-// `mrr check DIR` (issue 38): a validation suite. Every frame file DIR/CASE.json is one case, one
+// `mrr check DIR`: a validation suite. Every frame file DIR/CASE.json is one case, one
 // `compare` of its frame (app/compare_command.cpp: compareFrame): the oracle against the port,
 // the port with --shaders SDIR, or --against ADIR's stages (ADIR/CASE.exr or ADIR/CASE/). One
 // verdict: exit 0 when every case passes, 1 when one fails, 2 when one could not run (or on a

@@ -84,7 +84,7 @@ std::vector<Settings> prepareCompare(CompareCommand& c);
 CompareOutcome compareFrame(const CompareCommand& c, const std::vector<Settings>& settings, std::ostream* out,
                             std::mutex* portLock = nullptr);
 
-// ---- check (app/check_command.cpp): a folder of frame files, one compare each (issue 38) ----------------
+// ---- check (app/check_command.cpp): a folder of frame files, one compare each ----------------
 struct CheckCommand {
   CLI::App* command = nullptr;
   std::string dir;                  // the suite: a folder of frame files

@@ -1,6 +1,6 @@
 // `mrr compare`: the oracle and the port on the same frame, every stage compared (SPEC §8).
 // Exit 0 when every stage is within tolerance, 1 when one is not, 2 on bad input. With
-// `--against FILE` (issue 17): the oracle against another renderer's stages (compare/parity/against.h);
+// `--against FILE`: the oracle against another renderer's stages (compare/parity/against.h);
 // the port does not run.
 #include <tbb/global_control.h>
 

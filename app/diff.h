@@ -1,5 +1,5 @@
 #pragma once
-// `mrr diff REF TEST` (issue 36): any two images, PNG or EXR, compared as a viewer sees them:
+// `mrr diff REF TEST`: any two images, PNG or EXR, compared as a viewer sees them:
 // RMS, PSNR, SSIM, max |Δ| (compare/metrics/metrics.h) and LDR-FLIP (compare/metrics/flip.h), printed and
 // optionally written as JSON and as a FLIP map. docs/diff.md shows it.
 #include <CLI/CLI.hpp>

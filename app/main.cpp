@@ -216,7 +216,7 @@ int main(int argc, char** argv) {
   // DAMON page-out on): with them, frames after some others in one process ran their G-buffer,
   // edges and shading 3-13x slower than the same work in `full`'s frame (the kernel zeroing huge
   // pages at 13% of the samples), at random by the methods' mix; without, every method's frame
-  // times are steady (docs/figures.md, fourth session). Best effort: an old kernel refuses it.
+  // times are steady (docs/figures.md). Best effort: an old kernel refuses it.
   prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0);
   mrr::removeTemporariesOnInterrupt();
   try {

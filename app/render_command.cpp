@@ -194,6 +194,13 @@ int runRenderCommand(RenderCommand& c) {
       previousFrameHistory(*renderer, rs.camera, settings, rs.framed.size, &costs, progressPrinter(fo.quiet, "previous frame"));
   RenderOptions options{keepStages, progressPrinter(fo.quiet, toString(settings.mode)), &costs};
   if (!previous.empty()) options.history = &previous;
+  // What comes back from the port after the frame: the images written, and the maps the report
+  // reads (SPEC §13's, the tiles' rates); a report alone needs none (docs/port.md).
+  const bool reportReadsMaps = !c.report.empty() && (constants.foveation.active() || settings.mode == Mode::Tiles);
+  const bool reportReadsRings = !c.report.empty() && constants.foveation.gaze;  // shaded level pixels per ring
+  options.outputs = c.reference ? kOutputAll
+                                : (!c.out.empty() ? kOutputFinal : 0u) | (!c.shaded.empty() ? kOutputShaded : 0u) |
+                                      (reportReadsMaps ? kOutputMaps : 0u) | (reportReadsRings ? kOutputStencils : 0u);
   const FrameResult frame = renderer->render(rs.camera, constants, options);
 
   std::optional<FrameErrors> err;

@@ -21,11 +21,32 @@ void FrameBackend::timeStage(FrameResult& f, const std::string& name, const std:
   f.timings.push_back({name, msSince(t0)});
 }
 
-Masks FrameBackend::fullMasks(FrameResult& f) { return fullModeMasks(f.constants); }
-Masks FrameBackend::uniformMasks(FrameResult& f) { return mrr::uniformMasks(f.constants); }
+FrameMasks FrameBackend::fullMasks(FrameResult& f) { return fullModeMasks(f.constants); }
+FrameMasks FrameBackend::uniformMasks(FrameResult& f) { return mrr::uniformMasks(f.constants); }
 
-Masks buildMasks(FrameBackend& b, MaskBuilder builder, FrameResult& f) {
-  using Build = Masks (FrameBackend::*)(FrameResult&);
+void FrameBackend::countEarly(FrameResult& f, const std::function<bool(const FrameCounts&)>& wantSample) {
+  ImageU8 silhouetteBlocks;
+  countHits(f.counts, fullResHit(f), f.pcfSample, f.constants, &silhouetteBlocks);
+  if (!wantSample || !wantSample(f.counts)) return;
+  sampleEdges(f);
+  f.edgeSampled = true;
+  countEdgeSample(f.counts, f.edgeSample, silhouetteBlocks, fullResHit(f), f.constants);
+}
+
+void FrameBackend::countStencils(FrameResult& f, const FrameMasks& masks) {
+  countForRule(f.counts, masks.host, f.constants, fullResHit(f), f.pcfSample);
+}
+
+void FrameBackend::countHitPixels(FrameResult& f, FrameCounts* finalStencils) {
+  f.countHitPixels(fullResHit(f));
+  if (!finalStencils) return;
+  Masks stencils;
+  for (size_t l = 0; l < kLevelCount; ++l) stencils[l].stencil = f.levels[l].masks.stencil;
+  countForRule(*finalStencils, stencils, f.constants, fullResHit(f), f.pcfSample);
+}
+
+FrameMasks buildMasks(FrameBackend& b, MaskBuilder builder, FrameResult& f) {
+  using Build = FrameMasks (FrameBackend::*)(FrameResult&);
   // In MaskBuilder's order.
   static constexpr Build kBuilders[] = {&FrameBackend::fullMasks, &FrameBackend::uniformMasks, &FrameBackend::tileMasks,
                                         &FrameBackend::edgeMasks, &FrameBackend::effectMasks};
@@ -80,13 +101,12 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
       const bool counted = c.neverSlower || options.sampleWithRuleOff;
       if (c.effect == Effect::Ssm && counted && model.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample > 0.0)
         b.samplePcf(f);
-      ImageU8 silhouetteBlocks;
-      countHits(f.counts, b.fullResHit(f), f.pcfSample, c, &silhouetteBlocks);
-      const bool floorRulesOut = c.neverSlower && decideOnFloor(model, c, f.counts).fellBack;
-      if (counted && (!floorRulesOut || options.sampleWithRuleOff)) {
-        b.sampleEdges(f);
-        countEdgeSample(f.counts, f.edgeSample, silhouetteBlocks, b.fullResHit(f), c);
-      }
+      // the edge sample, unless the floor (on these counts) already rules the method out
+      const auto wantSample = [&](const FrameCounts& counts) {
+        const bool floorRulesOut = c.neverSlower && decideOnFloor(model, c, counts).fellBack;
+        return !floorRulesOut || options.sampleWithRuleOff;
+      };
+      b.countEarly(f, counted ? std::function<bool(const FrameCounts&)>(wantSample) : nullptr);
     });
   if (c.neverSlower) {
     const FallbackDecision early = decideEarly(model, c, f.counts);
@@ -98,22 +118,29 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   }
 
   // 2–3. Which pixels of which level are shaded (SPEC §2–3; the peers' §9): the edges where the
-  // method finds them, then its mask builder (common/methods.h).
+  // method finds them, then its mask builder (common/methods.h), on the backend's own objects.
   const MethodInfo& shading = fellBackEarly ? methodInfo(Mode::Full) : method;
   if (shading.findsEdges) stage(stageName(Part::Edges), [&] { b.edges(f); });
-  Masks masks;
+  FrameMasks masks;
   if (shading.hostMadeMasks())
     masks = buildMasks(b, shading.masks, f);
   else
     stage(stageName(Part::Stencil), [&] { masks = buildMasks(b, shading.masks, f); });
-  // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest.
+  // A caller's own masks (RenderOptions::replaceMasks: the Python module's, on the oracle's host images).
+  if (options.replaceMasks && !fellBackEarly) {
+    require(!masks.device, "a caller's own masks need the oracle's host masks (--path cpu)");
+    options.replaceMasks(f, masks.host);
+  }
+  // SPEC §11: with the stencils known and nothing shaded yet, predict both frames' rest; a
+  // fallback shades full's stencils, made by the same backend.
   if (method.neverSlower && !fellBackEarly) {
-    stage(timedName(Timed::Rule), [&] { countForRule(f.counts, masks, c, b.fullResHit(f), f.pcfSample); });
-    applyNeverSlower(f, masks, model);
+    stage(timedName(Timed::Rule), [&] { b.countStencils(f, masks); });
+    if (applyNeverSlower(f, model)) masks = buildMasks(b, MaskBuilder::Full, f);
   }
   b.useMasks(f, masks, stage);
-  for (int l = 0; l < kLevelCount; ++l) f.levels[static_cast<size_t>(l)].masks = std::move(masks[static_cast<size_t>(l)]);
-  f.countShadedPixels();
+  for (int l = 0; l < kLevelCount; ++l)
+    f.levels[static_cast<size_t>(l)].masks = std::move(masks.host[static_cast<size_t>(l)]);
+  b.countShaded(f);
 
   // 1, continued. The coarser levels' G-buffers: level 0 at the pixels theirs hold.
   for (int l = 1; l < kLevelCount; ++l)
@@ -150,7 +177,7 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
       }
       b.shadeLevel(f, l, stage);
     }
-    f.countShadedPixels();
+    b.countShaded(f);
   } else {
     for (int l = 0; l < kLevelCount; ++l)
       if (c.levels[static_cast<size_t>(l)].enabled) b.shadeLevel(f, l, stage);
@@ -164,15 +191,14 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
   stage(stageName(Part::Shaded), [&] { b.shade(f); });
   b.endFrame(f);
   f.timings.push_back({timedName(Timed::Total), msSince(frameStart)});
-  f.countHitPixels(b.fullResHit(f));  // a figure for reports, after the clock stopped
-  // SPEC §12.4: each level's predicted time on its final stencils, for the report beside the measured
-  if (method.neverSlower && !fellBackEarly) {
-    Masks stencils;
-    for (size_t l = 0; l < kLevelCount; ++l) stencils[l].stencil = f.levels[l].masks.stencil;
-    FrameCounts counts = f.counts;
-    countForRule(counts, stencils, f.constants, b.fullResHit(f), f.pcfSample);
-    for (int l = 0; l < kLevelCount; ++l) f.predictedLevelMs[static_cast<size_t>(l)] = predictLevelMs(model, f.constants, counts, l);
-  }
+  // Figures for reports, after the clock stopped: H and the ideal speedups, and (SPEC §12.4) each
+  // level's predicted time on its final stencils beside the measured
+  const bool predictLevels = method.neverSlower && !fellBackEarly;
+  FrameCounts finalCounts = f.counts;
+  b.countHitPixels(f, predictLevels ? &finalCounts : nullptr);
+  if (predictLevels)
+    for (int l = 0; l < kLevelCount; ++l)
+      f.predictedLevelMs[static_cast<size_t>(l)] = predictLevelMs(model, f.constants, finalCounts, l);
   return f;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// One frame, one order of stages, for both paths (issue 16; after Filament's driver API and
+// One frame, one order of stages, for both paths (after Filament's driver API and
 // Falcor's render passes). renderFrame walks the pipeline's steps in the order of the stage
 // list (common/stages.h), names and times each, reports progress, applies the never-slower rule
 // and counts the shaded pixels; a FrameBackend does each step's work on its own images (the
@@ -24,8 +24,7 @@ class FrameBackend {
   // times GL work with glFinish or timer queries, resolved in endFrame.
   virtual void timeStage(FrameResult& f, const std::string& name, const std::function<void()>& body);
   virtual void endFrame(FrameResult& /*f*/) {}
-  // The full-res G-buffer's hit flags: for the never-slower rule's counts (SPEC §11) and
-  // FrameResult::idealSpeedupHit (the port reads them back once when the frame keeps no G-buffer).
+  // The full-res G-buffer's hit flags, for the host's rule counts below (the oracle's own image).
   virtual const ImageU8& fullResHit(const FrameResult& f) { return f.levels[0].gbuffer.hit; }
   // SSM: what PCSS pays at each pixel of the 8×8 grid, into f.pcfSample, for the rule's H_a and
   // H_p (SPEC §11), called when the model prices PCF (e > 0). Each path asks its own PCSS:
@@ -35,6 +34,23 @@ class FrameBackend {
   // of S_ℓ (SPEC §11): cpu_ref/edges.h edgeSample, edges.frag with EDGE_SAMPLE. Runs after the
   // shadow test (SSM's shadow edges count), and not at all where the floor rules the method out.
   virtual void sampleEdges(FrameResult& f) = 0;
+
+  // SPEC §11's counts. The defaults count on the host with common/frame.h's readable functions
+  // (countHits, countEdgeSample, countForRule) from the hit flags, the samples and S_ℓ; the port
+  // reduces the same counts on the GPU and reads a few integers (gpu/rule.h), tested equal.
+  // Before the edges: H, H_a, H_p, F and B_ℓ into f.counts; then, when `wantSample` is given and
+  // says so of those counts (the floor does not already rule the method out), the edge sample
+  // and Ê, R_ℓ (f.edgeSampled). Without `wantSample` the frame takes no sample.
+  virtual void countEarly(FrameResult& f, const std::function<bool(const FrameCounts&)>& wantSample);
+  // With the stencils known: |S_ℓ|, |S_ℓ ∩ hit| and the PCF shares into f.counts.
+  virtual void countStencils(FrameResult& f, const FrameMasks& masks);
+  // |S_ℓ|, their 4×2 blocks and the ideal speedups into f (FrameResult::countShadedPixels), once
+  // the stencils are final; and idealSpeedupHit once the clock has stopped (countHitPixels). The
+  // port counts a resident frame's on the GPU after the frame.
+  virtual void countShaded(FrameResult& f) { f.countShadedPixels(); }
+  // With `finalStencils` (f.counts so far), countStencils' counts on the frame's final stencils
+  // (after the a-posteriori term) into it as well: SPEC §12.4's predicted time per level.
+  virtual void countHitPixels(FrameResult& f, FrameCounts* finalStencils);
 
   // 1. The full-res G-buffer (the masks are made from it alone), then, once the stencils are
   // known, each coarser enabled level's, subsampled from it (SPEC §1).
@@ -46,18 +62,19 @@ class FrameBackend {
   // 2. The edge image (modes mrr and tiles).
   virtual void edges(FrameResult& f) = 0;
   // 3. Each mask builder of the method table (common/methods.h MaskBuilder) on this backend; the
-  // frame calls its method's (buildMasks). Each returns at least every S_ℓ on the host (the
-  // never-slower rule and |S_ℓ| read them). full's and uniform-k's are constants of the frame's
-  // size, made on the host for every backend (fullModeMasks, uniformMasks); tiles' fill
-  // f.tileRates; mrr-effect's widen M_ℓ by the effect's footprint (docs/spec.md §12).
-  virtual Masks fullMasks(FrameResult& f);
-  virtual Masks uniformMasks(FrameResult& f);
-  virtual Masks tileMasks(FrameResult& f) = 0;
-  virtual Masks edgeMasks(FrameResult& f) = 0;
-  virtual Masks effectMasks(FrameResult& f) = 0;
-  // The stencils the frame shades with, once the rule has decided (made on the host for full,
-  // uniform-k or a fallback): the port uploads them where it has not drawn them itself.
-  virtual void useMasks(FrameResult& /*f*/, const Masks& /*masks*/, const StageFn& /*stage*/) {}
+  // frame calls its method's (buildMasks). Each hands on the backend's own masks (FrameMasks: the
+  // oracle's host images, the port's targets). full's and uniform-k's are constants of the
+  // frame's size (fullModeMasks, uniformMasks: the defaults, on the host; the port draws them);
+  // tiles' fill f.tileRates where the frame keeps host images; mrr-effect's widen M_ℓ by the
+  // effect's footprint at the edges (docs/spec.md §12).
+  virtual FrameMasks fullMasks(FrameResult& f);
+  virtual FrameMasks uniformMasks(FrameResult& f);
+  virtual FrameMasks tileMasks(FrameResult& f) = 0;
+  virtual FrameMasks edgeMasks(FrameResult& f) = 0;
+  virtual FrameMasks effectMasks(FrameResult& f) = 0;
+  // The stencils the frame shades with, once the rule has decided (its method's, or full's after
+  // a fallback): the port takes its targets, or uploads host images it did not draw.
+  virtual void useMasks(FrameResult& /*f*/, const FrameMasks& /*masks*/, const StageFn& /*stage*/) {}
   virtual const char* pathName() const = 0;  // "cpu" or "gpu": CostModel::defaults' path
   // 4. The effect at level ℓ's stencilled pixels, and SSAO's blur (sub-steps named through `stage`).
   virtual void shadeLevel(FrameResult& f, int level, const StageFn& stage) = 0;
@@ -75,7 +92,7 @@ class FrameBackend {
 };
 
 // The mask builder `builder` of `backend` (FrameBackend::fullMasks … effectMasks).
-Masks buildMasks(FrameBackend& backend, MaskBuilder builder, FrameResult& f);
+FrameMasks buildMasks(FrameBackend& backend, MaskBuilder builder, FrameResult& f);
 
 FrameResult renderFrame(FrameBackend& backend, const DirectionalLight& light, const Camera& camera,
                         const Constants& constants, const RenderOptions& options);

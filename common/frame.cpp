@@ -58,9 +58,7 @@ Masks fullModeMasks(const Constants& c) {
 }
 
 Masks uniformMasks(const Constants& c) {
-  // The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image: the ones a full-res
-  // pixel can take its value from.
-  auto levelExtent = [](int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; };
+  // levelExtent (frame.h): the level pixels a full-res pixel can take its value from
   Masks levels;
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -355,14 +353,18 @@ double FrameResult::timing(const std::string& stage) const {
   return ms;
 }
 
-void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model) {
+bool applyNeverSlower(FrameResult& f, const CostModel& model) {
   f.fallback = decideFallback(model, f.constants, f.counts);
   f.fallback.evaluated = f.constants.neverSlower;
   f.fallback.wouldFallBack = f.fallback.fellBack;
   if (!f.constants.neverSlower) f.fallback.fellBack = false;  // predicted only
-  if (!f.fallback.fellBack) return;
+  if (!f.fallback.fellBack) return false;
   f.constants.fallBackToFull();
-  masks = fullModeMasks(f.constants);
+  return true;
+}
+
+void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model) {
+  if (applyNeverSlower(f, model)) masks = fullModeMasks(f.constants);
 }
 
 int64_t estimateFrameBytes(const Constants& c, bool keepStages) {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,24 @@ struct MaskLevel {
 };
 using Masks = std::array<MaskLevel, kLevelCount>;
 
+// A backend's own mask objects (the port: its targets, gpu/masks.h MaskTargets), behind the frame
+// contract: the driver hands them from the mask builder to the rule and the shading passes
+// without looking inside.
+class DeviceMasks {
+ public:
+  virtual ~DeviceMasks() = default;
+};
+
+// What a mask builder hands on (SPEC §3, §9): the backend's own masks, and host images where the
+// backend has them: the oracle's always; the port's only when the frame keeps its stages (else
+// `host` is empty and the host gets S_ℓ only when it asks, after the frame: RenderOptions::outputs).
+struct FrameMasks {
+  FrameMasks() = default;
+  FrameMasks(Masks h) : host(std::move(h)) {}  // NOLINT: host images alone (the oracle's builders)
+  Masks host;
+  std::shared_ptr<DeviceMasks> device;
+};
+
 // Stencils that are a constant of the frame's size, made on the host for every path:
 // mode `full` (level 0 shades exactly the W×H pixels) and uniform-k (S_k = 1 on every level-k
 // pixel whose block starts inside W×H; level 0 keeps its G-buffer but shades nothing).
@@ -149,6 +168,18 @@ struct StageTiming {
   double ms = 0.0;
 };
 
+// What a frame of the port said to the host (gpu/traffic.h, the report's `gl` object;
+// docs/port.md, "What a frame costs the host"). Counted where the port makes the calls.
+struct GlTraffic {
+  bool measured = false;      // false on the oracle, which has no GPU to talk to
+  int64_t readbacks = 0;      // images read back (glReadPixels of a target)
+  int64_t readbackBytes = 0;  // the bytes of those and of the small reads
+  int64_t countReads = 0;     // small reads: a few integers (the never-slower rule's counts)
+  int64_t waits = 0;          // the host waiting on the GPU for the frame: glFinish, reads, query results
+  int64_t timingWaits = 0;    // ... for the clock alone: the wall clock's glFinish per stage, timer queries
+  int64_t finishes = 0;       // glFinish calls, whatever they were for
+};
+
 // One rendered frame, as either path fills it. With RenderOptions::keepStages every stage's
 // images are here (for --stages, probe and compare); without, the port fills only what the
 // report and the outputs need.
@@ -181,12 +212,16 @@ struct FrameResult {
   double idealSpeedup = 1.0;  // W·H / Σ|S_ℓ| (SPEC §4)
   // The same over pixels that hit geometry, what full mode really pays for (background costs
   // nothing in either mode): hit pixels of W×H / Σ|S_ℓ ∩ hit|, a level pixel (x, y) counting
-  // as hit when full-res pixel (x·s + s/2, y·s + s/2) is (issue 18). countHitPixels sets it.
+  // as hit when full-res pixel (x·s + s/2, y·s + s/2) is. countHitPixels sets it.
   double idealSpeedupHit = 1.0;
   // The same over whole 4×2 blocks: llvmpipe skips a block only when all eight fail the
-  // stencil (PLATFORM.md), so this is the most a stencilled pass can gain there.
+  // stencil (docs/platform.md), so this is the most a stencilled pass can gain there.
   double blockIdealSpeedup = 1.0;
   std::vector<StageTiming> timings;  // in pipeline order; "total" last
+  // The port (gpu/traffic.h): inside the timed frame; after it (the images and counts the caller
+  // asked for, RenderOptions::outputs); and the whole process up to then.
+  GlTraffic gl, glAfterFrame, glProcess;
+  bool edgeSampled = false;  // the rule's edge sample was taken (f.counts' edgeBlocks, reach are its)
 
   // SPEC §14, with Constants::temporal on: what the term made from the previous frame (empty
   // without one), and what this frame leaves for the next.
@@ -209,6 +244,17 @@ struct FrameResult {
 // Receives "stage name" as each stage starts (progress lines on stderr).
 using ProgressFn = std::function<void(const std::string&)>;
 
+// The host images a frame without keepStages brings back once its clock has stopped (the port;
+// the oracle has them anyway). A plain `render` asks only for what it writes; every other
+// caller gets them all. The counts (|S_ℓ|, the ideal speedups, the rule's) always come.
+enum FrameOutput : unsigned {
+  kOutputFinal = 1u << 0,     // the final image and the level map
+  kOutputShaded = 1u << 1,    // the shaded image
+  kOutputStencils = 1u << 2,  // S_ℓ of every enabled level (f.levels[ℓ].masks.stencil)
+  kOutputMaps = 1u << 3,      // SPEC §13's eccentricity, motion and level limit; tiles' rates
+  kOutputAll = kOutputFinal | kOutputShaded | kOutputStencils | kOutputMaps,
+};
+
 struct RenderOptions {
   // Keep the per-level full-res blend images (ĉ_ℓ, α_ℓ, c'_ℓ) for --stages and probe. The
   // benchmark turns it off: they are debugging output, not part of the method's cost.
@@ -224,6 +270,13 @@ struct RenderOptions {
   // SPEC §14: the previous frame of the same camera's path, when it is known (the bench's camera
   // paths, render --prev-frame/--pan, compare): the temporal term reads it. Null: none.
   const FrameHistory* history = nullptr;
+  unsigned outputs = kOutputAll;  // FrameOutput bits: what comes back after the frame
+  // A caller's own masks (the Python module's masks from numpy, docs/python.md): called once the
+  // method's mask builder has made `masks` and before the never-slower rule counts them, with the
+  // frame so far (G-buffers, edges, the level limit); it may replace any level's M_ℓ, a_ℓ, S_ℓ.
+  // Not called when the rule sent the frame to full resolution before its masks. The oracle shades
+  // what it leaves; the port shades the masks it drew, so callers use it with the oracle.
+  std::function<void(const FrameResult& f, Masks& masks)> replaceMasks{};
 };
 
 // SPEC §11 on a frame whose stencils are `masks` (counted into f.counts) and nothing else of
@@ -231,6 +284,9 @@ struct RenderOptions {
 // f.constants.neverSlower, decides and on a fallback switches f.constants and `masks` to a
 // full-res frame. renderFrame calls it at that point for both pipelines.
 void applyNeverSlower(FrameResult& f, Masks& masks, const CostModel& model);
+// The same decision, leaving the masks to the caller: true when the frame falls back (f.constants
+// are then full's; the caller makes full's stencils on its backend).
+bool applyNeverSlower(FrameResult& f, const CostModel& model);
 
 // SPEC §11's counts for the frame's stencils: |S_ℓ| and |S_ℓ ∩ hit| per shaded level, from the
 // full-res hit flags (a level-ℓ pixel (x, y) is on geometry when full-res pixel (x·s + s/2,
@@ -269,6 +325,9 @@ inline uint8_t pcfSampleValue(const ImageU8& pcfSample, int x, int y) {
 // a pixel at its block's centre (level 0: the pixel itself). Level ℓ's G-buffer is level 0's at
 // these pixels (§1: subsampleGBuffer), and the blend puts its values there (§5).
 inline int levelSamplePixel(int x, int scale) { return x * scale + scale / 2; }
+// The level pixels, along one axis, whose s_ℓ×s_ℓ block starts inside the image's fullExtent
+// pixels: the ones a full-res pixel falls in (the peers' and full's shaded extent, SPEC §9).
+inline int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
 // SPEC §0: the level texel whose sample is nearest an on-screen point at level coordinates
 // u = q/s (q a continuous full-res coordinate, u in [0, level size)), along one axis: the samples
 // sit at x·s + ⌊s/2⌋ + ½, half a full-res pixel past their blocks' centres above level 0, so

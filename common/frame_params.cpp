@@ -14,10 +14,10 @@ namespace {
 
 using K = ParamKind;
 constexpr bool kFile = true, kNoFile = false, kPage = true, kNoPage = false;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 constexpr ParamRange closed(double lo, double hi) { return {lo, hi, false, false}; }
-constexpr ParamRange atLeast(double lo) { return {lo, kInf, false, true}; }  // finite, >= lo
-constexpr ParamRange above(double lo) { return {lo, kInf, true, true}; }    // finite, > lo
+constexpr ParamRange atLeast(double lo) { return {lo, kUnbounded, false, true}; }  // finite, >= lo
+constexpr ParamRange above(double lo) { return {lo, kUnbounded, true, true}; }     // finite, > lo
 constexpr ParamRange openClosed(double lo, double hi) { return {lo, hi, true, false}; }
 static_assert(sizeof(PerLevelField::values) / sizeof(float*) == kLevelCount);
 
@@ -161,7 +161,7 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::Quiet, "quiet", "-q", K::Flag, "", "no progress lines on stderr", kNoFile, kNoPage},
 };
 
-bool rowsInEnumOrder() {
+bool paramRowsInEnumOrder() {
   for (size_t i = 0; i < kFrameParams.size(); ++i)
     if (static_cast<size_t>(kFrameParams[i].param) != i) return false;
   return kFrameParams.back().param == Param::Quiet;
@@ -203,7 +203,7 @@ std::string settingsDefault(Param param) {
 }  // namespace
 
 const std::vector<FrameParamInfo>& frameParams() {
-  static const bool ordered = rowsInEnumOrder();
+  static const bool ordered = paramRowsInEnumOrder();
   require(ordered, "internal: kFrameParams must list every Param in enum order");
   return kFrameParams;
 }
@@ -245,7 +245,7 @@ std::string ParamRange::text() const {
     if (v == std::round(v) && a < 1e15) return std::to_string(static_cast<long long>(v));
     return number(v);
   };
-  if (hi == kInf) return std::string(loOpen ? "> " : ">= ") + num(lo);
+  if (hi == kUnbounded) return std::string(loOpen ? "> " : ">= ") + num(lo);
   return std::string(loOpen ? "(" : "[") + num(lo) + ", " + num(hi) + (hiOpen ? ")" : "]");
 }
 
@@ -261,7 +261,7 @@ std::string paramRange(Param param) {
 
 std::string rangeRule(Param param) {
   const ParamRange& r = paramInfo(param).range;
-  return r.hi == kInf ? "must be " + r.text() : "must be in " + r.text();
+  return r.hi == kUnbounded ? "must be " + r.text() : "must be in " + r.text();
 }
 
 bool hasSettingField(Param param) { return paramInfo(param).field != nullptr; }

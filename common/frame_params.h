@@ -1,5 +1,5 @@
 #pragma once
-// The frame parameters: one table (issue 33). Every option that says which frame to render is
+// The frame parameters: one table. Every option that says which frame to render is
 // one row here, and everything that names one reads it from this table: the command line
 // (frontend/frame_options.cpp registers a CLI11 option per row), frame files (their keys and
 // how each value becomes a command-line word: frontend/frame_file.cpp), `mrr explore`'s
@@ -29,13 +29,13 @@ enum class Param {
   Scene, Effect, Method, NeverSlower, CostModel, Path, GlDevice, GpuTiming, Size, Samples, Threads,
   Seed, CoarseGbuffer, Camera, Eye, Target, Up, Fov, Frame, BlendMaterials, LightDir, FlipUp, NoFlipUp, AoRadius,
   AoBias, ShadowMapSize, LightAngle, GiRadius, AoTexelDepth, TauN, TauZ, DisableLevel, Sigma2, Weights,
-  EffectCap, EffectFirstLevel, EffectScale,  // mrr-effect's widening (issue 35, SPEC §12)
+  EffectCap, EffectFirstLevel, EffectScale,  // mrr-effect's widening (SPEC §12)
   EffectPosterior, EffectPosteriorFinest,    // mrr-effect's a-posteriori marks (SPEC §12.2)
   EffectOnly,                                // the ablation's effect-only arm (SPEC §12.3)
   EffectBudget,                              // the a-posteriori term's budget in predicted time (SPEC §12.4)
   EffectTemporal, EffectHysteresis,          // the temporal term (SPEC §14)
   TilesTemporal,                             // the same temporal term for tiles (SPEC §14)
-  Ppd, Gaze, Foveate, PrevFrame, Pan,  // viewing conditions, foveation and motion (issue 37, SPEC §13)
+  Ppd, Gaze, Foveate, PrevFrame, Pan,  // viewing conditions, foveation and motion (SPEC §13)
   MemoryLimit, Quiet,
 };
 
@@ -79,8 +79,8 @@ struct FrameParamInfo {
   std::string_view help;   // what it does; the default and range are added by paramHelp
   bool frameFile;          // written by `render --frame-out`, read back by --frame
   bool explore;            // the explore page may send it (options naming files or the machine stay on the command line)
-  ParamRange range;        // its values' range, where numeric (none: not checked here)
-  SettingAccessor field;   // the Settings field it sets, or null: the front end resolves it
+  ParamRange range{};      // its values' range, where numeric (none: not checked here)
+  SettingAccessor field{};  // the Settings field it sets, or null: the front end resolves it
 };
 
 // Every row, in the order of Param (static_assert in the .cpp) — which is also the order of the

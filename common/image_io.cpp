@@ -99,7 +99,7 @@ uint8_t toByte(float value, bool srgb) {
   return static_cast<uint8_t>(std::lround(v * 255.0));
 }
 
-// PNG previews are opaque (PLATFORM.md: alpha < 1 is un-premultiplied on write): 1 channel
+// PNG previews are opaque (docs/platform.md: alpha < 1 is un-premultiplied on write): 1 channel
 // is grey, 2 channels go to R and G with B = 0, 3 are RGB, and a 4th (alpha) is dropped.
 ImageU8 pngPreview(const std::string& path, const ImageF& image, bool srgb) {
   require(image.channels >= 1 && image.channels <= 4,
@@ -299,7 +299,7 @@ void writeMultiPartExr(const std::string& path, const std::vector<ExrPart>& part
             "cannot write " + path + ": part name \"" + part.name + "\" is used twice");
     requireWellFormed(path + " (part " + part.name + ")", part.image);
     OIIO::ImageSpec spec = floatSpec(part.image, channelNamesFor(path, part.image, part.channelNames));
-    // OpenEXR requires one display window for all parts (PLATFORM.md).
+    // OpenEXR requires one display window for all parts (docs/platform.md).
     spec.full_x = 0;
     spec.full_y = 0;
     spec.full_width = displayWidth;

@@ -1,5 +1,5 @@
 #pragma once
-// Numbers both paths must agree on, computed once on the host (SPEC §7, STYLE.md).
+// Numbers both paths must agree on, computed once on the host (SPEC §7).
 #include <glm/glm.hpp>
 
 #include <cstdint>

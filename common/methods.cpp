@@ -98,7 +98,7 @@ const MethodInfo kMethods[] = {
      true, true, true},
 };
 
-constexpr bool rowsInEnumOrder() {
+constexpr bool methodRowsInEnumOrder() {
   for (size_t i = 0; i < std::size(kMethods); ++i)
     if (static_cast<size_t>(kMethods[i].mode) != i) return false;
   return true;
@@ -128,7 +128,7 @@ std::vector<std::string> namesWhere(bool MethodInfo::*flag) {
 bool MethodInfo::owns(Param p) const { return std::find(params.begin(), params.end(), p) != params.end(); }
 
 std::span<const MethodInfo> methods() {
-  static const bool ordered = rowsInEnumOrder();
+  static const bool ordered = methodRowsInEnumOrder();
   require(ordered, "internal: kMethods must list every Mode in enum order");
   return kMethods;
 }

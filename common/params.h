@@ -1,5 +1,5 @@
 #pragma once
-// Settings -> Constants (STYLE.md, after XeGTAO). Settings are the user's knobs, with the
+// Settings -> Constants (after XeGTAO's split of settings and constants). Settings are the user's knobs, with the
 // paper's defaults (Table 1) and documented ranges; makeConstants() turns them into the
 // numbers every stage reads. Both paths read Constants only, never Settings, so the port
 // cannot see a different number than the oracle.
@@ -41,7 +41,7 @@ struct EdgeSettings {
 struct SsaoSettings {
   int samples = 64;          // N [1, kMaxSsaoSamples]
   float radius = 0.0f;       // R, world units; 0 = auto: kAutoRadiusFraction × the framed size
-  // Depth bias as a fraction of R [0, 1] (docs/spec.md §6). 5% before issue 34 (kBiasFractionBefore,
+  // Depth bias as a fraction of R [0, 1] (docs/spec.md §6). 5% before the view-framed default (kBiasFractionBefore,
   // which the golden digests keep); 2% lets an object's small creases darken.
   float biasFraction = 0.02f;
   static constexpr float kBiasFractionBefore = 0.05f;
@@ -49,7 +49,7 @@ struct SsaoSettings {
   // not the texel-centre depth: keeps coarse levels from occluding themselves on slopes.
   bool tangentPlaneDepth = true;
   // The automatic R (docs/spec.md §6): a fraction of what the view frames (framedSize: the
-  // view's height at the median depth of its surface). Before issue 34: 3% of the scene's
+  // view's height at the median depth of its surface). Before the view-framed default: 3% of the scene's
   // diagonal (kDiagonalFractionBefore), which the golden digests keep.
   static constexpr float kAutoRadiusFraction = 0.15f;
   static constexpr float kDiagonalFractionBefore = 0.03f;
@@ -66,7 +66,7 @@ struct SsmSettings {
 struct SsgiSettings {
   int samples = 288;             // N [1, kMaxSsgiSamples] (the paper: 24, 80, 288, 1088, 4224)
   float radius = 0.0f;           // R, world units; 0 = auto: kAutoRadiusFraction × the framed size
-  // Twice SSAO's, as before issue 34 (then 6% of the scene's diagonal).
+  // Twice SSAO's, as before the view-framed default (then 6% of the scene's diagonal).
   static constexpr float kAutoRadiusFraction = 2.0f * SsaoSettings::kAutoRadiusFraction;
   static constexpr float kDiagonalFractionBefore = 0.06f;
 };
@@ -108,7 +108,7 @@ struct EffectMaskSettings {
   static constexpr int kDefaultCap = 8;
 };
 
-// Foveation and motion (issue 37, SPEC §13): a per-pixel level limit from the gaze's eccentricity
+// Foveation and motion (SPEC §13): a per-pixel level limit from the gaze's eccentricity
 // (Guenter et al. 2012's linear minimum angle of resolution) and from each pixel's screen motion
 // against the previous frame's camera; off unless --gaze or --prev-frame is given.
 struct FoveationSettings {

@@ -1,5 +1,5 @@
 #pragma once
-// Where images keep their pixels (issue 18: a single cold frame as fast as a warm one).
+// Where images keep their pixels (a single cold frame as fast as a warm one).
 //
 // A frame allocates a few hundred MB of images, and on a fresh process every page of them is a
 // page fault on first touch. In a VM a 4 KiB fault costs ~10 µs: at 1280×720 SSAO-64 a cold
@@ -22,7 +22,7 @@ inline constexpr size_t kPooledPixelBytes = size_t{64} << 10;  // smaller images
 void* allocatePixels(size_t bytes);            // throws std::bad_alloc
 void freePixels(void* p, size_t bytes) noexcept;
 
-// A frame's pages, faulted in ahead on a spare core (issue 18: "touch pages once"). Maps
+// A frame's pages, faulted in ahead on a spare core ("touch pages once"). Maps
 // `bytes` (the frame's estimate; the pool's headroom is added here) for the pool, huge-page
 // advised, and populates them on a thread of its own (MADV_POPULATE_WRITE: mapped and zeroed,
 // contents untouched, so the pool may already hand them out) while the caller loads its scene; the pool's raw requests are served from it

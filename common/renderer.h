@@ -1,5 +1,5 @@
 #pragma once
-// One interface for both paths (issue 33): the oracle (cpu_ref/pipeline.h Renderer) and the port
+// One interface for both paths: the oracle (cpu_ref/pipeline.h Renderer) and the port
 // (gpu/pipeline.h GpuRenderer) render a frame into the same FrameResult. Who picks the path —
 // the command line, compare, bench, explore — asks one factory, frontend/renderers.h
 // makeRenderer, and works with this interface from then on.

@@ -82,7 +82,7 @@ struct SceneFacts {
   int opaqueMaterials = 0, maskMaterials = 0, blendMaterials = 0;
 };
 
-// Where a scene's light came from (issue 34), for `mrr info`: the file's or the built-in
+// Where a scene's light came from, for `mrr info`: the file's or the built-in
 // scene's own, --light-dir, or for a scene without one the candidate that lights the most of
 // the default view's visible surface (scenes/default_light.h).
 struct LightOrigin {
@@ -120,7 +120,7 @@ void validateScene(const Scene& scene, const std::string& source);
 // enough that the bounds' sphere fits the vertical field of view.
 Camera frameBounds(const Bounds& bounds, float yfovRadians);
 
-// The default view of a scene that brings no camera (issues 19, 34). Only opaque and MASK
+// The default view of a scene that brings no camera. Only opaque and MASK
 // surfaces decide it: BLEND ones (glass, light cones) close a room (a window is a wall) but
 // are never its walls, never a view's end, and do not count in the bounds it frames.
 // - an interior (the bounds' centre is enclosed: rays from it meet geometry in at least 24 of

@@ -66,6 +66,10 @@ inline constexpr float kGrazingCosine = 1e-3f;
 // of a surface point behind the previous camera, in full-res pixels (so fast that motion alone
 // allows the coarsest level motionCap allows).
 inline constexpr float kMotionBehind = 1.0e9f;
+// The port's passes over a block map (gpu/gbuffer.cpp GpuScene::draw, blocks.geom): one point per
+// row of the map and segment of this many blocks, each becoming the rectangles of its runs (at
+// most one per two blocks: blocks.geom's max_vertices = 2 · 64 is a literal, as GLSL 3.30 wants).
+inline constexpr int kBlockSegment = 64;
 
 // A constant as the shaders see it: GLSL `const int` where the C++ constant is an integer
 // (kTileSize, kPcfSampleStep: array sizes, strides and loop bounds), `const float` where it is a
@@ -116,6 +120,7 @@ inline constexpr ShaderConstant kShaderConstants[] = {
     {"kMaxPcfGrid", kMaxPcfGrid},
     {"kGrazingCosine", kGrazingCosine},
     {"kMotionBehind", kMotionBehind},
+    {"kBlockSegment", kBlockSegment},
 };
 
 }  // namespace mrr

@@ -1,5 +1,5 @@
 #pragma once
-// The shader contract (issue 17): what each file of gpu/shaders/ is given and must give back,
+// The shader contract: what each file of gpu/shaders/ is given and must give back,
 // so a user's own GLSL (`--shaders DIR`) can replace it. One row per file: the host programs
 // compiled from it, the defines that pick a variant, its inputs (textures, vertex attributes,
 // varyings) with their formats, its uniforms with units, its outputs with their locations and

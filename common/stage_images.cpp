@@ -113,18 +113,19 @@ void writeBytes(FrameResult& f, int level, const ImageF& image) {
 }
 template <auto Get>
 constexpr PartImageAccess floatImage() {
-  return {holdsImage<Get>, readFloat<Get>, writeFloat<Get>};
+  return {holdsImage<Get>, readFloat<Get>, writeFloat<Get>, Get};
 }
 template <auto Get>
 constexpr PartImageAccess byteImage() {
-  return {holdsImage<Get>, readBytes<Get>, writeBytes<Get>};
+  return {holdsImage<Get>, readBytes<Get>, writeBytes<Get>, nullptr};
 }
 // The same for a padded full-res grid, cropped to W×H.
 template <auto Get>
 constexpr PartImageAccess screenImage() {
   return {
       holdsImage<Get>, [](const FrameResult& f, int level) { return screen(*Get(f, level), f.constants); },
-      [](FrameResult& f, int level, const ImageF& image) { overwrite(*writable<Get>(f, level), image, f.constants); }};
+      [](FrameResult& f, int level, const ImageF& image) { overwrite(*writable<Get>(f, level), image, f.constants); },
+      nullptr};
 }
 
 // Where each image lies: null for a per-level part at a level outside [0, kLevelCount), which no
@@ -243,12 +244,12 @@ const PartImageAccess kGBufferImage = {[](const FrameResult& f, int l) {
                                          return validLevel(l) &&
                                                 !f.levels[static_cast<size_t>(l)].gbuffer.depth.empty();
                                        },
-                                       readGBuffer, writeGBuffer};
+                                       readGBuffer, writeGBuffer, nullptr};
 const PartImageAccess kShadowMapImage = {[](const FrameResult& f, int) { return !f.shadowMap.depth.empty(); },
-                                         readShadowMap, writeShadowMap};
+                                         readShadowMap, writeShadowMap, nullptr};
 const PartImageAccess kShadowTestImage = screenImage<shadowLitOf>();
 const PartImageAccess kEdgesImage = {[](const FrameResult& f, int) { return !f.edges.combined.empty(); }, readEdges,
-                                     writeEdges};
+                                     writeEdges, nullptr};
 const PartImageAccess kEccentricityImage = screenImage<eccentricityOf>();
 const PartImageAccess kMotionImage = screenImage<motionOf>();
 const PartImageAccess kLevelLimitImage = screenImage<levelLimitOf>();
@@ -265,7 +266,7 @@ const PartImageAccess kCompositeImage = floatImage<compositeOf>();
 const PartImageAccess kLevelMapImage = byteImage<levelMapOf>();
 const PartImageAccess kFinalImage = floatImage<finalOf>();
 const PartImageAccess kTemporalImage = {[](const FrameResult& f, int) { return !f.temporal.weight.empty(); },
-                                        readTemporal, writeTemporal};
+                                        readTemporal, writeTemporal, nullptr};
 const PartImageAccess kShadedImage = floatImage<shadedOf>();
 
 // ---- What the rows make -----------------------------------------------------------------------

@@ -114,7 +114,7 @@ inline constexpr float kCreaseTurn = 0.01f;  // about 8°
 // float rounding of one stage, below any difference a bug makes.
 inline constexpr double kProbeRelativeDifference = 1e-5;
 
-// The noise-aware verdict (`compare --noise-aware`, docs/spec.md §8.1; compare/metrics/noise_stats.h):
+// The noise-aware verdict (`compare --noise-aware`, docs/spec.md §8; compare/metrics/noise_stats.h):
 // for the stochastic stages (SSAO's and SSGI's raw.Lℓ, and sub.Lℓ, final, shaded downstream)
 // the oracle renders kNoiseSeeds frames with independent sampling seeds; each pixel of the
 // subject is tested against their mean and spread, and the frame's and each region's bias

@@ -1,5 +1,5 @@
 #pragma once
-// mrr-effect (issue 35, SPEC §12): the effect's footprint, known before shading, widens each
+// mrr-effect (SPEC §12): the effect's footprint, known before shading, widens each
 // level's edge mask; §12.2's a-posteriori term refines it from the coarser result. The port
 // mirrors each function: gpu/effect_masks.h, gpu/shaders/effect_masks.frag,
 // refinement_marks.frag and refine_masks.frag.

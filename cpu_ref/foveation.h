@@ -1,5 +1,5 @@
 #pragma once
-// Foveation and motion (issue 37, SPEC §13): a per-pixel level limit ℓ_min from the eye's
+// Foveation and motion (SPEC §13): a per-pixel level limit ℓ_min from the eye's
 // eccentricity (the gaze) and from each pixel's screen motion against the previous frame's
 // camera. The masks M_ℓ of every level ℓ < ℓ_min are cleared before the blur, so the pixel is
 // served by a coarser level; where ℓ_min = 0 nothing changes.

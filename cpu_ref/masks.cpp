@@ -147,14 +147,7 @@ MaskStages maskStages(const ImageU8& edges, const Constants& c, const ImageF* fo
   return st;
 }
 
-std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint,
-                                              const ImageU8* levelLimit) {
-  std::array<MaskLevel, kLevelCount> levels;
-  // 1, 1b. the pyramid of E, widened by the effect's footprint (mrr-effect)
-  MaskStages st = maskStages(edges, c, footprint);
-  for (size_t l = 0; l < levels.size(); ++l) levels[l].mask = std::move(footprint ? st.widened[l] : st.geometry[l]);
-  // 1c. foveation and motion (SPEC §13): M_ℓ = 0 where ℓ < ℓ_min, the pyramid already built.
-  if (levelLimit) applyLevelLimit(levels, *levelLimit, c);
+void stencilsFromPyramid(Masks& levels, const Constants& c) {
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     MaskLevel& ml = levels[static_cast<size_t>(l)];
@@ -178,6 +171,18 @@ std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Consta
     ImageU8& coarser = levels[static_cast<size_t>(next)].stencil;
     for (size_t i = 0; i < coarser.data.size(); ++i) coarser.data[i] = coarser.data[i] | pooled.data[i];
   }
+}
+
+std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint,
+                                              const ImageU8* levelLimit) {
+  std::array<MaskLevel, kLevelCount> levels;
+  // 1, 1b. the pyramid of E, widened by the effect's footprint (mrr-effect)
+  MaskStages st = maskStages(edges, c, footprint);
+  for (size_t l = 0; l < levels.size(); ++l) levels[l].mask = std::move(footprint ? st.widened[l] : st.geometry[l]);
+  // 1c. foveation and motion (SPEC §13): M_ℓ = 0 where ℓ < ℓ_min, the pyramid already built.
+  if (levelLimit) applyLevelLimit(levels, *levelLimit, c);
+  // 2–4. blur, stencil, closure
+  stencilsFromPyramid(levels, c);
   return levels;
 }
 

@@ -33,6 +33,12 @@ struct MaskStages {
 };
 MaskStages maskStages(const ImageU8& edges, const Constants& constants, const ImageF* footprint);
 
+// SPEC §3 steps 2–4 on a pyramid: `levels[ℓ].mask` holds M_ℓ for every enabled level; each
+// enabled level gets a_ℓ = G(σ_ℓ²) ∗ M_ℓ (≡ 1 at the coarsest enabled level) and S_ℓ = [a_ℓ > 0],
+// then the coverage closure, fine to coarse. buildMasks ends with it, and masks made elsewhere (a
+// mask rule written in numpy, python/, docs/python.md) go through the same blur and closure.
+void stencilsFromPyramid(Masks& levels, const Constants& constants);
+
 // The whole of SPEC §3 for multires mode. `edges` is E on the padded full-res grid.
 // mrr-effect (SPEC §12): `footprint` (cpu_ref/effect_masks.h) widens each enabled level's M_ℓ
 // but the coarsest before its blur; null: the paper's masks, untouched.

@@ -8,13 +8,6 @@
 
 namespace mrr {
 
-namespace {
-// The level-ℓ pixels whose s_ℓ×s_ℓ block starts inside the W×H image: the ones a full-res
-// pixel can take its value from.
-int levelExtent(int fullExtent, int scale) { return (fullExtent + scale - 1) / scale; }
-
-}  // namespace
-
 ImageU8 tileRates(const ImageU8& edges) {
   const int tw = (edges.width + kTileSize - 1) / kTileSize, th = (edges.height + kTileSize - 1) / kTileSize;
   // 1. a tile holds an edge: max over its 16×16 pixels of E

@@ -36,15 +36,15 @@ class OracleFrame final : public FrameBackend {
   void sampleEdges(FrameResult& f) override { f.edgeSample = stages_.edgeSample(f); }
   void shadowTest(FrameResult& f) override { f.shadowLit = stages_.shadowTest(f); }
   void edges(FrameResult& f) override { f.edges = stages_.edges(f); }
-  Masks edgeMasks(FrameResult& f) override {
+  FrameMasks edgeMasks(FrameResult& f) override {
     limit(f);
     return stages_.edgeMasks(f);
   }
-  Masks effectMasks(FrameResult& f) override {
+  FrameMasks effectMasks(FrameResult& f) override {
     limit(f);
     return stages_.effectMasks(f);
   }
-  Masks tileMasks(FrameResult& f) override {
+  FrameMasks tileMasks(FrameResult& f) override {
     limit(f);
     return stages_.tileMasks(f, f.tileRates);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// `mrr explore`'s work budget (issue 39): what one request may ask the renderer to do.
+// `mrr explore`'s work budget: what one request may ask the renderer to do.
 // A request renders its frame and the frame's full-resolution reference (the page shows the
 // difference and the measured speedup), so its work is the two frames' estimated work. The unit is
 // a sample-pixel: one SSAO sample at one pixel, about 8 ns on this project's 2-core CI VM (the
@@ -23,7 +23,7 @@
 namespace mrr::explore {
 
 inline constexpr double kDefaultBudgetM = 500.0;  // --budget, in millions of sample-pixels
-// A noise-aware probe (issue 40: /api/noise) renders the oracle's frame once per seed
+// A noise-aware probe (/api/noise) renders the oracle's frame once per seed
 // (kNoiseRule.seeds, without references): it may take this many requests' budget.
 inline constexpr double kNoiseBudgetRequests = 4.0;
 inline constexpr double kPerPixel = 150.0;

@@ -336,7 +336,7 @@ class Explorer {
     return r;
   }
 
-  // Issue 39: a request whose estimated work is over the budget is a 400 naming the parameter
+  // A request whose estimated work is over the budget is a 400 naming the parameter
   // to lower (samples when fewer would fit, else the shadow map's size or the frame's size) and the
   // budget, with the figures for the page: budget_m, work_m (millions of sample-pixels) and
   // max_samples (the most that fit at this size; 0: none).
@@ -395,7 +395,7 @@ class Explorer {
     return *out;
   }
 
-  // Issue 40: the oracle's stochastic stages over kNoiseRule.seeds independent seeds for the
+  // The oracle's stochastic stages over kNoiseRule.seeds independent seeds for the
   // request's frame (compare --noise-aware's reference), rendered one seed after another on the
   // render thread ("oracle: noise-aware seed k/K" in /api/progress), cancelled as a frame is, and
   // kept for the last kCachedNoise frames. Bounded: the seeds' estimated work may be at most
@@ -631,7 +631,7 @@ class Explorer {
     }
   };
 
-  // Cancellation (issue 39): `job` is checked before each render and at every stage boundary
+  // Cancellation: `job` is checked before each render and at every stage boundary
   // (the progress hook the driver calls as each stage starts), where Cancelled unwinds the render.
   // The cache only ever takes whole frames, after they are made: a cancelled render leaves the
   // cache as it was, but for a reference it finished before it was cancelled.
@@ -889,7 +889,7 @@ httplib::Server::Handler guarded(std::function<void(const httplib::Request&, htt
   };
 }
 
-// Issue 39: who may ask. A page on another site can reach this server through the browser: with
+// Who may ask. A page on another site can reach this server through the browser: with
 // an image tag (a simple GET, which starts a render), or by DNS rebinding (its own name resolving
 // to 127.0.0.1, so that it may read the answers). So a request must name this server in its Host
 // (421 otherwise: a rebound name is not one of ours) and, when the browser says where it comes
@@ -1091,7 +1091,7 @@ int serve(const ServerOptions& options) {
                const RenderedPtr o = explorer.frame(r, "cpu", {&req, {}}), p = explorer.frame(r, "gpu", {&req, {}});
                sendJson(res, probeBothJson(probePixel(o->frame, x, y), probePixel(p->frame, x, y)));
              }));
-  // Issue 40: the probe's stochastic stages at a pixel against the oracle's independent seeds
+  // The probe's stochastic stages at a pixel against the oracle's independent seeds
   // (compare --noise-aware's numbers): the subject is the frame on `path` (both: the port).
   server.Get("/api/noise", guarded([&](const httplib::Request& req, httplib::Response& res) {
                const FrameRequest r = explorer.parse(req, {"path", "x", "y"});

@@ -1,5 +1,5 @@
 #pragma once
-// `mrr explore`: a local web page on one frame (issue 20). Every stage as a layer, oracle and
+// `mrr explore`: a local web page on one frame. Every stage as a layer, oracle and
 // port side by side with their difference; click a pixel for its probe on both paths; turn
 // the knobs and the frame re-renders; a step-through of the stages with docs/method.md's text.
 // The page is built on a JSON API (docs/explore.md):

@@ -1,5 +1,5 @@
 #pragma once
-// Frame files (issue 17): everything that makes one frame, so that it reproduces. A frame file
+// Frame files: everything that makes one frame, so that it reproduces. A frame file
 // is JSON whose keys are the frame-parameter table's keys (common/frame_params.h: the rows
 // marked for frame files), the command line's option names without "--", with `_` for `-`:
 //   {"mrr_frame": 1, "scene": "builtin:demo", "effect": "ssao", "method": "mrr",

@@ -1,5 +1,5 @@
 #pragma once
-// The path, chosen in one place (issue 33): `--path cpu` is the oracle, `--path gpu` the port.
+// The path, chosen in one place: `--path cpu` is the oracle, `--path gpu` the port.
 // render, probe, compare, bench and explore all make their renderers here and use them through
 // common/renderer.h's interface.
 #include <memory>

@@ -20,7 +20,7 @@ namespace {
 // `coarsestCovered`: the coarsest level's S is 1 on its whole grid (drawn masks); drawn over
 // `rects`, or the whole frame when null.
 void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
-                   int fine, bool coarsestCovered, const std::vector<glm::ivec4>* rects) {
+                   int fine, bool coarsestCovered, const Cover& cover) {
   // The levels and the coarsest's scale are constants of the variant, so bilinearTap's
   // division by the scale is by a known power of two.
   const int coarsest = c.coarsestEnabled;
@@ -28,9 +28,9 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
                               "\n#define COARSEST_LEVEL " + std::to_string(coarsest) + "\n#define COARSEST_SCALE " +
                               std::to_string(c.levels[static_cast<size_t>(coarsest)].scale) + "\n" +
                               (coarsestCovered ? "#define COARSEST_COVERED\n" : "");
-  const unsigned program = scene.program("blend.final." + std::to_string(fine) + "." + std::to_string(coarsest) +
-                                             (coarsestCovered ? ".covered" : ""),
-                                         "fullscreen.vert", "blend.frag", variant);
+  const unsigned program = scene.passProgram("blend.final." + std::to_string(fine) + "." + std::to_string(coarsest) +
+                                                 (coarsestCovered ? ".covered" : ""),
+                                             "blend.frag", variant, cover);
   glUseProgram(program);
   const LevelTextures& base = levels[static_cast<size_t>(coarsest)];
   bindTextures(program, {{"subC", base.sub}, {"stencilC", base.stencil}});
@@ -45,56 +45,37 @@ void drawFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevel
   }
   const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
   if (fine) glUniform1fv(uniform(program, "weights"), 3, weights);  // without finer levels, nothing reads them
-  if (rects)
-    scene.drawRects(*rects, c.width, c.height);
-  else
-    scene.drawFullscreen();
+  scene.draw(cover, c.width, c.height);
 }
 
 BlendResult blendFinalOnly(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                           const Constants& c, const ImageU8* edgeBlocks, GpuImage* finalOnGpu,
-                           const std::array<int, kLevelCount>* widenedBy) {
+                           const Constants& c, const BlockMap& nearBlocks, GpuImage* finalOnGpu) {
   int fine = 0;  // the enabled levels finer than C, a bit each (the shader's FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
   Target target = scene.target(c.width, c.height, {effectTexel(channels), Texel::R8}, false);
   target->bind();
-  if (edgeBlocks && fine) {
-    // Near an edge, every level; far from every edge, the coarsest alone. A finer level's α
-    // is > 0 only within r_ℓ level pixels of M_ℓ, and a full-res pixel's taps lie within one
-    // level pixel of it (+1 for rounding): beyond the widest such reach each finer α is 0, and
-    // blendStep(0, f, c) = c. A level widened by up to K level pixels (mrr-effect, SPEC §12) reaches
-    // K further. (Blocks split by which levels reach them draw more, smaller
-    // rectangles, and measured slower on llvmpipe.)
-    const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per edge block
-    int reach = 0;
-    for (int l = 0; l < c.coarsestEnabled; ++l) {
-      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
-      const int widened = widenedBy ? (*widenedBy)[static_cast<size_t>(l)] : 0;
-      if (lc.enabled) reach = std::max(reach, (static_cast<int>(lc.gaussian.size() / 2) + widened + 2) * lc.scale);
-    }
-    const ImageU8 near = nearBlocks(*edgeBlocks, blockSize, reach);
-    const std::vector<glm::ivec4> nearRects = blockRects(near, 1, blockSize, c.width, c.height),
-                                  farRects = blockRects(near, 0, blockSize, c.width, c.height);
-    if (!nearRects.empty()) drawFinalOnly(scene, levels, c, fine, true, &nearRects);
-    if (!farRects.empty()) drawFinalOnly(scene, levels, c, 0, true, &farRects);
+  if (nearBlocks && fine) {
+    // Near an edge, every level; far from every edge, the coarsest alone (MaskTargets::blendNear:
+    // beyond a finer level's reach its α is 0, and blendStep(0, f, c) = c). The near and the far
+    // pass are drawn over the map's set and its clear runs. (Blocks split by which levels reach
+    // them draw more, smaller rectangles, and measured slower on llvmpipe.)
+    const int blockSize = 1 << (kLevelCount - 1);  // full-res pixels per block
+    drawFinalOnly(scene, levels, c, fine, true, Cover::blocksOf(nearBlocks, blockSize, 1));
+    drawFinalOnly(scene, levels, c, 0, true, Cover::blocksOf(nearBlocks, blockSize, 0));
   } else {
-    drawFinalOnly(scene, levels, c, fine, edgeBlocks != nullptr, nullptr);
+    drawFinalOnly(scene, levels, c, fine, static_cast<bool>(nearBlocks), Cover::whole());
   }
   checkGl("blend");
-  BlendResult r;
-  r.final = target->read(0, channels);
-  r.levelMap = target->readBytes(1);
-  if (finalOnGpu) *finalOnGpu = {std::move(target), 0};
-  return r;
+  if (finalOnGpu) *finalOnGpu = {std::move(target), 0};  // the level map beside it, in target 1
+  return {};
 }
 
 }  // namespace
 
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& c, bool keepStages, const ImageU8* edgeBlocks, GpuImage* finalOnGpu,
-                        const std::array<int, kLevelCount>* widenedBy) {
-  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, edgeBlocks, finalOnGpu, widenedBy);
+                        const Constants& c, bool keepStages, const BlockMap& nearBlocks, GpuImage* finalOnGpu) {
+  if (!keepStages) return blendFinalOnly(scene, levels, channels, c, nearBlocks, finalOnGpu);
   const unsigned program = scene.program("blend", "fullscreen.vert", "blend.frag");
   const Texel color = effectTexel(channels);
   BlendResult r;

@@ -1,6 +1,7 @@
 #pragma once
 // The port's stage 5 (gpu/shaders/blend.frag): one full-res pass per enabled level, coarse to
-// fine, each writing ĉ_ℓ, α_ℓ, c'_ℓ and the level map; read back into the oracle's BlendResult.
+// fine, each writing ĉ_ℓ, α_ℓ, c'_ℓ and the level map, read back into the oracle's BlendResult
+// (keepStages); or one pass for every level, kept on the GPU.
 #include <array>
 
 #include "common/frame.h"
@@ -15,13 +16,14 @@ struct LevelTextures {
 
 // `channels`: c_ℓ's (1 or 3). With `keepStages`, one pass per level, and every level's ĉ_ℓ,
 // α_ℓ and c'_ℓ read back beside the final image and level map. Without it (the benchmark, a
-// plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), and only the
-// final image and level map leave the GPU, as the oracle keeps only those then. With
-// `edgeBlocks` (MaskTargets::edgeBlocks), that pass blends the finer levels only near edges;
-// `widenedBy` (MaskTargets::widenedBy, null: none) adds each level's widening (SPEC §12) to the reach.
-// `finalOnGpu`: where the final image stays on the GPU for the passes after (the shaded image).
+// plain render) one pass for all levels (blend.frag FINAL_ONLY, bit-identical), nothing read
+// back: the result is empty and the final image stays in `finalOnGpu` (target 0; the level map,
+// R8, in its target 1) for the passes after and for the host when it asks. With `nearBlocks`
+// (MaskTargets::blendNear, a block map on the GPU: the 8×8 blocks within a finer level's reach
+// of an edge block, its widening included), that pass blends the finer levels only there; the
+// coarsest level's S is then known to be 1 everywhere (drawn masks).
 BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, int channels,
-                        const Constants& constants, bool keepStages = true, const ImageU8* edgeBlocks = nullptr,
-                        GpuImage* finalOnGpu = nullptr, const std::array<int, kLevelCount>* widenedBy = nullptr);
+                        const Constants& constants, bool keepStages = true, const BlockMap& nearBlocks = {},
+                        GpuImage* finalOnGpu = nullptr);
 
 }  // namespace mrr::gpu

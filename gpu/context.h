@@ -1,6 +1,6 @@
 #pragma once
 // A headless OpenGL 3.3 core context through EGL, with no display and no window
-// (PLATFORM.md): devices are enumerated with EGL_EXT_platform_device (the route on NVIDIA),
+// (docs/platform.md): devices are enumerated with EGL_EXT_platform_device (the route on NVIDIA),
 // falling back to Mesa's surfaceless platform (llvmpipe). Rendering goes to framebuffer
 // objects only.
 #include <EGL/egl.h>

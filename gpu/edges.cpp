@@ -41,24 +41,29 @@ Target drawEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeS
   return target;
 }
 
-ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                       unsigned shadowLitTexture) {
+Target drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                      unsigned shadowLitTexture) {
   const bool shadowEdges = shadowLitTexture != 0;
   const unsigned program = scene.program(std::string("edgesample") + (shadowEdges ? ".shadow" : ""), "fullscreen.vert",
                                          "edges.frag",
                                          std::string("#define EDGE_SAMPLE\n") + (shadowEdges ? "#define SHADOW_EDGES\n" : ""));
-  // 1–2. E at each block's diagonal pixels, a block's eight side by side in one row
+  // 1–2. E at each block's diagonal pixels, a block's eight side by side in one row (3. Ê, any of
+  // them, is the reader's: gpu/rule.cpp's count, or readEdgeSample)
   const int blocksX = (gbuffer0.width() + kEdgeSampleStep - 1) / kEdgeSampleStep;
   const int blocksY = (gbuffer0.height() + kEdgeSampleStep - 1) / kEdgeSampleStep;
-  const Target target = scene.target(blocksX * kEdgeSampleStep, blocksY, 1, false, Texel::R8);
-  drawEdgePass(scene, program, *target, gbuffer0, settings, shadowLitTexture, "edgesample");
-  const ImageU8 diagonals = target->readBinary(0);
+  Target diagonals = scene.target(blocksX * kEdgeSampleStep, blocksY, 1, false, Texel::R8);
+  drawEdgePass(scene, program, *diagonals, gbuffer0, settings, shadowLitTexture, "edgesample");
+  return diagonals;
+}
+
+ImageU8 readEdgeSample(const Framebuffer& diagonals) {
+  const ImageU8 e = diagonals.readBinary(0);
   // 3. Ê: any of a block's eight
-  ImageU8 sample(blocksX, blocksY);
-  for (int y = 0; y < blocksY; ++y)
-    for (int x = 0; x < blocksX; ++x) {
+  ImageU8 sample(e.width / kEdgeSampleStep, e.height);
+  for (int y = 0; y < sample.height; ++y)
+    for (int x = 0; x < sample.width; ++x) {
       uint8_t any = 0;
-      for (int i = 0; i < kEdgeSampleStep; ++i) any |= diagonals.at(x * kEdgeSampleStep + i, y);
+      for (int i = 0; i < kEdgeSampleStep; ++i) any |= e.at(x * kEdgeSampleStep + i, y);
       sample.at(x, y) = any;
     }
   return sample;

@@ -19,10 +19,13 @@ inline int edgeChannel(bool combinedOnly) { return combinedOnly ? 0 : 3; }
 // Reads drawEdges' targets back into the oracle's structure.
 EdgeImages readEdges(const Framebuffer& edges);
 
-// The never-slower rule's edge sample (SPEC §11; cpu_ref/edges.h edgeSample), read back: one byte
-// per 8×8 block, 1 where E holds at a pixel of its diagonal. The same inputs as drawEdges.
-ImageU8 drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
-                       unsigned shadowLitTexture = 0);
+// The never-slower rule's edge sample (SPEC §11; cpu_ref/edges.h edgeSample) on the GPU: E at the
+// 8 pixels of each 8×8 block's diagonal, side by side in a row (R8, ⌈W/8⌉·8 × ⌈H/8⌉); a block is
+// in Ê where any of its eight is 1 (gpu/rule.cpp counts it so). The same inputs as drawEdges.
+Target drawEdgeSample(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,
+                      unsigned shadowLitTexture = 0);
+// Ê read back, one byte (0/1) per block.
+ImageU8 readEdgeSample(const Framebuffer& diagonals);
 
 // Draw and read back in one call.
 EdgeImages detectEdges(const GpuScene& scene, const Framebuffer& gbuffer0, const EdgeSettings& settings,

@@ -14,52 +14,49 @@ namespace mrr::gpu {
 
 // Step 1, effectFootprint: F on the padded full-res grid (R32F), from level 0's G-buffer and
 // E (channel `edgeChannel` of `edges`). SSM reads the light's map (`map`, `mapTexture`); the
-// others pass 0. With `rects` (holding every pixel of E), drawn over those alone: F is 0 elsewhere.
+// others pass 0. Over `cover` alone (where it holds every pixel of E): F is 0 elsewhere.
 Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned edges, int edgeChannel,
                      const ShadowMap* map, unsigned mapTexture, const View& view, const Constants& constants,
-                     const std::vector<glm::ivec4>* rects = nullptr);
+                     const Cover& cover = {});
 
 // Steps 2–3, levelReach and dilateByReach: M'_ℓ (R8) from M_ℓ (channel `maskChannel` of `mask`)
-// and F_ℓ (`footprint`, R32F at level ℓ's size), widened by at most `cap` level pixels. With
-// rectangles (x0, y0, x1, y1), the pass along x is drawn over `across` alone (rectangles holding
-// every pixel within `cap` along x of M_ℓ; elsewhere H = −1) and the pass along y over `within`
-// (every pixel within `cap` across and down; elsewhere M'_ℓ = 0): what the whole level gives.
+// and F_ℓ (`footprint`, R32F at level ℓ's size), widened by at most `cap` level pixels. The pass
+// along x is drawn over `across` (holding every pixel within `cap` along x of M_ℓ; elsewhere
+// H = −1) and the pass along y over `within` (every pixel within `cap` across and down; elsewhere
+// M'_ℓ = 0): what the whole level gives.
 Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, unsigned footprint, int width,
-                         int height, int levelScale, int cap, const std::vector<glm::ivec4>* across = nullptr,
-                         const std::vector<glm::ivec4>* within = nullptr);
+                         int height, int levelScale, int cap, const Cover& across = {}, const Cover& within = {});
 
 // SPEC §12.3, wideningOnly (the ablation's effect-only arm, effect_masks.frag STEP 4): M'_ℓ ∧ ¬M_ℓ
-// (R8) from `widened` (drawDilateByReach's M'_ℓ) and M_ℓ (channel `maskChannel` of `mask`); with
-// `within`, over those rectangles alone (elsewhere 0), as drawDilateByReach.
+// (R8) from `widened` (drawDilateByReach's M'_ℓ) and M_ℓ (channel `maskChannel` of `mask`), over
+// `within` alone (elsewhere 0), as drawDilateByReach.
 Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, int maskChannel, int width, int height,
-                        const std::vector<glm::ivec4>* within = nullptr);
+                        const Cover& within = {});
 
 // SPEC §12.2 step 1, refinementMarks (gpu/shaders/refinement_marks.frag): the a-posteriori marks
 // (R8, finerWidth × finerHeight) of a finer level from its next coarser enabled level's result
 // `coarser` (its first `channels` channels; SSAO: after the bilateral blur), stencil and
 // G-buffer (`coarserPositionHit`, hit in w); `ratio` = 2^{n−ℓ}, `tau` = τ_v. The level limit
-// (SPEC §13) is the caller's: masks.h drawLevelLimited. Where the caller knows them, step 1 is
-// drawn over `shaded` alone (rectangles holding every pixel of S_n, MaskTargets::supportRects;
-// null or empty: the whole level), and with `blocks` its marks are read back into that grid of
-// blocks of `blockSize` coarser pixels (1: the block holds a mark), step 2 then drawn over those
-// blocks alone; elsewhere both give 0, as over the whole level.
+// (SPEC §13) is the caller's: masks.h drawLevelLimited. Step 1 is drawn over `shaded` alone (it
+// holds every pixel of S_n: MaskTargets::supportCover), and with `blocks` its marks are pooled on
+// the GPU into a block map of blocks of `blockSize` coarser pixels (1: the block holds a mark;
+// gpu/blocks.h), step 2 then drawn over those blocks alone; elsewhere both give 0, as over the
+// whole level.
 Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
                            unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau,
-                           const std::vector<glm::ivec4>* shaded = nullptr, ImageU8* blocks = nullptr,
-                           int blockSize = 1);
+                           const Cover& shaded = {}, Target* blocks = nullptr, int blockSize = 1);
 
 // Its two steps apart. Step 1 at level n: [v(q) > τ] (R8), or with `rangeOut` v(q) itself (R32F,
 // −1 where q is not a shaded hit pixel: SPEC §12.4's budget selects on the host), drawn over
 // `shaded` as above; by the separable passes along x then y (localRangesSeparable), or with
 // `whole` the readable single pass over each 3×3 (localRange): the same bits.
 Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
-                     unsigned coarserPositionHit, float tau, const std::vector<glm::ivec4>* shaded, bool rangeOut,
-                     bool whole = false);
+                     unsigned coarserPositionHit, float tau, const Cover& shaded, bool rangeOut, bool whole = false);
 // Step 2 at level ℓ: each pixel takes its parent's mark in `varies` (level n's R8), drawn over
-// `rects` (the finer level's pixels of the blocks holding a mark; null: the whole level; empty:
-// nothing, every mark 0).
+// `marked` (the finer level's pixels of the blocks holding a mark; whole: the whole level);
+// elsewhere 0.
 Target drawParentMarks(const GpuScene& scene, unsigned varies, int ratio, int finerWidth, int finerHeight,
-                       const std::vector<glm::ivec4>* rects);
+                       const Cover& marked);
 // The finer level's rectangles under the blocks of `blocks` (blockSize level-n pixels each) that hold
 // a mark, for drawParentMarks.
 std::vector<glm::ivec4> markedRects(const ImageU8& blocks, int blockSize, int ratio, int coarserWidth, int coarserHeight,

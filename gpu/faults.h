@@ -1,5 +1,5 @@
 #pragma once
-// Planted faults: deliberate shader bugs that the port's checks must catch (issue 6: "the
+// Planted faults: deliberate shader bugs that the port's checks must catch ("the
 // comparison is only worth something if it catches real shader bugs"). Setting
 // MRR_GPU_FAULT=NAME patches one shader's source text before it compiles; everything else
 // runs unchanged. Each fault is an exact text replacement, and a fault whose text is no

@@ -1,12 +1,16 @@
 #include "gpu/gbuffer.h"
 
+#include "gpu/shadowmap.h"
+
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
 #include <algorithm>
 
 #include "common/error.h"
+#include "common/shader_constants.h"
 #include "gpu/program.h"
+#include "gpu/traffic.h"
 
 namespace mrr::gpu {
 
@@ -20,6 +24,7 @@ TexelLayout layoutOf(Texel t) {
     case Texel::R32f: return {GL_R32F, GL_RED, GL_FLOAT};
     case Texel::R8: return {GL_R8, GL_RED, GL_UNSIGNED_BYTE};
     case Texel::Rgba8: return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    case Texel::Rgba32ui: return {GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT};
     case Texel::Rgba32f: break;
   }
   return {GL_RGBA32F, GL_RGBA, GL_FLOAT};
@@ -143,17 +148,17 @@ ImageF Framebuffer::read(int i, int channels) const {
   ImageF out(width_, height_, channels);
   const size_t pixels = out.pixelCount();
   if (layout.type == GL_FLOAT && stored == channels) {
-    glReadPixels(0, 0, width_, height_, layout.format, GL_FLOAT, out.data.data());
+    readImage(width_, height_, layout.format, GL_FLOAT, out.data.data(), out.data.size() * sizeof(float));
   } else if (layout.type == GL_FLOAT) {
     std::vector<float> texels(pixels * static_cast<size_t>(stored));
-    glReadPixels(0, 0, width_, height_, layout.format, GL_FLOAT, texels.data());
+    readImage(width_, height_, layout.format, GL_FLOAT, texels.data(), texels.size() * sizeof(float));
     for (size_t p = 0; p < pixels; ++p)
       for (int c = 0; c < channels; ++c)
         out.data[p * static_cast<size_t>(channels) + static_cast<size_t>(c)] =
             c < stored ? texels[p * static_cast<size_t>(stored) + static_cast<size_t>(c)] : (c == 3 ? 1.0f : 0.0f);
   } else {
     std::vector<uint8_t> texels(pixels * static_cast<size_t>(stored));
-    glReadPixels(0, 0, width_, height_, layout.format, GL_UNSIGNED_BYTE, texels.data());
+    readImage(width_, height_, layout.format, GL_UNSIGNED_BYTE, texels.data(), texels.size());
     for (size_t p = 0; p < pixels; ++p)
       for (int c = 0; c < channels; ++c)
         out.data[p * static_cast<size_t>(channels) + static_cast<size_t>(c)] =
@@ -172,7 +177,7 @@ ImageF Framebuffer::readChannel(int i, int channel) const {
   glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   ImageF out = ImageF::uninitialised(width_, height_, 1);
-  glReadPixels(0, 0, width_, height_, formats[channel], GL_FLOAT, out.data.data());
+  readImage(width_, height_, formats[channel], GL_FLOAT, out.data.data(), out.data.size() * sizeof(float));
   checkGl("readback");
   return out;
 }
@@ -183,7 +188,7 @@ ImageU8 Framebuffer::readBytes(int i) const {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE, out.data.data());
+  readImage(width_, height_, GL_RED, GL_UNSIGNED_BYTE, out.data.data(), out.data.size());
   checkGl("readback");
   return out;
 }
@@ -341,6 +346,14 @@ Target GpuScene::target(int width, int height, int colorTargets, bool withDepth,
   return target(width, height, std::vector<Texel>(static_cast<size_t>(colorTargets), format), withDepth);
 }
 
+ShadowMapTarget& GpuScene::shadowMapTarget(int size) const {
+  if (!shadowMapTarget_ || shadowMapTarget_->size() != size) {
+    shadowMapTarget_.reset();
+    shadowMapTarget_ = std::make_unique<ShadowMapTarget>(size);
+  }
+  return *shadowMapTarget_;
+}
+
 void GpuScene::release(Framebuffer* target) const {
   constexpr size_t kMaxFree = 64;  // a frame's working set, a few times over
   target->detachSharedDepthStencil();
@@ -369,6 +382,44 @@ void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int he
   glBindVertexArray(0);
 }
 
+Cover Cover::blocksOf(const BlockMap& map, int blockSize, int value) {
+  Cover c;
+  c.blocks = map.texture();
+  c.blockWidth = map.width();
+  c.blockHeight = map.height();
+  c.blockSize = blockSize;
+  c.value = value;
+  return c;
+}
+
+unsigned GpuScene::passProgram(const std::string& stage, const std::string& fragment, const std::string& defines,
+                               const Cover& cover) const {
+  return cover.byBlocks() ? program(stage + ".blocks", "blocks.vert", fragment, defines)
+                          : program(stage, "fullscreen.vert", fragment, defines);
+}
+
+void GpuScene::draw(const Cover& cover, int width, int height) const {
+  if (cover.rects) return drawRects(*cover.rects, width, height);
+  if (!cover.blocks) return drawFullscreen();
+  // blocks.geom: a point per row of the map and segment of kBlockSegment blocks along it
+  static_assert(2 * kBlockSegment == 128, "blocks.geom's max_vertices");
+  constexpr int kBlockUnit = 15;  // the last unit GL 3.3 guarantees: the passes' own textures sit below
+  GLint current = 0;
+  glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+  const unsigned program = static_cast<unsigned>(current);
+  const int segments = (cover.blockWidth + kBlockSegment - 1) / kBlockSegment;
+  glActiveTexture(GL_TEXTURE0 + kBlockUnit);
+  glBindTexture(GL_TEXTURE_2D, cover.blocks);
+  glUniform1i(uniform(program, "blockMap"), kBlockUnit);
+  glUniform1i(uniform(program, "blockValue"), cover.value);
+  glUniform1i(uniform(program, "blockSize"), cover.blockSize);
+  glUniform1i(uniform(program, "segments"), segments);
+  glUniform2f(uniform(program, "targetSize"), static_cast<float>(width), static_cast<float>(height));
+  glBindVertexArray(emptyVao_);
+  glDrawArrays(GL_POINTS, 0, segments * cover.blockHeight);
+  glBindVertexArray(0);
+}
+
 void GpuScene::drawFullscreen() const {
   GLint program = 0;
   glGetIntegerv(GL_CURRENT_PROGRAM, &program);
@@ -380,6 +431,7 @@ void GpuScene::drawFullscreen() const {
 
 GpuScene::~GpuScene() {
   free_.clear();
+  shadowMapTarget_.reset();
   for (const auto& [stage, program] : programs_) glDeleteProgram(program);
   if (!cutouts_.empty()) glDeleteTextures(static_cast<GLsizei>(cutouts_.size()), cutouts_.data());
   if (!textures_.empty()) glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());

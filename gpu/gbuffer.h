@@ -18,12 +18,14 @@ namespace mrr::gpu {
 // full-screen passes move fewer bytes: 0/1 images (edges, M_ℓ, S_ℓ, the level map) in 8 bits,
 // which hold 0 and 1 exactly; one-channel values (a_ℓ, AO, V) in R32F; RGB in RGBA32F (RGB32F
 // is not colour-renderable in GL 3.3).
-enum class Texel { Rgba32f, R32f, R8, Rgba8 };
+// RGBA32UI holds counts (gpu/counts.h: a few per block, summed on the GPU).
+enum class Texel { Rgba32f, R32f, R8, Rgba8, Rgba32ui };
 
 // The float format that holds `channels` effect channels (1: R32F, 3: RGBA32F).
 Texel effectTexel(int channels);
 
 class GpuScene;
+class ShadowMapTarget;
 
 // A colour target set for a full-screen or geometry pass (+ depth and stencil).
 class Framebuffer {
@@ -75,6 +77,36 @@ struct GpuImage {
   unsigned texture() const { return target ? target->texture(attachment) : 0; }
 };
 
+// A block map (gpu/blocks.h): an R8 attachment of a target, one texel per block, 1 where the
+// block may hold a pass's work.
+struct BlockMap {
+  const Framebuffer* target = nullptr;
+  int attachment = 0;
+  BlockMap() = default;
+  BlockMap(const Framebuffer& t, int a = 0) : target(&t), attachment(a) {}  // NOLINT: a target's map
+  explicit operator bool() const { return target != nullptr; }
+  unsigned texture() const { return target->texture(attachment); }
+  int width() const { return target->width(); }
+  int height() const { return target->height(); }
+};
+
+// Where an image-space pass is drawn: every pixel of its target, host rectangles, or the runs of
+// a block map on the GPU (blocks.geom). A pass drawn over part of its target clears the rest to
+// what it gives there. Block covers keep the frame resident: the host never sees where the work is.
+struct Cover {
+  const std::vector<glm::ivec4>* rects = nullptr;  // pixel rectangles (x0, y0, x1, y1) of the target
+  unsigned blocks = 0;    // a block map (R8, 1 = set): its runs of `value`
+  int blockWidth = 0, blockHeight = 0;  // the map's grid
+  int blockSize = 0;      // target pixels per block side
+  int value = 1;          // 1: the set blocks; 0: the clear ones
+  static Cover whole() { return {}; }
+  static Cover over(const std::vector<glm::ivec4>* r) { return {r, 0, 0, 0, 0, 1}; }
+  // `map`'s runs of `value`, blockSize pixels a block.
+  static Cover blocksOf(const BlockMap& map, int blockSize, int value = 1);
+  bool isWhole() const { return !rects && !blocks; }
+  bool byBlocks() const { return blocks != 0; }
+};
+
 // A float image as a texture (1–4 channels, nearest filtering); the caller deletes it.
 unsigned uploadTexture(const ImageF& image);
 
@@ -124,6 +156,12 @@ class GpuScene {
   // so each variant of a file, with its own `defines`, needs its own stage name).
   unsigned program(const std::string& stage, const std::string& vertex, const std::string& fragment,
                    const std::string& defines = "") const;
+  // An image-space pass's program for `cover`: `fragment` with fullscreen.vert (every pixel, host
+  // rectangles) or with blocks.vert and blocks.geom (a block map's runs), keyed `stage` (+ ".blocks").
+  unsigned passProgram(const std::string& stage, const std::string& fragment, const std::string& defines,
+                       const Cover& cover) const;
+  // Draws the program in use (passProgram's for `cover`) over `cover` of a width×height target.
+  void draw(const Cover& cover, int width, int height) const;
   // A render target from the scene's pool: a free one of this size and these formats (from an
   // earlier pass or frame) or a new one, back in the pool when the Target is dropped. Its
   // contents are undefined: every pass clears it or writes every pixel. New textures cost the
@@ -132,6 +170,9 @@ class GpuScene {
   Target target(int width, int height, const std::vector<Texel>& formats, bool withDepth) const;
   Target target(int width, int height, int colorTargets, bool withDepth, Texel format = Texel::Rgba32f) const;
   void release(Framebuffer* target) const;
+  // The shadow map's target of this size (SSM, and SSGI's direct light), kept from frame to frame
+  // for the same reason; a new size replaces it.
+  ShadowMapTarget& shadowMapTarget(int size) const;
 
   // Draws the full-screen triangle (image-space passes; vertex shader fullscreen.vert).
   void drawFullscreen() const;
@@ -148,6 +189,7 @@ class GpuScene {
   unsigned emptyVao_ = 0, rectVao_ = 0, rectBuffer_ = 0;
   mutable std::map<std::string, unsigned> programs_;
   mutable std::vector<std::unique_ptr<Framebuffer>> free_;  // the pool, most recently freed last
+  mutable std::unique_ptr<ShadowMapTarget> shadowMapTarget_;
 };
 
 // Rasterises the full-res (level 0) G-buffer into `target` (the padded full-res size, + depth):

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "gpu/blocks.h"
 #include "gpu/effect_masks.h"
 #include "gpu/program.h"
 
@@ -25,7 +26,7 @@ struct Pass {
     glm::ivec2 direction{1, 0};
     const std::vector<float>* weights = nullptr;
     bool withStencil = false;
-    const std::vector<glm::ivec4>* rects = nullptr;  // null: every pixel
+    Cover cover;         // where it is drawn (the rest: 0)
     unsigned limit = 0;  // step 5: limit.frag's target
     int level = 0;       // step 5: ℓ
   };
@@ -43,7 +44,7 @@ struct Pass {
                              std::to_string(radius) + "." + std::to_string(in.direction.x) + "." +
                              std::to_string(in.sourceChannel) + "." + (in.withStencil ? "s" : "-") + "." +
                              std::to_string(in.level);
-    return scene.program(name, "fullscreen.vert", "masks.frag", defines);
+    return scene.passProgram(name, "masks.frag", defines, in.cover);
   }
   // One step into a fresh framebuffer of the given size and target formats, cleared to 0.
   Target run(int step, const std::vector<Texel>& formats, int width, int height, const Inputs& in) const {
@@ -51,7 +52,7 @@ struct Pass {
     draw(step, *target, in, true);
     return target;
   }
-  // One step into `target`, over in.rects (or every pixel); with `clear`, the rest 0, else kept.
+  // One step into `target`, over in.cover; with `clear`, the rest 0, else kept.
   void draw(int step, const Framebuffer& target, const Inputs& in, bool clear) const {
     const unsigned prog = program(step, in);
     const int width = target.width(), height = target.height();
@@ -62,14 +63,11 @@ struct Pass {
     bindTextures(prog, {{"source", in.source}});
     if (step == 4) bindTextures(prog, {{"previous", in.previous}}, 1);
     if (step == 5) bindTextures(prog, {{"limit", in.limit}}, 1);
-    if (in.rects) {
+    if (!in.cover.isWhole() && clear) {
       const float zero[4] = {0, 0, 0, 0};
-      if (clear)
-        for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
-      scene.drawRects(*in.rects, width, height);
-    } else {
-      scene.drawFullscreen();
+      for (int i = 0; i < target.targetCount(); ++i) glClearBufferfv(GL_COLOR, static_cast<GLint>(i), zero);
     }
+    scene.draw(in.cover, width, height);
     checkGl("masks");
   }
 };
@@ -91,11 +89,6 @@ ImageU8 blocksOf(const ImageU8& mask, int blockSize) {
     for (int x = 0; x < mask.width; ++x) blocks.at(x / blockSize, y / blockSize) |= mask.at(x, y);
   return blocks;
 }
-
-namespace {
-// A 0/1 block map max-pooled 2×2 (the 4×4 grid onto the 8×8 one; its sizes are even).
-ImageU8 poolBlocks(const ImageU8& fine) { return blocksOf(fine, 2); }
-}  // namespace
 
 std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blockSize, int width, int height) {
   // Row runs of matching blocks; a run with the same ends as one in the row above extends it,
@@ -130,6 +123,16 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
   return rects;
 }
 
+Cover MaskTargets::supportCover(int level) const {
+  const BlockMap& blocks = supportBlocks[static_cast<size_t>(level)];
+  return level == 0 && blocks ? Cover::blocksOf(blocks, 1 << (kLevelCount - 1)) : Cover::whole();
+}
+
+BlockMap MaskTargets::keep(Target map) {
+  blockMaps.push_back(std::move(map));
+  return BlockMap(*blockMaps.back());
+}
+
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel, const Constants& c,
                                        const FootprintFn& footprint, unsigned limit) {
   const Pass pass{scene};
@@ -139,51 +142,113 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   auto& stencil = out->stencilTarget;
   constexpr int kCoarsest = kLevelCount - 1;
   static_assert(kLevelCount == 4, "the pyramid below is written for levels 0–3");
+  auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
   // 1. mask pyramid: M_0 = E (read in place), M_ℓ = maxpool2(M_{ℓ−1}), through disabled levels
   // too. M_2 first, straight from E (a 4×4 max-pool is the max-pool of 2×2 max-pools), then
-  // M_3. M_2 is read back (~130 kB at 1080p) and max-pooled into M_3 on the host: which 4×4
-  // and 8×8 blocks hold an edge. M_1 is then drawn only over M_2's edge blocks; elsewhere it is 0.
-  auto level = [&](int l) -> const LevelConstants& { return c.levels[static_cast<size_t>(l)]; };
-  auto maxPool = [&](int l, unsigned source, int channel, int factor, const std::vector<glm::ivec4>* rects) {
+  // M_1 and M_3. M_2's and M_3's texels are the block maps of E on the 4×4 and the 8×8 grid
+  // (which blocks hold an edge: gpu/blocks.h); they stay on the GPU. Level 0's passes below,
+  // which have work only near an edge, are drawn over the runs of maps made from them. The
+  // coarser levels' passes are drawn whole: they hold a quarter of level 0's pixels or fewer,
+  // and drawing a cover costs more than the pixels it skips there (blocks.geom runs on the host's
+  // cores under llvmpipe; docs/port.md, "The GPU-resident frame"). Either way a pass writes the
+  // same bits: a cover holds every pixel where the pass can be non-zero.
+  auto maxPool = [&](int l, unsigned source, int channel, int factor) {
     Pass::Inputs in;
     in.source = source;
     in.sourceChannel = channel;
     in.factor = factor;
-    in.rects = rects;
     mask[static_cast<size_t>(l)] = pass.run(1, {Texel::R8}, level(l).width, level(l).height, in);
   };
-  maxPool(2, edges, edgeChannel, 4, nullptr);
-  maxPool(3, mask[2]->texture(0), 0, 2, nullptr);
-  const ImageU8 fineBlocks = mask[kCoarsest - 1]->readBinary(0);
-  out->edgeBlocks = poolBlocks(fineBlocks);
-  const std::vector<glm::ivec4> edgeRects1 = blockRects(fineBlocks, 1, 2, level(1).width, level(1).height);
-  maxPool(1, edges, edgeChannel, 2, &edgeRects1);
-  const ImageU8& edgeBlocks = out->edgeBlocks;
-  // maskBlocks[ℓ]: the blocks outside which M_ℓ is 0, blockSize(ℓ) level pixels each: level 0
-  // on the 4×4 grid (M_2 read back), the others on the 8×8 one (the coarsest level's pixels)
+  maxPool(2, edges, edgeChannel, 4);
+  maxPool(3, mask[2]->texture(0), 0, 2);
+  const BlockMap fineBlocks(*mask[kCoarsest - 1]);  // the 4×4 grid's edge blocks (M_2)
+  const BlockMap edgeBlocks(*mask[kCoarsest]);      // the 8×8 grid's (M_3)
+  out->edgeBlocks = edgeBlocks;
+  maxPool(1, edges, edgeChannel, 2);
+
+  // 1a. Every block map the passes below are drawn over, in two passes (gpu/blocks.h blockMaps):
+  // level 0's on the 4×4 grid (its support is narrow), the others' on the 8×8 one, each a box
+  // dilation of E's blocks (nearBlocks: ceil(r / blockSize) blocks), boxes about one block
+  // composing into one: M_ℓ's blocks, widened by mrr-effect's cap (SPEC §12) along x then y; the
+  // blur's, r_ℓ further along x, then y; S_ℓ's, the union of every finer enabled level's (the
+  // closure); and the blend's near blocks, within a finer level's reach.
   const auto blockSize = [](int l) { return l == 0 ? 1 << (kCoarsest - 1) : 1 << (kCoarsest - l); };
-  std::array<ImageU8, kLevelCount> maskBlocks;
-  for (int l = 0; l < kLevelCount; ++l) maskBlocks[static_cast<size_t>(l)] = l == 0 ? fineBlocks : edgeBlocks;
+  // a level-0 pass's cover; a coarser level's passes are drawn whole (step 1)
+  const auto cover = [&](const BlockMap& blocks, int l) {
+    return l == 0 ? Cover::blocksOf(blocks, blockSize(l)) : Cover::whole();
+  };
+  const int cap = c.effectMask.cap;
+  struct LevelMaps {
+    bool blurred = false, widened = false;
+    int capBlocks = 0, blurBlocks = 0;  // cap and r_ℓ in blocks of the level's grid
+    int acrossCap = -1, within = -1, across = -1, near = -1, support = -1;  // indices into the maps
+  };
+  std::array<LevelMaps, kLevelCount> lm;
+  std::vector<MapSpec> fine, coarse;  // the 4×4 grid's maps (level 0), the 8×8 grid's
+  int supportA = -1, supportB = -1;   // the closure so far: its reach in 8×8 blocks, and level 0's in 4×4 ones
+  int blendReach = 0;
+  for (int l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = level(l);
+    LevelMaps& m = lm[static_cast<size_t>(l)];
+    if (!lc.enabled || l == c.coarsestEnabled) continue;
+    m.blurred = true;
+    m.widened = footprint && l >= c.effectMask.firstLevel;
+    m.capBlocks = m.widened ? blocksWithin(cap, blockSize(l)) : 0;
+    m.blurBlocks = blocksWithin(static_cast<int>(lc.gaussian.size() / 2), blockSize(l));
+    const int k = m.capBlocks, r = m.capBlocks + m.blurBlocks;
+    std::vector<MapSpec>& grid = l == 0 ? fine : coarse;
+    const auto add = [&](MapSpec spec) {
+      grid.push_back(spec);
+      return static_cast<int>(grid.size()) - 1;
+    };
+    const auto along = [](int x, int y) { return MapSpec{x, y, -1, -1}; };
+    if (m.widened) {
+      if (l == 0) m.acrossCap = add(along(k, 0));
+      m.within = add(along(k, k));  // M'_ℓ's blocks: the a-posteriori term's (refineMasks)
+    }
+    if (l == 0) {  // the blur's covers (a coarser level's blur is drawn whole)
+      m.across = add(along(r, k));
+      m.near = add(along(r, r));
+    }
+    if (l == 0) supportB = r;
+    else supportA = std::max(supportA, r);
+    m.support = static_cast<int>(coarse.size());
+    coarse.push_back({supportA, supportA, supportB, supportB});  // S_ℓ's: every enabled level's so far
+    blendReach = std::max(blendReach, (static_cast<int>(lc.gaussian.size() / 2) + (m.widened ? cap : 0) + 2) * lc.scale);
+  }
+  // level 0 widened: M'_0's blocks on the 8×8 grid (refineMasks' maskBlocks[0])
+  const int pooledWithin0 = lm[0].widened ? static_cast<int>(coarse.size()) : -1;
+  if (lm[0].widened) coarse.push_back({-1, -1, lm[0].capBlocks, lm[0].capBlocks});
+  // the blend's near blocks (blendFinalOnly): a finer α is 0 beyond its reach (and 1 more pixel)
+  const int blendNear = static_cast<int>(coarse.size());
+  coarse.push_back({blocksWithin(blendReach, 1 << kCoarsest), blocksWithin(blendReach, 1 << kCoarsest), -1, -1});
+  std::vector<Target> fineMaps = fine.empty() ? std::vector<Target>() : blockMaps(scene, fineBlocks, fineBlocks, fine);
+  std::vector<Target> coarseMaps = blockMaps(scene, edgeBlocks, fineBlocks, coarse);
+  const auto mapOf = [](const std::vector<Target>& maps, int index) {
+    return index < 0 ? BlockMap() : BlockMap(*maps[static_cast<size_t>(index / 8)], index % 8);
+  };
+  const auto levelMap = [&](int l, int index) { return mapOf(l == 0 ? fineMaps : coarseMaps, index); };
+  out->blendNear = mapOf(coarseMaps, blendNear);
+
   // 1b. mrr-effect (SPEC §12, gpu/effect_masks.cpp): F_ℓ = maxpool2(F_{ℓ−1}); each enabled level's
   // M_ℓ but the coarsest, from ℓ_first on, widened by its reach into M'_ℓ. The pyramid above
   // stays E's own. F is 0 off the edges, so F_ℓ is drawn over the edge blocks alone; the
   // widening reaches at most `cap` level pixels past M_ℓ, so its passes are drawn over the
-  // blocks within `cap` of M_ℓ's (its maskBlocks then). SPEC §12.3, the ablation's effect-only
-  // arm: a widened level keeps M'_ℓ ∧ ¬M_ℓ, and a level below ℓ_first (not widened) holds nothing.
+  // blocks within `cap` of M_ℓ's (along x, then along y too), and the blur below over those.
+  std::array<BlockMap, kLevelCount> maskBlocks;
+  for (int l = 0; l < kLevelCount; ++l) maskBlocks[static_cast<size_t>(l)] = l == 0 ? fineBlocks : edgeBlocks;
   if (footprint) {
     Target pooled;
     // F, drawn over E's 4×4 blocks
-    unsigned fl = footprint(blockRects(fineBlocks, 1, 1 << (kCoarsest - 1), level(0).width, level(0).height));
-    const int cap = c.effectMask.cap;
+    unsigned fl = footprint(Cover::blocksOf(fineBlocks, 1 << (kCoarsest - 1)));
     for (int l = 0; l < kLevelCount; ++l) {
       const LevelConstants& lc = level(l);
       const size_t i = static_cast<size_t>(l);
       if (l > 0) {
-        const std::vector<glm::ivec4> edgeRects = blockRects(edgeBlocks, 1, blockSize(l), lc.width, lc.height);
         Pass::Inputs in;
         in.source = fl;
         in.factor = 2;
-        in.rects = &edgeRects;
+        in.cover = Cover::whole();  // a coarser level (step 1)
         pooled = pass.run(1, {Texel::R32f}, lc.width, lc.height, in);
         fl = pooled->texture(0);
       }
@@ -196,21 +261,16 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       }
       const unsigned source = l == 0 ? edges : mask[i]->texture(0);
       const int channel = l == 0 ? edgeChannel : 0;
-      const ImageU8 across = nearBlocks(maskBlocks[i], blockSize(l), cap, 0);  // within cap along x
-      const ImageU8 within = nearBlocks(across, blockSize(l), 0, cap);           // ... and along y
-      const std::vector<glm::ivec4> acrossRects = blockRects(across, 1, blockSize(l), lc.width, lc.height),
-                                    withinRects = blockRects(within, 1, blockSize(l), lc.width, lc.height);
+      const BlockMap across = levelMap(l, lm[i].acrossCap), within = levelMap(l, lm[i].within);
       Target dilated = drawDilateByReach(scene, source, channel, fl, lc.width, lc.height, lc.scale, cap,
-                                         &acrossRects, &withinRects);
+                                         cover(across, l), cover(within, l));
       if (c.effectMask.effectOnly)  // SPEC §12.3: M'_ℓ ∧ ¬M_ℓ
-        dilated = drawWideningOnly(scene, dilated->texture(0), source, channel, lc.width, lc.height, &withinRects);
+        dilated = drawWideningOnly(scene, dilated->texture(0), source, channel, lc.width, lc.height, cover(within, l));
       mask[i] = std::move(dilated);
       maskBlocks[i] = within;
       out->widenedBy[i] = cap;
     }
   }
-  // support[ℓ]: the edge blocks outside which S_ℓ is 0 (its blur's, then the closure's too)
-  std::array<ImageU8, kLevelCount> support;
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
@@ -221,28 +281,19 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       continue;
     }
     // 2. a_ℓ = G(σ²) ∗ M_ℓ, separable, over the blocks within r_ℓ of M_ℓ's (an edge's, or a
-    // widened level's reach); 3. S_ℓ = [a_ℓ > 0]
-    const int radius = static_cast<int>(lc.gaussian.size() / 2);
-    // The horizontal pass is non-zero only within r across of M_ℓ's blocks (its rows); the
-    // vertical one within r across and down. Level 0 on the 4×4 grid, whose support is narrow;
-    // the closure below works on the 8×8 grid: the max-pool.
-    const ImageU8 across = nearBlocks(maskBlocks[i], blockSize(l), radius, 0);  // within r across
-    const ImageU8 near = nearBlocks(across, blockSize(l), 0, radius);            // ... and within r down
-    const std::vector<glm::ivec4> rows = blockRects(across, 1, blockSize(l), lc.width, lc.height),
-                                  rects = blockRects(near, 1, blockSize(l), lc.width, lc.height);
-    support[i] = l == 0 ? poolBlocks(near) : near;
-    out->supportRects[i] = rects;
-    out->maskBlocks[i] = l == 0 ? poolBlocks(maskBlocks[i]) : maskBlocks[i];
+    // widened level's reach); 3. S_ℓ = [a_ℓ > 0]. The horizontal pass is non-zero only within r
+    // across of M_ℓ's blocks (its rows); the vertical one within r across and down.
+    out->supportBlocks[i] = mapOf(coarseMaps, lm[i].support);
+    out->maskBlocks[i] = l != 0 ? maskBlocks[i] : lm[0].widened ? mapOf(coarseMaps, pooledWithin0) : edgeBlocks;
     Pass::Inputs horizontal;
     horizontal.source = mask[i] ? mask[i]->texture(0) : edges;  // M_0 = E unless mrr-effect replaced it
     horizontal.sourceChannel = mask[i] ? 0 : edgeChannel;
     if (limit) {  // 5. SPEC §13: M'_ℓ = M_ℓ where ℓ ≥ ℓ_min (0 outside M_ℓ's blocks, as M_ℓ); the blur reads it
-      const std::vector<glm::ivec4> maskRects = blockRects(maskBlocks[i], 1, blockSize(l), lc.width, lc.height);
       Pass::Inputs limited = horizontal;
       limited.factor = lc.scale;
       limited.limit = limit;
       limited.level = l;
-      limited.rects = &maskRects;
+      limited.cover = cover(maskBlocks[i], l);
       out->limitedTarget[i] = pass.run(5, {Texel::R8}, lc.width, lc.height, limited);
       horizontal.source = out->limitedTarget[i]->texture(0);
       horizontal.sourceChannel = 0;
@@ -250,10 +301,10 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     out->blurSource[i] = horizontal.source;
     out->blurSourceChannel[i] = horizontal.sourceChannel;
     horizontal.weights = &lc.gaussian;
-    horizontal.rects = &rows;
+    horizontal.cover = cover(levelMap(l, lm[i].across), l);
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Pass::Inputs vertical = horizontal;
-    vertical.rects = &rects;
+    vertical.cover = cover(levelMap(l, lm[i].near), l);
     vertical.source = h->texture(0);
     vertical.sourceChannel = 0;
     vertical.direction = {0, 1};
@@ -261,7 +312,8 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     Target both = pass.run(2, {Texel::R32f, Texel::R8}, lc.width, lc.height, vertical);
     out->alphaTarget[i] = std::move(both);  // a_ℓ in target 0, S_ℓ in target 1
   }
-  // 4. coverage closure, fine to coarse, across disabled levels
+  // 4. coverage closure, fine to coarse, across disabled levels: S_next ∨ max-pool(S_ℓ) is 0
+  // outside both supports, drawn over their union (S_next's, which holds every finer level's)
   auto stencilTexture = [&](size_t l) {
     return stencil[l] ? stencil[l]->texture(0) : out->alphaTarget[l]->texture(1);
   };
@@ -270,20 +322,15 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
     if (!c.levels[static_cast<size_t>(l)].enabled || next < 0) continue;
     const LevelConstants& ln = c.levels[static_cast<size_t>(next)];
     if (next == c.coarsestEnabled) continue;  // already all 1
-    // S_next ∨ max-pool(S_ℓ) is 0 outside both supports: drawn over their union only
-    ImageU8& into = support[static_cast<size_t>(next)];
-    const ImageU8& from = support[static_cast<size_t>(l)];
-    for (size_t b = 0; b < into.data.size(); ++b) into.data[b] |= from.data[b];
-    const std::vector<glm::ivec4> rects = blockRects(into, 1, 1 << (kCoarsest - next), ln.width, ln.height);
     Pass::Inputs in;
     in.source = stencilTexture(static_cast<size_t>(l));
     in.previous = stencilTexture(static_cast<size_t>(next));
     in.factor = 1 << (next - l);
-    in.rects = &rects;
-    out->supportRects[static_cast<size_t>(next)] = rects;
+    in.cover = Cover::whole();  // S_next is a coarser level's (step 1)
     stencil[static_cast<size_t>(next)] = pass.run(4, {Texel::R8}, ln.width, ln.height, in);
   }
-  out->supportBlocks = support;
+  for (Target& t : fineMaps) out->blockMaps.push_back(std::move(t));
+  for (Target& t : coarseMaps) out->blockMaps.push_back(std::move(t));
   for (size_t l = 0; l < kLevelCount; ++l)
     if (c.levels[l].enabled) {
       out->alpha[l] = out->alphaTarget[l]->texture(0);
@@ -303,50 +350,43 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
 }
 
 void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& c,
-                 const ImageU8* marksBlocks) {
+                 const BlockMap& marksIn) {
+  BlockMap marksBlocks = marksIn;
   const size_t i = static_cast<size_t>(level);
   const LevelConstants& lc = c.levels[i];
   require(masks.drawn && masks.blurSource[i] != 0, "refineMasks: level " + std::to_string(level) + " has no drawn blur");
   // With the marks' blocks, each step is drawn over the blocks where it can be non-zero (the
   // rest cleared to 0, what the step gives there), as drawMasks' passes: level-ℓ pixels per block
   const int blockSize = 1 << (kLevelCount - 1 - level);
-  if (marksBlocks && (marksBlocks->data.size() != masks.maskBlocks[i].data.size() ||
-                      marksBlocks->data.size() != masks.supportBlocks[i].data.size()))
-    marksBlocks = nullptr;  // blocks on another grid: the whole level
-  const auto rectsOf = [&](const ImageU8& blocks) { return blockRects(blocks, 1, blockSize, lc.width, lc.height); };
-  const auto either = [](ImageU8 a, const ImageU8& b) {
-    for (size_t k = 0; k < a.data.size(); ++k) a.data[k] |= b.data[k];
-    return a;
-  };
+  if (marksBlocks && (!masks.maskBlocks[i] || !masks.supportBlocks[i] ||
+                      marksBlocks.width() != masks.maskBlocks[i].width() ||
+                      marksBlocks.height() != masks.maskBlocks[i].height()))
+    marksBlocks = BlockMap();  // blocks on another grid: the whole level
+  const auto coverOf = [&](const BlockMap& blocks) { return Cover::blocksOf(blocks, blockSize); };
   // The step's program: refine_masks.frag STEP 1 or 3 (SOURCE_CHANNEL: M_ℓ's channel, step 1).
   const auto step = [&](int n, int channel, std::initializer_list<std::pair<const char*, unsigned>> textures,
-                        const std::vector<glm::ivec4>* rects) {
+                        const Cover& cover) {
     const unsigned program =
-        scene.program("refine_masks." + std::to_string(n) + "." + std::to_string(channel), "fullscreen.vert",
-                      "refine_masks.frag",
-                      "#define STEP " + std::to_string(n) + "\n#define SOURCE_CHANNEL " + std::to_string(channel) + "\n");
+        scene.passProgram("refine_masks." + std::to_string(n) + "." + std::to_string(channel), "refine_masks.frag",
+                          "#define STEP " + std::to_string(n) + "\n#define SOURCE_CHANNEL " + std::to_string(channel) + "\n",
+                          cover);
     Target target = scene.target(lc.width, lc.height, 1, false, Texel::R8);
     target->bind();
     glUseProgram(program);
     bindTextures(program, textures);
-    if (rects) {
+    if (!cover.isWhole()) {
       const float zero[4] = {0, 0, 0, 0};
       glClearBufferfv(GL_COLOR, 0, zero);
-      scene.drawRects(*rects, lc.width, lc.height);
-    } else {
-      scene.drawFullscreen();
     }
+    scene.draw(cover, lc.width, lc.height);
     checkGl("refine_masks");
     return target;
   };
   // 1. M_ℓ ∨= marks: 0 outside M_ℓ's blocks and the marks'
-  const ImageU8 refined = marksBlocks ? either(masks.maskBlocks[i], *marksBlocks) : ImageU8();
-  const std::vector<glm::ivec4> refinedRects = marksBlocks ? rectsOf(refined) : std::vector<glm::ivec4>();
+  const BlockMap refined = marksBlocks ? masks.keep(uniteBlocks(scene, masks.maskBlocks[i], marksBlocks)) : BlockMap();
   masks.refinedTarget[i] = step(1, masks.blurSourceChannel[i], {{"source", masks.blurSource[i]}, {"marks", marks->texture(0)}},
-                                marksBlocks ? &refinedRects : nullptr);
+                                refined ? coverOf(refined) : Cover::whole());
   masks.marksTarget[i] = std::move(marks);
-  if (marksBlocks && std::none_of(marksBlocks->data.begin(), marksBlocks->data.end(), [](uint8_t b) { return b != 0; }))
-    return;  // no mark: M_ℓ, hence a_ℓ and S_ℓ, as they were
   const Pass pass{scene};
   Pass::Inputs horizontal;
   horizontal.source = masks.refinedTarget[i]->texture(0);
@@ -359,40 +399,40 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     vertical.source = h->texture(0);
     Target alpha = pass.run(2, {Texel::R32f}, lc.width, lc.height, vertical);
     // 3. S_ℓ ∨= [a_ℓ > 0]
-    Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}}, nullptr);
+    Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}}, Cover::whole());
     masks.alphaTarget[i] = std::move(alpha);
     masks.stencilTarget[i] = std::move(stencil);
-    masks.supportRects[i].clear();  // the whole level
+    masks.supportBlocks[i] = BlockMap();  // the whole level
   } else {
     // 2. a_ℓ = G(σ_ℓ²) ∗ M_ℓ again. M_ℓ changed in the marks' blocks alone, so a_ℓ changes within
     // r_ℓ of them alone (each pixel's sum is the blur's own, term for term): a copy of a_ℓ, the
-    // vertical pass redrawn there, the horizontal one where that reads it (r_ℓ further down)
-    const int radius = static_cast<int>(lc.gaussian.size() / 2);
-    const ImageU8 changed = nearBlocks(nearBlocks(*marksBlocks, blockSize, radius, 0), blockSize, 0, radius);
-    const ImageU8 rows = nearBlocks(changed, blockSize, 0, radius);
-    const std::vector<glm::ivec4> changedRects = rectsOf(changed), rowRects = rectsOf(rows);
-    horizontal.rects = &rowRects;
+    // vertical pass redrawn there, the horizontal one where that reads it (r_ℓ further down).
+    // Without a mark the covers are empty: a_ℓ and S_ℓ are copied as they were.
+    const int radius = blocksWithin(static_cast<int>(lc.gaussian.size() / 2), blockSize);
+    const BlockMap changed = masks.keep(dilateBlocks(scene, marksBlocks, radius, radius));
+    const BlockMap rows = masks.keep(dilateBlocks(scene, changed, 0, radius));
+    horizontal.cover = coverOf(rows);
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     Target alpha = scene.target(lc.width, lc.height, 1, false, Texel::R32f);
     alpha->copyFrom(*masks.alphaTarget[i], 0);
     vertical.source = h->texture(0);
-    vertical.rects = &changedRects;
+    vertical.cover = coverOf(changed);
     pass.draw(2, *alpha, vertical, false);
     // 3. S_ℓ ∨= [a_ℓ > 0]: likewise, a copy of S_ℓ redrawn where a_ℓ changed
-    const unsigned program = scene.program("refine_masks.3.0", "fullscreen.vert", "refine_masks.frag",
-                                           "#define STEP 3\n#define SOURCE_CHANNEL 0\n");
+    const Cover changedCover = coverOf(changed);
+    const unsigned program = scene.passProgram("refine_masks.3.0", "refine_masks.frag",
+                                               "#define STEP 3\n#define SOURCE_CHANNEL 0\n", changedCover);
     Target stencil = scene.target(lc.width, lc.height, 1, false, Texel::R8);
     if (masks.stencilTarget[i]) stencil->copyFrom(*masks.stencilTarget[i], 0);
     else stencil->copyFrom(*masks.alphaTarget[i], 1);  // S_ℓ beside a_ℓ (the blur's second target)
     glUseProgram(program);
     bindTextures(program, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}});
-    scene.drawRects(changedRects, lc.width, lc.height);
+    scene.draw(changedCover, lc.width, lc.height);
     checkGl("refine_masks");
     masks.alphaTarget[i] = std::move(alpha);
     masks.stencilTarget[i] = std::move(stencil);
     masks.maskBlocks[i] = refined;
-    masks.supportBlocks[i] = either(masks.supportBlocks[i], changed);
-    masks.supportRects[i] = rectsOf(masks.supportBlocks[i]);
+    masks.supportBlocks[i] = masks.keep(uniteBlocks(scene, masks.supportBlocks[i], changed));
   }
   masks.alpha[i] = masks.alphaTarget[i]->texture(0);
   masks.stencil[i] = masks.stencilTarget[i]->texture(0);
@@ -477,11 +517,55 @@ std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount
   return out;
 }
 
+namespace {
+// A target of `format`, 0 but on [0, w) × [0, h), where it is `value` (a scissored clear).
+Target insideTarget(const GpuScene& scene, int width, int height, Texel format, int w, int h, float inside,
+                    float outside = 0.0f) {
+  Target target = scene.target(width, height, 1, false, format);
+  target->bind();
+  const float out[4] = {outside, outside, outside, outside}, in[4] = {inside, inside, inside, inside};
+  glClearBufferfv(GL_COLOR, 0, out);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(0, 0, w, h);
+  glClearBufferfv(GL_COLOR, 0, in);
+  glDisable(GL_SCISSOR_TEST);
+  checkGl("constant masks");
+  return target;
+}
+}  // namespace
+
+std::unique_ptr<MaskTargets> drawFullMasks(const GpuScene& scene, const Constants& c) {
+  // as fullModeMasks: S_0 on the W×H pixels, a_0 = 1 on the whole padded level
+  auto out = std::make_unique<MaskTargets>();
+  const LevelConstants& l0 = c.levels[0];
+  out->stencilTarget[0] = insideTarget(scene, l0.width, l0.height, Texel::R8, c.width, c.height, 1.0f);
+  out->alphaTarget[0] = insideTarget(scene, l0.width, l0.height, Texel::R32f, l0.width, l0.height, 1.0f);
+  out->stencil[0] = out->stencilTarget[0]->texture(0);
+  out->alpha[0] = out->alphaTarget[0]->texture(0);
+  return out;
+}
+
+std::unique_ptr<MaskTargets> drawUniformMasks(const GpuScene& scene, const Constants& c) {
+  // as uniformMasks: S_ℓ = a_ℓ = 1 on the level pixels whose block starts inside W×H, at the
+  // shaded levels; 0 at an unshaded one (uniform-k's level 0)
+  auto out = std::make_unique<MaskTargets>();
+  for (size_t l = 0; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[l];
+    if (!lc.enabled) continue;
+    const int w = lc.shaded ? levelExtent(c.width, lc.scale) : 0, h = lc.shaded ? levelExtent(c.height, lc.scale) : 0;
+    out->stencilTarget[l] = insideTarget(scene, lc.width, lc.height, Texel::R8, w, h, 1.0f);
+    out->alphaTarget[l] = insideTarget(scene, lc.width, lc.height, Texel::R32f, w, h, 1.0f);
+    out->stencil[l] = out->stencilTarget[l]->texture(0);
+    out->alpha[l] = out->alphaTarget[l]->texture(0);
+  }
+  return out;
+}
+
 std::array<MaskLevel, kLevelCount> buildMasks(const GpuScene& scene, const ImageU8& edges, const Constants& c,
                                               const ImageF* footprint) {
   TextureSet uploaded;
   FootprintFn f;
-  if (footprint) f = [&](const std::vector<glm::ivec4>&) { return uploaded.add(uploadTexture(*footprint)); };
+  if (footprint) f = [&](const Cover&) { return uploaded.add(uploadTexture(*footprint)); };
   const auto targets = drawMasks(scene, uploaded.add(uploadBinary(edges)), 0, c, f);
   std::array<MaskLevel, kLevelCount> masks = readMasks(*targets, c, false);
   if (masks[0].mask.empty()) masks[0].mask = edges;  // M_0 = E (mrr-effect may have widened it)

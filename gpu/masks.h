@@ -1,7 +1,8 @@
 #pragma once
 // The port's stage 3 (gpu/shaders/masks.frag): mask pyramid, blur, stencils and the coverage
-// closure on the GPU. The targets stay there for the effect and blend passes; the frame reads
-// back S_ℓ (for |S_ℓ| and the never-slower rule) and, with keepStages, M_ℓ and a_ℓ too.
+// closure on the GPU. The targets stay there for the effect and blend passes; where they can be
+// non-zero is known on the GPU alone (block maps, gpu/blocks.h). The frame counts S_ℓ there
+// (gpu/rule.h) and reads the masks back only when it keeps its stages.
 #include <array>
 #include <functional>
 #include <memory>
@@ -12,9 +13,10 @@
 
 namespace mrr::gpu {
 
-// Every enabled level's M_ℓ, a_ℓ and S_ℓ on the GPU. The later passes read `alpha[ℓ]` and
-// `stencil[ℓ]` (texture names; 0 for disabled levels), drawn here or uploaded from host masks.
-struct MaskTargets {
+// Every enabled level's M_ℓ, a_ℓ and S_ℓ on the GPU: the port's masks behind the frame contract
+// (common/frame.h DeviceMasks). The later passes read `alpha[ℓ]` and `stencil[ℓ]` (texture names;
+// 0 for disabled levels), drawn here or by the host-free builders of full, uniform-k and tiles.
+struct MaskTargets final : DeviceMasks {
   // Drawn: M_ℓ (R8, ℓ ≥ 1; M_0 is E); a_ℓ (R32F) with S_ℓ (R8) as its second target, or S_ℓ in
   // stencilTarget where the closure or the coarsest level made it.
   std::array<Target, kLevelCount> maskTarget, alphaTarget, stencilTarget;
@@ -30,24 +32,34 @@ struct MaskTargets {
   std::array<Target, kLevelCount> refinedTarget, marksTarget;
   TextureSet uploaded;                                                       // or uploaded
   std::array<unsigned, kLevelCount> alpha{}, stencil{};
-  bool drawn = false;  // false: uploaded from host masks (uploadMasks)
-  // Drawn: rectangles holding every pixel of S_ℓ (empty: the whole level, the coarsest), for
-  // the effect passes' stencil fill.
-  std::array<std::vector<glm::ivec4>, kLevelCount> supportRects;
-  // Drawn, on the coarsest level's grid (blocks of 2^{3−ℓ} level-ℓ pixels): the blocks outside
-  // which the M_ℓ the blur read is 0 (E's edge blocks, or a widened level's reach past them)
-  // and those outside which S_ℓ is 0 (supportRects'); refineMasks extends both.
-  std::array<ImageU8, kLevelCount> maskBlocks, supportBlocks;
-  ImageU8 edgeBlocks;  // drawn: M of the coarsest level, read back (which blocks hold an edge)
+  bool drawn = false;  // the edge pyramid's (drawMasks): the fast paths below know where work is
+  // Drawn: block maps on the coarsest level's grid (gpu/blocks.h; blocks of 2^{3−ℓ} level-ℓ
+  // pixels, 8×8 full-res pixels): the blocks outside which the M_ℓ the blur read is 0 (E's edge
+  // blocks, or a widened level's reach past them), and those outside which S_ℓ is 0 (none: the
+  // whole level, the coarsest); refineMasks extends both. The effect passes' stencil fill is drawn
+  // over supportCover(ℓ).
+  std::array<BlockMap, kLevelCount> maskBlocks{}, supportBlocks{};
+  BlockMap edgeBlocks;  // drawn: M of the coarsest level (which blocks hold an edge)
+  BlockMap blendNear;   // drawn: the blocks within a finer level's reach of an edge block (the blend's)
+  std::vector<Target> blockMaps;  // the block maps above, owned
   // Drawn, mrr-effect (SPEC §12): the most level pixels each level's M'_ℓ reaches past M_ℓ (its
   // cap where widened, else 0), for the blend's reach from the edge blocks.
   std::array<int, kLevelCount> widenedBy{};
+  // Tiles (gpu/peers.h): each 16×16 tile's rate (R32F, tile grid), after SPEC §13's limit.
+  Target tileRates;
+
+  // Where to draw level ℓ's passes that have work only where S_ℓ can be set: supportBlocks[0]'s
+  // runs at level 0; the whole level at a coarser one, where a cover costs more than the pixels
+  // it skips (gpu/masks.cpp drawMasks, step 1), and wherever supportBlocks[ℓ] is none.
+  Cover supportCover(int level) const;
+  // Keeps a block map target and returns its first map.
+  BlockMap keep(Target map);
 };
 
 // mrr-effect (SPEC §12): F on the padded full-res grid (R32F, gpu/effect_masks.h drawFootprint),
 // drawn at least over `edgeRects` (rectangles holding every pixel of E, F's support; 0 elsewhere
-// is what F is there): its texture.
-using FootprintFn = std::function<unsigned(const std::vector<glm::ivec4>& edgeRects)>;
+// is what F is there; E's 4×4 blocks): its texture.
+using FootprintFn = std::function<unsigned(const Cover& edgeBlocks)>;
 
 // Stages 3.1–3.4 from E, channel `edgeChannel` of the texture `edges` (the padded full-res grid).
 // mrr-effect (SPEC §12): `footprint` gives F, which widens M_ℓ before the blur; none: the paper's
@@ -71,15 +83,15 @@ Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigne
 // SPEC §12.2 step 2, refineMasks (gpu/shaders/refine_masks.frag, its step 2 masks.frag's blur):
 // level ℓ of drawn masks refined with `marks` (R8, level ℓ's size, already limited): M_ℓ ∨= marks
 // (into refinedTarget[ℓ]), a_ℓ = G(σ_ℓ²) ∗ M_ℓ again and S_ℓ ∨= [a_ℓ > 0]; alpha[ℓ], stencil[ℓ] and
-// their targets are replaced. Without `marksBlocks`, over the whole level (supportRects[ℓ]
-// cleared: the whole level). With it (the coarsest level's grid, as MaskTargets::maskBlocks:
-// 1 where a block may hold a mark, drawRefinementMarks' `blocks`), step 1 is drawn over M_ℓ's
-// blocks and the marks', and a_ℓ and S_ℓ change only within r_ℓ of the marks' blocks: copies of
-// them, redrawn there; maskBlocks, supportBlocks and supportRects of ℓ grow to the refined ones;
-// no mark leaves a_ℓ and S_ℓ as they were. Both give the same bits.
-// Not for the coarsest enabled level.
+// their targets are replaced. Without `marksBlocks`, over the whole level (supportBlocks[ℓ]
+// cleared: the whole level). With it (a block map of the coarsest level's grid, as
+// MaskTargets::maskBlocks: 1 where a block may hold a mark, drawRefinementMarks' `blocks`), step 1
+// is drawn over M_ℓ's blocks and the marks', and a_ℓ and S_ℓ change only within r_ℓ of the marks'
+// blocks: copies of them, redrawn there; maskBlocks and supportBlocks of ℓ grow to the refined
+// ones (no mark leaves a_ℓ and S_ℓ as they were). Both give the same bits. Not for the coarsest
+// enabled level.
 void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target marks, const Constants& constants,
-                 const ImageU8* marksBlocks = nullptr);
+                 const BlockMap& marksBlocks = {});
 
 // Reads drawn masks back: every S_ℓ, and M_ℓ (ℓ ≥ 1: M_0 is E, the caller's) and a_ℓ too
 // unless `stencilsOnly`.
@@ -95,8 +107,13 @@ std::vector<glm::ivec4> blockRects(const ImageU8& blocks, uint8_t value, int blo
 // blocks may be partial): the host's block map of a read-back mask.
 ImageU8 blocksOf(const ImageU8& mask, int blockSize);
 
-// Host masks (full, uniform-k, tiles, or a never-slower fallback) as textures for the passes.
+// Host masks as textures for the passes (a frame that hands the port host images).
 std::unique_ptr<MaskTargets> uploadMasks(const std::array<MaskLevel, kLevelCount>& masks, const Constants& constants);
+// full's and uniform-k's stencils (common/frame.h fullModeMasks, uniformMasks: constants of the
+// frame's size), drawn on the GPU: S = a = 1 on the level pixels whose block starts inside W×H
+// (full: level 0's W×H pixels, a_0 = 1 everywhere), 0 elsewhere; nothing is uploaded.
+std::unique_ptr<MaskTargets> drawFullMasks(const GpuScene& scene, const Constants& constants);
+std::unique_ptr<MaskTargets> drawUniformMasks(const GpuScene& scene, const Constants& constants);
 
 // Draw from a host E (uploaded as a texture) and read everything back: the same-input form.
 // mrr-effect: `footprint` is the host's F (null: the paper's masks).

@@ -20,13 +20,16 @@
 #include "gpu/masks.h"
 #include "gpu/peers.h"
 #include "gpu/program.h"
+#include "gpu/rule.h"
 #include "gpu/shade.h"
 #include "gpu/shadowmap.h"
 #include "gpu/ssao.h"
 #include "gpu/ssgi.h"
 #include "gpu/ssm.h"
 #include "gpu/stencil.h"
+#include "gpu/blocks.h"
 #include "gpu/temporal.h"
+#include "gpu/traffic.h"
 
 namespace mrr::gpu {
 
@@ -56,21 +59,23 @@ std::string GpuRenderer::timingMethod() const {
   if (timerQueries_)
     return "GL_TIME_ELAPSED queries around each stage's GL work (no glFinish between stages); total on the wall "
            "clock";
-  return "glFinish + wall clock around each stage (timer queries are wrong on llvmpipe); each stage's readbacks are "
-         "inside its timing (with --stages or probe every stage is read back, else only S_l, the final image, level "
-         "map and shaded image)";
+  return "glFinish + wall clock around each stage (timer queries are wrong on llvmpipe); with --stages or probe every "
+         "stage is read back inside its timing, else nothing is (the frame is GPU-resident: the report's gl object)";
 }
 
 namespace {
-// The port's side of the frame contract (common/driver.h). Every stage's images stay on the
-// GPU; the frame reads back S_ℓ (for |S_ℓ| and the never-slower rule, before anything is
-// shaded), the final image and level map, and the shaded image. With keepStages (--stages,
-// probe, compare) every stage is read back too, into the structures the oracle fills.
+// The port's side of the frame contract (common/driver.h). Every stage's images stay on the GPU
+// (docs/port.md, "The GPU-resident frame"): the masks are the port's own targets (MaskTargets,
+// handed on as the frame's DeviceMasks), where they hold work is known on the GPU alone (block
+// maps, gpu/blocks.h), and the never-slower rule's counts are summed there (gpu/rule.h) and read
+// as a few integers. What the caller asked for (RenderOptions::outputs) is read back after the
+// clock has stopped (readOutputs). With keepStages (--stages, probe, compare) every stage is
+// read back too, inside its timing, into the structures the oracle fills.
 class PortFrame final : public FrameBackend {
  public:
-  PortFrame(const GpuScene& scene, const Scene& source, bool timerQueries,
-            const RenderOptions& options)
-      : scene_(scene), source_(source), timerQueries_(timerQueries), keep_(options.keepStages) {}
+  PortFrame(const GpuScene& scene, const Scene& source, bool timerQueries, const RenderOptions& options)
+      : scene_(scene), source_(source), timerQueries_(timerQueries), keep_(options.keepStages),
+        outputs_(options.outputs), start_(processTraffic()) {}
 
   const char* pathName() const override { return "gpu"; }
 
@@ -87,30 +92,46 @@ class PortFrame final : public FrameBackend {
     }
     FrameBackend::timeStage(f, name, [&] {
       body();
-      glFinish();
+      finish(WaitFor::Timing);
     });
   }
   void endFrame(FrameResult& f) override {
-    glFinish();
+    finish(WaitFor::Timing);  // the frame's wall clock stops when its GL work is done
     for (const auto& [index, query] : queries_) {
-      GLuint64 ns = 0;
-      glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
-      f.timings[index].ms = static_cast<double>(ns) * 1e-6;
+      f.timings[index].ms = static_cast<double>(queryResult(query, WaitFor::Timing)) * 1e-6;
       glDeleteQueries(1, &query);
     }
     checkGl("timer queries");
+    f.gl = processTraffic() - start_;  // the timed frame's talk with the host
+    afterFrame_ = processTraffic();
   }
 
-  const ImageU8& fullResHit(const FrameResult& f) override {
-    if (!f.levels[0].gbuffer.hit.empty() || !gbuffers_[0]) return f.levels[0].gbuffer.hit;
-    if (hit_.empty()) {  // read once a frame: the rule's counts, then idealSpeedupHit
-      // The view-space z alone (a quarter of the texels' bytes): < 0 on geometry, in front of the
-      // camera, and 0 where the target was cleared (background), as hit in w.
-      const ImageF z = gbuffers_[0]->readChannel(0, 2);
-      hit_ = ImageU8::uninitialised(z.width, z.height);
-      for (size_t i = 0; i < hit_.data.size(); ++i) hit_.data[i] = z.data[i] < 0.0f ? 1 : 0;
-    }
-    return hit_;
+  // SPEC §11's counts, on the GPU (gpu/rule.h): the same counts as the host's (common/frame.h),
+  // a small read at each decision. The edge sample is drawn before the floor is known, so that
+  // the early decision takes one read; where the floor rules the method out it is not counted.
+  void countEarly(FrameResult& f, const std::function<bool(const FrameCounts&)>& wantSample) override {
+    const unsigned shadowEdges = f.constants.effect == Effect::Ssm ? shadowTest_->texture(0) : 0;
+    Target sample;
+    if (wantSample) sample = drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges);
+    f.edgeSampled = gpu::countEarly(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0,
+                                    sample ? sample->texture(0) : 0, f.constants, f.counts, wantSample);
+    hitsCounted_ = true;  // H, which the report's idealSpeedupHit needs too
+    if (keep_ && f.edgeSampled) f.edgeSample = readEdgeSample(*sample);
+  }
+  void countStencils(FrameResult& f, const FrameMasks& masks) override {
+    const std::shared_ptr<MaskTargets> targets = targetsOf(f, masks);
+    gpu::countStencils(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0, targets->stencil, f.constants,
+                       f.counts);
+  }
+  // |S_ℓ| and the ideal speedups: on the host from the stencils read back (keepStages), else on
+  // the GPU once the clock has stopped (countHitPixels).
+  void countShaded(FrameResult& f) override {
+    if (keep_) FrameBackend::countShaded(f);
+  }
+  void countHitPixels(FrameResult& f, FrameCounts* finalStencils) override {
+    if (keep_) return FrameBackend::countHitPixels(f, finalStencils);
+    gpu::countShaded(scene_, *gbuffers_[0], maskTargets_->stencil, f, hitsCounted_ ? f.counts.hitPixels : -1,
+                     finalStencils, pcfSample_ ? pcfSample_->texture(0) : 0);
   }
 
   // G-buffers: level 0 rasterised, the coarser levels subsampled from it.
@@ -130,16 +151,17 @@ class PortFrame final : public FrameBackend {
   void shadowMap(FrameResult& f) override {
     const int size = f.constants.ssm.shadowMapSize;
     f.shadowMap = shadowMapFrame(source_.light, scene_.bounds(), size);
-    shadowMap_ = std::make_unique<ShadowMapTarget>(size);
+    shadowMap_ = &scene_.shadowMapTarget(size);
     drawShadowMap(scene_, f.shadowMap, *shadowMap_);
     if (keep_) f.shadowMap.depth = shadowMap_->read();
   }
   void samplePcf(FrameResult& f) override {
-    f.pcfSample = drawPcfSample(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm);
+    pcfSample_ = drawPcfSample(scene_, *gbuffers_[0], f.shadowMap, shadowMap_->texture(), f.view, f.constants.ssm);
+    if (keep_) f.pcfSample = readPcfSample(*pcfSample_);
   }
-  void sampleEdges(FrameResult& f) override {
+  void sampleEdges(FrameResult& f) override {  // countEarly draws the sample itself; this reads it
     const unsigned shadowEdges = f.constants.effect == Effect::Ssm ? shadowTest_->texture(0) : 0;
-    f.edgeSample = drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges);
+    f.edgeSample = readEdgeSample(*drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges));
   }
   void shadowTest(FrameResult& f) override {
     shadowTest_ = scene_.target(gbuffers_[0]->width(), gbuffers_[0]->height(), 1, false, Texel::R8);
@@ -152,43 +174,62 @@ class PortFrame final : public FrameBackend {
     edges_ = drawEdges(scene_, *gbuffers_[0], f.constants.edges, shadowEdges, !keep_);
     if (keep_) f.edges = readEdges(*edges_);
   }
-  Masks edgeMasks(FrameResult& f) override { return drawnMasks(f, false); }
-  Masks effectMasks(FrameResult& f) override { return drawnMasks(f, true); }
+
+  // The mask builders (common/methods.h), each drawing on the GPU; host images only with keepStages.
+  FrameMasks fullMasks(FrameResult& f) override {
+    return made(drawFullMasks(scene_, f.constants), [&] { return fullModeMasks(f.constants); });
+  }
+  FrameMasks uniformMasks(FrameResult& f) override {
+    return made(drawUniformMasks(scene_, f.constants), [&] { return mrr::uniformMasks(f.constants); });
+  }
+  FrameMasks edgeMasks(FrameResult& f) override { return drawnMasks(f, false); }
+  FrameMasks effectMasks(FrameResult& f) override { return drawnMasks(f, true); }
   // masks.frag's pyramid from E; with `widened` (mrr-effect, SPEC §12) M_ℓ widened first by the
   // effect's footprint at the edges, drawn over E's blocks (effect_masks.frag).
-  Masks drawnMasks(FrameResult& f, bool widened) {
+  FrameMasks drawnMasks(FrameResult& f, bool widened) {
     const Constants& c = f.constants;
     Target footprint;
     FootprintFn drawF;
     if (widened)
-      drawF = [&](const std::vector<glm::ivec4>& edgeRects) {
+      drawF = [&](const Cover& edgeBlocks) {
         footprint = drawFootprint(scene_, *gbuffers_[0], edges_->texture(0), edgeChannel(!keep_),
                                   c.needsShadowMap() ? &f.shadowMap : nullptr, shadowMap_ ? shadowMap_->texture() : 0,
-                                  f.view, c, &edgeRects);
+                                  f.view, c, edgeBlocks);
         return footprint->texture(0);
       };
     const unsigned limit = levelLimit(f);
-    maskTargets_ = gpu::drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, drawF, limit);
-    Masks masks = readMasks(*maskTargets_, c, !keep_);
-    if (keep_ && masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (M'_0: mrr-effect, SPEC §13)
-    return masks;
+    std::shared_ptr<MaskTargets> targets = gpu::drawMasks(scene_, edges_->texture(0), edgeChannel(!keep_), c, drawF, limit);
+    const MaskTargets* drawn = targets.get();
+    return made(std::move(targets), [&] {
+      Masks masks = readMasks(*drawn, c, false);
+      if (masks[0].mask.empty()) masks[0].mask = f.edges.combined;  // M_0 = E (M'_0: mrr-effect, SPEC §13)
+      return masks;
+    });
   }
-  Masks tileMasks(FrameResult& f) override {
-    f.tileRates = tileRates(scene_, edges_->texture(0), edgeChannel(!keep_), edges_->width(), edges_->height());
-    if (levelLimit(f)) limitTileRates(f.tileRates, f.levelLimit);  // SPEC §13, the same host step as the oracle's
-    return gpu::tileMasks(scene_, f.tileRates, f.constants);
+  FrameMasks tileMasks(FrameResult& f) override {
+    // the rates on the GPU, SPEC §13's limit there too (limitTileRates' step)
+    Target rates = drawTileRates(scene_, edges_->texture(0), edgeChannel(!keep_), edges_->width(), edges_->height(),
+                                 levelLimit(f));
+    if (keep_) f.tileRates = readTileRates(*rates);
+    std::shared_ptr<MaskTargets> targets = drawTileMasks(scene_, std::move(rates), f.constants);
+    const MaskTargets* drawn = targets.get();
+    return made(std::move(targets), [&] { return readTileMasks(*drawn, f.tileRates, f.constants); });
   }
-  // SPEC §13: limit.frag when a term is on, read back into f (the report, tiles, --stages); its
-  // texture, or 0.
+  // SPEC §13: limit.frag when a term is on (read back into f with keepStages: --stages, tiles'
+  // host rates; else when the caller asks, after the frame); its texture, or 0.
   unsigned levelLimit(FrameResult& f) {
     if (!f.constants.foveation.active()) return 0;
     limit_ = drawLevelLimit(scene_, *gbuffers_[0], f.view, f.constants);
-    readLevelLimit(*limit_, f.constants, f.eccentricity, f.motion, f.levelLimit);
+    if (keep_) readLevelLimit(*limit_, f.constants, f.eccentricity, f.motion, f.levelLimit);
     return limit_->texture(0);
   }
-  void useMasks(FrameResult& f, const Masks& masks, const StageFn& stage) override {
-    if (!maskTargets_ || !maskTargets_->drawn || f.fallback.fellBack)  // host stencils: to the GPU
-      stage(timedName(Timed::Stencils), [&] { maskTargets_ = uploadMasks(masks, f.constants); });
+  void useMasks(FrameResult& f, const FrameMasks& masks, const StageFn& stage) override {
+    if (masks.device) {
+      maskTargets_ = targetsOf(f, masks);
+      return;
+    }
+    // host images this backend did not draw: to the GPU
+    stage(timedName(Timed::Stencils), [&] { maskTargets_ = uploadMasks(masks.host, f.constants); });
   }
   // The effect with the stencil test; SSAO then gets the bilateral blur.
   void shadeLevel(FrameResult& f, int l, const StageFn& stage) override {
@@ -196,16 +237,18 @@ class PortFrame final : public FrameBackend {
     const size_t i = static_cast<size_t>(l);
     const LevelConstants& lc = c.levels[i];
     if (!lc.shaded) {  // uniform-k's level 0: a G-buffer, nothing shaded (c_0 = 0)
-      const ImageF zero(lc.width, lc.height, c.channels());
-      subTexture_[i] = unshaded_.add(uploadTexture(zero));
-      if (keep_) f.levels[i].raw = f.levels[i].sub = zero;
+      raw_[i] = scene_.target(lc.width, lc.height, 1, false, effectTexel(c.channels()));
+      raw_[i]->bind();
+      const float zero[4] = {0, 0, 0, 0};
+      glClearBufferfv(GL_COLOR, 0, zero);
+      subTexture_[i] = raw_[i]->texture(0);
+      if (keep_) f.levels[i].raw = f.levels[i].sub = ImageF(lc.width, lc.height, c.channels());
       return;
     }
     const Framebuffer& targets = *gbuffers_[i];
     const unsigned stencil = maskTargets_->stencil[i];
-    // drawn masks know where S_ℓ can be set: the stencil fill covers those rectangles alone
-    const std::vector<glm::ivec4>* fill =
-        maskTargets_->drawn && !maskTargets_->supportRects[i].empty() ? &maskTargets_->supportRects[i] : nullptr;
+    // drawn masks know where S_ℓ can be set: the stencil fill covers those blocks alone
+    const Cover fill = maskTargets_->drawn ? maskTargets_->supportCover(l) : Cover::whole();
     Target& raw = raw_[i];
     Target& sub = sub_[i];
     switch (c.effect) {
@@ -240,7 +283,8 @@ class PortFrame final : public FrameBackend {
 
   // mrr-effect's a-posteriori term (SPEC §12.2): level ℓ's marks from its next coarser enabled
   // level's result (refinement_marks.frag), limited as M_ℓ was (masks.frag STEP 5), then M_ℓ, a_ℓ
-  // and S_ℓ refined (refine_masks.frag with masks.frag's blur). S_ℓ is read back for |S_ℓ|.
+  // and S_ℓ refined (refine_masks.frag with masks.frag's blur), near the marks' blocks (a block
+  // map on the GPU). Read back with keepStages alone: |S_ℓ| is counted after the frame.
   void refineMasks(FrameResult& f, int l) override {
     const Constants& c = f.constants;
     const int next = c.nextCoarserEnabled(l);
@@ -248,17 +292,22 @@ class PortFrame final : public FrameBackend {
     const LevelConstants& lc = c.levels[i];
     // the marks' blocks on the coarsest level's grid (2^{3−n} level-n pixels each): the
     // refinement is drawn near them and M_ℓ's (gpu::refineMasks)
-    ImageU8 marksBlocks;
+    Target marksBlocks;
     const int blockSize = 1 << (kLevelCount - 1 - next);
+    const int ratio = 1 << (next - l);
     Target marks;
     RefinementRecord& r = f.refinement[i];
     if (r.budgeted) {
-      // SPEC §12.4: v(q) read back, the marks selected on the host (common/effect_budget.h) and drawn
+      // SPEC §12.4: v(q), S_ℓ, the full-res hit and SSM's PCF sample read back (the budgeted term's
+      // readbacks, counted in the frame's gl), the marks selected on the host (common/effect_budget.h),
+      // uploaded, pooled into their blocks and drawn as the τ_v path's
       const Target range = drawRangeTest(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
                                          gbuffers_[n]->texture(0), c.effectMask.posterior,
-                                         &maskTargets_->supportRects[n], true);
-      const std::vector<double> prices =
-          candidatePrices(f.levels[i].masks.stencil, fullResHit(f), f.pcfSample, c, l, next, r.prices);
+                                         maskTargets_->supportCover(next), true);
+      const ImageU8 stencil = keep_ ? f.levels[i].masks.stencil : readStencil(l);
+      if (!keep_ && f.constants.effect == Effect::Ssm && pcfSample_ && f.pcfSample.empty())
+        f.pcfSample = readPcfSample(*pcfSample_);
+      const std::vector<double> prices = candidatePrices(stencil, hostHit(f), f.pcfSample, c, l, next, r.prices);
       RefinementSelection chosen =
           selectRefinement(range->read(0, 1), prices, r.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis,
                            r.previousMarked.empty() ? nullptr : &r.previousMarked);
@@ -267,25 +316,27 @@ class PortFrame final : public FrameBackend {
       r.taken = chosen.taken;
       r.kept = chosen.kept;
       r.candidatePrices = prices;
-      marksBlocks = blocksOf(chosen.varies, blockSize);
       TextureSet uploaded;
-      const unsigned varies = uploaded.add(uploadBinary(chosen.varies));
-      const std::vector<glm::ivec4> rects =
-          markedRects(marksBlocks, blockSize, 1 << (next - l), range->width(), range->height(), lc.width, lc.height);
-      marks = drawParentMarks(scene_, varies, 1 << (next - l), lc.width, lc.height, &rects);
+      Target varies = drawParentMarks(scene_, uploaded.add(uploadBinary(chosen.varies)), 1, range->width(),
+                                      range->height(), Cover::whole());  // the selection as a target of level n
       f.levels[i].marked = std::move(chosen.varies);
+      marksBlocks = blockSize > 1 ? poolBlocks(scene_, *varies, blockSize) : Target();
+      const BlockMap blocks = marksBlocks ? BlockMap(*marksBlocks) : BlockMap(*varies);
+      marks = drawParentMarks(scene_, varies->texture(0), ratio, lc.width, lc.height,
+                              Cover::blocksOf(blocks, blockSize * ratio));
+      if (!marksBlocks) marksBlocks = std::move(varies);
     } else {
       marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
-                                  gbuffers_[n]->texture(0), 1 << (next - l), lc.width, lc.height,
-                                  c.effectMask.posterior, &maskTargets_->supportRects[n], &marksBlocks, blockSize);
+                                  gbuffers_[n]->texture(0), ratio, lc.width, lc.height, c.effectMask.posterior,
+                                  maskTargets_->supportCover(next), &marksBlocks, blockSize);
     }
     if (limit_) marks = drawLevelLimited(scene_, marks->texture(0), l, limit_->texture(0), c);
-    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c, &marksBlocks);
+    gpu::refineMasks(scene_, *maskTargets_, l, std::move(marks), c, BlockMap(*marksBlocks));
     refined_ = true;
-    MaskLevel& m = f.levels[i].masks;
-    m.stencil = maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)  // no mark: S_ℓ
-                                               : maskTargets_->alphaTarget[i]->readBinary(1);  // beside a_ℓ still
     if (keep_) {
+      MaskLevel& m = f.levels[i].masks;
+      m.stencil = maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)  // no mark: S_ℓ
+                                                 : maskTargets_->alphaTarget[i]->readBinary(1);  // beside a_ℓ still
       m.mask = maskTargets_->refinedTarget[i]->readBinary(0);
       m.alpha = maskTargets_->alphaTarget[i]->read(0, 1);
       f.levels[i].marks = maskTargets_->marksTarget[i]->readBinary(0);
@@ -298,44 +349,84 @@ class PortFrame final : public FrameBackend {
       std::array<const Framebuffer*, kLevelCount> targets{};
       for (size_t l = 0; l < targets.size(); ++l)
         if (c.levels[l].enabled) targets[l] = gbuffers_[l].get();
-      f.blend = composePeer(scene_, subTexture_, c.channels(), targets, f.tileRates, c, keep_, &final_);
+      const unsigned rates = maskTargets_->tileRates ? maskTargets_->tileRates->texture(0) : 0;
+      f.blend = composePeer(scene_, subTexture_, c.channels(), targets, rates, c, keep_, final_.target);
+      final_.attachment = 0;
+      peerComposed_ = true;
       return;
     }
     std::array<LevelTextures, kLevelCount> inputs;
     for (size_t l = 0; l < inputs.size(); ++l) inputs[l] = {subTexture_[l], maskTargets_->stencil[l], maskTargets_->alpha[l]};
     // a refined level's α reaches past the edge blocks' neighbourhood (SPEC §12.2): blended everywhere
-    const ImageU8* edgeBlocks = maskTargets_->drawn && !refined_ ? &maskTargets_->edgeBlocks : nullptr;
-    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, edgeBlocks, &final_, &maskTargets_->widenedBy);
+    const BlockMap nearBlocks = maskTargets_->drawn && !refined_ ? maskTargets_->blendNear : BlockMap();
+    f.blend = blendLevels(scene_, inputs, c.channels(), c, keep_, nearBlocks, &final_);
   }
   // SPEC §14: temporal.frag with the previous frame's history, uploaded; final' becomes the image
-  // shade.frag reads. Then, either way, the history for the next frame (level 0's depth and normal
-  // read back).
+  // shade.frag reads (the blend's target kept for its level map). The history for the next frame
+  // is read back after the clock (readOutputs).
   void temporal(FrameResult& f, const FrameHistory* history) override {
     const Constants& c = f.constants;
-    if (history && !history->empty()) {
-      Target t = drawTemporal(scene_, final_.texture(), *gbuffers_[0], maskTargets_->stencil[0],
-                              maskTargets_->alpha[0], *history, f.view, c);
+    if (!history || history->empty()) return;
+    Target t = drawTemporal(scene_, final_.texture(), *gbuffers_[0], maskTargets_->stencil[0], maskTargets_->alpha[0],
+                            *history, f.view, c);
+    if (keep_) {
       f.temporal.result = t->read(0, c.channels());
-      if (keep_) {
-        const ImageF aux = t->read(1);
-        f.temporal.history = ImageF::uninitialised(c.width, c.height, c.channels());
-        f.temporal.weight = ImageF::uninitialised(c.width, c.height, 1);
-        for (size_t i = 0; i < aux.pixelCount(); ++i) {
-          for (size_t k = 0; k < static_cast<size_t>(c.channels()); ++k)
-            f.temporal.history.data[i * static_cast<size_t>(c.channels()) + k] = aux.data[4 * i + k];
-          f.temporal.weight.data[i] = aux.data[4 * i + 3];
-        }
+      const ImageF aux = t->read(1);
+      f.temporal.history = ImageF::uninitialised(c.width, c.height, c.channels());
+      f.temporal.weight = ImageF::uninitialised(c.width, c.height, 1);
+      for (size_t i = 0; i < aux.pixelCount(); ++i) {
+        for (size_t k = 0; k < static_cast<size_t>(c.channels()); ++k)
+          f.temporal.history.data[i * static_cast<size_t>(c.channels()) + k] = aux.data[4 * i + k];
+        f.temporal.weight.data[i] = aux.data[4 * i + 3];
       }
-      final_ = GpuImage{std::move(t), 0};
-      if (keep_) f.temporal.previous = std::make_shared<const FrameHistory>(*history);
+      f.temporal.previous = std::make_shared<const FrameHistory>(*history);
     }
-    f.history = readHistory(*gbuffers_[0], f.final(), f.view, c);
-    for (size_t l = 0; l < kLevelCount; ++l) f.history.marked[l] = f.levels[l].marked;  // SPEC §14.2
+    blended_ = std::move(final_);
+    final_ = GpuImage{std::move(t), 0};
   }
   // The shaded image (shade.frag), from the level-0 G-buffer and the final image on the GPU.
   void shade(FrameResult& f) override {
-    f.shaded = drawShade(scene_, *gbuffers_[0], final_.texture(), shadowTest_ ? shadowTest_->texture(0) : 0, f.view,
-                         source_.light, f.constants);
+    shaded_ = drawShade(scene_, *gbuffers_[0], final_.texture(), shadowTest_ ? shadowTest_->texture(0) : 0, f.view,
+                        source_.light, f.constants);
+    if (keep_) f.shaded = shaded_->read(0, 3);
+  }
+
+  // After the frame: what the caller asked for, read back (RenderOptions::outputs), and the
+  // traffic since the frame's clock stopped.
+  void readOutputs(FrameResult& f) {
+    const Constants& c = f.constants;
+    const GpuImage& blended = blended_.target ? blended_ : final_;  // the blend's (or composition's) target
+    // the temporal term's next frame reads final' (FrameHistory)
+    const bool wantFinal = (outputs_ & kOutputFinal) || c.temporal.on();
+    if (!keep_) {
+      if (wantFinal) {
+        if (peerComposed_) {
+          readComposed(*blended.target, c.channels(), f.blend);
+        } else {
+          f.blend.final = blended.target->read(0, c.channels());
+          f.blend.levelMap = blended.target->readBytes(1);
+        }
+      }
+      // SPEC §14: final' where the temporal term ran, for the image written and the next frame
+      if (blended_.target && wantFinal)
+        f.temporal.result = final_.target->read(0, c.channels());
+      if (outputs_ & kOutputShaded) f.shaded = shaded_->read(0, 3);
+      if (outputs_ & kOutputStencils) {
+        const Masks stencils = readMasks(*maskTargets_, c, true);
+        for (size_t l = 0; l < kLevelCount; ++l) f.levels[l].masks.stencil = stencils[l].stencil;
+      }
+      if (outputs_ & kOutputMaps) {
+        if (limit_) readLevelLimit(*limit_, c, f.eccentricity, f.motion, f.levelLimit);
+        if (maskTargets_->tileRates) f.tileRates = readTileRates(*maskTargets_->tileRates);
+      }
+    }
+    // SPEC §14: the history the next frame's temporal term reads (level 0's depth and normal, final')
+    if (c.temporal.on()) {
+      f.history = readHistory(*gbuffers_[0], f.final(), f.view, c);
+      for (size_t l = 0; l < kLevelCount; ++l) f.history.marked[l] = f.levels[l].marked;  // SPEC §14.2
+    }
+    f.glProcess = processTraffic();
+    f.glAfterFrame = f.glProcess - afterFrame_;
   }
 
  private:
@@ -349,31 +440,67 @@ class PortFrame final : public FrameBackend {
     g = scene_.target(lc.width, lc.height, targets, true);
     return *g;
   }
+  // The host images SPEC §12.4's budget prices with, read back where keepStages did not already
+  // (the budgeted a-posteriori term is the one part of a frame that reads images back).
+  const ImageU8& hostHit(const FrameResult& f) {
+    if (!f.levels[0].gbuffer.hit.empty()) return f.levels[0].gbuffer.hit;
+    if (hit_.empty()) {  // the w of level 0's position target
+      const ImageF positionHit = gbuffers_[0]->read(0);
+      hit_ = ImageU8::uninitialised(positionHit.width, positionHit.height);
+      for (size_t i = 0; i < hit_.data.size(); ++i) hit_.data[i] = positionHit.data[4 * i + 3] > 0.5f;
+    }
+    return hit_;
+  }
+  ImageU8 readStencil(int l) const {
+    const size_t i = static_cast<size_t>(l);
+    return maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)
+                                          : maskTargets_->alphaTarget[i]->readBinary(1);
+  }
   void keepGBuffer(FrameResult& f, int l) {  // --stages, probe, compare: read back
     if (keep_) f.levels[static_cast<size_t>(l)].gbuffer = readGBuffer(*gbuffers_[static_cast<size_t>(l)]);
+  }
+  // A builder's result: the port's targets, and with keepStages the host images `host` reads.
+  FrameMasks made(std::shared_ptr<MaskTargets> targets, const std::function<Masks()>& host) const {
+    FrameMasks m;
+    if (keep_) m.host = host();
+    m.device = std::move(targets);
+    return m;
+  }
+  // The port's targets behind `masks` (host images alone are uploaded).
+  std::shared_ptr<MaskTargets> targetsOf(const FrameResult& f, const FrameMasks& masks) const {
+    if (auto targets = std::dynamic_pointer_cast<MaskTargets>(masks.device)) return targets;
+    return uploadMasks(masks.host, f.constants);
   }
 
   const GpuScene& scene_;
   const Scene& source_;  // its light
   const bool timerQueries_, keep_;
-  ImageU8 hit_;  // the full-res hit flags, read back once (fullResHit)
+  const unsigned outputs_;
+  ImageU8 hit_;  // the full-res hit channel, where SPEC §12.4 read it back
+  const GlTraffic start_;  // the process's traffic when the frame began
+  GlTraffic afterFrame_;   // ... when its clock stopped
   std::vector<std::pair<size_t, unsigned>> queries_;
   std::array<Target, kLevelCount> gbuffers_;
-  std::unique_ptr<ShadowMapTarget> shadowMap_;
-  Target shadowTest_, edges_;
-  std::unique_ptr<MaskTargets> maskTargets_;
+  const ShadowMapTarget* shadowMap_ = nullptr;  // the scene's, kept from frame to frame
+  Target shadowTest_, edges_, pcfSample_;
+  std::shared_ptr<MaskTargets> maskTargets_;
   std::array<Target, kLevelCount> raw_, sub_;
   std::array<unsigned, kLevelCount> subTexture_{};
-  TextureSet unshaded_;
   GpuImage final_;
+  GpuImage blended_;  // the blend's target, where the temporal term replaced final_
+  Target shaded_;
+  bool peerComposed_ = false;  // final_ is composePeer's target (its level map a float in target 1)
   Target limit_;  // SPEC §13's level limit (limit.frag), when a term is on
   bool refined_ = false;  // SPEC §12.2 refined a level's masks (refineMasks)
+  bool hitsCounted_ = false;  // the rule counted H (f.counts.hitPixels)
 };
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
   PortFrame backend(gpuScene_, scene_, timerQueries_, options);
-  return renderFrame(backend, scene_.light, camera, constants, options);
+  FrameResult f = renderFrame(backend, scene_.light, camera, constants, options);
+  backend.readOutputs(f);  // after the clock: what the caller asked for
+  return f;
 }
 
 }  // namespace mrr::gpu

@@ -2,10 +2,11 @@
 // The port end to end, mirroring cpu_ref/pipeline.cpp stage by stage, with every stage read
 // back into the same FrameResult the oracle fills with keepStages — so --stages, --report and
 // probe work for --path gpu exactly as for --path cpu. Without keepStages (the benchmark, a
-// plain render) the frame stays on the GPU: only S_ℓ, the final image and level map, and what
-// the shaded image needs come back (docs/port.md, "The GPU-resident frame"). Timings are
-// glFinish + wall clock per stage (timer queries are wrong on llvmpipe, PLATFORM.md); each
-// stage's readbacks are inside its timing.
+// plain render) the frame stays on the GPU: nothing comes back inside the timed frame but the
+// never-slower rule's few integers, and after it what the caller asked for
+// (RenderOptions::outputs; docs/port.md, "The GPU-resident frame"). Timings are glFinish + wall
+// clock per stage on llvmpipe (its timer queries are wrong, docs/platform.md), timer queries
+// elsewhere; with keepStages each stage's readbacks are inside its timing.
 #include <memory>
 #include <string>
 
@@ -22,7 +23,7 @@ namespace mrr::gpu {
 bool isPortOnlyStage(const std::string& stage);
 
 // How stages are timed. wall: glFinish + a steady clock around each stage (what llvmpipe needs:
-// its GL_TIME_ELAPSED figures are wrong, PLATFORM.md). query: GL_TIME_ELAPSED around each
+// its GL_TIME_ELAPSED figures are wrong, docs/platform.md). query: GL_TIME_ELAPSED around each
 // stage's GL work, read when the frame is done, and no glFinish between stages; `total` stays
 // on the wall clock. auto: wall on Mesa's
 // software rasterisers (llvmpipe, softpipe), query elsewhere (NVIDIA).

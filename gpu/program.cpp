@@ -123,6 +123,11 @@ std::map<unsigned, std::string>& programStages() {
   static std::map<unsigned, std::string> stages;
   return stages;
 }
+// The programs made with a user's file (--shaders DIR): their uniforms are optional.
+std::set<unsigned>& userPrograms() {
+  static std::set<unsigned> programs;
+  return programs;
+}
 std::string programStage(unsigned program) {
   const auto it = programStages().find(program);
   return it == programStages().end() ? std::string("unknown stage") : "stage " + it->second;
@@ -154,6 +159,7 @@ struct Assembled {
 };
 
 using Lookup = std::string (*)(const std::string& name);
+const std::string kBlocksVertex = "blocks.vert", kBlocksGeometry = "blocks.geom";
 std::string lookupActive(const std::string& name) { return applyPlantedFault(name, shaderSource(name)); }
 std::string lookupBuiltin(const std::string& name) { return builtinSource(name); }
 
@@ -227,12 +233,14 @@ GLuint compile(const std::string& stage, const std::string& name, const std::str
   return shader;
 }
 
-GLuint link(const std::string& stage, GLuint vs, GLuint fs, const std::string& blame) {
+GLuint link(const std::string& stage, GLuint vs, GLuint gs, GLuint fs, const std::string& blame) {
   const GLuint program = glCreateProgram();
   glAttachShader(program, vs);
+  if (gs) glAttachShader(program, gs);
   glAttachShader(program, fs);
   glLinkProgram(program);
   glDeleteShader(vs);
+  if (gs) glDeleteShader(gs);
   glDeleteShader(fs);
   GLint ok = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
@@ -248,20 +256,24 @@ GLuint compileAndLink(const std::string& stage, const std::string& vertexName, c
                       const std::string& fragmentName, const std::string& fragmentText, const std::string& defines,
                       Lookup lookup, const std::string& blame) {
   const GLuint vs = compile(stage, vertexName, vertexText, GL_VERTEX_SHADER, defines, lookup);
-  GLuint fs = 0;
+  GLuint gs = 0, fs = 0;
   try {
+    // a pass drawn over a block map's runs: blocks.geom makes its rectangles (GpuScene::draw)
+    if (vertexName == kBlocksVertex) gs = compile(stage, kBlocksGeometry, lookup(kBlocksGeometry), GL_GEOMETRY_SHADER, defines, lookup);
     fs = compile(stage, fragmentName, fragmentText, GL_FRAGMENT_SHADER, defines, lookup);
   } catch (...) {
     glDeleteShader(vs);
+    if (gs) glDeleteShader(gs);
     throw;
   }
-  return link(stage, vs, fs, blame);
+  return link(stage, vs, gs, fs, blame);
 }
 
 // The files a program is made of: its two shaders and what they include.
 std::vector<std::string> programFiles(const std::string& vertexName, const std::string& vertexText,
                                       const std::string& fragmentName, const std::string& fragmentText) {
   std::vector<std::string> files = {fragmentName, vertexName};
+  if (vertexName == kBlocksVertex) files.push_back(kBlocksGeometry);
   for (const std::string* text : {&fragmentText, &vertexText}) {
     static const std::regex include(R"re((^|\n)#include "([^"]+)")re");
     for (std::sregex_iterator it(text->begin(), text->end(), include), end; it != end; ++it) files.push_back((*it)[2]);
@@ -269,34 +281,17 @@ std::vector<std::string> programFiles(const std::string& vertexName, const std::
   return files;
 }
 
-// A program made with a user's file (--shaders DIR) must offer what the host sets and reads:
-// every uniform the built-in program has active, and every output the built-in writes, at the
-// same location (docs/shader-contract.md). Checked against the built-in program of the same
-// stage and defines; an error names the user's file and what is missing.
+// A program made with a user's file (--shaders DIR) must give back what the stage's outputs
+// need: every output the built-in program writes, at the same location (docs/shader-contract.md).
+// Its uniforms are its own business: one it declares and never reads (the compiler drops it),
+// or leaves out, the host skips (`uniform` gives -1 for it, which GL ignores). Checked against
+// the built-in program of the same stage and defines; an error names the user's file and what
+// is missing.
 void checkAgainstBuiltin(GLuint program, const std::string& stage, const std::string& vertexName,
                          const std::string& fragmentName, const std::string& defines, const std::string& blame) {
   const GLuint reference = compileAndLink(stage, vertexName, builtinSource(vertexName), fragmentName,
                                           builtinSource(fragmentName), defines, lookupBuiltin, "");
   std::string missing;
-  GLint count = 0;
-  glGetProgramiv(reference, GL_ACTIVE_UNIFORMS, &count);
-  for (GLint i = 0; i < count && missing.empty(); ++i) {
-    char name[256];
-    GLsizei length = 0;
-    GLint size = 0;
-    GLenum type = 0;
-    glGetActiveUniform(reference, static_cast<GLuint>(i), sizeof name, &length, &size, &type, name);
-    // `seed` (--seed) is optional: a shader with its own noise, or one written before the seed,
-    // need not read mrr's (the host sets it only where the program has it).
-    if (std::string(name, static_cast<size_t>(length)) == "seed") continue;
-    if (glGetUniformLocation(program, name) < 0) {
-      std::string plain(name, static_cast<size_t>(length));
-      if (plain.size() > 3 && plain.compare(plain.size() - 3, 3, "[0]") == 0) plain.resize(plain.size() - 3);
-      const ShaderVariable* v = findShaderVariable(plain);
-      missing = "lacks the uniform " + plain + (v ? " (" + std::string(v->type) + ": " + std::string(v->meaning) + ")" : "") +
-                ", which the host sets";
-    }
-  }
   if (const ShaderContract* c = shaderContract(fragmentName); c && missing.empty())
     for (const ShaderVariable& out : c->outputs) {
       const std::string name(out.name);
@@ -336,6 +331,8 @@ unsigned compileProgramFromSource(const std::string& stage, const std::string& v
       compileAndLink(stage, vertexName, vertexText, fragmentName, fragmentText, defines, lookupActive, blame);
   if (!blame.empty()) checkAgainstBuiltin(program, stage, vertexName, fragmentName, defines, blame);
   programStages()[program] = stage;
+  if (!blame.empty()) userPrograms().insert(program);
+  else userPrograms().erase(program);
   return program;
 }
 
@@ -347,7 +344,8 @@ int uniform(unsigned program, const char* name) {
       const char* s = std::getenv("MRR_STRICT_UNIFORMS");
       return s && std::string(s) == "1" && !plantedFault();
     }();
-    require(!strict, "gpu: program " + std::to_string(program) + " (" + programStage(program) +
+    // a user's program (--shaders) may leave out, or never read, what the built-in one reads
+    require(!strict || userPrograms().count(program) != 0, "gpu: program " + std::to_string(program) + " (" + programStage(program) +
                          ") has no active uniform named " + name);
   }
   return location;

@@ -9,12 +9,12 @@
 
 namespace mrr::gpu {
 
-ImageF drawShade(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned effect, unsigned shadowLit,
+Target drawShade(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned effect, unsigned shadowLit,
                  const View& view, const DirectionalLight& light, const Constants& c) {
   const int effectIndex = static_cast<int>(c.effect);  // 0 ssao, 1 ssm, 2 ssgi (shade.frag's EFFECT)
   const unsigned program = scene.program("shade." + std::to_string(effectIndex), "fullscreen.vert", "shade.frag",
                                          "#define EFFECT " + std::to_string(effectIndex) + "\n");
-  const Target target = scene.target(c.width, c.height, 1, false);
+  Target target = scene.target(c.width, c.height, 1, false);
   target->bind();
   glUseProgram(program);
   bindTextures(program, {{"positionHit", gbuffer0.texture(0)},
@@ -28,7 +28,7 @@ ImageF drawShade(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned ef
   glUniform3f(uniform(program, "lightColor"), light.color.x, light.color.y, light.color.z);
   scene.drawFullscreen();
   checkGl("shade");
-  return target->read(0, 3);
+  return target;
 }
 
 }  // namespace mrr::gpu

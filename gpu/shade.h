@@ -6,9 +6,9 @@
 
 namespace mrr::gpu {
 
-// W×H linear RGB. `effect` is the final effect buffer's texture (W×H), `shadowLit` the one-tap
-// test's (SSGI; 0 otherwise).
-ImageF drawShade(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned effect, unsigned shadowLit,
+// W×H linear RGB (RGBA32F, kept on the GPU: read(0, 3) when the host asks). `effect` is the
+// final effect buffer's texture (W×H), `shadowLit` the one-tap test's (SSGI; 0 otherwise).
+Target drawShade(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned effect, unsigned shadowLit,
                  const View& view, const DirectionalLight& light, const Constants& constants);
 
 }  // namespace mrr::gpu

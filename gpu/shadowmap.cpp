@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "gpu/program.h"
+#include "gpu/traffic.h"
 
 namespace mrr::gpu {
 
@@ -45,7 +46,7 @@ ImageF ShadowMapTarget::read() const {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, size_, size_, GL_RED, GL_FLOAT, out.data.data());
+  readImage(size_, size_, GL_RED, GL_FLOAT, out.data.data(), out.data.size() * sizeof(float));
   checkGl("shadowmap readback");
   return out;
 }

@@ -10,7 +10,7 @@ namespace mrr::gpu {
 
 Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const View& view,
                 const LevelConstants& level, const Constants::Ssao& ssao,
-                const std::vector<glm::ivec4>* fillRects) {
+                const Cover& fill) {
   TextureSet kernel;
   const unsigned kernelTexture = kernel.add(uploadKernel(ssao.kernel));
   const unsigned program = scene.program("ssao", "fullscreen.vert", "ssao.frag");
@@ -24,7 +24,7 @@ Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned sten
     glUniform1i(uniform(program, "tangentPlaneDepth"), ssao.tangentPlaneDepth ? 1 : 0);
     // Optional: a user's shader written before --seed (or with its own noise) may not read it.
     if (const int seedAt = glGetUniformLocation(program, "seed"); seedAt >= 0) glUniform1ui(seedAt, ssao.seed);
-  }, fillRects);
+  }, fill);
 }
 
 ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,

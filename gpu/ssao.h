@@ -8,10 +8,10 @@
 namespace mrr::gpu {
 
 // The raw sub-image c_ℓ (R32F, 0 where S_ℓ = 0), from the level's G-buffer targets and S_ℓ
-// (a 0/1 texture): kept on the GPU. `fillRects`: see drawStencilled.
+// (a 0/1 texture): kept on the GPU. `fill`: see drawStencilled.
 Target drawSsao(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const View& view,
                 const LevelConstants& level, const Constants::Ssao& ssao,
-                const std::vector<glm::ivec4>* fillRects = nullptr);
+                const Cover& fill = {});
 
 // The same from a host S_ℓ, read back.
 ImageF renderSsao(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const View& view,

@@ -34,7 +34,7 @@ ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const Shad
 
 Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,
                 const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi,
-                const std::vector<glm::ivec4>* fillRects) {
+                const Cover& fill) {
   TextureSet kernel;
   const unsigned kernelTexture = kernel.add(uploadKernel(ssgi.kernel));
   const unsigned program = scene.program("ssgi", "fullscreen.vert", "ssgi.frag");
@@ -50,7 +50,7 @@ Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned dire
     glUniform1f(uniform(program, "minDistance2"), ssgi.minDistance2);
     // Optional: a user's shader written before --seed (or with its own noise) may not read it.
     if (const int seedAt = glGetUniformLocation(program, "seed"); seedAt >= 0) glUniform1ui(seedAt, ssgi.seed);
-  }, fillRects);
+  }, fill);
 }
 
 ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,

@@ -24,7 +24,7 @@ ImageF directLight(const GpuScene& scene, const Framebuffer& gbuffer, const Shad
 // uploaded image): kept on the GPU.
 Target drawSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, unsigned stencil,
                 const View& view, const LevelConstants& level, const Constants::Ssgi& ssgi,
-                const std::vector<glm::ivec4>* fillRects = nullptr);
+                const Cover& fill = {});
 
 // The same from a host S_ℓ, read back (RGB).
 ImageF renderSsgi(const GpuScene& scene, const Framebuffer& gbuffer, unsigned directTexture, const ImageU8& stencil,

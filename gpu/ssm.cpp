@@ -36,7 +36,7 @@ void setBlockerSearchInputs(unsigned program, const Framebuffer& gbuffer, const 
 
 Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stencil, const ShadowMap& map,
                unsigned mapTexture, const View& view, const Constants::Ssm& ssm,
-               const std::vector<glm::ivec4>* fillRects) {
+               const Cover& fill) {
   require(ssm.blockerGrid >= 1 && ssm.blockerGrid <= kMaxBlockerGrid && ssm.grid >= 1 && ssm.grid <= kMaxPcfGrid,
           "gpu: ssm grid sizes outside the shader's arrays");
   const unsigned program = scene.program("ssm", "fullscreen.vert", "ssm.frag");
@@ -46,21 +46,23 @@ Target drawSsm(const GpuScene& scene, const Framebuffer& gbuffer, unsigned stenc
                           glUniform1i(uniform(program, "grid"), ssm.grid);
                           setTapFactors(program, "pcfFactors", ssm.grid);
                         },
-                        fillRects);
+                        fill);
 }
 
-ImageU8 drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
-                      const View& view, const Constants::Ssm& ssm) {
+Target drawPcfSample(const GpuScene& scene, const Framebuffer& gbuffer0, const ShadowMap& map, unsigned mapTexture,
+                     const View& view, const Constants::Ssm& ssm) {
   const unsigned program = scene.program("pcfsample", "fullscreen.vert", "ssm.frag", "#define PCF_SAMPLE\n");
-  const Target target = scene.target((gbuffer0.width() + kPcfSampleStep - 1) / kPcfSampleStep,
-                                     (gbuffer0.height() + kPcfSampleStep - 1) / kPcfSampleStep, 1, false, Texel::R8);
+  Target target = scene.target((gbuffer0.width() + kPcfSampleStep - 1) / kPcfSampleStep,
+                               (gbuffer0.height() + kPcfSampleStep - 1) / kPcfSampleStep, 1, false, Texel::R8);
   target->bind();
   glUseProgram(program);
   setBlockerSearchInputs(program, gbuffer0, map, mapTexture, view, ssm);
   scene.drawFullscreen();
   checkGl("pcfsample");
-  return target->readBytes(0);  // the bytes common/shader_constants.h names (kPcfSample…)
+  return target;
 }
+
+ImageU8 readPcfSample(const Framebuffer& sample) { return sample.readBytes(0); }
 
 ImageF renderSsm(const GpuScene& scene, const Framebuffer& gbuffer, const ImageU8& stencil, const ShadowMap& map,
                  unsigned mapTexture, const View& view, const LevelConstants& /*level: S_ℓ has its size*/,

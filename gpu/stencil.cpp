@@ -9,8 +9,8 @@
 
 namespace mrr::gpu {
 
-void fillStencil(const GpuScene& scene, unsigned stencilMask, const std::vector<glm::ivec4>* rects) {
-  const unsigned fill = scene.program("stencil", "fullscreen.vert", "stencil.frag");
+void fillStencil(const GpuScene& scene, unsigned stencilMask, const Cover& cover) {
+  const unsigned fill = scene.passProgram("stencil", "stencil.frag", "", cover);
   glClearStencil(0);
   glClear(GL_STENCIL_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(fill);
@@ -19,13 +19,9 @@ void fillStencil(const GpuScene& scene, unsigned stencilMask, const std::vector<
   glStencilFunc(GL_ALWAYS, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  if (rects) {
-    GLint viewport[4];
-    glGetIntegerv(GL_VIEWPORT, viewport);
-    scene.drawRects(*rects, viewport[2], viewport[3]);
-  } else {
-    scene.drawFullscreen();
-  }
+  GLint viewport[4];
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  scene.draw(cover, viewport[2], viewport[3]);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
@@ -52,10 +48,10 @@ Target drawUnderStencil(const GpuScene& scene, Target target, unsigned program, 
 
 Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
                       unsigned program, const std::string& stage, const std::function<void()>& setInputs,
-                      const std::vector<glm::ivec4>* fillRects) {
+                      const Cover& fill) {
   // 1. S_ℓ into the stencil buffer; 2. the pass where the stencil is 1
   return drawUnderStencil(scene, scene.target(width, height, 1, true, format), program, stage,
-                          [&] { fillStencil(scene, stencilMask, fillRects); }, setInputs);
+                          [&] { fillStencil(scene, stencilMask, fill); }, setInputs);
 }
 
 Target drawStencilledLike(const GpuScene& scene, const Framebuffer& stencilled, Texel format, unsigned program,

@@ -13,18 +13,18 @@ namespace mrr::gpu {
 // Writes S_ℓ (`stencilMask`, a 0/1 texture of the bound framebuffer's size) into the stencil
 // buffer of the bound framebuffer and leaves the stencil test on, passing where S = 1.
 // Shared by every effect pass.
-// With `rects` (rectangles holding every pixel of S_ℓ: MaskTargets::supportRects), only those
-// are drawn: the fill discards where S = 0, and a full-screen discard pass is not cheap.
-void fillStencil(const GpuScene& scene, unsigned stencilMask, const std::vector<glm::ivec4>* rects = nullptr);
+// Over `cover` alone, where it is given (it holds every pixel of S_ℓ: MaskTargets::supportCover):
+// the fill discards where S = 0, and a full-screen discard pass is not cheap.
+void fillStencil(const GpuScene& scene, unsigned stencilMask, const Cover& cover = {});
 
 // One effect pass under the stencil test (SPEC §4: masked fragments are never shaded): a
 // fresh width×height target of `format` cleared to 0, S_ℓ written into its stencil buffer
-// (over `fillRects` only, when given),
+// (over `fill` alone, when given),
 // `program` in use with its inputs set by `setInputs`, one full-screen draw. The result stays
 // on the GPU (0 where S_ℓ = 0). `stage` names it in GL errors.
 Target drawStencilled(const GpuScene& scene, unsigned stencilMask, int width, int height, Texel format,
                       unsigned program, const std::string& stage, const std::function<void()>& setInputs,
-                      const std::vector<glm::ivec4>* fillRects = nullptr);
+                      const Cover& fill = {});
 
 // The same pass under the stencil buffer an earlier pass at this level filled (`stencilled`,
 // drawStencilled's target): S_ℓ is not written again (SSAO's blur after SSAO).

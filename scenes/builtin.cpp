@@ -195,7 +195,7 @@ Scene fence() {
   return s;
 }
 
-// Stress scenes (issue 7, SPEC §10): each models one way the method can fail, and nothing more.
+// Stress scenes (SPEC §10): each models one way the method can fail, and nothing more.
 
 // A floor whose shading normals are perturbed facet by facet, as a normal map would: flat
 // geometry, so AO barely changes, but neighbouring facets (~3 pixels at 1280×720) differ by

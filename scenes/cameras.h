@@ -1,5 +1,5 @@
 #pragma once
-// Cameras for the benchmark (issue 7): the paper averages over 8 cameras per scene, and
+// Cameras for the benchmark: the paper averages over 8 cameras per scene, and
 // stability is measured along camera paths. Both are generated deterministically from a
 // scene's default camera, so every scene, built-in or shared, gets them without a camera
 // file, and every run sees the same views.

@@ -1,5 +1,5 @@
 #pragma once
-// A default light that lights the view (issue 34): for a scene without a light of its own, the
+// A default light that lights the view: for a scene without a light of its own, the
 // direction, of a few fixed candidates, that lights the most of the surface the default view
 // sees. Each candidate is tested with a small shadow map against a small G-buffer of the view,
 // both rasterised here on the host (no oracle or GL needed: the choice belongs to the scene, so
@@ -48,7 +48,7 @@ struct FramedSize {
   float size = 0.0f;         // the framed size, world units
   float medianDepth = 0.0f;  // z̃; 0 when the view sees no surface
   int surface = 0;           // covered probe pixels
-  float diagonal = 0.0f;     // the scene's bounding diagonal (the basis before issue 34)
+  float diagonal = 0.0f;     // the scene's bounding diagonal (the basis before the view-framed default)
 };
 FramedSize framedSize(const Scene& scene, const Camera& camera, float aspect);
 

@@ -6,8 +6,8 @@ Usage: check-doc-links.py [ROOT] [--code]
 Scans docs/*.md and README.md (with --code also every tracked source file: C++, GLSL, Python,
 shell, CMake) for path-like references -- `docs/...`, `common/...`, `cpu_ref/...`, `gpu/...`,
 `compare/...`, `scripts/...`, `tests/...`, `scenes/...`, `app/...`, `frontend/...`,
-`explore/...`, `examples/...`, any `NAME.md`, and the targets of Markdown links `[text](target)`
--- and exits 1 listing each one that names no file or folder of the repository, as FILE:LINE.
+`explore/...`, `examples/...`, `python/...`, any `NAME.md`, and the targets of Markdown links
+`[text](target)` -- and exits 1 listing each one that names no file or folder of the repository, as FILE:LINE.
 
 How a reference resolves:
 - relative to the file that names it, then to the repository root (then, for a bare `NAME.md`,
@@ -50,7 +50,7 @@ ALLOWED_IN = {
 # Upper-case names that are real files, not placeholders.
 REAL_CAPS = {"README", "LICENSE", "CHANGELOG", "SPEC", "STYLE", "PLATFORM", "ANCHORS"}
 ROOT_DIRS = ("docs", "common", "cpu_ref", "gpu", "compare", "scripts", "tests", "scenes", "app",
-             "frontend", "explore", "examples")
+             "frontend", "explore", "examples", "python")
 CODE_EXTENSIONS = (".cpp", ".h", ".inc", ".glsl", ".frag", ".vert", ".py", ".sh", ".cmake", ".js",
                    ".html", ".css", ".j2", ".txt")
 PATH_CHARS = r"[A-Za-z0-9_.\-/*{},]"

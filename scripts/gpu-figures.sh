@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# The GPU run, ready in one command: `mrr compare` of every effect on the shared
-# scenes, `mrr bench` of full and its peers (uniform-1, uniform-2, tiles, mrr) on the GL port at
-# 1280x720, 1920x1080 and 3840x2160 with GL_TIME_ELAPSED timer queries, and the paper's sweeps
+# The GPU run, ready in one command and within one 10-minute device call: `mrr compare` of every
+# effect on the shared scenes, `mrr bench` of full and its peers (uniform-1, uniform-2, tiles,
+# mrr) on the GL port at 1280x720, 1920x1080 and 3840x2160 with GL_TIME_ELAPSED timer queries
+# (the GPU-resident frame: the report's gl object says what each frame read back), and the
+# paper's sweeps
 # that feed Figs. 6 (speedup against samples, at 4K as in the paper), 7 (speedup against
 # resolution) and 9 (RMS against resolution), drawn beside the paper's own points
-# (../shared/design/paper-figures.csv) by the bench's --report. Everything goes into
+# ($MRR_PAPER_FIGURES, docs/figures.md "The paper's sweeps") by the bench's --report. Everything goes into
 # docs/bench/nvidia/ (--out DIR), with a README.md naming the device, the date, every command run
 # and each step's wall time; the HTML reports (tens of MB) go to out/gpu-figures-html/ (--html).
 #
@@ -44,11 +46,12 @@
 # library folders on the bundle's library path; mrr takes the first EGL device that gives GL 3.3
 # core (--gl-device N picks another). Reports need a python3 with jinja2 and matplotlib: the
 # device's `python3` has both (MRR_PYTHON is set to it when /usr/bin/python3 lacks them).
-# Estimated device time: ~2 min to start, ~9 min call 2, ~5 min call 3: under 20 minutes (a guess:
-# GH100 runs fragment shaders on few of its SMs). A step that the deadline would cut is not
-# started ("not run: would take ~N s"; from the last main sweep, scaled by the pixels); where one
-# step needs more than a whole call, the line names a --cameras that fits. Rerun --make-bundle
-# after every build: the device keeps each bundle apart by its sha256.
+# Estimated device time: ~2 min to start, then every step in call 2: ~7 minutes (the budget
+# below: fewer cameras and repeats at the larger sizes, since the H100 runs fragment shaders on 4
+# of its SMs). A step that the deadline would cut is not started ("not run: would take ~N s";
+# from the last main sweep, scaled by the pixels, cameras and repeats); where one step needs
+# more than a whole call, the line names a --cameras that fits. Rerun --make-bundle after every
+# build: the device keeps each bundle apart by its sha256.
 #
 # Exit: 0 when every step ran and passed (or a bundle part was only stashed), 1 when a compare
 # failed or a bench exited non-zero (every output is still written), 2 on bad usage or when no
@@ -71,8 +74,10 @@ usage: scripts/gpu-figures.sh [options]
   --steps LIST       comma-separated: compare, sweeps, main (every size), main-WxH; default all
   --gl-device N      the EGL device index (passed to every mrr command)
   --gpu-timing T     query (default), wall or auto (--small: auto)
-  --cameras N        cameras per scene in the main sweeps (default 8, the paper's; --small 1)
-  --repeats N        timed repeats per setting (default 3; --small 1)
+  --cameras N        cameras per scene in every main sweep (default: the budget's, 4 at 720p and
+                     1080p, 2 at 4K; --small 1)
+  --repeats N        timed repeats per setting in every step (default: the budget's, 3 at 720p,
+                     2 at 1080p and in the sweeps, 1 at 4K; --small 1)
   --compare-size WxH the size of the compare runs (default 640x360; --small 160x90)
   --deadline S       stop starting work S seconds after the start and skip what would not finish
                      (default 540 where \$OUT is set, as on the device machine; 0: none)
@@ -196,15 +201,29 @@ if [ "$small" = 1 ]; then
   main_samples=(--samples 16) compare_samples=(--samples 16)
   want_compare=(builtin:demo cornell) want_bench=(builtin:demo)
 else
-  : "${out:=$here/docs/bench/nvidia}" "${timing:=query}" "${cameras:=8}" "${repeats:=3}" "${compare_size:=640x360}"
+  : "${out:=$here/docs/bench/nvidia}" "${timing:=query}" "${compare_size:=640x360}"
   main_sizes=(1280x720 1920x1080 3840x2160)
-  # Fig. 6 was measured at 4K; Figs. 7 and 9 at 720p, 1080p, 1440p and 4K; SSGI's 1088 and 4224
-  # are the paper's counts that the CPU bench leaves out.
+  # Fig. 6 was measured at 4K; Figs. 7 and 9 at 720p, 1080p, 1440p and 4K; SSGI's 1088 is a
+  # paper's count that the CPU bench leaves out (its 4224 too, which took 60 s at 4K alone here).
   sweep_size=3840x2160 resolutions=(1280x720 1920x1080 2560x1440 3840x2160)
-  ssao_sweep=(16 32 64 128 256) ssm_sweep=(100 144 196 256 324) ssgi_sweep=(24 80 288 1088 4224)
+  ssao_sweep=(16 32 64 128 256) ssm_sweep=(100 144 196 256 324) ssgi_sweep=(24 80 288 1088)
   main_samples=() compare_samples=()
   want_compare=(arcade apartment cornell) want_bench=(arcade apartment cornell)
 fi
+# The budget: every step in one device call of 10 minutes, on an H100 whose fragment shaders run
+# on 4 of its SMs. Its last run (docs/bench/nvidia/log, 8 cameras, 3 repeats) took 35 s for
+# compare, 249 s for the sweeps (60 of them SSGI-4224 at 4K), and per scene, camera and effect
+# 1.25 s of main sweep at 720p, 2.5 s at 1080p and ~11 s at 4K (estimated: it did not fit). A
+# setting costs its repeats and a warm-up, so with the cameras and repeats below: compare ~35 s,
+# sweeps ~140 s, main ~45 s at 720p, ~65 s at 1080p, ~100 s at 4K; ~7 minutes with the processes'
+# starts and the reports. --cameras and --repeats set every step's.
+declare -A step_cameras=() step_repeats=()
+if [ "$small" = 0 ]; then
+  step_cameras=([1280x720]=4 [1920x1080]=4 [3840x2160]=2)
+  step_repeats=([1280x720]=3 [1920x1080]=2 [3840x2160]=1 [sweeps]=2)
+fi
+cameras_of() { echo "${cameras:-${step_cameras[$1]:-8}}"; }
+repeats_of() { echo "${repeats:-${step_repeats[$1]:-3}}"; }
 out="$(realpath -m "$out")"
 if [ -z "$html" ]; then
   if [ "$out" = "$here/docs/bench/nvidia" ]; then html="$here/out/gpu-figures-html"; else html="$out/html"; fi
@@ -470,7 +489,7 @@ mapfile -t bench_scenes < <(present "${want_bench[@]}")
 [ ${#compare_scenes[@]} -gt 0 ] || { log "none of ${want_compare[*]} is here: compare runs builtin:demo"; compare_scenes=(builtin:demo); }
 
 bench_common=(bench --paths gpu "${gl_args[@]}" --gpu-timing "$timing" --methods "${methods[@]}" --effects "${effects[@]}"
-              --repeats "$repeats" --frames 0 --no-stress --no-fovea)
+              --frames 0 --no-stress --no-fovea)
 report_for() { rep=(); if [ -n "$report_python" ]; then rep=(--report "$html/$1"); fi; }  # sets rep
 since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }'; }
 
@@ -530,7 +549,7 @@ step_what() {
   case "$1" in
     compare) echo "mrr compare, ${effects[*]} on ${compare_scenes[*]} at $compare_size" ;;
     sweeps) echo "Figs. 6, 7, 9: samples sweep at $sweep_size, resolution sweep ${resolutions[*]} on ${bench_scenes[0]}" ;;
-    main-*) echo "bench main sweep at ${1#main-}: ${bench_scenes[*]}, $cameras cameras, ${methods[*]}" ;;
+    main-*) echo "bench main sweep at ${1#main-}: ${bench_scenes[*]}, $(cameras_of "${1#main-}") cameras, $(repeats_of "${1#main-}") repeats, ${methods[*]}" ;;
   esac
 }
 failed=0
@@ -589,12 +608,13 @@ step_bench() {  # step_bench NAME ARGS...: one bench, its tables, and its charts
   done
 }
 step_sweeps() {
-  step_bench sweeps --scenes "${bench_scenes[0]}" --cameras 1 --sizes "${main_sizes[0]}" "${main_samples[@]}" \
+  step_bench sweeps --scenes "${bench_scenes[0]}" --cameras 1 --repeats "$(repeats_of sweeps)" --sizes "${main_sizes[0]}" "${main_samples[@]}" \
     --sweep-size "$sweep_size" --resolutions "${resolutions[@]}" \
     --ssao-sweep "${ssao_sweep[@]}" --ssm-sweep "${ssm_sweep[@]}" --ssgi-sweep "${ssgi_sweep[@]}"
 }
 step_main() {
-  step_bench "main-$1" --scenes "${bench_scenes[@]}" --cameras "$cameras" --sizes "$1" "${main_samples[@]}" --no-sweeps
+  step_bench "main-$1" --scenes "${bench_scenes[@]}" --cameras "$(cameras_of "$1")" --repeats "$(repeats_of "$1")" --sizes "$1" \
+    "${main_samples[@]}" --no-sweeps
 }
 
 n=${#plan[@]} k=0 last_px=0 last_s=0 left_steps=()
@@ -617,9 +637,13 @@ for step in "${plan[@]}"; do
     continue
   fi
   started="$(date -u '+%Y-%m-%d %H:%M:%S')"
-  # Skip a main sweep that the deadline would cut: it scales with the pixels, from the last one.
+  # Skip a main sweep that the deadline would cut: it scales with the pixels and with its cameras
+  # times (repeats + the warm-up), from the last one.
   px=0
-  if [[ "$step" == main-* ]]; then wh="${step#main-}"; px=$(( ${wh%x*} * ${wh#*x} )); fi
+  if [[ "$step" == main-* ]]; then
+    wh="${step#main-}"
+    px=$(( ${wh%x*} * ${wh#*x} * $(cameras_of "$wh") * ($(repeats_of "$wh") + 1) ))
+  fi
   step_status="" seconds=""
   if [ "$deadline" -gt 0 ] && [ $((deadline - SECONDS)) -le 15 ]; then
     step_status="not run: the deadline (${deadline} s) had passed"
@@ -628,7 +652,8 @@ for step in "${plan[@]}"; do
     est=$(python3 -c "print(int($last_s * $px / $last_px))")
     step_status="not run: would take ~$est s, $((deadline - SECONDS)) s left"
     if [ "$est" -gt $((deadline - 60)) ]; then  # more than a whole call: fewer cameras
-      step_status+=" (more than one call: try --cameras $(( cameras * (deadline - 60) / est > 0 ? cameras * (deadline - 60) / est : 1 )))"
+      cams="$(cameras_of "${step#main-}")"
+      step_status+=" (more than one call: try --cameras $(( cams * (deadline - 60) / est > 0 ? cams * (deadline - 60) / est : 1 )))"
     fi
   fi
   if [ -n "$step_status" ]; then

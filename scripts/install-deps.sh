@@ -3,10 +3,12 @@
 # python3-matplotlib and python3-jinja2 make the `--report` pages and charts, run with
 # /usr/bin/python3; fonts-dejavu-core labels scripts/make-doc-images.sh's pictures, and
 # matplotlib's data package needs it too); python3-openimageio and python3-numpy run
-# examples/foreign_renderer.py (docs/validate-your-own.md, tested by tests/cli/byo_test.cpp).
+# examples/foreign_renderer.py (docs/validate-your-own.md, tested by tests/cli/byo_test.cpp);
+# pybind11-dev and python3-dev build the Python module mrr (python/, docs/python.md).
 # `install-deps.sh test` adds what only the tests need: Chromium (the compare report's
-# browser test), Selenium with chromedriver (`mrr explore`'s browser test) and clang with its
-# fuzzer runtime (scripts/fuzz.sh).
+# browser test), Selenium with chromedriver (`mrr explore`'s browser test), clang with its
+# fuzzer runtime (scripts/fuzz.sh), and pytest, nbconvert and the IPython kernel (the Python
+# module's tests and the notebook docs/learn-mrr.ipynb, executed).
 # Safe to run repeatedly; skips apt when every package is already installed.
 set -euo pipefail
 pkgs=(
@@ -18,9 +20,11 @@ pkgs=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   python3-matplotlib python3-jinja2 fonts-dejavu-core
   python3-openimageio python3-numpy
+  pybind11-dev python3-dev
 )
 if [ "${1:-}" = test ]; then
   pkgs+=(chromium clang libclang-rt-14-dev python3-selenium chromium-driver)
+  pkgs+=(python3-pytest jupyter-nbconvert python3-nbclient python3-ipykernel)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

@@ -10,8 +10,10 @@ if grep -n '#include "cpu_ref/' "$here"/gpu/*.h "$here"/gpu/*.cpp; then
   echo "FAIL: gpu/ includes cpu_ref/ headers (above)" >&2
   exit 1
 fi
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMRR_BUILD_ORACLE=OFF \
-  -DCMAKE_CXX_FLAGS="-I$here/tests/no_embree" >/dev/null
+# Unoptimised and in batches (a unity build): what is proved is that it compiles without the
+# oracle, and this way it takes a quarter of a Release build's time (40 s against 158 s).
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O0" -DCMAKE_UNITY_BUILD=ON \
+  -DMRR_BUILD_ORACLE=OFF -DCMAKE_CXX_FLAGS="-I$here/tests/no_embree" >/dev/null
 cmake --build "$build" --target mrr_gpu -j2
 if grep -q 'mrr_cpu\|libembree' "$build/build.ninja"; then
   echo "FAIL: the port-only build still names the oracle or Embree" >&2

@@ -47,17 +47,28 @@ if [ "$(echo "$scenes" | wc -w)" -lt 10 ]; then
   echo "test-sanitizers: could not list the built-in scenes (got: $scenes)" >&2
   exit 1
 fi
+# One render per scene, effect and path, $jobs at a time (each is one process, mostly the
+# sanitizers' own start-up); a failing one's whole log is printed, then the script fails.
+renderUnderAsan() {
+  local scene="$1" effect="$2" path="$3" options="$ASAN_OPTIONS"
+  local name="$path-${scene#builtin:}-$effect"
+  [ "$path" = gpu ] && options="$gpuAsan"
+  if ! ASAN_OPTIONS="$options" "$mrr" render --scene "$scene" --effect "$effect" --path "$path" --size 48x32 \
+       --samples 4 --shadow-map-size 256 -q --out "$scratch/$name.exr" --stages "$scratch/$name.stages.exr" \
+       --report "$scratch/$name.json" >"$scratch/$name.log" 2>&1; then
+    echo "== render $scene $effect --path $path under ASan+UBSan FAILED:" >&2
+    cat "$scratch/$name.log" >&2
+    return 1
+  fi
+  echo "== render $scene $effect --path $path under ASan+UBSan: clean" >&2
+}
+export -f renderUnderAsan
+export mrr scratch gpuAsan
 for path in "${paths[@]}"; do
   for scene in $scenes; do
-    for effect in ssao ssm ssgi; do
-      echo "== render $scene $effect --path $path under ASan+UBSan" >&2
-      options="$ASAN_OPTIONS"
-      [ "$path" = gpu ] && options="$gpuAsan"
-      ASAN_OPTIONS="$options" "$mrr" render --scene "$scene" --effect "$effect" --path "$path" --size 48x32 \
-        --samples 4 --shadow-map-size 256 -q --out "$scratch/o.exr" --stages "$scratch/s.exr" --report "$scratch/r.json"
-    done
+    for effect in ssao ssm ssgi; do echo "$scene $effect $path"; done
   done
-done
+done | xargs -P "$jobs" -n 3 bash -c 'renderUnderAsan "$@"' _
 if [[ " ${paths[*]} " == *" gpu "* ]]; then
   echo "== compare (every stage, HTML report) and probe --path both under ASan+UBSan" >&2
   ASAN_OPTIONS="$gpuAsan" "$mrr" compare --scene builtin:demo --effect all --size 48x32 --samples 4 \

@@ -67,19 +67,18 @@ std::map<std::string, double> stageMs(const FrameResult& f) {
   return perStage;
 }
 
-namespace {
-
-// The method's own cost: everything but the full-res G-buffer, which a deferred renderer
-// has anyway and every method shares.
-// The method's own time: the frame less the stage every method pays alike and that is not
-// the effect: the full-res G-buffer.
+// The method's own time (docs/spec.md §10): the frame less the stages every method pays alike
+// and that are not the effect: the full-res G-buffer, which a deferred renderer has anyway, and
+// the shaded image for viewing (stage 6, the same pass over the final image for every method).
 double effectMs(const std::map<std::string, double>& ms) {
   auto at = [&](Timed t, int level = -1) {
     const auto it = ms.find(timedName(t, level));
     return it != ms.end() ? it->second : 0.0;
   };
-  return at(Timed::Total) - at(Timed::GBuffer, 0);
+  return at(Timed::Total) - at(Timed::GBuffer, 0) - at(Timed::Shade);
 }
+
+namespace {
 
 using bench_format::fixed;
 using bench_format::sizeName;
@@ -170,8 +169,8 @@ class Sweep {
   }
 
  private:
-  // A cold single frame's medians: its effect time (the report's total less its full-res
-  // G-buffer) and the process's wall time, start to exit.
+  // A cold single frame's medians: its effect time (effectMs of its report's timings) and the
+  // process's wall time, start to exit.
   struct ColdFrame {
     double effectMs = 0.0, processMs = 0.0;
   };
@@ -210,8 +209,7 @@ class Sweep {
         if (rc != 0) throw MrrError("bench --cold: mrr render exited " + std::to_string(rc) + (why.empty() ? "" : ": " + why));
         std::ifstream in(report);
         const nlohmann::json j = nlohmann::json::parse(in);
-        const nlohmann::json& t = j.at("timings_ms");
-        effectRuns[m].push_back(t.at(timedName(Timed::Total)).get<double>() - t.value(timedName(Timed::GBuffer, 0), 0.0));
+        effectRuns[m].push_back(effectMs(j.at("timings_ms").get<std::map<std::string, double>>()));
       }
     std::filesystem::remove_all(dir);
     std::map<std::string, ColdFrame> out;

@@ -1,5 +1,5 @@
 #pragma once
-// `mrr bench`: speed against accuracy, measured (issue 7, SPEC §§9–11). For every path ×
+// `mrr bench`: speed against accuracy, measured (SPEC §§9–11). For every path ×
 // scene × camera × size × effect × sample count it renders `full` and each method side by
 // side in one process, alternating, and keeps per method the median time of several repeats
 // (after a warm-up), per stage, the shaded pixels and ideal speedup, the measured speedup
@@ -7,7 +7,7 @@
 // Then the paper's sweeps (speedup against samples and against resolution, RMS against
 // resolution), temporal stability along camera paths (flicker), and the stress scenes.
 // Results go to JSON, CSV and Markdown; `--report DIR` writes an HTML page with the charts
-// (compare/bench_report). Progress goes to stderr.
+// (compare/bench/bench_report). Progress goes to stderr.
 #include <functional>
 #include <map>
 #include <memory>
@@ -58,7 +58,7 @@ struct BenchOptions {
   // The stress scenes, each with every method and mrr without the never-slower rule.
   std::vector<std::string> stressScenes = {"builtin:bumpy", "builtin:wires", "builtin:alledges", "builtin:plane"};
   std::pair<int, int> stressSize = {1280, 720};
-  // The foveation group (issue 37, SPEC §13; compare/bench/bench_fovea.h): per eccentricity ring for a
+  // The foveation group (SPEC §13; compare/bench/bench_fovea.h): per eccentricity ring for a
   // gaze at the image centre, at each ppd, and the shaded share against screen speed along the
   // camera paths (foveaFrames frames each; 0: none). Off unless asked (`mrr bench` asks unless
   // --no-fovea); foveaOnly asks for it and skips every other group.
@@ -100,6 +100,9 @@ struct OpenScene {
 };
 OpenScene openScene(const std::string& name, const BenchPath& path);
 std::map<std::string, double> stageMs(const FrameResult& f);  // a frame's timings by stage (summed)
+// The method's own time (docs/spec.md §10) from a frame's timings by stage: the frame less the
+// full-res G-buffer and the shaded image for viewing, which every method pays alike.
+double effectMs(const std::map<std::string, double>& ms);
 
 // The CPU's model name, from /proc/cpuinfo.
 std::string cpuModelName();

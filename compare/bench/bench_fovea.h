@@ -1,5 +1,5 @@
 #pragma once
-// `mrr bench`'s foveation group (issue 37, SPEC §13): what the level limit buys and costs.
+// `mrr bench`'s foveation group (SPEC §13): what the level limit buys and costs.
 //  - Rings: for a fixed gaze (the image centre) and each --fovea-ppd, every method with the gaze
 //    only measuring (`--foveate off`: the method's own decisions) and with it foveating ("+gaze"),
 //    beside `full`: per eccentricity ring the share of level pixels shaded, the effect's RMS and

@@ -228,7 +228,8 @@ std::string header(const BenchResults& res) {
   o << "Machine: " << res.options.machine << ". ";
   for (const auto& [path, device] : res.devices) o << "Path " << path << ": " << device << ". ";
   o << "Median of " << res.options.repeats << " repeats after a warm-up, every method and `full` alternating in one "
-    << "run. Effect time = frame time minus the full-res G-buffer (shared by every method); measured speedup = full's "
+    << "run. Effect time = frame time minus the full-res G-buffer and the shaded image for viewing (stage 6: the same "
+    << "pass for every method, as the G-buffer; SPEC §10); measured speedup = full's "
     << "effect time / the method's; ideal speedup = W·H / shaded pixels (SPEC §4, §9). Errors: SPEC §10, the effect "
     << "buffer against `full` with the same samples; the edge band is the pixels near a transition of the level map, "
     << "so a method with one level has none (—). `mrr` and `mrr-effect` run with the never-slower rule (SPEC §11); "

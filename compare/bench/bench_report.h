@@ -61,7 +61,7 @@ struct BenchResults {
   FoveaResults fovea;  // the foveation group (compare/bench/bench_fovea.h)
 };
 
-// The figures' sanity (issue 7's done-when): full's error is 0 (its repeats give the same
+// The figures' sanity: full's error is 0 (its repeats give the same
 // bits); it shades W·H pixels; no method is measured faster than its ideal speedup (beyond
 // timing noise); every error is finite. One line per failure.
 std::vector<std::string> sanityChecks(const BenchResults& results);
@@ -78,8 +78,9 @@ std::string stabilityCsvPath(const std::string& csvPath);
 // and the example images (written by the sweep into DIR/images/). Needs requireReportPython().
 void writeBenchReport(const std::string& dir, const BenchResults& results, const std::vector<std::string>& failures);
 
-// The paper's plotted figures (../shared/design/paper-figures.csv): speedup as a factor
-// (1 + pct/100) or RMS, by figure, effect, samples and size. Empty when the file is absent.
+// The paper's plotted figures ($MRR_PAPER_FIGURES; docs/figures.md, "The paper's sweeps beside the
+// paper's figures"): speedup as a factor (1 + pct/100) or RMS, by figure, effect, samples and
+// size. Empty when the file is absent.
 struct PaperFigure {
   std::string figure, effect;
   int samples = 0, width = 0, height = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // LDR-FLIP: the perceptual difference of Andersson et al. 2020, "FLIP: A Difference Evaluator
-// for Alternating Images" (HPG; Proc. ACM CGIT 3(2)), written from the paper (issue 36).
+// for Alternating Images" (HPG; Proc. ACM CGIT 3(2)), written from the paper.
 //
 // Two images seen as a viewer sees them, as sRGB values in [0,1], give a per-pixel error in
 // [0,1]: a colour pipeline (opponent space YyCxCz, contrast-sensitivity filters, CIELAB with

@@ -38,7 +38,7 @@ ErrorFigures compareToReference(const ImageF& test, const ImageF& ref, const Ima
 // error against the reference R; 0 when a method's error is steady, whatever the scene does.
 // Frames are added in path order; only the previous frame's error is kept.
 //
-// Beside it, the same for the perceptual error (issue 36): with F_t the LDR-FLIP map of X_t
+// Beside it, the same for the perceptual error: with F_t the LDR-FLIP map of X_t
 // against R_t (compare/metrics/flip.h; the frames as display values, clamped to [0,1], one channel as
 // grey), FLIP flicker = mean over t ≥ 1 and every pixel of |F_t − F_{t−1}|. FLIP has no sign,
 // so an error that only changes sign is steady here; an error that comes and goes is not.

@@ -1,5 +1,5 @@
 #pragma once
-// The statistics of the noise-aware verdict (docs/spec.md §8.1, issue 40): Student's t
+// The statistics of the noise-aware verdict (docs/spec.md §8): Student's t
 // distribution, Welch's t-test, Šidák's family-wise correction, and the t interval of a mean.
 // Pure functions of numbers; compare/parity/noise.h applies them to images.
 #include <cstdint>

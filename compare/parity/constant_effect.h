@@ -1,5 +1,5 @@
 #pragma once
-// Whether a frame's effect is constant over its surface (issue 34): an SSGI frame whose light
+// Whether a frame's effect is constant over its surface: an SSGI frame whose light
 // reaches nothing the view sees is black everywhere, and a comparison of two black frames
 // passes while checking nothing. `compare` warns on such a frame and suggests --light-dir.
 #include "common/frame.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The noise-aware verdict (`mrr compare --noise-aware`, docs/spec.md §8.1, issue 40). SSAO's and
+// The noise-aware verdict (`mrr compare --noise-aware`, docs/spec.md §8). SSAO's and
 // SSGI's effect is a Monte Carlo estimate: a renderer with its own sampling (another --seed, blue
 // noise, another kernel) draws another sample of the same estimator and cannot match the oracle
 // pixel for pixel. For the stochastic stages (raw.Lℓ, and sub.Lℓ, final, shaded downstream) the

@@ -160,6 +160,12 @@ int ParityResult::inherited() const {
   return static_cast<int>(std::count_if(rows.begin(), rows.end(), [](const StageRow& r) { return r.verdict() == "UPSTREAM"; }));
 }
 
+const StageRow* ParityResult::row(const std::string& stage) const {
+  for (const StageRow& r : rows)
+    if (r.stage == stage) return &r;
+  return nullptr;
+}
+
 std::string ParityResult::firstFailing() const {
   for (const StageRow& r : rows)
     if (r.verdict() == "FAIL") return r.stage;

@@ -1,5 +1,5 @@
 #pragma once
-// Oracle against port, stage by stage (SPEC §8; issue 6). Every stage the two paths share is
+// Oracle against port, stage by stage (SPEC §8). Every stage the two paths share is
 // compared twice where the stage allows it:
 //   - end to end: the port's stage against the oracle's;
 //   - on the same input ("cascade awareness"): the port's stage against the oracle's
@@ -98,6 +98,8 @@ struct ParityResult {
   // The first row, in pipeline order, whose verdict is FAIL (empty when none): where a
   // shader bug starts.
   std::string firstFailing() const;
+  // The row of a stage by its name ("raw.L0"), or null when the frame has none.
+  const StageRow* row(const std::string& stage) const;
   // The port's shader file(s) that compute a row's stage, from the stage list ("ssao.frag" for
   // raw.L0 of an SSAO frame; "" for a row no shader makes, e.g. the never-slower decision).
   std::string shaderOf(const std::string& stage) const;

@@ -1,6 +1,6 @@
 #pragma once
 // `mrr probe --path both`: one pixel through every stage on both paths, side by side, in
-// pipeline order, marking the first value where the oracle and the port part (issue 6).
+// pipeline order, marking the first value where the oracle and the port part.
 #include <nlohmann/json.hpp>
 
 #include <string>

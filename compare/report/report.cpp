@@ -87,7 +87,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
                          {"predicted_mrr_ms", f.fallback.predictedMrrMs},
                          {"predicted_gain_ms", f.fallback.predictedFullMs - f.fallback.predictedMrrMs},
                          {std::string(paramInfo(Param::CostModel).key), f.fallback.costModel}};
-  if (f.fallback.evaluated && !f.edgeSample.empty())  // 8×8 blocks whose diagonal holds an edge (or a silhouette)
+  if (f.fallback.evaluated && f.edgeSampled)  // 8×8 blocks whose diagonal holds an edge (or a silhouette)
     j[rule]["edge_sample_blocks"] = f.counts.edgeBlocks;
   if (f.fallback.evaluated && c.effect == Effect::Ssm) {  // H_a and H_p, from one pixel in 8×8
     j[rule]["searched_pixels"] = f.counts.searchedPixels;
@@ -228,6 +228,17 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
   if (info.path == "gpu") {
     j["renderer"] = info.renderer;
     j["timing_method"] = info.timingMethod;
+    // What the frame said to the host (gpu/traffic.h; docs/port.md, "What a frame costs the host"):
+    // inside the timed frame, the clock's own waits apart; then after it, and the whole process.
+    const auto traffic = [](const GlTraffic& t) {
+      return nlohmann::json{{"readbacks", t.readbacks}, {"readback_bytes", t.readbackBytes}, {"count_reads", t.countReads},
+                            {"waits", t.waits}, {"timing_waits", t.timingWaits}, {"finishes", t.finishes}};
+    };
+    if (f.gl.measured) {
+      j["gl"] = traffic(f.gl);
+      j["gl"]["after_frame"] = traffic(f.glAfterFrame);
+      j["gl"]["process"] = traffic(f.glProcess);
+    }
   } else {
     j["timing_method"] = "wall clock (steady_clock) around each stage";
   }

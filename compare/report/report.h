@@ -32,7 +32,7 @@ struct RunInfo {
 // SPEC §10 figures of `frame` against `reference` (a Mode::Full frame, same samples), on the
 // effect buffer and on the shaded image, and their LDR-FLIP (compare/metrics/flip.h, default viewing
 // conditions) as a viewer sees them: the effect buffer as grey, as `--out x.png` shows it,
-// the shaded image sRGB-encoded, as `--shaded x.png` (issue 36).
+// the shaded image sRGB-encoded, as `--shaded x.png`.
 struct FrameErrors {
   ErrorFigures effect;
   ErrorFigures shaded;

@@ -175,7 +175,7 @@ def plot_method(ax, method, xs, ys, label=None, line=True, ideal=False):
 
 
 def speed_vs_rms(path, effect, runs, device, key="rms"):
-    """Chart 1: measured speedup against RMS (or, key "flip", against mean FLIP: issue 36), one
+    """Chart 1: measured speedup against RMS (or, key "flip", against mean FLIP), one
     point per method and setting, the Pareto front."""
     flip = key == "flip"
     figure = "FLIP" if flip else "RMS"
@@ -290,7 +290,7 @@ def stress(path, effect, runs, device):
 
 def flicker(path, stability, device, key="flicker"):
     """Chart 4: SPEC §10 flicker of each method along each camera path; with key="flip_flicker",
-    the same for the FLIP map (the frame-to-frame change of FLIP against full, issue 36)."""
+    the same for the FLIP map (the frame-to-frame change of FLIP against full)."""
     s0 = stability[0]
     flip = key == "flip_flicker"
     c = Chart("flicker-" + path + ("-flip" if flip else ""),
@@ -309,7 +309,7 @@ def flicker(path, stability, device, key="flicker"):
     return c
 
 
-# ---- The foveation group (issue 37, SPEC §13; compare/bench/bench_fovea.cpp) -----------------------
+# ---- The foveation group (SPEC §13; compare/bench/bench_fovea.cpp) -----------------------
 
 def fovea_style(method):
     """A method's colour; its "+gaze" or "+motion" run drawn solid, the method alone dashed."""
@@ -333,7 +333,7 @@ def fovea_rings(path, scene, ppd, rings, device, key):
                                                               r0["gaze"][0], r0["gaze"][1]),
               "The %s in each ring of eccentricity around the gaze (SPEC §13). Dashed: the method with the gaze only "
               "measuring (--foveate off), its own decisions; solid: with the gaze foveating (+gaze). The legend gives "
-              "each frame's time less its full-res G-buffer (median of the repeats, the whole frame).%s" % (
+              "each frame's effect time (less its full-res G-buffer and shaded image, SPEC §10; median of the repeats).%s" % (
                   what, "" if key == "shaded_share" else " A ring with no error (0) has no point on the log axis."),
               "eccentricity ring", what + (" (log)" if key != "shaded_share" else ""))
     labels = distinct(ring_label(r) for r in rings)
@@ -365,7 +365,7 @@ def fovea_motion(path, scene, motion, device):
                                                    " and ".join(distinct(m["camera_path"] for m in motion)), m0["frames"]),
               "Each frame of the camera paths after the first: the mean |v| over pixels on geometry (SPEC §13 step 3, "
               "the previous path frame as --prev-frame) against the share of pixels shaded (filled, left axis) and the "
-              "frame's time less its full-res G-buffer (hollow, right axis, median of the repeats). Points alone: the "
+              "frame's effect time (less its full-res G-buffer and shaded image; hollow, right axis, median of the repeats). Points alone: the "
               "method without the previous frame (its share follows the frame's content); joined: with it (+motion).",
               "mean screen speed |v| (full-res pixels per frame)", "shaded level pixels / W·H")
     right = c.ax.twinx()
@@ -411,7 +411,7 @@ def bench_charts(results, paper):
             group = lambda g: [r for r in of_path if r["group"] == g and r["effect"] == effect]  # noqa: E731
             if group("main"):
                 out.append(speed_vs_rms(path, effect, group("main"), device))
-                if all("flip" in r for r in group("main")):  # bench JSON from before issue 36 has none
+                if all("flip" in r for r in group("main")):  # bench JSON from before FLIP has none
                     out.append(speed_vs_rms(path, effect, group("main"), device, key="flip"))
             if group("samples"):
                 out.append(sweep("fig6", path, effect, group("samples"), paper, device))
@@ -422,7 +422,7 @@ def bench_charts(results, paper):
         stability = [s for s in results["stability"] if s["path"] == path]
         if stability:
             out.append(flicker(path, stability, device))
-            if all("flip_flicker" in s for s in stability):  # bench JSON from before issue 36 has none
+            if all("flip_flicker" in s for s in stability):  # bench JSON from before FLIP has none
                 out.append(flicker(path, stability, device, key="flip_flicker"))
     out += fovea_charts(results.get("fovea", {}), results["devices"])
     return out

@@ -1,5 +1,5 @@
 #pragma once
-// The never-slower rule (SPEC §11, issue 18), fitted and checked:
+// The never-slower rule (SPEC §11), fitted and checked:
 //  - `mrr bench --calibrate FILE` fits the cost model's figures on the machine at hand, per
 //    path, from frames that differ in what the model separates (share on geometry, sample
 //    count, size): least squares over medians of repeats;

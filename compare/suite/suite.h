@@ -1,5 +1,5 @@
 #pragma once
-// Validation suites (issue 38: `mrr check DIR`): a folder of frame files, one compare each, one
+// Validation suites (`mrr check DIR`): a folder of frame files, one compare each, one
 // verdict. This file holds what does not render: the cases of a folder, the shard a case falls
 // in, the summary table, JUnit XML, the results as JSON (what `check --json` writes and
 // `check --merge` reads back) and the report's index page. app/check_command.cpp runs the cases.

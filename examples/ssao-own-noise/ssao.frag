@@ -1,5 +1,5 @@
 #version 330 core
-// Example (docs/validate-your-own.md, issue 40): SSAO with its own noise. The estimator is mrr's
+// Example (docs/validate-your-own.md): SSAO with its own noise. The estimator is mrr's
 // (the same kernel, occlusion test and range check: gpu/shaders/ssao.frag, SPEC §6), but each
 // pixel's rotation comes from interleaved gradient noise (Jimenez 2014), as many real renderers
 // do, not from mrr's PCG hash. Pixel for pixel it cannot match the oracle: `mrr compare

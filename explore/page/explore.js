@@ -165,7 +165,7 @@ function moveCamera(yawStep, pitchStep, dolly) {
 // ---------------------------------------------------------------------------------------------
 // Rendering a frame: the report of each path, then the layer, then the probe.
 
-// The server's work budget (/api/info budget, issue 39): the samples knob stops at the most that
+// The server's work budget (/api/info budget): the samples knob stops at the most that
 // fit at this frame's size (max_samples of the frame, or of the 400 that refused it).
 function showSamplesLimit(most) {
   const b = state.info && state.info.budget;
@@ -522,7 +522,7 @@ async function probe() {
   else $('#noise-section').hidden = true;
 }
 
-// Issue 40: the probed pixel's stochastic stages against the oracle's independent seeds (GET
+// The probed pixel's stochastic stages against the oracle's independent seeds (GET
 // /api/noise: the same numbers as `mrr probe --path both --noise-aware`). The first request for a
 // frame renders the seeds (progress in the bar); later pixels of the same frame read its cache.
 async function noiseProbe() {

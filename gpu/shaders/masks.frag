@@ -13,8 +13,9 @@
 //   STEP 5 the level limit (SPEC §13 step 6, with --gaze or --prev-frame): M'_ℓ = M_ℓ where
 //     LEVEL ≥ ℓ_min at the full-res pixel the level pixel holds (p·FACTOR + FACTOR/2, FACTOR = s_ℓ),
 //     else 0; the blur then reads M'_ℓ (the pyramid above stays E's own)
-// The passes are drawn only over the blocks near an edge (gpu/masks.cpp); elsewhere a_ℓ and
-// S_ℓ keep their cleared 0, which is what the blur gives there.
+// Level 0's passes are drawn only over the blocks near an edge, a coarser level's whole
+// (gpu/masks.cpp); where a pass is not drawn, a_ℓ and S_ℓ keep their cleared 0, which is what the
+// blur gives there.
 uniform sampler2D source;    // the pass's input (channel SOURCE_CHANNEL)
 uniform sampler2D previous;  // step 4: the coarser level's own stencil
 #if STEP == 5

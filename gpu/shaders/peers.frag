@@ -3,7 +3,9 @@
 //   TILE_MASKS     tiles' stage 3, steps chosen by `step` (like masks.frag):
 //                    1 a tile holds an edge: max of E over its 16×16 pixels (one fragment per tile)
 //                    2 the rate: 0 on edge tiles, 1 beside one (8-neighbourhood), 2 elsewhere
-//                    3 per level ℓ: M_ℓ = rate, S_ℓ = [rate == ℓ, inside W×H], a_ℓ = S_ℓ
+//                    3 per level ℓ: S_ℓ = [rate == ℓ, inside W×H] in r, M_ℓ = rate in g, a_ℓ = S_ℓ in b
+//                    4 SPEC §13 step 6 (limitTileRates): rate = max(rate, min(2, ℓ_min at the tile's
+//                      centre pixel (16 t + 8), clamped to the grid))
 //   COMPOSE        stage 5 at full res W×H: the final value and the level it came from;
 //                  with JOINT_BILATERAL (uniform-k) the joint bilateral upsampling of c_k,
 //                  else (tiles) the coarse pixel's value broadcast to its block
@@ -18,6 +20,7 @@ uniform int sourceChannel; // step 1: E's channel in the edge target
 uniform int level;         // step 3: ℓ
 uniform int perTile;       // step 3: level-ℓ pixels per tile side, 16 / s_ℓ
 uniform ivec2 extent;      // step 3: the level-ℓ pixels whose block starts inside W×H
+uniform sampler2D limit;   // step 4: limit.frag's output, ℓ_min in a (padded full res)
 layout(location = 0) out vec4 result;
 
 void main() {
@@ -38,12 +41,17 @@ void main() {
       for (int i = max(p.x - 1, 0); i <= min(p.x + 1, last.x); ++i) near = max(near, texelFetch(source, ivec2(i, j), 0).r);
     float rate = texelFetch(source, p, 0).r > 0.5 ? 0.0 : near > 0.5 ? 1.0 : 2.0;
     result = vec4(rate, 0.0, 0.0, 1.0);
-  } else {
-    // tileMasks: M_ℓ = the rate of the pixel's tile; S_ℓ = a_ℓ = [rate == ℓ and inside W×H]
+  } else if (step == 3) {
+    // tileMasks: S_ℓ = a_ℓ = [rate == ℓ and inside W×H]; M_ℓ = the rate of the pixel's tile
     float rate = texelFetch(source, p / perTile, 0).r;
     bool shade = int(rate + 0.5) == level && all(lessThan(p, extent));
     float s = shade ? 1.0 : 0.0;
-    result = vec4(rate, s, s, 1.0);
+    result = vec4(s, rate, s, 1.0);
+  } else {
+    // limitTileRates: the eye's and motion's limit at the tile's centre pixel, at most 2
+    ivec2 centre = min(p * kTileSize + kTileSize / 2, textureSize(limit, 0) - 1);
+    float eye = min(2.0, texelFetch(limit, centre, 0).a);
+    result = vec4(max(texelFetch(source, p, 0).r, eye), 0.0, 0.0, 1.0);
   }
 }
 #endif

@@ -1,4 +1,4 @@
-// `mrr bench --quick` (issue 34): the port beside the oracle where EGL gives GL 3.3 core, one line
+// `mrr bench --quick`: the port beside the oracle where EGL gives GL 3.3 core, one line
 // on stderr saying which paths ran; --paths still chooses, and then nothing is said.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Issue 38, `mrr check DIR`: a suite of frame files, run through the real binary. The frames are
+// `mrr check DIR`: a suite of frame files, run through the real binary. The frames are
 // tiny (64x36, few samples) so that a suite takes seconds. CheckDocs runs the commands of
 // docs/validate-your-own.md's section 5 as they stand there and checks each exit status and line.
 #include <gtest/gtest.h>
@@ -26,10 +26,11 @@ namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
-using cli::Ran;
+using cli::lastLine;
 using cli::quote;
+using cli::Ran;
 // Runs in DIR: the suite's folders are named relative to it.
-Ran mrr(const std::vector<std::string>& args, const std::string& dir) { return cli::mrr(args, dir, "", true); }
+Ran mrrIn(const std::vector<std::string>& args, const std::string& dir) { return cli::mrr(args, dir, "", true); }
 
 // The four good frames of the docs' suite, in DIR/frames.
 std::string makeFrames(const std::string& dir) {
@@ -40,9 +41,9 @@ std::string makeFrames(const std::string& dir) {
                                                                                   {"boxes-ssao", "builtin:boxes", "ssao", "8"},
                                                                                   {"demo-ssm", "builtin:demo", "ssm", "9"},
                                                                                   {"demo-ssgi", "builtin:demo", "ssgi", "8"}}) {
-    const Ran r = mrr({"render", "--scene", scene, "--effect", effect, "--size", "64x36", "--samples", samples,
-                       "--never-slower", "off", "-q", "--frame-out", (frames / (name + ".json")).string()},
-                      dir);
+    const Ran r = mrrIn({"render", "--scene", scene, "--effect", effect, "--size", "64x36", "--samples", samples,
+                         "--never-slower", "off", "-q", "--frame-out", (frames / (name + ".json")).string()},
+                        dir);
     EXPECT_EQ(r.status, 0) << r.err;
   }
   return frames.string();
@@ -63,12 +64,6 @@ std::map<std::string, std::string> rows(const std::string& summary) {
   return out;
 }
 
-std::string lastLine(const std::string& text) {
-  std::string t = text;
-  while (!t.empty() && t.back() == '\n') t.pop_back();
-  return t.substr(t.rfind('\n') == std::string::npos ? 0 : t.rfind('\n') + 1);
-}
-
 size_t count(const std::string& text, const std::string& what) {
   size_t n = 0;
   for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
@@ -79,7 +74,7 @@ TEST(Check, FourGoodFramesPassWithJunit) {
   const std::string dir = test::scratchDir();
   REQUIRE_GL(dir);
   const std::string frames = makeFrames(dir);
-  const Ran r = mrr({"check", frames, "--junit", "junit.xml"}, dir);
+  const Ran r = mrrIn({"check", frames, "--junit", "junit.xml"}, dir);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out), "PASS: all 4 cases") << r.out;
   EXPECT_EQ(rows(r.out), (std::map<std::string, std::string>{{"boxes-ssao", "ssao mrr PASS -"},
@@ -101,14 +96,14 @@ TEST(Check, DarkerSsaoShaderFailsTheSsaoCases) {
   REQUIRE_GL(dir);
   const std::string frames = makeFrames(dir);
   const std::string shaders = (fs::path(dir) / "darker").string();
-  ASSERT_EQ(mrr({"shaders", "export", shaders}, dir).status, 0);
+  ASSERT_EQ(mrrIn({"shaders", "export", shaders}, dir).status, 0);
   const fs::path file = fs::path(shaders) / "ssao.frag";
   std::string text = test::readFile(file.string());
   const std::string find = "ao = vec4(1.0 - occlusion / float(samples), 0.0, 0.0, 1.0);";
   ASSERT_NE(text.find(find), std::string::npos) << "the shader no longer holds: " << find;
   text.replace(text.find(find), find.size(), "ao = vec4((1.0 - occlusion / float(samples)) * 0.97, 0.0, 0.0, 1.0);");
   std::ofstream(file, std::ios::binary) << text;
-  const Ran r = mrr({"check", frames, "--shaders", shaders, "--junit", "junit.xml", "--jobs", "2"}, dir);
+  const Ran r = mrrIn({"check", frames, "--shaders", shaders, "--junit", "junit.xml", "--jobs", "2"}, dir);
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out), "FAIL: 2 of 4 cases failed") << r.out;
   const std::map<std::string, std::string> got = rows(r.out);
@@ -128,12 +123,12 @@ TEST(Check, ShardsPartitionAndMergeToTheWholeSuite) {
   REQUIRE_GL(dir);
   const std::string frames = makeFrames(dir);
   std::ofstream(fs::path(frames) / "broken.json") << "{\"scene\": \"builtin:demo\", \"size\": \"64x36\", \"bogus\": 1}";
-  const Ran whole = mrr({"check", frames, "-q"}, dir);
+  const Ran whole = mrrIn({"check", frames, "-q"}, dir);
   EXPECT_EQ(whole.status, 2) << whole.out << whole.err;
   std::set<std::string> seen;
   for (const char* shard : {"1/2", "2/2"}) {
     const std::string json = std::string("shard-") + shard[0] + ".json";
-    const Ran r = mrr({"check", frames, "--shard", shard, "--json", json, "-q"}, dir);
+    const Ran r = mrrIn({"check", frames, "--shard", shard, "--json", json, "-q"}, dir);
     EXPECT_TRUE(r.status == 0 || r.status == 2) << r.out << r.err;
     for (const auto& [name, row] : rows(r.out)) EXPECT_TRUE(seen.insert(name).second) << name << " in two shards";
     const nlohmann::json results = nlohmann::json::parse(test::readFile((fs::path(dir) / json).string()));
@@ -141,16 +136,16 @@ TEST(Check, ShardsPartitionAndMergeToTheWholeSuite) {
     EXPECT_EQ(results["cases"].size(), rows(r.out).size());
   }
   EXPECT_EQ(seen, (std::set<std::string>{"boxes-ssao", "broken", "demo-ssao", "demo-ssgi", "demo-ssm"}));
-  const Ran merged = mrr({"check", "--merge", "shard-1.json", "shard-2.json", "--junit", "junit.xml"}, dir);
+  const Ran merged = mrrIn({"check", "--merge", "shard-1.json", "shard-2.json", "--junit", "junit.xml"}, dir);
   EXPECT_EQ(merged.status, whole.status) << merged.out << merged.err;
   const std::regex time(" +[0-9]+\\.[0-9]+ s\n");
   EXPECT_EQ(std::regex_replace(merged.out, time, "\n"), std::regex_replace(whole.out, time, "\n"));
   EXPECT_EQ(count(test::readFile((fs::path(dir) / "junit.xml").string()), "<testcase "), 5u);
   // A shard missing, or given twice: refused, one line.
-  Ran r = mrr({"check", "--merge", "shard-1.json"}, dir);
+  Ran r = mrrIn({"check", "--merge", "shard-1.json"}, dir);
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err, "mrr: error: --merge: shard 2/2 missing (give every shard's --json results)\n");
-  r = mrr({"check", "--merge", "shard-1.json", "shard-1.json", "shard-2.json"}, dir);
+  r = mrrIn({"check", "--merge", "shard-1.json", "shard-1.json", "shard-2.json"}, dir);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("are both shard 1/2"), std::string::npos) << r.err;
 }
@@ -162,7 +157,7 @@ TEST(Check, BrokenFrameIsOneErrorCase) {
   const std::string frames = makeFrames(dir);
   std::ofstream(fs::path(frames) / "typo.json") << R"({"scene": "builtin:demo", "size": "64x36", "samples": "eight"})";
   std::ofstream(fs::path(frames) / "garbage.json") << "not json";
-  const Ran r = mrr({"check", frames, "--junit", "junit.xml", "--jobs", "3", "-q"}, dir);
+  const Ran r = mrrIn({"check", frames, "--junit", "junit.xml", "--jobs", "3", "-q"}, dir);
   EXPECT_EQ(r.status, 2) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out), "ERROR: 2 of 6 cases could not run; 0 failed") << r.out;
   const std::map<std::string, std::string> got = rows(r.out);
@@ -186,17 +181,17 @@ TEST(Check, AgainstAFolderOfStages) {
   const fs::path stages = fs::path(dir) / "stages";
   fs::create_directories(stages / "demo-ssm");
   for (const char* c : {"demo-ssao", "boxes-ssao"})
-    ASSERT_EQ(mrr({"render", "--frame", (fs::path(frames) / (std::string(c) + ".json")).string(), "-q", "--stages",
-                   (stages / (std::string(c) + ".exr")).string()},
-                  dir)
+    ASSERT_EQ(mrrIn({"render", "--frame", (fs::path(frames) / (std::string(c) + ".json")).string(), "-q", "--stages",
+                     (stages / (std::string(c) + ".exr")).string()},
+                    dir)
                   .status,
               0);
-  ASSERT_EQ(mrr({"render", "--frame", (fs::path(frames) / "demo-ssm.json").string(), "-q", "--out",
-                 (stages / "demo-ssm" / "final.exr").string()},
-                dir)
+  ASSERT_EQ(mrrIn({"render", "--frame", (fs::path(frames) / "demo-ssm.json").string(), "-q", "--out",
+                   (stages / "demo-ssm" / "final.exr").string()},
+                  dir)
                 .status,
             0);
-  const Ran r = mrr({"check", frames, "--against", stages.string(), "-q"}, dir);
+  const Ran r = mrrIn({"check", frames, "--against", stages.string(), "-q"}, dir);
   EXPECT_EQ(r.status, 2) << r.out << r.err;
   const std::map<std::string, std::string> got = rows(r.out);
   EXPECT_EQ(got.at("demo-ssao"), "ssao mrr PASS -") << r.out;
@@ -207,7 +202,7 @@ TEST(Check, AgainstAFolderOfStages) {
       << r.out;
 }
 
-// check --noise-aware (issue 40): a renderer with its own noise (here the oracle's stages drawn
+// check --noise-aware: a renderer with its own noise (here the oracle's stages drawn
 // with --seed 7) fails every SSAO case exactly and passes them noise-aware; the same 3% too dark
 // fails noise-aware at raw.L0, and SSM (no stochastic stage) is judged as without the flag.
 TEST(Check, NoiseAwareJudgesOwnNoiseStatistically) {
@@ -222,17 +217,17 @@ TEST(Check, NoiseAwareJudgesOwnNoiseStatistically) {
     frame.insert(frame.end(), common.begin(), common.end());
     std::vector<std::string> file = frame;
     file.insert(file.end(), {"--frame-out", (frames / (name + ".json")).string()});
-    ASSERT_EQ(mrr(file, dir).status, 0);
+    ASSERT_EQ(mrrIn(file, dir).status, 0);
     std::vector<std::string> theirs = frame;
     theirs.insert(theirs.end(), {"--seed", "7", "--stages", (stages / (name + ".exr")).string()});
-    ASSERT_EQ(mrr(theirs, dir).status, 0);
+    ASSERT_EQ(mrrIn(theirs, dir).status, 0);
     std::vector<ExrPart> parts = readParts((stages / (name + ".exr")).string());
     for (ExrPart& p : parts)
       if (p.name.rfind("raw.L", 0) == 0 && effect == "ssao")
         for (float& v : p.image.data) v *= 0.97f;
     writeMultiPartExr((dark / (name + ".exr")).string(), parts, 96, 54);
   }
-  Ran r = mrr({"check", frames.string(), "--against", stages.string(), "-q"}, dir);
+  Ran r = mrrIn({"check", frames.string(), "--against", stages.string(), "-q"}, dir);
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   std::map<std::string, std::string> got = rows(r.out);
   EXPECT_EQ(got["demo-ssao"], "ssao mrr FAIL raw.L0") << r.out;
@@ -240,7 +235,7 @@ TEST(Check, NoiseAwareJudgesOwnNoiseStatistically) {
   EXPECT_EQ(got["demo-ssm"], "ssm mrr PASS -") << r.out;
 
   const std::string results = (fs::path(dir) / "noise.json").string();
-  r = mrr({"check", frames.string(), "--against", stages.string(), "--noise-aware", "-q", "--json", results}, dir);
+  r = mrrIn({"check", frames.string(), "--against", stages.string(), "--noise-aware", "-q", "--json", results}, dir);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
   got = rows(r.out);
   EXPECT_EQ(got["demo-ssao"], "ssao mrr PASS -") << r.out;
@@ -249,7 +244,7 @@ TEST(Check, NoiseAwareJudgesOwnNoiseStatistically) {
   EXPECT_NE(test::readFile(results).find("noise-aware (the stochastic stages against the oracle's 16 seeds)"),
             std::string::npos);
 
-  r = mrr({"check", frames.string(), "--against", dark.string(), "--noise-aware", "-q"}, dir);
+  r = mrrIn({"check", frames.string(), "--against", dark.string(), "--noise-aware", "-q"}, dir);
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   got = rows(r.out);
   EXPECT_EQ(got["demo-ssao"], "ssao mrr FAIL raw.L0") << r.out;
@@ -267,7 +262,7 @@ TEST(Check, ReportIndexLinksEveryCasePage) {
   REQUIRE_GL(dir);
   const std::string frames = makeFrames(dir);
   std::ofstream(fs::path(frames) / "garbage.json") << "not json";
-  const Ran r = mrr({"check", frames, "--report", "report", "-q"}, dir);
+  const Ran r = mrrIn({"check", frames, "--report", "report", "-q"}, dir);
   EXPECT_EQ(r.status, 2) << r.out << r.err;
   const std::string index = test::readFile((fs::path(dir) / "report" / "index.html").string());
   for (const char* c : {"demo-ssao", "boxes-ssao", "demo-ssm", "demo-ssgi"}) {
@@ -297,7 +292,7 @@ TEST(Check, UsageErrorsAreOneLine) {
            {{"check", "--merge", "r.json", "--noise-aware"},
             "check --merge: --against, --shard, --shaders and --noise-aware are for running a suite, not for merging results"},
        }) {
-    const Ran r = mrr(args, dir);
+    const Ran r = mrrIn(args, dir);
     EXPECT_EQ(r.status, 2) << args.back();
     EXPECT_EQ(r.err, "mrr: error: " + message + "\n") << args.back();
     EXPECT_EQ(r.out, "") << args.back();

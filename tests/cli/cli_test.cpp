@@ -221,7 +221,7 @@ void writeBadInputs(const std::string& in) {
   const std::string glb = TriangleGltf(kTriangle, {0, 1, 2}).glbBytes();
   writeFile(path("truncated.glb"), glb.substr(0, glb.size() / 2));
   writeFile(path("notgltf.gltf"), R"({"hello": "world", "numbers": [1, 2, 3]})");
-  // frame files (issue 17) that cannot be a frame
+  // frame files that cannot be a frame
   writeFile(path("unknown-key.json"), R"({"scene": "builtin:demo", "colour": 1})");
   writeFile(path("no-view.json"), R"({"scene": "builtin:demo", "eye": [1, 2, 3], "target": [1, 2, 3]})");
   writeFile(path("negative-size.json"), R"({"scene": "builtin:demo", "size": "-64x48"})");
@@ -299,7 +299,7 @@ bool glAvailable(const std::string& dir);  // below: whether the GL path works h
 
 // A frame written by --frame-out and read back by --frame gives the same bits, on both paths,
 // with the camera from the catalogue and the light turned; the report and the stages EXR carry
-// the same frame, and an option given beside --frame wins (issue 17).
+// the same frame, and an option given beside --frame wins.
 TEST_F(CliRenderTest, FrameOutAndFrameReproduceTheBits) {
   for (const std::string path : {"cpu", "gpu"}) {
     if (path == "gpu" && !glAvailable(dir)) continue;  // glAvailable: the GL tests' own check (CI has GL)
@@ -408,7 +408,7 @@ TEST_F(CliRenderTest, MrrEffectsPosteriorTermTravelsInFrameFiles) {
   if (shaded.count("gpu")) EXPECT_EQ(shaded["gpu"], shaded["cpu"]);
 }
 
-// mrr info: what a scene holds and the view a render would take, as text and JSON (issue 19).
+// mrr info: what a scene holds and the view a render would take, as text and JSON.
 TEST_F(CliRenderTest, InfoTellsWhatASceneHolds) {
   const RunResult text = runMrr({"info", "builtin:fence"}, dir);
   ASSERT_EQ(text.status, 0) << describe(text);
@@ -439,7 +439,7 @@ TEST_F(CliRenderTest, InfoTellsWhatASceneHolds) {
             0);
 }
 
-// The report records the frame's camera and light as given (issue 19), and --light-dir
+// The report records the frame's camera and light as given, and --light-dir
 // (toward the light) turns the scene's light: the shadows of SSM move with it.
 TEST_F(CliRenderTest, ReportRecordsTheCameraAndTheLight) {
   auto render = [&](const std::string& name, std::vector<std::string> extra) {
@@ -515,7 +515,7 @@ TEST_F(CliRenderTest, RenderWritesEveryOutputAndAFullReport) {
     EXPECT_TRUE(e.contains(key)) << "error_vs_full lacks " << key << ": " << e.dump();
   EXPECT_GE(e.value("rms", -1.0), 0.0);
   EXPECT_LE(e.value("ssim", 2.0), 1.0);
-  // Issue 36: LDR-FLIP of the effect buffer and of the shaded image.
+  // LDR-FLIP of the effect buffer and of the shaded image.
   for (const char* part : {"error_vs_full", "error_vs_full_shaded"}) {
     ASSERT_TRUE(j[part].contains("flip")) << part << ": " << j[part].dump();
     const json& f = j[part]["flip"];
@@ -1053,7 +1053,7 @@ const std::vector<BadCase> kBadCases = {
      {.env = {"MRR_GPU_FAULT=compile-error"}}, true},
     {"GpuUnknownPlantedFault", renderArgs("builtin:demo", {"--path", "gpu"}), "MRR_GPU_FAULT=nosuch",
      {.env = {"MRR_GPU_FAULT=nosuch"}}, true},
-    // issue 17: the user's shaders (--shaders DIR) and another renderer's stages (--against FILE)
+    // The user's shaders (--shaders DIR) and another renderer's stages (--against FILE)
     {"ShadersMissingFolder", renderArgs("builtin:demo", {"--path", "gpu", "--shaders", "{in}/nosuch"}),
      "--shaders {in}/nosuch: no such folder"},
     {"ShadersOnTheOracle", renderArgs("builtin:demo", {"--shaders", "{in}"}), "the shaders are the port's"},
@@ -1078,7 +1078,7 @@ const std::vector<BadCase> kBadCases = {
                                 "--pixel", "1,2,3"}, "--pixel 1,2,3"},
     // the command line itself: every usage error is one line and status 2
     {"NoCommand", {}, "a command is required: render, probe, compare"},
-    // frame files (issue 17): one line naming the file and the key, nothing written
+    // frame files: one line naming the file and the key, nothing written
     {"FrameUnknownKey", demoWith({"--out", "{out}/o.exr", "--frame", "{in}/unknown-key.json"}), "unknown key \"colour\""},
     {"FrameZeroViewDirection", demoWith({"--out", "{out}/o.exr", "--frame", "{in}/no-view.json"}),
      "a zero-length view direction"},
@@ -1463,7 +1463,7 @@ TEST(CliProbeBothTest, MarksTheFirstStageWhereThePathsPart) {
 }
 
 // The port's two timing methods: the report names the one used, and each gives a figure for
-// every stage (on llvmpipe the query figures themselves are wrong, PLATFORM.md; what is tested
+// every stage (on llvmpipe the query figures themselves are wrong, docs/platform.md; what is tested
 // is that the path runs and says so). auto picks the wall clock on llvmpipe.
 TEST(CliGpuTimingTest, TheReportSaysWhichTimingWasUsed) {
   const std::string dir = test::scratchDir();
@@ -1603,7 +1603,7 @@ TEST(CliOutputTest, BenchRunsTheEffectOnlyArmOnBothPaths) {
   EXPECT_EQ(shaded["gpu"], shaded["cpu"]);
 }
 
-// ---- mrr diff (issue 36) ------------------------------------------------------------------
+// ---- mrr diff ------------------------------------------------------------------
 
 // Two small PNGs that differ (a bright square moved by two pixels), and a third of another size.
 class CliDiffTest : public CliRenderTest {

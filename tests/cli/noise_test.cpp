@@ -1,4 +1,4 @@
-// Issue 40: `--seed` and `compare --noise-aware`, through the real binary on small frames. The
+// `--seed` and `compare --noise-aware`, through the real binary on small frames. The
 // oracle's own stages rendered with another seed stand for a renderer with its own noise: they
 // pass noise-aware; the same 3% too dark fails at raw.L0 naming the bias; without
 // --noise-aware the comparison is exactly today's.
@@ -24,27 +24,18 @@ namespace mrr {
 namespace {
 namespace fs = std::filesystem;
 
+using cli::lastLine;
 using cli::mrr;
 using cli::Ran;
+using cli::with;
 
-const std::vector<std::string> kFrame = {"--scene", "builtin:demo", "--effect", "ssao", "--size", "160x90", "--samples",
-                                         "16", "-q"};
+const std::vector<std::string> kNoiseFrame = {"--scene", "builtin:demo", "--effect", "ssao", "--size",
+                                              "160x90",  "--samples",    "16",       "-q"};
 
-std::vector<std::string> with(std::vector<std::string> head, const std::vector<std::string>& tail) {
-  head.insert(head.end(), tail.begin(), tail.end());
-  return head;
-}
-
-std::string lastLine(const std::string& text) {
-  std::string t = text;
-  while (!t.empty() && t.back() == '\n') t.pop_back();
-  return t.substr(t.rfind('\n') == std::string::npos ? 0 : t.rfind('\n') + 1);
-}
-
-// The oracle's stages of kFrame (plus `extra`) as `render --stages` writes them.
+// The oracle's stages of kNoiseFrame (plus `extra`) as `render --stages` writes them.
 std::string stages(const std::string& dir, const std::string& name, const std::vector<std::string>& extra) {
   const std::string file = (fs::path(dir) / name).string();
-  const Ran r = mrr(with(with({"render", "--never-slower", "off", "--stages", file}, kFrame), extra), dir);
+  const Ran r = mrr(with(with({"render", "--never-slower", "off", "--stages", file}, kNoiseFrame), extra), dir);
   EXPECT_EQ(r.status, 0) << r.err;
   return file;
 }
@@ -67,8 +58,9 @@ TEST(Seed, ChangesTheEffectAndIsRecordedInTheFrameFile) {
   EXPECT_EQ(part(base, "stencil.L1").data, part(seven, "stencil.L1").data);
   // The frame file records a seed other than 0 and reads it back.
   const std::string frame = (fs::path(dir) / "frame.json").string();
-  Ran r = mrr(with({"render", "--seed", "7", "--frame-out", frame, "--out", (fs::path(dir) / "a.exr").string()}, kFrame),
-              dir);
+  Ran r = mrr(
+      with({"render", "--seed", "7", "--frame-out", frame, "--out", (fs::path(dir) / "a.exr").string()}, kNoiseFrame),
+      dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(test::readFile(frame).find("\"seed\": 7"), std::string::npos) << test::readFile(frame);
   r = mrr({"render", "--seed", "-1", "--size", "8x8", "-q", "--out", (fs::path(dir) / "b.exr").string()}, dir);
@@ -76,17 +68,17 @@ TEST(Seed, ChangesTheEffectAndIsRecordedInTheFrameFile) {
   EXPECT_NE(r.err.find("mrr: error: --seed -1: must be in [0, 1073741823]"), std::string::npos) << r.err;
 }
 
-// Done when (issue 40): another seed passes noise-aware; exactly, it fails as it does today.
+// Another seed passes noise-aware; exactly, it fails as it does today.
 TEST(NoiseAware, AnotherSeedPassesNoiseAwareAndFailsExactly) {
   const std::string dir = test::scratchDir();
   const std::string seven = stages(dir, "seed7.exr", {"--seed", "7"});
-  Ran r = mrr(with({"compare", "--against", seven, "--noise-aware"}, kFrame), dir);
+  Ran r = mrr(with({"compare", "--against", seven, "--noise-aware"}, kNoiseFrame), dir);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("  raw.L0 pass: 0% of "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  final pass: "), std::string::npos) << r.out;
   EXPECT_EQ(lastLine(r.out).rfind("PASS", 0), 0u) << r.out;
   // The same file judged exactly: mrr's own sampling differs pixel by pixel.
-  r = mrr(with({"compare", "--against", seven}, kFrame), dir);
+  r = mrr(with({"compare", "--against", seven}, kNoiseFrame), dir);
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out), "FAIL: first failing stage raw.L0 (ssao.frag)") << r.out;
   EXPECT_EQ(r.out.find("noise-aware"), std::string::npos) << r.out;
@@ -105,7 +97,7 @@ TEST(NoiseAware, ThreePercentTooDarkFailsAtRawL0NamingTheBias) {
   ASSERT_GE(scaled, 2);
   const std::string dark = (fs::path(dir) / "dark.exr").string();
   writeMultiPartExr(dark, parts, 160, 90);
-  const Ran r = mrr(with({"compare", "--against", dark, "--noise-aware"}, kFrame), dir);
+  const Ran r = mrr(with({"compare", "--against", dark, "--noise-aware"}, kNoiseFrame), dir);
   EXPECT_EQ(r.status, 1) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out), "FAIL: first failing stage raw.L0 (ssao.frag)") << r.out;
   const size_t line = r.out.find("  raw.L0 FAIL: ");
@@ -120,10 +112,10 @@ TEST(NoiseAware, ThreePercentTooDarkFailsAtRawL0NamingTheBias) {
 TEST(NoiseAware, ExactRunsAreUnchanged) {
   const std::string dir = test::scratchDir();
   const std::string own = stages(dir, "own.exr", {});
-  Ran r = mrr(with({"compare", "--against", own}, kFrame), dir);
+  Ran r = mrr(with({"compare", "--against", own}, kNoiseFrame), dir);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
   EXPECT_EQ(lastLine(r.out), "PASS: every stage within tolerance") << r.out;
-  r = mrr(with({"compare", "--against", own, "--noise-aware"}, kFrame), dir);
+  r = mrr(with({"compare", "--against", own, "--noise-aware"}, kNoiseFrame), dir);
   EXPECT_EQ(r.status, 0) << r.out << r.err;
   const std::vector<std::string> ssm = {"--scene", "builtin:demo", "--effect", "ssm", "--size", "96x54", "--samples", "4", "-q"};
   const std::string ssmFile = (fs::path(dir) / "ssm.exr").string();
@@ -205,7 +197,7 @@ TEST(NoiseAware, TheOwnNoiseExampleThroughThePort) {
   }
 }
 
-// probe --path both --noise-aware (issue 40's "Probe and explore show a stochastic pixel's mean, its
+// probe --path both --noise-aware ("Probe and explore show a stochastic pixel's mean, its
 // interval, and where the user's value falls in it"): inside for another seed; a pixel planted at 0
 // is OUTSIDE, below the mean by more than a half-width; its interval is the one compare
 // --noise-aware accepts (the same worst pixel, the same bounds), at Šidák's level over the stage's
@@ -230,7 +222,9 @@ TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
     return at == std::string::npos ? std::string() : text.substr(at + 1, text.find('\n', at + 1) - at - 1);
   };
   Ran r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against",
-                    (fs::path(dir) / "seed7.exr").string()}, kFrame), dir);
+                    (fs::path(dir) / "seed7.exr").string()},
+                   kNoiseFrame),
+              dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("noise-aware: pixel " + pixel + ", each stochastic stage against the oracle's 16 frames"),
             std::string::npos) << r.out;
@@ -241,7 +235,7 @@ TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
     if (p.name == "raw.L0") p.image.at(px, py) = 0.0f;
   const std::string planted = (fs::path(dir) / "planted.exr").string();
   writeMultiPartExr(planted, parts, 160, 90);
-  r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against", planted}, kFrame), dir);
+  r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--against", planted}, kNoiseFrame), dir);
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string raw = lineOf(r.out, "  raw.L0 (ssao.frag)");
   EXPECT_NE(raw.find(" OUTSIDE ("), std::string::npos) << r.out;
@@ -250,7 +244,9 @@ TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
   EXPECT_NE(r.out.find("value lies OUTSIDE the accepted interval at raw.L0:"), std::string::npos) << r.out;
 
   // The same as JSON, and against the verdict's own figures.
-  r = mrr(with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--json", "--against", planted}, kFrame), dir);
+  r = mrr(
+      with({"probe", "--path", "both", "--pixel", pixel, "--noise-aware", "--json", "--against", planted}, kNoiseFrame),
+      dir);
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out).at("noise_aware");
   EXPECT_EQ(j.at("seeds"), 16);
@@ -274,7 +270,7 @@ TEST(NoiseAware, ProbeShowsThePixelsMeanIntervalAndWhereTheValueFalls) {
   EXPECT_LE(c.at("mean_interval_95")[0].get<double>(), mean);
   EXPECT_GE(c.at("mean_interval_95")[1].get<double>(), mean);
   // compare --noise-aware names the planted pixel raw.L0's worst and accepts it in the same interval.
-  r = mrr(with({"compare", "--against", planted, "--noise-aware"}, kFrame), dir);
+  r = mrr(with({"compare", "--against", planted, "--noise-aware"}, kNoiseFrame), dir);
   EXPECT_EQ(r.status, 1) << r.out;
   const std::string verdict = lineOf(r.out, "  raw.L0 FAIL: ");
   char bounds[64];

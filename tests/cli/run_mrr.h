@@ -43,6 +43,19 @@ inline Ran mrr(const std::vector<std::string>& args, const std::string& dir, con
   return r;
 }
 
+// The last line of a command's output, without its trailing newlines.
+inline std::string lastLine(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && t.back() == '\n') t.pop_back();
+  return t.substr(t.rfind('\n') == std::string::npos ? 0 : t.rfind('\n') + 1);
+}
+
+// `head` followed by `tail`: a command's arguments with more appended.
+inline std::vector<std::string> with(std::vector<std::string> head, const std::vector<std::string>& tail) {
+  head.insert(head.end(), tail.begin(), tail.end());
+  return head;
+}
+
 // Whether the port renders here (an 8×8 frame on it), asked once per test binary.
 inline bool glAvailable(const std::string& dir) {
   static const bool available =

@@ -164,7 +164,7 @@ std::vector<Pair> framePairs() {
     s.setSamples(16);
     s.neverSlower = false;  // the method itself, not its fall-back to full
     s.mode = Mode::Mrr;
-    // The radii the reference tool's frames were rendered with (before issue 34's view-framed default).
+    // The radii the reference tool's frames were rendered with (before the view-framed default).
     const float diagonal = makeBuiltinScene("demo").bounds().diagonal();
     s.ssao.radius = SsaoSettings::kDiagonalFractionBefore * diagonal;
     s.ssao.biasFraction = SsaoSettings::kBiasFractionBefore;

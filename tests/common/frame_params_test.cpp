@@ -1,6 +1,6 @@
 // The frame-parameter table (common/frame_params.h) and what it drives: the command line's options
 // (frontend/frame_options.cpp), frame files (frontend/frame_file.cpp), the help text, and the one
-// factory that picks a path (frontend/renderers.h). Issue 33: a parameter is one row, its name a
+// factory that picks a path (frontend/renderers.h). A parameter is one row, its name a
 // string in one source file.
 #include <gtest/gtest.h>
 

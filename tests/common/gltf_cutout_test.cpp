@@ -1,4 +1,4 @@
-// Alpha MASK materials read as cutouts (issue 19, docs/spec.md §1.1): files made here, with
+// Alpha MASK materials read as cutouts (docs/spec.md §1.1): files made here, with
 // their PNGs written by OpenImageIO beside them or inside the GLB.
 #include <OpenImageIO/imageio.h>
 

@@ -75,7 +75,7 @@ TEST(Hash, MatchesIndependentUint32Implementation) {
   EXPECT_EQ(pixelHash(3u, 5u, 2u), 2351279509u);
 }
 
-// --seed (issue 40): seed 0 is mrr's own sampling, bit for bit; another seed another draw.
+// --seed: seed 0 is mrr's own sampling, bit for bit; another seed another draw.
 TEST(Seed, ZeroKeepsTheKernelsAndRotationsOthersMoveThem) {
   EXPECT_EQ(kernelSeed(kSsaoKernelSeed, 0), kSsaoKernelSeed);
   EXPECT_EQ(kernelSeed(kSsgiKernelSeed, 0), 0x51a61u);

@@ -1,4 +1,4 @@
-// The statistics of the noise-aware verdict (compare/metrics/noise_stats.h, compare/parity/noise.h; issue 40):
+// The statistics of the noise-aware verdict (compare/metrics/noise_stats.h, compare/parity/noise.h):
 // Student's t against closed forms, Šidák's formula, the coverage of the t interval on Gaussian
 // data from a fixed RNG, and the image test on synthetic noisy frames with planted faults.
 #include <gtest/gtest.h>

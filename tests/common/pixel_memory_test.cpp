@@ -1,4 +1,4 @@
-// Image memory (common/pixel_memory.h, issue 18): images of 64 KiB or more come from one pool
+// Image memory (common/pixel_memory.h): images of 64 KiB or more come from one pool
 // that keeps freed images' pages for the next image, so a frame's pages are faulted in once per
 // process, not once per frame.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Issue 38: what `mrr check` does without rendering (compare/suite/suite.h): the cases of a folder,
+// What `mrr check` does without rendering (compare/suite/suite.h): the cases of a folder,
 // shards, the summary, JUnit XML, the results as JSON and merging shards' results.
 #include "compare/suite/suite.h"
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""`mrr explore`'s JSON API on its own (issue 20): status codes, content types, bad inputs
+"""`mrr explore`'s JSON API on its own: status codes, content types, bad inputs
 (400 naming the parameter, 404 for unknown layers and paths, path traversal), concurrent
-requests, a port in use, and the re-render time at 320x180 SSAO-16. Issue 39: the work budget,
+requests, a port in use, and the re-render time at 320x180 SSAO-16. The work budget,
 abandoned and superseded renders cancelled, only the server's own Host, and a soak.
 
     test_explore_api.py path/to/mrr
@@ -148,7 +148,7 @@ class ExploreApi(unittest.TestCase):
             self.assertLessEqual(meta["lo"], meta["hi"], layer)
 
     def test_flip_layer_against_full(self):
-        # Issue 36: the LDR-FLIP map of the method's final against full, with its magma legend and
+        # The LDR-FLIP map of the method's final against full, with its magma legend and
         # mean; the report's figure is the same number, and full against itself is 0 everywhere.
         status, report = self.server.json("api/frame?" + FRAME)
         self.assertEqual(status, 200, report)
@@ -264,7 +264,7 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual(report["path"], "gpu")
         self.assertIn("renderer", report)
 
-    # -- issue 40: a probed pixel's stochastic stages against the oracle's seeds ---------------
+    # -- a probed pixel's stochastic stages against the oracle's seeds ---------------
     def test_noise_probe_mean_interval_and_where_the_value_falls(self):
         frame = "effect=ssao&samples=12&size=320x180"  # a frame no other test renders: its seeds are not cached
         seen, done = set(), threading.Event()
@@ -442,7 +442,7 @@ class ExploreApi(unittest.TestCase):
             self.assertEqual(len(seen), 1, "identical requests gave different answers: " + path)
         self.assertNotEqual(bodies[frames[0]], bodies[frames[1]])
 
-    # -- issue 39: the budget and the host ----------------------------------------------------
+    # -- the budget and the host ----------------------------------------------------
     def test_over_budget_is_a_400_naming_the_budget(self):
         budget = self.info["budget"]["budget_m"]
         self.assertEqual(budget, 500)
@@ -564,7 +564,7 @@ def rss_kib(pid):
 
 
 class ExploreHoldsUp(unittest.TestCase):
-    """Issue 39 on a server of its own, with a smaller budget (--budget 300) so that its heaviest
+    """The work budget on a server of its own, with a smaller budget (--budget 300) so that its heaviest
     request takes a few seconds here: abandoned and superseded renders stop, and a soak of random
     requests with clients dropping mid-way leaves it answering at once, its memory where it was."""
 

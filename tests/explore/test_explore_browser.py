@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`mrr explore`'s page in a real browser (issue 20): headless Chromium driven by Selenium.
+"""`mrr explore`'s page in a real browser: headless Chromium driven by Selenium.
 Loads the page; changes tau_n and sees stencil L0's shaded count change; turns the motion knob
 (pan) and sees the motion layer come and go; clicks a pixel and reads its probe; switches the
 probe to the port and sees the same pixel; turns noise-aware on and reads the pixel's stochastic
@@ -108,7 +108,7 @@ def run(d, server):
         fail(f"stencil L0's legend did not change with tau_n: {legend_after!r}")
     print(f"{TOOL}: tau_n 0.1 -> 1.5: stencil L0 shades {before} -> {after}", file=sys.stderr)
 
-    # 2b. The motion knob (issue 37, --pan): a pan renders the motion term; 0 takes it away.
+    # 2b. The motion knob (--pan): a pan renders the motion term; 0 takes it away.
     def layers():
         return [o.get_attribute("value") for o in Select(by_id("layer")).options]
     if "motion" in layers():
@@ -164,7 +164,7 @@ def run(d, server):
     else:
         print(f"{TOOL}: SKIP the port's steps: no EGL device here", file=sys.stderr)
 
-    # 4b. Noise-aware (issue 40): the probed pixel's stochastic stages against the oracle's seeds,
+    # 4b. Noise-aware: the probed pixel's stochastic stages against the oracle's seeds,
     # their mean, the accepted interval and where the value falls; off again, the table hides.
     by_id("probe-noise").click()
     wait.until(lambda _: by_id("noise-section").get_attribute("data-pixel") == pixel

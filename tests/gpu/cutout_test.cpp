@@ -1,4 +1,4 @@
-// Alpha cutouts, analytically (issue 19, docs/spec.md §1.1): the built-in fence seen square on.
+// Alpha cutouts, analytically (docs/spec.md §1.1): the built-in fence seen square on.
 // Each pixel centre's ray meets the fence's plane at a known texture coordinate, so whether it
 // stops there or passes through a hole to the wall is known without the renderer; both paths
 // must agree with that at every pixel not within a hair of a texel border.

@@ -23,16 +23,8 @@
 namespace mrr {
 namespace {
 
-bool sameBits(const ImageF& a, const ImageF& b) {
-  return a.width == b.width && a.height == b.height && a.data.size() == b.data.size() &&
-         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
-}
+using test::sameBits;
 
-const StageRow* findRow(const ParityResult& r, const std::string& stage) {
-  for (const StageRow& row : r.rows)
-    if (row.stage == stage) return &row;
-  return nullptr;
-}
 
 // refinement_marks.frag step 1: the separable passes (PASS 1, 2) and the whole 3×3 (PASS 0) give
 // the same v, bit for bit, and the oracle's localRanges; the marks [v > τ] likewise.
@@ -59,17 +51,17 @@ TEST(GpuEffectBudget, SeparableRangeEqualsTheWholeNeighbourhoodAndTheOracle) {
     gpu::TextureSet textures;
     const unsigned ct = textures.add(gpu::uploadTexture(c)), st = textures.add(gpu::uploadBinary(stencil)),
                    pt = textures.add(gpu::uploadTexture(positionHit));
-    const gpu::Target separable = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, nullptr, true, false);
-    const gpu::Target whole = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, nullptr, true, true);
+    const gpu::Target separable = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, gpu::Cover::whole(), true, false);
+    const gpu::Target whole = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, gpu::Cover::whole(), true, true);
     const ImageF a = separable->read(0, 1), b = whole->read(0, 1);
     EXPECT_TRUE(sameBits(a, b)) << channels << " channels";
     EXPECT_TRUE(sameBits(a, localRanges(oracleC, stencil, hit))) << channels << " channels: the oracle's v";
-    const gpu::Target marks = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, nullptr, false, false);
+    const gpu::Target marks = gpu::drawRangeTest(scene, ct, channels, st, pt, 0.2f, gpu::Cover::whole(), false, false);
     EXPECT_EQ(marks->readBinary(0).data, variesAbove(localRanges(oracleC, stencil, hit), 0.2f).data);
   }
 }
 
-struct BothPaths {
+struct BudgetFrames {
   test::Rendered oracle;
   FrameResult cpu, port;
 };
@@ -90,7 +82,7 @@ TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
     s.effectMask.cap = 4;
     s.effectMask.posterior = 0.01f;
     s.effectMask.budget = 0.5f;
-    BothPaths b;
+    BudgetFrames b;
     b.oracle = test::renderScene("builtin:demo", s);
     const Constants k = makeConstants(s, b.oracle.framedSize);
     b.cpu = b.oracle.renderer->render(b.oracle.camera, k, {true, {}, &model, true});
@@ -104,7 +96,7 @@ TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
       if (!rec.budgeted) continue;
       EXPECT_LE(rec.spentNs, rec.budgetNs + 1e-6);
       taken += rec.taken;
-      const StageRow* marks = findRow(r, "marks.L" + std::to_string(l));
+      const StageRow* marks = r.row("marks.L" + std::to_string(l));
       ASSERT_NE(marks, nullptr) << formatParityTable(r);
       ASSERT_TRUE(marks->sameInput);
       EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0) << "marks.L" << l;
@@ -145,7 +137,7 @@ TEST(GpuTemporal, TheTermIsTheOraclesOnThePortsOwnHistory) {
     ASSERT_FALSE(gpuFrame.temporal.empty());
     const ParityResult r = compareFrames(cpu, gpuFrame, base.scene->light);
     EXPECT_TRUE(r.pass()) << toString(e) << ": first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
-    const StageRow* row = findRow(r, partName(Part::Temporal));
+    const StageRow* row = r.row(partName(Part::Temporal));
     ASSERT_NE(row, nullptr) << formatParityTable(r);
     ASSERT_TRUE(row->sameInput);
     EXPECT_TRUE(row->sameInput->pass);

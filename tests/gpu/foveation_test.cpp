@@ -16,12 +16,6 @@
 namespace mrr {
 namespace {
 
-const StageRow* findRow(const ParityResult& r, const std::string& stage) {
-  for (const StageRow& row : r.rows)
-    if (row.stage == stage) return &row;
-  return nullptr;
-}
-
 TEST(GpuFoveation, CompareAgreesWithAGazeAndWithAPreviousFrame) {
   MRR_REQUIRE_GL_OR_SKIP();
   gpu::GlContext context;
@@ -51,9 +45,9 @@ TEST(GpuFoveation, CompareAgreesWithAGazeAndWithAPreviousFrame) {
       ASSERT_FALSE(gpu.levelLimit.empty()) << name;
       const ParityResult result = compareFrames(cpu, gpu, r.scene->light);
       EXPECT_TRUE(result.pass()) << name << ": first failing " << result.firstFailing();
-      const StageRow* limit = findRow(result, partName(Part::LevelLimit));
+      const StageRow* limit = result.row(partName(Part::LevelLimit));
       ASSERT_NE(limit, nullptr) << name;
-      const StageRow* term = findRow(result, partName(motion ? Part::Motion : Part::Eccentricity));
+      const StageRow* term = result.row(partName(motion ? Part::Motion : Part::Eccentricity));
       ASSERT_NE(term, nullptr) << name;
       // The limit is not trivial: some pixels coarsen, and the port's M_0 is cleared there too.
       int64_t coarse = 0;

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
+#include "common/image.h"
 #include "gpu/context.h"
 
 #define MRR_REQUIRE_GL_OR_SKIP()                                                        \
@@ -16,3 +18,11 @@
       GTEST_SKIP() << why_;                                                             \
     }                                                                                   \
   } while (0)
+
+namespace mrr::test {
+// Two float images of one size with the same bits (no tolerance).
+inline bool sameBits(const ImageF& a, const ImageF& b) {
+  return a.width == b.width && a.height == b.height && a.data.size() == b.data.size() &&
+         std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
+}
+}  // namespace mrr::test

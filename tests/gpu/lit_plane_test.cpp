@@ -1,4 +1,4 @@
-// Shadow acne, analytically (issue 19, docs/spec.md §6.4): a plane lit from 0° to 85° off its
+// Shadow acne, analytically (docs/spec.md §6.4): a plane lit from 0° to 85° off its
 // normal shadows nothing, so the one-tap test and PCSS must give visibility exactly 1 at every
 // pixel, at 720p, on both paths. And a surface whose visible side faces away from the light is
 // in its own shadow: exactly 0, on both paths (this is where the acne rings were: the normal

@@ -242,10 +242,10 @@ TEST(GpuPipeline, SsaoFinalImageMatchesTheOracle) {
 namespace mrr {
 namespace {
 
-// A driver error names the stage and carries the driver's log, on one line (issue 5).
+// A driver error names the stage and carries the driver's log, on one line.
 // A compile error names the file, the variant (its #defines) and the driver's log, on one line;
 // not the program's cache key ("planted" here, "blend.final.7.3.covered" in the port), which
-// means nothing to a user (issue 34).
+// means nothing to a user.
 TEST(GpuProgram, CompileErrorNamesTheFileItsVariantAndTheDriversLog) {
   MRR_REQUIRE_GL_OR_SKIP();
   gpu::GlContext context;
@@ -267,7 +267,7 @@ TEST(GpuProgram, CompileErrorNamesTheFileItsVariantAndTheDriversLog) {
 }  // namespace mrr
 
 // ---------------------------------------------------------------------------------------------
-// SSM and SSGI (issue 5): the shadow map, its one-tap test, the shadow edges, the SSM and SSGI
+// SSM and SSGI: the shadow map, its one-tap test, the shadow edges, the SSM and SSGI
 // sub-images, each against the oracle's stage end to end and against the oracle's stage run on
 // the port's own inputs; then the final image of both effects in both modes.
 namespace mrr {
@@ -340,7 +340,7 @@ class GpuShadowParity : public ::testing::TestWithParam<ShadowCase> {
 TEST_P(GpuShadowParity, SsmStagesMatchTheOracle) {
   const ShadowCase& p = GetParam();
   // The Cornell box under the built-in default light, as these tolerances were measured: the light
-  // chosen for its view (issue 34, from +z at 30 degrees) flips 24 more shadow-test pixels end to
+  // chosen for its view (from +z at 30 degrees) flips 24 more shadow-test pixels end to
   // end (same input exact) and its ssm RMS, 0.042, is over the rule's 0.03 (open, see the report).
   const std::optional<glm::vec3> light =
       p.scene == "cornell" ? std::optional<glm::vec3>(-DirectionalLight{}.direction) : std::nullopt;
@@ -520,12 +520,6 @@ Settings peerSettings(Effect effect, Mode mode, int w, int h) {
   return s;
 }
 
-const StageRow* findRow(const ParityResult& r, const std::string& stage) {
-  for (const StageRow& row : r.rows)
-    if (row.stage == stage) return &row;
-  return nullptr;
-}
-
 // The stage names of a frame's timings, in order, without the oracle's SSAO "planes.Lℓ" (the
 // port's SSAO pass reads the tangent planes from the G-buffer targets directly).
 
@@ -590,10 +584,10 @@ TEST_P(GpuPeerParity, EveryStageMatchesTheOracle) {
   } else {
     stages.insert(stages.end(), {"stencil.L0", "stencil.L" + std::to_string(k), "upsample.L" + std::to_string(k),
                                  "blendalpha.L0", "composite.L0"});
-    EXPECT_EQ(findRow(r, "raw.L0"), nullptr) << "uniform-k's level 0 shades nothing";
+    EXPECT_EQ(r.row("raw.L0"), nullptr) << "uniform-k's level 0 shades nothing";
   }
   for (const std::string& stage : stages) {
-    const StageRow* row = findRow(r, stage);
+    const StageRow* row = r.row(stage);
     ASSERT_NE(row, nullptr) << "no row " << stage;
     if (stage != "final") {
       ASSERT_TRUE(row->sameInput) << stage;
@@ -602,7 +596,7 @@ TEST_P(GpuPeerParity, EveryStageMatchesTheOracle) {
   // Stage 3 and the composition's bookkeeping are exact on the same inputs.
   for (const char* exact : {"tilerates", "stencil.L0", "stencil.L1", "stencil.L2", "mask.L0", "mask.L1", "mask.L2",
                             "blendalpha.L0", "blendalpha.L1", "blendalpha.L2"})
-    if (const StageRow* row = findRow(r, exact); row && row->sameInput) {
+    if (const StageRow* row = r.row(exact); row && row->sameInput) {
       EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << exact;
     }
   // Not vacuous: the peer shades what it should. uniform-k: every level-k pixel inside W×H
@@ -644,7 +638,7 @@ INSTANTIATE_TEST_SUITE_P(Peers, GpuPeerParity, ::testing::ValuesIn(peerCases()),
 void expectMasksExact(const ParityResult& r, const std::string& shape) {
   EXPECT_TRUE(r.pass()) << shape << " first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
   for (int l = 0; l < kLevelCount; ++l) {
-    const StageRow* row = findRow(r, "mask.L" + std::to_string(l));
+    const StageRow* row = r.row("mask.L" + std::to_string(l));
     ASSERT_NE(row, nullptr) << "mask.L" << l;
     ASSERT_TRUE(row->sameInput);
     EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "mask.L" << l << shape;
@@ -825,7 +819,7 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
   const Constants& c = b.port.constants;
   for (int l = 0; l < kLevelCount; ++l) {
     const std::string L = ".L" + std::to_string(l);
-    const StageRow* marks = findRow(r, "marks" + L);
+    const StageRow* marks = r.row("marks" + L);
     if (!c.levels[static_cast<size_t>(l)].enabled) continue;  // SSGI's level 1 (the paper's Table 1)
     if (l == c.coarsestEnabled) {
       EXPECT_EQ(marks, nullptr) << "the coarsest level is shaded first, never refined";
@@ -838,12 +832,12 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
     for (uint8_t v : b.port.levels[static_cast<size_t>(l)].marks.data) marked += v;
     EXPECT_GT(marked, 0) << "marks" << L << ": nothing marked, the check would be vacuous";
     for (const std::string part : {"mask", "stencil"}) {
-      const StageRow* row = findRow(r, part + L);
+      const StageRow* row = r.row(part + L);
       ASSERT_NE(row, nullptr) << part << L;
       ASSERT_TRUE(row->sameInput);
       EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << part << L;
     }
-    const StageRow* alpha = findRow(r, "alpha" + L);
+    const StageRow* alpha = r.row("alpha" + L);
     ASSERT_NE(alpha, nullptr);
     EXPECT_LE(alpha->sameInput->figures.maxAbs, 1e-6) << "alpha" << L;
   }
@@ -869,7 +863,7 @@ TEST(GpuPosteriorLimit, MarksObeyTheLevelLimitExactly) {
   const BothPaths b = renderBoth("builtin:demo", s, model);
   const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
   EXPECT_TRUE(r.pass()) << "first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
-  const StageRow* marks = findRow(r, "marks.L0");
+  const StageRow* marks = r.row("marks.L0");
   ASSERT_NE(marks, nullptr);
   ASSERT_TRUE(marks->sameInput);
   EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0);
@@ -922,7 +916,7 @@ TEST(GpuNeverSlower, BothPathsDecideAlikeAndRenderTheSameFrame) {
       EXPECT_EQ(b.port.shadedPixelsTotal, expensive ? int64_t{97} * 61 : b.cpu.shadedPixelsTotal) << what;
       const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
       EXPECT_TRUE(r.pass()) << what << "\n" << formatParityTable(r);
-      const StageRow* row = findRow(r, "fallback");
+      const StageRow* row = r.row("fallback");
       ASSERT_NE(row, nullptr) << what;
       EXPECT_EQ(row->verdict(), "PASS") << what;
       EXPECT_EQ(stageNames(b.port), stageNames(b.cpu)) << what;
@@ -973,20 +967,23 @@ TEST(GpuNeverSlower, ThePortSamplesWherePcfRunsAsTheOracleDoes) {
   const Constants k = makeConstants(s, b.oracle.framedSize);
   const CostModel portModel = CostModel::defaults("gpu");
   ASSERT_GT(portModel.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample, 0.0);
-  const FrameResult own = port.render(b.oracle.camera, k, {false, {}, &portModel, true});
+  // (frames that keep their stages: the resident frame keeps its sample on the GPU)
+  const FrameResult own = port.render(b.oracle.camera, k, {true, {}, &portModel, true});
   EXPECT_EQ(own.pcfSample.data, b.port.pcfSample.data);
   CostModel blind = portModel;
   blind.effect[static_cast<size_t>(Effect::Ssm)].nsPerPcfSample = 0.0;
-  const FrameResult unsampled = port.render(b.oracle.camera, k, {false, {}, &blind, true});
+  const FrameResult unsampled = port.render(b.oracle.camera, k, {true, {}, &blind, true});
   EXPECT_TRUE(unsampled.pcfSample.empty());
   EXPECT_EQ(unsampled.counts.pcfPixels, 0);
   // With the rule off, a frame whose caller does not read the rule's counts pays no sample; with
   // it on, the sample is drawn whatever the caller asks.
   ASSERT_FALSE(k.neverSlower);
-  EXPECT_TRUE(port.render(b.oracle.camera, k, {false, {}, &portModel}).pcfSample.empty());
+  EXPECT_TRUE(port.render(b.oracle.camera, k, {true, {}, &portModel}).pcfSample.empty());
   Constants on = k;
   on.neverSlower = true;
-  EXPECT_EQ(port.render(b.oracle.camera, on, {false, {}, &portModel}).pcfSample.data, b.port.pcfSample.data);
+  EXPECT_EQ(port.render(b.oracle.camera, on, {true, {}, &portModel}).pcfSample.data, b.port.pcfSample.data);
+  // the resident frame counts the same sample on the GPU
+  EXPECT_EQ(port.render(b.oracle.camera, k, {false, {}, &portModel, true}).counts.pcfPixels, own.counts.pcfPixels);
 }
 
 // The edge sample (SPEC §11): edges.frag with EDGE_SAMPLE against the oracle's edgeSample on the
@@ -1020,7 +1017,7 @@ TEST(GpuNeverSlower, ThePortSamplesEdgesAsTheOracleDoes) {
       gpu::drawShadowTest(scene, g0, map, mapTarget->texture(), b.cpu.view, c.ssm.biasTexels, *litTarget);
       lit = gpu::readShadowTest(*litTarget);
     }
-    const ImageU8 port = gpu::drawEdgeSample(scene, g0, c.edges, litTarget ? litTarget->texture(0) : 0);
+    const ImageU8 port = gpu::readEdgeSample(*gpu::drawEdgeSample(scene, g0, c.edges, litTarget ? litTarget->texture(0) : 0));
     const ImageU8 same = edgeSample(g0Read, c.edges, lit.empty() ? nullptr : &lit);
     int64_t sameDiffer = 0, endToEndDiffer = 0, sampled = 0;
     for (size_t i = 0; i < same.data.size(); ++i) {
@@ -1213,7 +1210,7 @@ TEST(GpuEffectOnlyFaults, KeepingTheEdgesFailsAtTheMask) {
   expectCaughtAt(r, k, model, cpu, *fault, "");
 }
 
-// Issue 40: a sampling seed other than mrr's own (--seed) changes the kernels and the rotations on
+// A sampling seed other than mrr's own (--seed) changes the kernels and the rotations on
 // both paths alike: every stage still matches the oracle, and the effect differs from seed 0's.
 TEST(GpuSeed, ANonDefaultSeedStillMatchesTheOracle) {
   MRR_REQUIRE_GL_OR_SKIP();
@@ -1227,7 +1224,7 @@ TEST(GpuSeed, ANonDefaultSeedStillMatchesTheOracle) {
     const ParityResult r = compareFrames(seeded.cpu, seeded.port, seeded.oracle.scene->light);
     EXPECT_TRUE(r.pass()) << toString(effect) << ": first failing stage " << r.firstFailing() << "\n"
                           << formatParityTable(r);
-    const StageRow* raw = findRow(r, "raw.L2");  // every effect shades level 2 (Table 1)
+    const StageRow* raw = r.row("raw.L2");  // every effect shades level 2 (Table 1)
     ASSERT_NE(raw, nullptr) << formatParityTable(r);
     ASSERT_TRUE(raw->sameInput);
     EXPECT_GT(raw->sameInput->figures.pixels, 0);
@@ -1254,7 +1251,7 @@ TEST(GpuCoarseGBuffer, RenderedLevelsMatchTheOracle) {
     EXPECT_TRUE(r.pass()) << scene << ": first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
     for (int l = 1; l < kLevelCount; ++l) {
       const size_t i = static_cast<size_t>(l);
-      ASSERT_NE(findRow(r, "gbuffer.L" + std::to_string(l) + ".depth"), nullptr) << l;
+      ASSERT_NE(r.row("gbuffer.L" + std::to_string(l) + ".depth"), nullptr) << l;
       EXPECT_NE(rendered.cpu.levels[i].gbuffer.depth.data, subsampled.cpu.levels[i].gbuffer.depth.data) << l;
       EXPECT_NE(rendered.port.levels[i].gbuffer.depth.data, subsampled.port.levels[i].gbuffer.depth.data) << l;
     }

@@ -2,14 +2,17 @@
 // plain render run) against the same frame with every stage read back (what compare, probe and
 // --stages run, and what the parity tests check against the oracle). Both must give the same
 // bits: the final image, the level map, |S_ℓ|, the shaded image and the never-slower decision.
-// The resident frame keeps its images on the GPU, reads back only S_ℓ, and blends every level
-// in one pass (blend.frag FINAL_ONLY); this is the test that holds those to the checked path.
+// The resident frame keeps its images on the GPU (its block maps say where passes have work),
+// counts S_ℓ and the rule's counts there, reads nothing back inside its timed frame but a few
+// integers (the report's `gl` object), and blends every level in one pass (blend.frag
+// FINAL_ONLY); this is the test that holds those to the checked path.
 #include <gtest/gtest.h>
 
 #include <ostream>
 #include <string>
 
 #include "common/cost_model.h"
+#include "common/driver.h"
 #include "cpu_ref/pipeline.h"
 #include "gpu/pipeline.h"
 #include "scenes/catalog.h"
@@ -79,6 +82,11 @@ TEST_P(GpuResident, GivesTheBitsOfTheFrameReadBackStageByStage) {
   EXPECT_EQ(resident.blend.levelMap.data, kept.blend.levelMap.data) << "level map";
   EXPECT_EQ(resident.shaded.data, kept.shaded.data) << "shaded image";
   EXPECT_EQ(resident.shadedPixelsTotal, kept.shadedPixelsTotal);
+  // counted on the GPU after the frame (gpu/rule.h countShaded) against the host's count of the
+  // stencils read back (FrameResult::countShadedPixels, countHitPixels)
+  EXPECT_DOUBLE_EQ(resident.idealSpeedup, kept.idealSpeedup);
+  EXPECT_DOUBLE_EQ(resident.idealSpeedupHit, kept.idealSpeedupHit);
+  EXPECT_DOUBLE_EQ(resident.blockIdealSpeedup, kept.blockIdealSpeedup);
   for (size_t l = 0; l < kLevelCount; ++l) {
     EXPECT_EQ(resident.levels[l].shadedPixels, kept.levels[l].shadedPixels) << "level " << l;
     EXPECT_EQ(resident.levels[l].shadedBlockPixels, kept.levels[l].shadedBlockPixels) << "level " << l;
@@ -120,6 +128,112 @@ std::vector<Case> cases() {
 
 INSTANTIATE_TEST_SUITE_P(Frames, GpuResident, ::testing::ValuesIn(cases()), caseName);
 
+// SPEC §10/§11, docs/port.md "What a frame costs the host": every method of the table, on every
+// effect, with mrr-effect's a-posteriori term, a gaze and a previous frame (--pan), reads no image
+// back inside its timed frame and at most a few integers (the rule's counts, 1 KB at most); the
+// images the caller asked for come after the clock. A frame with keepStages reads its stages back.
+struct Traffic {
+  Effect effect;
+  // a row of common/methods.h, "mrr-effect+p" (its a-posteriori term by τ_v) or "mrr-effect+b" (by
+  // SPEC §12.4's budget, its default); mrr-effect itself runs with the budget off (the a-priori masks)
+  std::string method;
+  std::string view;    // "", "gaze" or "pan"
+  bool rule = true;    // the never-slower rule on (it falls back on frames this small: off too)
+};
+
+void PrintTo(const Traffic& t, std::ostream* os) {
+  *os << toString(t.effect) << " " << t.method << (t.view.empty() ? "" : " " + t.view) << (t.rule ? "" : " norule");
+}
+
+std::vector<Traffic> trafficCases() {
+  std::vector<Traffic> out;
+  for (Effect e : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+    for (const MethodInfo& row : methods()) {
+      out.push_back({e, std::string(row.name), "", true});
+      if (row.neverSlower) out.push_back({e, std::string(row.name), "", false});
+    }
+    out.push_back({e, "mrr-effect+p", "", false});
+    out.push_back({e, "mrr-effect+b", "", false});
+    for (const char* m : {"mrr", "mrr-effect", "tiles"})
+      for (const char* v : {"gaze", "pan"}) out.push_back({e, m, v, false});
+  }
+  return out;
+}
+
+class GpuResidentTraffic : public ::testing::TestWithParam<Traffic> {};
+
+TEST_P(GpuResidentTraffic, ReadsNoImageBackInTheTimedFrame) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const Traffic& t = GetParam();
+  const ResolvedScene rs = builtinScene("demo");
+  const gpu::GpuRenderer port(rs.scene);
+  const bool posterior = t.method == "mrr-effect+p", budgeted = t.method == "mrr-effect+b";
+  Settings s = smallFrame(t.effect, 160, 90, t.rule);
+  s.mode = parseMode(posterior || budgeted ? "mrr-effect" : t.method);
+  if (!budgeted) s.effectMask.budget = 0.0f;
+  if (posterior) s.effectMask.posterior = t.effect == Effect::Ssgi ? 0.02f : 0.05f;
+  if (t.view == "gaze") {
+    s.foveation.gaze = true;
+    s.foveation.gazeX = 100;
+    s.foveation.gazeY = 40;
+    s.foveation.ppd = 20.0f;
+  } else if (t.view == "pan") {
+    s.foveation.motion = true;
+    s.foveation.panned = true;
+    s.foveation.pan = 0.05f * glm::length(rs.camera.target - rs.camera.eye);
+  }
+  const Constants c = makeConstants(s, rs.framed.size);
+  const FrameResult f = port.render(rs.camera, c, {false, {}, nullptr});
+  ASSERT_TRUE(f.gl.measured);
+  if (budgeted) {
+    // SPEC §12.4's selection runs on the host: per refined level it reads v and S_ℓ back, and once
+    // the full-res hit and SSM's PCF sample, and nothing else does (docs/port.md)
+    int refined = 0;
+    for (const RefinementRecord& r : f.refinement) refined += r.budgeted ? 1 : 0;
+    ASSERT_GT(refined, 0);
+    EXPECT_GE(f.gl.readbacks, 2 * refined + 1);
+    EXPECT_LE(f.gl.readbacks, 2 * refined + 1 + (t.effect == Effect::Ssm ? 1 : 0));
+    return;
+  }
+  EXPECT_EQ(f.gl.readbacks, 0) << "an image read back inside the timed frame";
+  EXPECT_LE(f.gl.readbackBytes, 1024) << "more than a few integers read inside the timed frame";
+  // one small read per decision of the rule at most (with the rule off it still predicts both
+  // frames for the report: the same counts, SPEC §11); none for a method it does not decide
+  EXPECT_LE(f.gl.countReads, 2);
+  if (!methodInfo(c.mode).neverSlower) EXPECT_EQ(f.gl.countReads, 0);
+  EXPECT_EQ(f.gl.waits, f.gl.countReads) << "the frame waits for its counts alone";
+  EXPECT_GT(f.gl.timingWaits, 0) << "llvmpipe's wall clock waits per stage";
+  // what the caller asked for (every output) came after the clock, with |S_ℓ| and the speedups
+  EXPECT_GT(f.glAfterFrame.readbacks, 0);
+  EXPECT_FALSE(f.final().data.empty());
+  EXPECT_FALSE(f.shaded.data.empty());
+  EXPECT_GT(f.shadedPixelsTotal, 0);
+  if (!t.view.empty()) EXPECT_FALSE(f.levelLimit.empty());
+  if (t.method == "tiles") EXPECT_FALSE(f.tileRates.empty());
+  // and a frame asked for nothing but its counts reads no image at all
+  RenderOptions none{false, {}, nullptr};
+  none.outputs = 0;
+  const FrameResult counted = port.render(rs.camera, c, none);
+  EXPECT_EQ(counted.glAfterFrame.readbacks, 0);
+  EXPECT_LE(counted.glAfterFrame.countReads, 1);
+  EXPECT_EQ(counted.shadedPixelsTotal, f.shadedPixelsTotal);
+  EXPECT_DOUBLE_EQ(counted.idealSpeedupHit, f.idealSpeedupHit);
+  EXPECT_TRUE(counted.final().data.empty());
+  // the frame that keeps its stages reads them back, inside its timing
+  const FrameResult kept = port.render(rs.camera, c, {true, {}, nullptr});
+  EXPECT_GT(kept.gl.readbacks, 0);
+}
+
+std::string trafficName(const ::testing::TestParamInfo<Traffic>& info) {
+  const Traffic& t = info.param;
+  std::string name = toString(t.effect) + "_" + t.method + (t.view.empty() ? "" : "_" + t.view) + (t.rule ? "" : "_norule");
+  for (char& ch : name)
+    if (ch == '-' || ch == '+') ch = '_';
+  return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, GpuResidentTraffic, ::testing::ValuesIn(trafficCases()), trafficName);
+
 // With the never-slower rule on and a cost model that makes shading free, the rule falls back:
 // the resident frame uploads full's stencil and still gives the read-back frame's bits.
 TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
@@ -136,6 +250,34 @@ TEST(GpuResidentFallback, AFallenBackFrameGivesTheSameBits) {
   EXPECT_TRUE(resident.fallback.fellBack);
   EXPECT_EQ(resident.final().data, kept.final().data);
   EXPECT_EQ(resident.shadedPixelsTotal, static_cast<int64_t>(s.width) * s.height);
+}
+
+// The shadow map's target is the scene's, kept from frame to frame (GpuScene::shadowMapTarget): a
+// renderer whose frames change the map's size, back and forth, gives each frame the bits a fresh
+// renderer gives it, on SSM and on SSGI (its direct light reads the map too).
+TEST(GpuResidentShadowMap, AKeptTargetGivesAFreshRenderersBitsAcrossSizes) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const ResolvedScene rs = builtinScene("shadows");
+  struct Frame {
+    Effect effect;
+    int size;
+    PixelVector<float> fresh;  // the final image from a renderer of its own
+  };
+  std::vector<Frame> frames;
+  for (const Effect effect : {Effect::Ssm, Effect::Ssgi})
+    for (const int size : {256, 512, 256}) frames.push_back({effect, size, {}});
+  const auto constants = [&](const Frame& f) {
+    Settings s = smallFrame(f.effect, 96, 64, false);
+    s.ssm.shadowMapSize = f.size;
+    return makeConstants(s, rs.framed.size);
+  };
+  // one renderer (one GL context) at a time: a context's display is the process's
+  for (Frame& f : frames)
+    f.fresh = gpu::GpuRenderer(rs.scene).render(rs.camera, constants(f), {false, {}, nullptr}).final().data;
+  const gpu::GpuRenderer kept(rs.scene);
+  for (const Frame& f : frames)
+    EXPECT_EQ(kept.render(rs.camera, constants(f), {false, {}, nullptr}).final().data, f.fresh)
+        << toString(f.effect) << ", a " << f.size << "-texel map after the frames before it";
 }
 
 // The port's rule reads the same counts as the oracle's (SPEC §11): its pixels on geometry and

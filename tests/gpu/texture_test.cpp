@@ -1,4 +1,4 @@
-// Base-colour textures as albedo (issue 34, docs/spec.md §1.2): a quad made here, its 4×4 texture
+// Base-colour textures as albedo (docs/spec.md §1.2): a quad made here, its 4×4 texture
 // of 16 distinct colours written as a PNG beside it, seen square on. Each pixel centre's ray
 // meets the quad's plane at a known point, so its texture coordinate, its texel (wrap modes,
 // KHR_texture_transform, TEXCOORD_1) and its albedo are known without the renderer; both paths

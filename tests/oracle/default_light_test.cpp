@@ -1,4 +1,4 @@
-// A default light that lights the view (issue 34): a scene without a light of its own gets the
+// A default light that lights the view: a scene without a light of its own gets the
 // candidate direction that lights the most of the default view's visible surface; scenes with
 // a light (every built-in) keep theirs bit for bit. Checked against the oracle's own SSM shadow
 // test on the rendered frame, not only the host's small estimate.

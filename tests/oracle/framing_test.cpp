@@ -1,4 +1,4 @@
-// The default framing of interiors (issue 34): "inside" means the eye is inside the bounds, and
+// The default framing of interiors: "inside" means the eye is inside the bounds, and
 // BLEND surfaces (glass) do not decide the framing. Two small scenes made here reproduce what
 // public files showed: a study with a window (a hole the bounds' centre sees out of, part of it
 // glazed), framed from outside its bounds through the hole; and a hotel room with a door and a

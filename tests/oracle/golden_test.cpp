@@ -87,7 +87,7 @@ json renderAll() {
       s.setSamples(effect == Effect::Ssao ? 8 : effect == Effect::Ssm ? 16 : 24);
       s.ssm.shadowMapSize = 256;
       s.neverSlower = false;  // the digests are of every stage of the method (SPEC §11 is tested apart)
-      // The radii as recorded: the rule before issue 34 (a fraction of the scene's diagonal), pinned,
+      // The radii as recorded: the rule before the view-framed default (a fraction of the scene's diagonal), pinned,
       // so the digests keep the method's bits while the automatic radius follows the view.
       const float diagonal = makeBuiltinScene(scene).bounds().diagonal();
       s.ssao.radius = SsaoSettings::kDiagonalFractionBefore * diagonal;

@@ -246,7 +246,7 @@ TEST(Levels, ShadedPixelCountsAndIdealSpeedup) {
   EXPECT_LE(f.blockIdealSpeedup, f.idealSpeedup);
 }
 
-// llvmpipe skips a 4×2 block of fragments only when all eight fail the stencil (PLATFORM.md),
+// llvmpipe skips a 4×2 block of fragments only when all eight fail the stencil (docs/platform.md),
 // so a stencil made of scattered pixels would gain nothing there. The blurred masks keep the
 // shaded regions contiguous: at least 3/4 of every block the port shades is wanted, at every
 // level, and the block ideal speedup keeps at least 4/5 of the pixel one. (Measured on the

@@ -107,7 +107,7 @@ TEST_F(ParityLogic, TheTableNamesTheFirstFailingStage) {
   port.levels[0].raw.data[0] += 1.0f;
   port.levels[0].masks.stencil.data[0] = 1;
   const std::string table = formatParityTable(compareFrames(oracle(), port, light()));
-  // The verdict names the stage and the port's shader that computes it (issue 34).
+  // The verdict names the stage and the port's shader that computes it.
   EXPECT_NE(table.find("FAIL: first failing stage raw.L0 (ssao.frag)"), std::string::npos) << table;
   EXPECT_NE(table.find("stage"), std::string::npos);
 }

@@ -803,7 +803,7 @@ TEST(NeverSlower, TheEdgeSampleEstimatesTheStencilsBeforeTheEdges) {
   EXPECT_FALSE(decideEarly(m, c, noEdges).fellBack);
 }
 
-// SPEC §11 prices mrr-effect (issue 35): its masks' footprint and widening (μ_e, per padded
+// SPEC §11 prices mrr-effect: its masks' footprint and widening (μ_e, per padded
 // pixel) before the stencils, so in the early decision and the floor but not in the rest; its
 // a-posteriori term (μ_v, per pixel of each refined level) after them, in the rest and the floor.
 // mrr's predictions do not move. On a 64×32 frame (levels 2048, 512, 128, 32 pixels).
@@ -887,7 +887,7 @@ TEST(NeverSlower, CostModelRoundTripsThroughJsonAndRejectsAMissingKey) {
     broken.erase(key);
     EXPECT_THROW(CostModel::fromJson(broken), MrrError) << key;
   }
-  nlohmann::json older = m.toJson();  // a file from before issue 18: no background cost
+  nlohmann::json older = m.toJson();  // a file from before the background cost: none
   older["effects"]["ssao"].erase("ns_per_background_pixel");
   EXPECT_THROW(CostModel::fromJson(older), MrrError);
   nlohmann::json shortFill = m.toJson();  // φ for every level below the coarsest, no fewer
@@ -933,7 +933,7 @@ double edgeFraction(const FrameResult& f) {
   return static_cast<double>(test::countSet(f.edges.combined)) / static_cast<double>(f.edges.combined.data.size());
 }
 
-// The stress scenes model one failure each (issue 7); these pin down that they do.
+// The stress scenes model one failure each; these pin down that they do.
 TEST(StressScenes, AllEdgesIsEdgesEverywhereAndTheRuleFallsBack) {
   Settings s = ssaoSettings(320, 180, 16);
   const auto off = renderScene("builtin:alledges", s);

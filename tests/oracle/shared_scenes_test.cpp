@@ -1,5 +1,5 @@
 // The third-party scenes in ../shared/scenes render end to end, recognisably, and the
-// method meets the paper's accuracy on the arcade (issue 3's acceptance figure).
+// method meets the paper's accuracy on the arcade (the acceptance figure of docs/figures.md).
 #include <gtest/gtest.h>
 
 #include "compare/metrics/metrics.h"
@@ -58,7 +58,7 @@ TEST(PaperFigures, ArcadeSsao64At720pIsWithinThePapersRms) {
   ResolvedScene rs = resolveScene(req);
   const Renderer renderer(rs.scene);
   Settings s = ssaoSettings(1280, 720, 64);
-  // The AO as this figure was first reproduced: a depth bias of 5% of R. Issue 34's default, 2%,
+  // The AO as this figure was first reproduced: a depth bias of 5% of R. Today's default, 2%,
   // lets the arcade's fine creases darken, which mrr's coarse levels do not hold: RMS 0.00949 on
   // this frame (docs/figures.md says so); the paper gives no bias to compare against.
   s.ssao.biasFraction = SsaoSettings::kBiasFractionBefore;

@@ -1,0 +1,39 @@
+#pragma once
+// The never-slower rule's counts and the frame's shaded-pixel counts on the GPU (SPEC §11;
+// gpu/shaders/rule.frag, summed by gpu/counts.h): what common/frame.h's countHits,
+// countEdgeSample, countForRule, countShadedPixels and countHitPixels count on the host from
+// images, here from the port's own textures, read as a few integers in one small read per call
+// (docs/port.md, "What a frame costs the host"). tests/gpu/rule_counts_test.cpp holds each to the
+// host's count on the read-back images.
+#include <array>
+#include <functional>
+
+#include "common/cost_model.h"
+#include "common/frame.h"
+#include "gpu/gbuffer.h"
+
+namespace mrr::gpu {
+
+// countHits into `counts` (H, H_a, H_p, F, B_ℓ) from level 0's G-buffer and, SSM, the PCF sample
+// (`pcfSample`: ssm.frag PCF_SAMPLE's R8 target, or 0: none). Then, with `edgeSample` (edges.frag
+// EDGE_SAMPLE's diagonals, gpu/edges.h drawEdgeSample; 0: none) and where `wantSample(counts)`
+// says so, countEdgeSample's Ê, R_ℓ and their hit pixels; returns whether it counted them. Both
+// in one small read.
+bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
+                const Constants& constants, FrameCounts& counts,
+                const std::function<bool(const FrameCounts&)>& wantSample);
+
+// countForRule into `counts` (|S_ℓ|, |S_ℓ ∩ hit|, ∩ searched, ∩ pcf per shaded level) from the
+// stencils' textures (R8, 0 for a disabled level). One small read.
+void countStencils(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample,
+                   const std::array<unsigned, kLevelCount>& stencils, const Constants& constants, FrameCounts& counts);
+
+// What the report says of the frame's stencils, into f (FrameResult::countShadedPixels and
+// countHitPixels: |S_ℓ| and its 4×2 blocks per enabled level, the ideal speedups). H is
+// `hitPixels` where the rule counted it (≥ 0), else counted here. One small read.
+// With `finalCounts` (f.counts so far), countStencils on the same stencils too, in the same read
+// (SPEC §12.4's predicted time per level on the final stencils; H must then be known: 8 targets).
+void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::array<unsigned, kLevelCount>& stencils,
+                 FrameResult& f, int64_t hitPixels = -1, FrameCounts* finalCounts = nullptr, unsigned pcfSample = 0);
+
+}  // namespace mrr::gpu

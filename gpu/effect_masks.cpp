@@ -106,7 +106,7 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
         scene.passProgram("refinement_marks.1.0." + key, "refinement_marks.frag", shape + "#define PASS 0\n", shaded);
     Target t = startPass(scene, program, width, height, out,
                          {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
-    glUniform1f(uniform(program, "tau"), tau);
+    if (!rangeOut) glUniform1f(uniform(program, "tau"), tau);
     drawOver(scene, shaded, width, height, outside);
     checkGl("refinement_marks whole");
     return t;
@@ -118,7 +118,6 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
   extremes->bind();
   glUseProgram(across);
   bindTextures(across, {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
-  glUniform1f(uniform(across, "tau"), tau);
   scene.drawFullscreen();  // every pixel: a row's neighbours off S_n still read their (neutral) extremes
   checkGl("refinement_marks across");
   // 1b. along y: v, then [v > τ] or v
@@ -127,7 +126,7 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
   Target t = startPass(scene, down, width, height, out,
                        {{"source", extremes->texture(0)}, {"maxima", extremes->texture(1)}, {"stencil", coarserStencil},
                         {"positionHit", coarserPositionHit}});
-  glUniform1f(uniform(down, "tau"), tau);
+  if (!rangeOut) glUniform1f(uniform(down, "tau"), tau);  // v itself: τ is the host's
   drawOver(scene, shaded, width, height, outside);
   checkGl("refinement_marks down");
   return t;

@@ -149,6 +149,8 @@ void ringsOf(const BenchOptions& o, const BenchPath& path, const OpenScene& sc, 
       rec.frameShare = static_cast<double>(f.shadedPixelsTotal) / (static_cast<double>(w) * h);
       rec.effectMs = meas.effectMs[v];
       rec.fellBack = f.fallback.fellBack;
+      rec.budgeted = std::any_of(f.refinement.begin(), f.refinement.end(),
+                                 [](const RefinementRecord& x) { return x.budgeted; });
       out.push_back(rec);
     }
   }
@@ -358,8 +360,9 @@ std::vector<std::string> foveaSanityChecks(const FoveaResults& res) {
       fails.push_back(where + ": figures not finite or FLIP outside [0,1]");
     if (r.method == referenceMethod() && (r.rms != 0.0 || r.shadedShare != 1.0))
       fails.push_back(where + ": full's error is not 0 or it does not shade every pixel");
+    // a gaze never adds a level pixel, except where a budget (SPEC §12.4) spends the time it frees
     const size_t plus = r.method.rfind("+gaze");
-    if (plus != std::string::npos && !r.fellBack) {
+    if (plus != std::string::npos && !r.fellBack && !r.budgeted) {
       const auto own = byKey.find(key(r, r.method.substr(0, plus)));
       if (own != byKey.end() && !own->second->fellBack && r.shadedLevelPixels > own->second->shadedLevelPixels)
         fails.push_back(where + ": shades " + std::to_string(r.shadedLevelPixels) + " level pixels, more than without the gaze (" +

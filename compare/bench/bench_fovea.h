@@ -38,6 +38,7 @@ struct FoveaRingRecord {
   double frameShare = 0.0;           // the whole frame's shaded level pixels / W·H
   double effectMs = 0.0;             // the frame's time less its full-res G-buffer, median of the repeats
   bool fellBack = false;             // the never-slower rule shaded the frame at full res
+  bool budgeted = false;             // SPEC §12.4: its a-posteriori term spent a budget in predicted time
 };
 
 // One method on one frame of a camera path.

@@ -282,6 +282,7 @@ class PyFrame {
     }
     auto frame = std::make_shared<FrameResult>();
     std::optional<FrameErrors> errors;
+    FrameHistory previous;  // SPEC §14: the previous frame first, where the temporal term reads one
     {
       py::gil_scoped_release nogil;
       const std::lock_guard<std::mutex> lock(slot->busy);  // another thread's frame of this scene first
@@ -292,6 +293,8 @@ class PyFrame {
       } done{slot->user};
       tbb::global_control gc(tbb::global_control::max_allowed_parallelism,
                              static_cast<size_t>(threadCount(options_.threads)));
+      previous = previousFrameHistory(*renderer, loaded_->rs.camera, settings_, loaded_->rs.framed.size, &costs);
+      if (!previous.empty()) ro.history = &previous;
       *frame = renderer->render(loaded_->rs.camera, constants, ro);
       if (reference) {
         Settings full = settings_;

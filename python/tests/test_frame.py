@@ -69,6 +69,7 @@ COVERING = [
     dict(effect="ssm", method="tiles"),
     dict(effect="ssgi", method="mrr-effect", effect_posterior=0.01),
     dict(effect="ssm", method="mrr", gaze=(40, 20), pan=0.05),
+    dict(effect="ssao", method="mrr-effect", effect_temporal=0.5, pan=0.05),
 ]
 
 

@@ -137,6 +137,9 @@ TEST(BenchFovea, ASanityCheckCatchesAGazeThatShadesMore) {
   EXPECT_NE(foveaSanityChecks(res)[0].find("more than without the gaze"), std::string::npos);
   res.rings[1].fellBack = true;  // a frame the rule shaded at full res is not held to it
   EXPECT_TRUE(foveaSanityChecks(res).empty());
+  res.rings[1].fellBack = false;
+  res.rings[1].budgeted = true;  // nor one whose budget spent the time the gaze freed (SPEC §12.4)
+  EXPECT_TRUE(foveaSanityChecks(res).empty());
 }
 
 }  // namespace

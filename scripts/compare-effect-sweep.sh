@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Checks that `mrr compare --effect all` passes for the paper's mrr and for mrr-effect on every
 # built-in and shared scene (docs/figures.md, "mrr-effect and its ablation"): `mrr compare` on each
-# scene at 320x180 (each effect at its default samples), for mrr, for mrr-effect as it ships (a
-# priori, docs/spec.md §12),
-# with the a-posteriori term (§12.2, the bench's +c4+p0.15: --effect-cap 4 --effect-posterior
-# 0.15), and for the ablation's effect-only arm (§12.3).
+# scene at 320x180 (each effect at its default samples), for mrr, for mrr-effect as it ships (its
+# a-posteriori term spending a budget in predicted time, docs/spec.md §12.4), a priori
+# (--effect-budget 0, §12), with the a-posteriori term by τ_v (§12.2, the bench's +b0+c4+p0.15:
+# --effect-budget 0 --effect-cap 4 --effect-posterior 0.15), and for the ablation's effect-only arm
+# (§12.3).
 # Prints a Markdown table (one row per scene, one cell per variant and effect: the verdict, the
 # last word of compare's verdict line for that effect) and exits 1 when any run is not PASS. Logs
 # under OUT (default a temporary dir).
@@ -16,9 +17,9 @@ out="${1:-$(mktemp -d)}"
 mkdir -p "$out"
 source "$here/scripts/lib-sweep.sh"
 scenes=("${sweep_scenes[@]}")
-names=("mrr" "a priori" "+c4+p0.15" "effect only")
-methods=(mrr mrr-effect mrr-effect mrr-effect)
-options=("" "" "--effect-cap 4 --effect-posterior 0.15" "--effect-only")
+names=("mrr" "budget" "a priori" "+b0+c4+p0.15" "effect only")
+methods=(mrr mrr-effect mrr-effect mrr-effect mrr-effect)
+options=("" "" "--effect-budget 0" "--effect-budget 0 --effect-cap 4 --effect-posterior 0.15" "--effect-only")
 effects=(ssao ssm ssgi)
 
 columns=()

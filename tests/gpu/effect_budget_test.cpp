@@ -61,6 +61,18 @@ TEST(GpuEffectBudget, SeparableRangeEqualsTheWholeNeighbourhoodAndTheOracle) {
   }
 }
 
+// A small mrr-effect frame: 97×61, 16 samples, without the never-slower rule (so that every frame
+// refines).
+Settings smallEffectFrame(Effect e) {
+  Settings s = defaultSettings(e);
+  s.width = 97;
+  s.height = 61;
+  s.setSamples(16);
+  s.mode = Mode::MrrEffect;
+  s.neverSlower = false;
+  return s;
+}
+
 struct BudgetFrames {
   test::Rendered oracle;
   FrameResult cpu, port;
@@ -73,12 +85,7 @@ TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
   const gpu::GlContext context;
   const CostModel model = CostModel::defaults("cpu");
   for (const Effect e : {Effect::Ssao, Effect::Ssgi}) {
-    Settings s = defaultSettings(e);
-    s.width = 97;
-    s.height = 61;
-    s.setSamples(16);
-    s.mode = Mode::MrrEffect;
-    s.neverSlower = false;
+    Settings s = smallEffectFrame(e);
     s.effectMask.cap = 4;
     s.effectMask.posterior = 0.01f;
     s.effectMask.budget = 0.5f;
@@ -112,12 +119,7 @@ TEST(GpuTemporal, TheTermIsTheOraclesOnThePortsOwnHistory) {
   const gpu::GlContext context;
   const CostModel model = CostModel::defaults("cpu");
   for (const Effect e : {Effect::Ssao, Effect::Ssgi}) {
-    Settings s = defaultSettings(e);
-    s.width = 97;
-    s.height = 61;
-    s.setSamples(16);
-    s.mode = Mode::MrrEffect;
-    s.neverSlower = false;
+    Settings s = smallEffectFrame(e);
     s.effectMask.temporal = 0.6f;
     test::Rendered base = test::renderScene("builtin:demo", s);
     const Constants k = makeConstants(s, base.framedSize);
@@ -153,12 +155,7 @@ TEST(GpuTemporal, APlantedFaultFailsAtTheTemporalPart) {
   MRR_REQUIRE_GL_OR_SKIP();
   const gpu::GlContext context;
   const CostModel model = CostModel::defaults("cpu");
-  Settings s = defaultSettings(Effect::Ssao);
-  s.width = 97;
-  s.height = 61;
-  s.setSamples(16);
-  s.mode = Mode::MrrEffect;
-  s.neverSlower = false;
+  Settings s = smallEffectFrame(Effect::Ssao);
   s.effectMask.temporal = 0.6f;
   test::Rendered base = test::renderScene("builtin:demo", s);
   const Constants k = makeConstants(s, base.framedSize);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "common/effect_budget.h"
 #include "common/hash.h"
@@ -49,29 +50,33 @@ TEST(EffectBudget, CandidatePricesSumTheUnshadedWindow) {
   Settings s = ssaoSettings(96, 48);
   s.mode = Mode::MrrEffect;
   const Constants c = makeConstants(s, 1.0f);
-  const int level = 1, coarser = 2;
-  const LevelConstants& fine = c.levels[level];
-  ImageU8 stencil(fine.width, fine.height), hit(c.paddedWidth, c.paddedHeight);
-  for (int y = 0; y < stencil.height; ++y)
-    for (int x = 0; x < stencil.width; ++x) stencil.at(x, y) = pcgHash(static_cast<uint32_t>(x * 31 + y)) % 3 == 0;
+  ImageU8 hit(c.paddedWidth, c.paddedHeight);
   for (int y = 0; y < hit.height; ++y)
     for (int x = 0; x < hit.width; ++x) hit.at(x, y) = x + y > 20;
   const PixelPrices prices{5.0, 7.0, 1.0};
-  const std::vector<double> got = candidatePrices(stencil, hit, ImageU8(), c, level, coarser, prices);
-  const LevelConstants& coarse = c.levels[coarser];
-  ASSERT_EQ(got.size(), static_cast<size_t>(coarse.width) * static_cast<size_t>(coarse.height));
-  const int r = fine.blurRadius;
-  ASSERT_GT(r, 0);
-  for (int qy = 0; qy < coarse.height; ++qy)
-    for (int qx = 0; qx < coarse.width; ++qx) {
-      double expected = 0.0;
-      for (int y = qy * 2 - r; y < qy * 2 + 2 + r; ++y)
-        for (int x = qx * 2 - r; x < qx * 2 + 2 + r; ++x) {
-          if (x < 0 || y < 0 || x >= fine.width || y >= fine.height || stencil.at(x, y)) continue;
-          expected += levelPixelHit(hit, x, y, fine.scale) ? prices.paying : prices.leaving;
-        }
-      ASSERT_NEAR(got[static_cast<size_t>(qy * coarse.width + qx)], expected, 1e-9) << qx << "," << qy;
-    }
+  // a coarser level one and two steps away (its windows 2 and 4 level pixels a side, widened)
+  for (const auto& [level, coarser] : {std::pair{1, 2}, std::pair{0, 2}, std::pair{0, 1}}) {
+    const LevelConstants& fine = c.levels[static_cast<size_t>(level)];
+    ImageU8 stencil(fine.width, fine.height);
+    for (int y = 0; y < stencil.height; ++y)
+      for (int x = 0; x < stencil.width; ++x) stencil.at(x, y) = pcgHash(static_cast<uint32_t>(x * 31 + y)) % 3 == 0;
+    const std::vector<double> got = candidatePrices(stencil, hit, ImageU8(), c, level, coarser, prices);
+    const LevelConstants& coarse = c.levels[static_cast<size_t>(coarser)];
+    ASSERT_EQ(got.size(), static_cast<size_t>(coarse.width) * static_cast<size_t>(coarse.height));
+    const int r = fine.blurRadius, ratio = 1 << (coarser - level);
+    ASSERT_GT(r, 0);
+    for (int qy = 0; qy < coarse.height; ++qy)
+      for (int qx = 0; qx < coarse.width; ++qx) {
+        double expected = 0.0;
+        for (int y = qy * ratio - r; y < (qy + 1) * ratio + r; ++y)
+          for (int x = qx * ratio - r; x < (qx + 1) * ratio + r; ++x) {
+            if (x < 0 || y < 0 || x >= fine.width || y >= fine.height || stencil.at(x, y)) continue;
+            expected += levelPixelHit(hit, x, y, fine.scale) ? prices.paying : prices.leaving;
+          }
+        ASSERT_NEAR(got[static_cast<size_t>(qy * coarse.width + qx)], expected, 1e-9)
+            << "level " << level << " from " << coarser << ": " << qx << "," << qy;
+      }
+  }
 }
 
 // SPEC §12.4 step 2: the most variation per nanosecond first, a free candidate first of all, each

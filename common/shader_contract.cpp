@@ -339,8 +339,11 @@ const std::vector<ShaderContract>& shaderContracts() {
        "SPEC §13's limit is then masks.frag STEP 5."},
       {"rule.frag", "fragment", "rule.*",
        "STEP: 1 hits, 2 reach, 3 stencils, 4 shaded; WITH_PCF: SSM's PCF sample is read; WITH_SAMPLE: the edge "
-       "sample's diagonals are read (step 1); LEVEL: l (step 4)",
-       {{"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w (padded full res)"},
+       "sample's diagonals are read (step 1); WITH_HIT_BITS: step 3 reads the hits from step 1's bits; LEVEL: l "
+       "(step 4)",
+       {{"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w (padded full res)", -1,
+         "!(STEP == 3 && WITH_HIT_BITS)"},
+
         {"pcfSample", "sampler2D R8", "SSM: what PCSS pays per 8 x 8 block, the byte / 255", -1, "WITH_PCF"},
         {"edgeSample", "sampler2D R8", "step 1: E at each block's 8 diagonal pixels, side by side in a row", -1,
          "STEP == 1 && WITH_SAMPLE"},
@@ -352,13 +355,16 @@ const std::vector<ShaderContract>& shaderContracts() {
        {{"frame", "ivec2", "W x H (step 1)", -1, "STEP == 1"},
         {"hits", "usampler2D RGBA32UI", "step 2: step 1's counts2 (hit pixels, E^) per block", -1, "STEP == 2"},
         {"reachBlocks", "ivec3", "step 2: per level l < 3, the box R_l spans in blocks; -1: not counted", -1, "STEP == 2"},
-        {"counted", "ivec4", "step 3: 1 where level l is enabled and shaded", -1, "STEP == 3"}},
+        {"counted", "ivec4", "step 3: 1 where level l is enabled and shaded", -1, "STEP == 3"},
+        {"hitBits", "usampler2D RGBA32UI", "step 3: step 1's counts2, each block's 64 hit bits in z, w", -1,
+         "STEP == 3 && WITH_HIT_BITS"}},
        {{"counts0", "uvec4 -> RGBA32UI", "step 1: H, H_a, H_p, F; step 2: E^, R_0, R_1, R_2 (0/1); step 3: level 0's "
          "|S|, |S & hit|, |S & hit & searched|, |S & hit & pcf|; step 4: |S_l|, any (0/1), |S_l & hit| per 4 x 2 block",
          0},
         {"counts1", "uvec4 -> RGBA32UI", "step 1: B_0..B_3; step 2: R_0..R_2's hit pixels; step 3: level 1's", 1,
          "STEP != 4"},
-        {"counts2", "uvec4 -> RGBA32UI", "step 1: the block's hit pixels (padded), E^ (0/1); step 3: level 2's", 2,
+        {"counts2", "uvec4 -> RGBA32UI",
+         "step 1: the block's hit pixels (padded), E^ (0/1), its hit bits (rows 0-3, 4-7); step 3: level 2's", 2,
          "STEP == 1 || STEP == 3"},
         {"counts3", "uvec4 -> RGBA32UI", "step 3: level 3's", 3, "STEP == 3"}},
        "common/frame.cpp countHits, countEdgeSample, countForRule, countShadedPixels and countHitPixels, count for "

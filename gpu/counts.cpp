@@ -24,6 +24,11 @@ size_t CountBatch::add(Target perBlock) {
   return queued * 4;
 }
 
+Target CountBatch::take(size_t i) {
+  require(i < summed_.size() && summed_[i], "gpu: counts: no such summed target");
+  return std::move(summed_[i]);
+}
+
 std::vector<int64_t> CountBatch::read() {
   // 1. Every texture to sum, each ≤ 16×16 texels after FACTOR×FACTOR tiles are summed, those of
   // one size together (one pass per step for all of them).
@@ -86,6 +91,7 @@ std::vector<int64_t> CountBatch::read() {
   readCounts(sources, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, sums.data(), sums.size() * sizeof(uint32_t));
   checkGl("counts readback");
   for (size_t i = 0; i < sums.size(); ++i) values[i] = sums[i];
+  summed_ = std::move(kept_);
   kept_.clear();
   return values;
 }

@@ -21,11 +21,14 @@ class CountBatch {
   // The sums: targets of one size reduced together (one pass per step of 16×16, up to 8 targets a
   // pass), then one gather pass and one small read: 4 sums per queued target, in the order added.
   std::vector<int64_t> read();
+  // The i-th target the last read() summed, back to the caller (its images as they were).
+  Target take(size_t i);
   static constexpr int kMaxTargets = 8;
 
  private:
   const GpuScene& scene_;
   std::vector<Target> kept_;  // the queued targets, alive until read()
+  std::vector<Target> summed_;  // what the last read() summed, for take()
 };
 
 }  // namespace mrr::gpu

@@ -114,14 +114,14 @@ class PortFrame final : public FrameBackend {
     Target sample;
     if (wantSample) sample = drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges);
     f.edgeSampled = gpu::countEarly(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0,
-                                    sample ? sample->texture(0) : 0, f.constants, f.counts, wantSample);
+                                    sample ? sample->texture(0) : 0, f.constants, f.counts, wantSample, &hitBits_);
     hitsCounted_ = true;  // H, which the report's idealSpeedupHit needs too
     if (keep_ && f.edgeSampled) f.edgeSample = readEdgeSample(*sample);
   }
   void countStencils(FrameResult& f, const FrameMasks& masks) override {
     const std::shared_ptr<MaskTargets> targets = targetsOf(f, masks);
     gpu::countStencils(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0, targets->stencil, f.constants,
-                       f.counts);
+                       f.counts, hitBitsTexture());
   }
   // |S_ℓ| and the ideal speedups: on the host from the stencils read back (keepStages), else on
   // the GPU once the clock has stopped (countHitPixels).
@@ -131,7 +131,7 @@ class PortFrame final : public FrameBackend {
   void countHitPixels(FrameResult& f, FrameCounts* finalStencils) override {
     if (keep_) return FrameBackend::countHitPixels(f, finalStencils);
     gpu::countShaded(scene_, *gbuffers_[0], maskTargets_->stencil, f, hitsCounted_ ? f.counts.hitPixels : -1,
-                     finalStencils, pcfSample_ ? pcfSample_->texture(0) : 0);
+                     finalStencils, pcfSample_ ? pcfSample_->texture(0) : 0, hitBitsTexture());
   }
 
   // G-buffers: level 0 rasterised, the coarser levels subsampled from it.
@@ -440,6 +440,9 @@ class PortFrame final : public FrameBackend {
     g = scene_.target(lc.width, lc.height, targets, true);
     return *g;
   }
+  // countEarly's per-block hit bits (rule.frag step 1's counts2), where it ran: countStencils reads
+  // a level pixel's hit there
+  unsigned hitBitsTexture() const { return hitBits_ ? hitBits_->texture(2) : 0; }
   // The host images SPEC §12.4's budget prices with, read back where keepStages did not already
   // (the budgeted a-posteriori term is the one part of a frame that reads images back).
   const ImageU8& hostHit(const FrameResult& f) {
@@ -483,6 +486,7 @@ class PortFrame final : public FrameBackend {
   std::array<Target, kLevelCount> gbuffers_;
   const ShadowMapTarget* shadowMap_ = nullptr;  // the scene's, kept from frame to frame
   Target shadowTest_, edges_, pcfSample_;
+  Target hitBits_;  // countEarly's step-1 target
   std::shared_ptr<MaskTargets> maskTargets_;
   std::array<Target, kLevelCount> raw_, sub_;
   std::array<unsigned, kLevelCount> subTexture_{};

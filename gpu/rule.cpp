@@ -17,11 +17,13 @@ static_assert(kBlock == 8 && kPcfSampleStep == 8 && kLevelCount == 4, "rule.frag
 
 // A rule.frag pass over the per-block grid of the padded full-res grid (width × height blocks).
 Target rulePass(const GpuScene& scene, int step, bool withPcf, int targets, int width, int height,
-                const std::function<void(unsigned)>& setInputs, int level = -1, bool withSample = false) {
+                const std::function<void(unsigned)>& setInputs, int level = -1, bool withSample = false,
+                bool withHitBits = false) {
   const std::string defines = (level >= 0 ? "#define LEVEL " + std::to_string(level) + "\n" : "") +
-                              "#define WITH_SAMPLE " + (withSample ? "1" : "0") + "\n";
+                              "#define WITH_SAMPLE " + (withSample ? "1" : "0") + "\n#define WITH_HIT_BITS " +
+                              (withHitBits ? "1" : "0") + "\n";
   const unsigned program = scene.program("rule." + std::to_string(step) + (withPcf ? ".pcf" : "") +
-                                             (withSample ? ".sample" : "") +
+                                             (withSample ? ".sample" : "") + (withHitBits ? ".bits" : "") +
                                              (level >= 0 ? ".L" + std::to_string(level) : ""),
                                          "fullscreen.vert", "rule.frag",
                                          "#define STEP " + std::to_string(step) + "\n#define WITH_PCF " +
@@ -59,7 +61,8 @@ void takeHits(const std::vector<int64_t>& v, size_t first, const Constants& c, F
 }  // namespace
 
 bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
-                const Constants& c, FrameCounts& n, const std::function<bool(const FrameCounts&)>& wantSample) {
+                const Constants& c, FrameCounts& n, const std::function<bool(const FrameCounts&)>& wantSample,
+                Target* hitBits) {
   n.hitPixels = n.searchedPixels = n.pcfPixels = n.searchedFootprint = 0;
   n.silhouette = {};
   n.edgeBlocks = 0;
@@ -89,6 +92,7 @@ bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcf
   const size_t hitsAt = batch.add(std::move(hits));
   const size_t reachAt = reach ? batch.add(std::move(reach)) : 0;
   const std::vector<int64_t> v = batch.read();
+  if (hitBits) *hitBits = batch.take(0);  // step 1's targets: counts2 holds each block's hit bits
   takeHits(v, hitsAt, c, n);
   if (!edgeSample || !wantSample || !wantSample(n)) return false;
   n.edgeBlocks = v[reachAt];
@@ -106,7 +110,7 @@ bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcf
 namespace {
 // countStencils' pass (rule.frag step 3), queued in `batch`; takeStencilCounts reads its sums.
 size_t addStencilCounts(CountBatch& batch, const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample,
-                        const std::array<unsigned, kLevelCount>& stencils, const Constants& c) {
+                        const std::array<unsigned, kLevelCount>& stencils, const Constants& c, unsigned hitBits) {
   int levelCounted[kLevelCount] = {};
   unsigned any = 0;
   for (size_t l = 0; l < kLevelCount; ++l) {
@@ -115,7 +119,11 @@ size_t addStencilCounts(CountBatch& batch, const GpuScene& scene, const Framebuf
   }
   return batch.add(rulePass(scene, 3, pcfSample != 0, 4, gbuffer0.width() / kBlock, gbuffer0.height() / kBlock,
                             [&](unsigned p) {
-                              bindTextures(p, {{"positionHit", gbuffer0.texture(0)}});
+                              // the hit of each level pixel's sample: step 1's bits, else level 0's G-buffer
+                              if (hitBits)
+                                bindTextures(p, {{"hitBits", hitBits}});
+                              else
+                                bindTextures(p, {{"positionHit", gbuffer0.texture(0)}});
                               int unit = 1;
                               if (pcfSample) bindTextures(p, {{"pcfSample", pcfSample}}, unit++);
                               for (int l = 0; l < kLevelCount; ++l) {
@@ -125,7 +133,8 @@ size_t addStencilCounts(CountBatch& batch, const GpuScene& scene, const Framebuf
                                 bindTextures(p, {{name.c_str(), t ? t : any}}, unit++);
                               }
                               glUniform4i(uniform(p, "counted"), levelCounted[0], levelCounted[1], levelCounted[2], levelCounted[3]);
-                            }));
+                            },
+                            -1, false, hitBits != 0));
 }
 void takeStencilCounts(const std::vector<int64_t>& v, size_t at, FrameCounts& n) {
   for (size_t l = 0; l < kLevelCount; ++l) {
@@ -138,20 +147,21 @@ void takeStencilCounts(const std::vector<int64_t>& v, size_t at, FrameCounts& n)
 }  // namespace
 
 void countStencils(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample,
-                   const std::array<unsigned, kLevelCount>& stencils, const Constants& c, FrameCounts& n) {
+                   const std::array<unsigned, kLevelCount>& stencils, const Constants& c, FrameCounts& n,
+                   unsigned hitBits) {
   CountBatch batch(scene);
-  const size_t at = addStencilCounts(batch, scene, gbuffer0, pcfSample, stencils, c);
+  const size_t at = addStencilCounts(batch, scene, gbuffer0, pcfSample, stencils, c, hitBits);
   takeStencilCounts(batch.read(), at, n);
 }
 
 void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::array<unsigned, kLevelCount>& stencils,
-                 FrameResult& f, int64_t hitPixels, FrameCounts* finalCounts, unsigned pcfSample) {
+                 FrameResult& f, int64_t hitPixels, FrameCounts* finalCounts, unsigned pcfSample, unsigned hitBits) {
   const Constants& c = f.constants;
   CountBatch batch(scene);
   // H and the final stencils' counts do not fit one batch beside |S_ℓ|'s: then a read of their own
-  if (finalCounts && hitPixels < 0) countStencils(scene, gbuffer0, pcfSample, stencils, c, *finalCounts);
+  if (finalCounts && hitPixels < 0) countStencils(scene, gbuffer0, pcfSample, stencils, c, *finalCounts, hitBits);
   const bool together = finalCounts && hitPixels >= 0;
-  const size_t finalAt = together ? addStencilCounts(batch, scene, gbuffer0, pcfSample, stencils, c) : 0;
+  const size_t finalAt = together ? addStencilCounts(batch, scene, gbuffer0, pcfSample, stencils, c, hitBits) : 0;
   const size_t hitsAt = hitPixels < 0 ? batch.add(drawHits(scene, gbuffer0, 0, 0, c)) : 0;  // H, unless known
   std::array<size_t, kLevelCount> at{};
   for (int l = 0; l < kLevelCount; ++l) {

@@ -18,15 +18,20 @@ namespace mrr::gpu {
 // (`pcfSample`: ssm.frag PCF_SAMPLE's R8 target, or 0: none). Then, with `edgeSample` (edges.frag
 // EDGE_SAMPLE's diagonals, gpu/edges.h drawEdgeSample; 0: none) and where `wantSample(counts)`
 // says so, countEdgeSample's Ê, R_ℓ and their hit pixels; returns whether it counted them. Both
-// in one small read.
+// in one small read. With `hitBits`, step 1's target comes back (its counts2 holds each 8×8
+// block's 64 hit bits in z, w) for countStencils.
 bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
                 const Constants& constants, FrameCounts& counts,
-                const std::function<bool(const FrameCounts&)>& wantSample);
+                const std::function<bool(const FrameCounts&)>& wantSample,
+                Target* hitBits = nullptr);
 
 // countForRule into `counts` (|S_ℓ|, |S_ℓ ∩ hit|, ∩ searched, ∩ pcf per shaded level) from the
-// stencils' textures (R8, 0 for a disabled level). One small read.
+// stencils' textures (R8, 0 for a disabled level). One small read. With `hitBits` (countEarly's
+// counts2) the hit of a level pixel's sample comes from its block's bits, not level 0's G-buffer:
+// the same counts, 1 fetch a block instead of one a stencilled pixel.
 void countStencils(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample,
-                   const std::array<unsigned, kLevelCount>& stencils, const Constants& constants, FrameCounts& counts);
+                   const std::array<unsigned, kLevelCount>& stencils, const Constants& constants, FrameCounts& counts,
+                   unsigned hitBits = 0);
 
 // What the report says of the frame's stencils, into f (FrameResult::countShadedPixels and
 // countHitPixels: |S_ℓ| and its 4×2 blocks per enabled level, the ideal speedups). H is
@@ -34,6 +39,6 @@ void countStencils(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned 
 // With `finalCounts` (f.counts so far), countStencils on the same stencils too, in the same read
 // (SPEC §12.4's predicted time per level on the final stencils; H must then be known: 8 targets).
 void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::array<unsigned, kLevelCount>& stencils,
-                 FrameResult& f, int64_t hitPixels = -1, FrameCounts* finalCounts = nullptr, unsigned pcfSample = 0);
+                 FrameResult& f, int64_t hitPixels = -1, FrameCounts* finalCounts = nullptr, unsigned pcfSample = 0, unsigned hitBits = 0);
 
 }  // namespace mrr::gpu

@@ -5,18 +5,24 @@
 // count for count (tests/gpu/rule_counts_test.cpp holds them equal). One pass per step:
 //   STEP 1 hits (countHits): in W×H, H, H_a, H_p and F (counts0); B_0..B_3, the pixels and the
 //     2×2, 4×4 and 8×8 blocks holding a silhouette pixel (counts1); the block's hit pixels over
-//     the padded grid, and Ê: it holds a silhouette pixel or (WITH_SAMPLE) its diagonal an edge
-//     (counts2). A row of the block and its border is 10 bits, so a pixel's 4-neighbours are shifts.
+//     the padded grid, Ê: it holds a silhouette pixel or (WITH_SAMPLE) its diagonal an edge, and
+//     its 64 hit bits, rows 0–3 in z and 4–7 in w, 8 a row, column i at bit i (counts2). A row of
+//     the block and its border is 10 bits, so a pixel's 4-neighbours are shifts.
 //   STEP 2 reach (countEdgeSample): per level ℓ < 3, R_ℓ: Ê within reachBlocks[ℓ] blocks (the
 //     union of the finer levels' boxes); counts0 (Ê, R_0, R_1, R_2), counts1 (the hit pixels of
 //     R_0, R_1, R_2)
 //   STEP 3 stencils (countForRule): per level ℓ of `counted`, |S_ℓ|, |S_ℓ ∩ hit|, |S_ℓ ∩ hit ∩
-//     searched|, |S_ℓ ∩ hit ∩ pcf| over the block's level-ℓ pixels (counts0..3)
+//     searched|, |S_ℓ ∩ hit ∩ pcf| over the block's level-ℓ pixels (counts0..3); WITH_HIT_BITS:
+//     the hits from step 1's bits of the block (every sample pixel lies in it), else positionHit
 //   STEP 4 shaded (countShadedPixels, countHitPixels), one fragment per 4×2 block of level
 //     LEVEL's grid: |S_ℓ|, the block holds any (0/1), |S_ℓ ∩ hit| (counts0)
 // A level-ℓ pixel q is on geometry where the full-res pixel it samples, q s + s/2, is (SPEC §0,
 // levelPixelHit); a full-res pixel pays what its 8×8 block's PCF sample says (pcfSampleValue).
+#if STEP == 3 && WITH_HIT_BITS
+uniform usampler2D hitBits;     // step 1's counts2: each block's 64 hit bits in z, w
+#else
 uniform sampler2D positionHit;  // level 0's G-buffer: hit in w (padded full res)
+#endif
 #if WITH_PCF
 uniform sampler2D pcfSample;    // SSM: what PCSS pays per 8×8 block, the byte / 255 (ssm.frag PCF_SAMPLE)
 #endif
@@ -31,7 +37,9 @@ layout(location = 2) out uvec4 counts2;
 layout(location = 3) out uvec4 counts3;
 #endif
 
+#if !(STEP == 3 && WITH_HIT_BITS)
 bool hitAt(ivec2 q) { return texelFetch(positionHit, q, 0).w > 0.5; }
+#endif
 
 // What a pixel on geometry of block b pays: its class (kPcfSample…) and map footprint steps.
 ivec2 pays(ivec2 b) {
@@ -67,9 +75,11 @@ void main() {
   uint hits = 0u, padded = 0u, b0 = 0u, b1 = 0u, b2 = 0u;
   uint pair = 0u, quad0 = 0u, quad1 = 0u;  // silhouette bits OR-ed over row pairs and row quads
   uint up = rowBits(o, o.y - 1, last), cur = rowBits(o, o.y, last);
+  uvec2 blockBits = uvec2(0u);  // rows 0–3, rows 4–7
   for (int j = 0; j < 8; ++j) {
     uint down = rowBits(o, o.y + j + 1, last);
     uint row = (cur >> 1) & 0xFFu;  // the block's 8 columns
+    if (j < 4) blockBits.x |= row << uint(8 * j); else blockBits.y |= row << uint(8 * (j - 4));
     padded += ones(row);
     bool inH = o.y + j < frame.y;
     // a pixel on geometry with a 4-neighbour off it (in W×H)
@@ -102,7 +112,7 @@ void main() {
 #endif
   counts0 = uvec4(hits, searched, pcf, footprint);
   counts1 = uvec4(b0, b1, b2, any3 ? 1u : 0u);
-  counts2 = uvec4(padded, sampled ? 1u : 0u, 0u, 0u);
+  counts2 = uvec4(padded, sampled ? 1u : 0u, blockBits);
 }
 #elif STEP == 2
 uniform usampler2D hits;     // STEP 1's counts2: hit pixels over the padded grid, Ê
@@ -126,6 +136,15 @@ void main() {
 #elif STEP == 3
 uniform sampler2D stencil0, stencil1, stencil2, stencil3;  // S_ℓ (R8)
 uniform ivec4 counted;  // 1: level ℓ is enabled and shaded
+#if WITH_HIT_BITS
+uvec2 blockHits;  // the block's hit bits (main)
+// full-res pixel p of this block (p − 8 b in 0..7 a side) on geometry
+bool hitAt(ivec2 p) {
+  ivec2 local = p & 7;
+  uint bits = local.y < 4 ? blockHits.x : blockHits.y;
+  return ((bits >> uint(8 * (local.y & 3) + local.x)) & 1u) != 0u;
+}
+#endif
 uvec4 level(sampler2D stencil, int scale, ivec2 b, ivec2 paid) {
   int side = 8 / scale;  // level pixels per block side
   uvec4 n = uvec4(0u);
@@ -143,6 +162,9 @@ uvec4 level(sampler2D stencil, int scale, ivec2 b, ivec2 paid) {
 }
 void main() {
   ivec2 b = ivec2(gl_FragCoord.xy), paid = pays(b);
+#if WITH_HIT_BITS
+  blockHits = texelFetch(hitBits, b, 0).zw;
+#endif
   counts0 = counted.x != 0 ? level(stencil0, 1, b, paid) : uvec4(0u);
   counts1 = counted.y != 0 ? level(stencil1, 2, b, paid) : uvec4(0u);
   counts2 = counted.z != 0 ? level(stencil2, 4, b, paid) : uvec4(0u);

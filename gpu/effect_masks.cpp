@@ -132,9 +132,10 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
   return t;
 }
 
-Target drawParentMarks(const GpuScene& scene, unsigned varies, int ratio, int finerWidth, int finerHeight,
-                       const Cover& marked) {
-  // 2. each finer pixel takes its coarser parent's mark
+namespace {
+// Step 2's pass: each finer pixel takes its coarser parent's mark in `varies`, over `marked`.
+Target drawParent(const GpuScene& scene, unsigned varies, int ratio, int finerWidth, int finerHeight,
+                  const Cover& marked) {
   const unsigned parent = scene.passProgram("refinement_marks.2." + std::to_string(ratio), "refinement_marks.frag",
                                             "#define STEP 2\n#define RATIO " + std::to_string(ratio) + "\n", marked);
   Target marks = startPass(scene, parent, finerWidth, finerHeight, Texel::R8, {{"source", varies}});
@@ -142,30 +143,34 @@ Target drawParentMarks(const GpuScene& scene, unsigned varies, int ratio, int fi
   checkGl("refinement_marks parent");
   return marks;
 }
+}  // namespace
 
-std::vector<glm::ivec4> markedRects(const ImageU8& blocks, int blockSize, int ratio, int coarserWidth, int coarserHeight,
-                                    int finerWidth, int finerHeight) {
-  std::vector<glm::ivec4> rects;  // the finer level's pixels in the blocks holding a mark
-  for (const auto& run : blockRects(blocks, 1, blockSize, coarserWidth, coarserHeight))  // coarser pixels → finer
-    rects.push_back(glm::min(run * ratio, glm::ivec4(finerWidth, finerHeight, finerWidth, finerHeight)));
-  return rects;
+Target uploadMarks(const GpuScene& scene, const ImageU8& varies) {
+  TextureSet uploaded;  // a pool target (the block maps read it), copied from the uploaded texture
+  return drawParent(scene, uploaded.add(uploadBinary(varies)), 1, varies.width, varies.height, Cover::whole());
+}
+
+Target drawParentMarks(const GpuScene& scene, Target varies, int ratio, int finerWidth, int finerHeight, Target* blocks,
+                       int blockSize) {
+  // the blocks holding a mark, on the GPU (blocksOf): the finer level's pixels in them are
+  // blockSize · ratio a side
+  Cover marked;
+  if (blocks) {
+    *blocks = blockSize > 1 ? poolBlocks(scene, *varies, blockSize) : std::move(varies);
+    marked = Cover::blocksOf(**blocks, blockSize * ratio);
+  }
+  // 2. each finer pixel takes its coarser parent's mark
+  const unsigned source = varies ? varies->texture(0) : (*blocks)->texture(0);  // blockSize 1: the marks are their blocks
+  return drawParent(scene, source, ratio, finerWidth, finerHeight, marked);
 }
 
 Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
                            unsigned coarserPositionHit, int ratio, int finerWidth, int finerHeight, float tau,
                            const Cover& shaded, Target* blocks, int blockSize) {
   // 1. v(q) > τ at each coarser pixel q, over the shaded hit pixels of its 3×3 neighbourhood
-  Target coarse = drawRangeTest(scene, coarser, channels, coarserStencil, coarserPositionHit, tau, shaded, false);
-  // the blocks holding a mark, on the GPU (blocksOf): the finer level's pixels in them are
-  // blockSize · ratio a side
-  Cover marked;
-  if (blocks) {
-    *blocks = blockSize > 1 ? poolBlocks(scene, *coarse, blockSize) : std::move(coarse);
-    marked = Cover::blocksOf(**blocks, blockSize * ratio);
-  }
+  Target varies = drawRangeTest(scene, coarser, channels, coarserStencil, coarserPositionHit, tau, shaded, false);
   // 2. each finer pixel takes its coarser parent's mark
-  const unsigned source = coarse ? coarse->texture(0) : (*blocks)->texture(0);  // blockSize 1: the marks are their blocks
-  return drawParentMarks(scene, source, ratio, finerWidth, finerHeight, marked);
+  return drawParentMarks(scene, std::move(varies), ratio, finerWidth, finerHeight, blocks, blockSize);
 }
 
 }  // namespace mrr::gpu

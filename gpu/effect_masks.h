@@ -52,14 +52,11 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
 // `whole` the readable single pass over each 3×3 (localRange): the same bits.
 Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsigned coarserStencil,
                      unsigned coarserPositionHit, float tau, const Cover& shaded, bool rangeOut, bool whole = false);
-// Step 2 at level ℓ: each pixel takes its parent's mark in `varies` (level n's R8), drawn over
-// `marked` (the finer level's pixels of the blocks holding a mark; whole: the whole level);
-// elsewhere 0.
-Target drawParentMarks(const GpuScene& scene, unsigned varies, int ratio, int finerWidth, int finerHeight,
-                       const Cover& marked);
-// The finer level's rectangles under the blocks of `blocks` (blockSize level-n pixels each) that hold
-// a mark, for drawParentMarks.
-std::vector<glm::ivec4> markedRects(const ImageU8& blocks, int blockSize, int ratio, int coarserWidth, int coarserHeight,
-                                    int finerWidth, int finerHeight);
+// Step 2 at level ℓ from level n's marks `varies` (R8), as drawRefinementMarks: with `blocks`,
+// they are pooled into blocks of `blockSize` level-n pixels and the pass drawn over those alone.
+Target drawParentMarks(const GpuScene& scene, Target varies, int ratio, int finerWidth, int finerHeight,
+                       Target* blocks = nullptr, int blockSize = 1);
+// Level n's marks chosen on the host (SPEC §12.4's selection) as a target, for drawParentMarks.
+Target uploadMarks(const GpuScene& scene, const ImageU8& varies);
 
 }  // namespace mrr::gpu

@@ -27,7 +27,6 @@
 #include "gpu/ssgi.h"
 #include "gpu/ssm.h"
 #include "gpu/stencil.h"
-#include "gpu/blocks.h"
 #include "gpu/temporal.h"
 #include "gpu/traffic.h"
 
@@ -307,7 +306,7 @@ class PortFrame final : public FrameBackend {
       const ImageU8 stencil = keep_ ? f.levels[i].masks.stencil : readStencil(l);
       if (!keep_ && f.constants.effect == Effect::Ssm && pcfSample_ && f.pcfSample.empty())
         f.pcfSample = readPcfSample(*pcfSample_);
-      const std::vector<double> prices = candidatePrices(stencil, hostHit(f), f.pcfSample, c, l, next, r.prices);
+      std::vector<double> prices = candidatePrices(stencil, hostHit(f), f.pcfSample, c, l, next, r.prices);
       RefinementSelection chosen =
           selectRefinement(range->read(0, 1), prices, r.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis,
                            r.previousMarked.empty() ? nullptr : &r.previousMarked);
@@ -315,16 +314,10 @@ class PortFrame final : public FrameBackend {
       r.candidates = chosen.candidates;
       r.taken = chosen.taken;
       r.kept = chosen.kept;
-      r.candidatePrices = prices;
-      TextureSet uploaded;
-      Target varies = drawParentMarks(scene_, uploaded.add(uploadBinary(chosen.varies)), 1, range->width(),
-                                      range->height(), Cover::whole());  // the selection as a target of level n
+      r.candidatePrices = std::move(prices);
+      marks = drawParentMarks(scene_, uploadMarks(scene_, chosen.varies), ratio, lc.width, lc.height, &marksBlocks,
+                              blockSize);
       f.levels[i].marked = std::move(chosen.varies);
-      marksBlocks = blockSize > 1 ? poolBlocks(scene_, *varies, blockSize) : Target();
-      const BlockMap blocks = marksBlocks ? BlockMap(*marksBlocks) : BlockMap(*varies);
-      marks = drawParentMarks(scene_, varies->texture(0), ratio, lc.width, lc.height,
-                              Cover::blocksOf(blocks, blockSize * ratio));
-      if (!marksBlocks) marksBlocks = std::move(varies);
     } else {
       marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
                                   gbuffers_[n]->texture(0), ratio, lc.width, lc.height, c.effectMask.posterior,
@@ -335,8 +328,7 @@ class PortFrame final : public FrameBackend {
     refined_ = true;
     if (keep_) {
       MaskLevel& m = f.levels[i].masks;
-      m.stencil = maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)  // no mark: S_ℓ
-                                                 : maskTargets_->alphaTarget[i]->readBinary(1);  // beside a_ℓ still
+      m.stencil = readStencil(l);
       m.mask = maskTargets_->refinedTarget[i]->readBinary(0);
       m.alpha = maskTargets_->alphaTarget[i]->read(0, 1);
       f.levels[i].marks = maskTargets_->marksTarget[i]->readBinary(0);
@@ -454,7 +446,7 @@ class PortFrame final : public FrameBackend {
     }
     return hit_;
   }
-  ImageU8 readStencil(int l) const {
+  ImageU8 readStencil(int l) const {  // S_ℓ: its own target, or beside a_ℓ where no mark refined it
     const size_t i = static_cast<size_t>(l);
     return maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)
                                           : maskTargets_->alphaTarget[i]->readBinary(1);

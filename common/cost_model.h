@@ -227,6 +227,11 @@ FallbackDecision decideFallback(const CostModel& model, const Constants& constan
 struct PixelPrices {
   double paying = 0.0, pcf = 0.0, leaving = 0.0;
 };
+// The same in the budget's whole units (common/effect_budget.h unitPrices), which both paths add
+// exactly.
+struct UnitPrices {
+  uint32_t paying = 0, pcf = 0, leaving = 0;
+};
 PixelPrices refinementPrices(const CostModel& model, const Constants& constants, int level, const FrameCounts& counts);
 
 // The budget of the frame, in ns: B × full's predicted rest less the method's predicted rest on

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "common/cost_model.h"
+#include "common/effect_budget.h"
 #include "common/error.h"
 #include "common/stages.h"
 
@@ -157,23 +158,31 @@ FrameResult renderFrame(FrameBackend& b, const DirectionalLight& light, const Ca
     const auto refined = [&](int l) {
       return c.levels[static_cast<size_t>(l)].enabled && l != c.coarsestEnabled && l >= c.effectMask.posteriorFinest;
     };
-    double budgetLeft = c.effectMask.budget > 0.0f ? refinementBudgetNs(model, c, f.counts) : 0.0;
+    // The frame's budget in whole units (the first refined level's to start from; each finer one
+    // starts from what the one before it left, on the backend: the port's stays on the GPU).
+    const bool budgeted = c.effectMask.budget > 0.0f;
+    const double unitNs = budgeted ? budgetUnitNs(predictFullMs(model, c, f.counts) * 1e6) : 0.0;
+    int after = -1;
     for (int l = kLevelCount - 1; l >= 0; --l) {
       if (!c.levels[static_cast<size_t>(l)].enabled) continue;
       if (refined(l)) {
         RefinementRecord& r = f.refinement[static_cast<size_t>(l)];
-        if (c.effectMask.budget > 0.0f) {
+        if (budgeted) {
           int levelsLeft = 0;
           for (int k = l; k >= 0; --k) levelsLeft += refined(k) ? 1 : 0;
           r.budgeted = true;
-          r.budgetNs = budgetLeft / levelsLeft;
+          r.levelsLeft = levelsLeft;
+          r.after = after;
+          r.unitNs = unitNs;
           r.prices = refinementPrices(model, c, l, f.counts);
+          r.units = unitPrices(r.prices, unitNs);
+          if (after < 0) r.leftUnits = budgetUnits(refinementBudgetNs(model, c, f.counts), unitNs);
           // SPEC §14.2: what the previous frame selected here, for the marks' hysteresis
           if (c.effectMask.hysteresis > 0.0f && options.history)
             r.previousMarked = options.history->marked[static_cast<size_t>(l)];
+          after = l;
         }
         stage(stageName(Part::Stencil), [&] { b.refineMasks(f, l); });
-        budgetLeft = std::max(0.0, budgetLeft - r.spentNs);
       }
       b.shadeLevel(f, l, stage);
     }

@@ -148,19 +148,29 @@ struct LevelResult {
 };
 
 // SPEC §12.4: the a-posteriori term's budget at one refined level, and what it spent (the driver
-// gives each refined level its share and prices; the backend's selection fills the rest).
+// gives each refined level its prices and, the first, the frame's budget; the backend's selection
+// fills the rest, the port once the frame's clock has stopped).
 struct RefinementRecord {
   bool budgeted = false;   // selected within a budget (else τ_v alone decided, or nothing was refined)
-  double budgetNs = 0.0;   // this level's share of what was left
-  PixelPrices prices;      // SPEC §11's price of one more level-ℓ pixel by its class
-  double spentNs = 0.0;    // the predicted cost of the marks taken
+  int levelsLeft = 0;      // the refined levels from this one down, this one included
+  int after = -1;          // the refined level before it (coarser), whose leftover it starts from; −1: none
+  double unitNs = 0.0;     // one unit of the budget in ns (budgetUnitNs)
+  PixelPrices prices;      // SPEC §11's price of one more level-ℓ pixel by its class, ns
+  UnitPrices units;        // the same in units (unitPrices)
+  uint32_t leftUnits = 0;  // what was left for this level and the finer ones
+  uint32_t shareUnits = 0; // this level's share of it (levelShare)
+  uint32_t spentUnits = 0; // the price of the marks taken, S(T)
+  uint32_t threshold = 0;  // the selection's priority key T
   int64_t candidates = 0, taken = 0, kept = 0;  // v over its threshold; marked; of those, marked before (§14.2)
-  // Each candidate's price (level n's grid, row-major), from the a-priori S_ℓ: the selection's
-  // input besides v, kept so that it can be made again on this frame's images (compare, probe).
-  std::vector<double> candidatePrices;
+  // Each candidate's price in units (level n's grid, row-major), from the a-priori S_ℓ: the
+  // selection's input besides v, kept with the stages so that it can be made again on this
+  // frame's images (compare, probe).
+  std::vector<uint32_t> candidatePrices;
   // SPEC §14.2: the previous frame's selection at this level (its `marked`), where it has one of
   // this level's size: the marks' hysteresis reads it. Empty: none.
   ImageU8 previousMarked;
+  double budgetNs() const { return static_cast<double>(shareUnits) * unitNs; }
+  double spentNs() const { return static_cast<double>(spentUnits) * unitNs; }
 };
 
 struct StageTiming {

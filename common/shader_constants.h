@@ -71,6 +71,16 @@ inline constexpr float kMotionBehind = 1.0e9f;
 // most one per two blocks: blocks.geom's max_vertices = 2 · 64 is a literal, as GLSL 3.30 wants).
 inline constexpr int kBlockSegment = 64;
 
+// mrr-effect's budget (docs/spec.md §12.4, common/effect_budget.h, refinement_budget.frag): a
+// candidate's priority is a key in [0, kBudgetKeys): the bits of v above its top kBudgetKeyBits
+// mantissa bits, less the same of its whole-number price, plus kBudgetKeyOffset (kBudgetKeyBits
+// steps an octave of v / price); kBudgetKeys − 1 is a free candidate's. The port finds the
+// selection's threshold among the keys kBudgetRadix at a time (log_kBudgetRadix kBudgetKeys passes).
+inline constexpr int kBudgetKeys = 4096;
+inline constexpr int kBudgetKeyBits = 3;
+inline constexpr int kBudgetKeyOffset = 256;
+inline constexpr int kBudgetRadix = 16;
+
 // A constant as the shaders see it: GLSL `const int` where the C++ constant is an integer
 // (kTileSize, kPcfSampleStep: array sizes, strides and loop bounds), `const float` where it is a
 // float. The constructor picks the type from the C++ value's (an 8-bit class byte promotes to int).
@@ -121,6 +131,10 @@ inline constexpr ShaderConstant kShaderConstants[] = {
     {"kGrazingCosine", kGrazingCosine},
     {"kMotionBehind", kMotionBehind},
     {"kBlockSegment", kBlockSegment},
+    {"kBudgetKeys", kBudgetKeys},
+    {"kBudgetKeyBits", kBudgetKeyBits},
+    {"kBudgetKeyOffset", kBudgetKeyOffset},
+    {"kBudgetRadix", kBudgetRadix},
 };
 
 }  // namespace mrr

@@ -161,13 +161,13 @@ ImageU8 OracleStages::marks(const FrameResult& in, int l, RefinementSelection* s
   ImageU8 varies;
   if (budget.budgeted) {
     // the prices from the a-priori S_ℓ: made here before the refinement, or the frame's own (kept)
-    std::vector<double> prices = !budget.candidatePrices.empty()
-                                     ? budget.candidatePrices
-                                     : candidatePrices(in.levels[static_cast<size_t>(l)].masks.stencil,
-                                                       in.levels[0].gbuffer.hit, in.pcfSample, c, l, next, budget.prices);
+    std::vector<uint32_t> prices = !budget.candidatePrices.empty()
+                                       ? budget.candidatePrices
+                                       : candidatePrices(in.levels[static_cast<size_t>(l)].masks.stencil,
+                                                         in.levels[0].gbuffer.hit, in.pcfSample, c, l, next, budget.units);
     RefinementSelection chosen =
-        selectRefinement(range, prices, budget.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis,
-                         budget.previousMarked.empty() ? nullptr : &budget.previousMarked);
+        selectRefinement(range, prices, levelShare(budget.leftUnits, budget.levelsLeft), c.effectMask.posterior,
+                         c.effectMask.hysteresis, budget.previousMarked.empty() ? nullptr : &budget.previousMarked);
     chosen.prices = std::move(prices);
     varies = chosen.varies;
     if (selection) *selection = std::move(chosen);

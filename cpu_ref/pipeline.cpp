@@ -74,11 +74,17 @@ class OracleFrame final : public FrameBackend {
 
   void refineMasks(FrameResult& f, int l) override {
     LevelResult& lr = f.levels[static_cast<size_t>(l)];
+    RefinementRecord& r = f.refinement[static_cast<size_t>(l)];  // SPEC §12.4: what the budget bought
+    if (r.budgeted && r.after >= 0) {  // what the refined level before this one left
+      const RefinementRecord& before = f.refinement[static_cast<size_t>(r.after)];
+      r.leftUnits = before.leftUnits - before.spentUnits;
+    }
     RefinementSelection selection;
     ImageU8 marks = stages_.marks(f, l, &selection);
-    RefinementRecord& r = f.refinement[static_cast<size_t>(l)];  // SPEC §12.4: what the budget bought
     if (r.budgeted) {
-      r.spentNs = selection.spentNs;
+      r.shareUnits = levelShare(r.leftUnits, r.levelsLeft);
+      r.spentUnits = selection.spent;
+      r.threshold = selection.threshold;
       r.candidates = selection.candidates;
       r.taken = selection.taken;
       r.kept = selection.kept;

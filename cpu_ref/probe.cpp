@@ -165,11 +165,15 @@ std::array<nlohmann::json, kLevelCount> coverageWhy(const FrameResult& f, int x,
       j["a_marks"] = arms.aMarks[li].at(qx, qy);
       const RefinementRecord& budget = f.refinement[li];
       if (budget.budgeted) {  // SPEC §12.4: the parent's price and the level's budget
-        const std::vector<double>& prices = budget.candidatePrices;
+        const std::vector<uint32_t>& prices = budget.candidatePrices;
         const size_t at = static_cast<size_t>(py) * static_cast<size_t>(coarser.sub.width) + static_cast<size_t>(px);
-        if (at < prices.size()) j["mark_price_ns"] = prices[at];
-        j["budget_ns"] = budget.budgetNs;
-        j["budget_spent_ns"] = budget.spentNs;
+        if (at < prices.size()) {
+          j["mark_price_units"] = prices[at];
+          j["mark_price_ns"] = static_cast<double>(prices[at]) * budget.unitNs;
+        }
+        j["budget_ns"] = budget.budgetNs();
+        j["budget_spent_ns"] = budget.spentNs();
+        j["budget_threshold_key"] = budget.threshold;
       }
     }
     if (reason == Coverage::Effect && arms.widened[li].mask.at(qx, qy) && !arms.stages.reach[li].empty()) {

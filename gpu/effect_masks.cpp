@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "common/effect_budget.h"
+#include "common/shader_constants.h"
 #include "gpu/blocks.h"
 #include "gpu/masks.h"
 #include "gpu/program.h"
@@ -145,11 +147,6 @@ Target drawParent(const GpuScene& scene, unsigned varies, int ratio, int finerWi
 }
 }  // namespace
 
-Target uploadMarks(const GpuScene& scene, const ImageU8& varies) {
-  TextureSet uploaded;  // a pool target (the block maps read it), copied from the uploaded texture
-  return drawParent(scene, uploaded.add(uploadBinary(varies)), 1, varies.width, varies.height, Cover::whole());
-}
-
 Target drawParentMarks(const GpuScene& scene, Target varies, int ratio, int finerWidth, int finerHeight, Target* blocks,
                        int blockSize) {
   // the blocks holding a mark, on the GPU (blocksOf): the finer level's pixels in them are
@@ -171,6 +168,114 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
   Target varies = drawRangeTest(scene, coarser, channels, coarserStencil, coarserPositionHit, tau, shaded, false);
   // 2. each finer pixel takes its coarser parent's mark
   return drawParentMarks(scene, std::move(varies), ratio, finerWidth, finerHeight, blocks, blockSize);
+}
+
+namespace {
+constexpr int kBudgetFactor = 16;  // candidates a side per fragment of STEP 5, totals of STEP 6
+// A budget pass over a fresh width × height target of `texels`, its textures bound.
+Target startBudgetPass(const GpuScene& scene, unsigned program, int width, int height, const std::vector<Texel>& texels,
+                       std::initializer_list<std::pair<const char*, unsigned>> textures) {
+  Target target = scene.target(width, height, texels, false);
+  target->bind();
+  glUseProgram(program);
+  bindTextures(program, textures);
+  return target;
+}
+unsigned budgetProgram(const GpuScene& scene, const std::string& key, const std::string& defines) {
+  return scene.program("refinement_budget." + key, "fullscreen.vert", "refinement_budget.frag", defines);
+}
+}  // namespace
+
+BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, unsigned finerStencil,
+                                        unsigned positionHit0, unsigned pcfSample, const Constants& c, int level,
+                                        int coarser, const RefinementRecord& r, const Framebuffer* before) {
+  const LevelConstants& fine = c.levels[static_cast<size_t>(level)];
+  const LevelConstants& coarse = c.levels[static_cast<size_t>(coarser)];
+  const int ratio = 1 << (coarser - level);
+  const std::string shape = "#define RATIO " + std::to_string(ratio) + "\n";
+  const std::vector<Texel> one = {Texel::Rgba32ui}, four(4, Texel::Rgba32ui);
+  BudgetedSelection out;
+  // 2a–b. each level-ℓ pixel's price, summed down its candidates' windows
+  const bool pcf = pcfSample != 0;
+  const unsigned down = budgetProgram(scene, "2." + std::to_string(ratio) + (pcf ? ".pcf" : ""),
+                                      "#define STEP 2\n#define PCF_SAMPLE " + std::string(pcf ? "1" : "0") + "\n" + shape);
+  Target columns = startBudgetPass(scene, down, fine.width, coarse.height, one,
+                                   {{"stencil", finerStencil}, {"positionHit", positionHit0}});
+  if (pcf) bindTextures(down, {{"pcfSample", pcfSample}}, 2);
+  glUniform3ui(uniform(down, "prices"), r.units.paying, r.units.pcf, r.units.leaving);
+  glUniform1i(uniform(down, "levelScale"), fine.scale);
+  glUniform1i(uniform(down, "radius"), fine.blurRadius);
+  scene.drawFullscreen();
+  checkGl("refinement_budget window");
+  // 2c, 3. the prices along the windows' columns, and the candidates' keys
+  TextureSet uploaded;
+  const bool sticky = c.effectMask.hysteresis > 0.0f && r.previousMarked.width == coarse.width &&
+                      r.previousMarked.height == coarse.height;
+  const unsigned keys = budgetProgram(scene, "3." + std::to_string(ratio) + (sticky ? ".h" : ""),
+                                      "#define STEP 3\n#define HYSTERESIS " + std::string(sticky ? "1" : "0") + "\n" + shape);
+  out.candidates = startBudgetPass(scene, keys, coarse.width, coarse.height, one,
+                                   {{"columns", columns->texture(0)}, {"range", range}});
+  glUniform1i(uniform(keys, "radius"), fine.blurRadius);
+  glUniform1f(uniform(keys, "tau"), c.effectMask.posterior);
+  if (sticky) {
+    bindTextures(keys, {{"previous", uploaded.add(uploadBinary(r.previousMarked))}}, 2);
+    glUniform1f(uniform(keys, "keepTau"), (1.0f - c.effectMask.hysteresis) * c.effectMask.posterior);
+    glUniform1ui(uniform(keys, "bonus"), hysteresisBonus(c.effectMask.hysteresis));
+  }
+  scene.drawFullscreen();
+  checkGl("refinement_budget keys");
+  columns.reset();
+  // 4. the level's state: its share of what is left
+  const bool chained = before != nullptr;
+  const unsigned begin = budgetProgram(scene, std::string("4.") + (chained ? "chained" : "first"),
+                                       "#define STEP 4\n#define CHAINED " + std::string(chained ? "1" : "0") + "\n");
+  out.state = startBudgetPass(scene, begin, 1, 1, one, {});
+  glUniform1i(uniform(begin, "levelsLeft"), r.levelsLeft);
+  if (chained) bindTextures(begin, {{"before", before->texture(0)}});
+  else glUniform1ui(uniform(begin, "budget"), r.leftUnits);
+  scene.drawFullscreen();
+  // 4a–b. the threshold, kBudgetRadix keys a round: the totals at each, summed to one texel, and
+  // the least that fits
+  const std::string factor = "#define FACTOR " + std::to_string(kBudgetFactor) + "\n";
+  const unsigned reduce = budgetProgram(scene, "6", "#define STEP 6\n" + factor);
+  for (int stride = kBudgetKeys / kBudgetRadix; stride >= 1; stride /= kBudgetRadix) {
+    const std::string strideDefine = "#define STRIDE " + std::to_string(stride) + "\n";
+    const unsigned totals = budgetProgram(scene, "5." + std::to_string(stride), "#define STEP 5\n" + factor + strideDefine);
+    int w = (coarse.width + kBudgetFactor - 1) / kBudgetFactor, h = (coarse.height + kBudgetFactor - 1) / kBudgetFactor;
+    Target sums = startBudgetPass(scene, totals, w, h, four,
+                                  {{"state", out.state->texture(0)}, {"candidates", out.candidates->texture(0)}});
+    scene.drawFullscreen();
+    while (w > 1 || h > 1) {
+      w = (w + kBudgetFactor - 1) / kBudgetFactor;
+      h = (h + kBudgetFactor - 1) / kBudgetFactor;
+      sums = startBudgetPass(scene, reduce, w, h, four,
+                             {{"values0", sums->texture(0)}, {"values1", sums->texture(1)}, {"values2", sums->texture(2)},
+                              {"values3", sums->texture(3)}});
+      scene.drawFullscreen();
+    }
+    const unsigned decide = budgetProgram(scene, "7." + std::to_string(stride), "#define STEP 7\n" + strideDefine);
+    out.state = startBudgetPass(scene, decide, 1, 1, one,
+                                {{"state", out.state->texture(0)}, {"values0", sums->texture(0)}, {"values1", sums->texture(1)},
+                                 {"values2", sums->texture(2)}, {"values3", sums->texture(3)}});
+    scene.drawFullscreen();
+    checkGl("refinement_budget threshold");
+  }
+  // 4c. the marks
+  const unsigned mark = budgetProgram(scene, "8", "#define STEP 8\n");
+  out.marks = startBudgetPass(scene, mark, coarse.width, coarse.height, {Texel::R8},
+                              {{"candidates", out.candidates->texture(0)}, {"state", out.state->texture(0)}});
+  scene.drawFullscreen();
+  checkGl("refinement_budget marks");
+  return out;
+}
+
+Target drawBudgetCounts(const GpuScene& scene, const BudgetedSelection& s) {
+  const unsigned program = budgetProgram(scene, "9", "#define STEP 9\n");
+  Target t = startBudgetPass(scene, program, s.candidates->width(), s.candidates->height(), {Texel::Rgba32ui},
+                             {{"candidates", s.candidates->texture(0)}, {"state", s.state->texture(0)}});
+  scene.drawFullscreen();
+  checkGl("refinement_budget counts");
+  return t;
 }
 
 }  // namespace mrr::gpu

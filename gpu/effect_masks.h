@@ -56,7 +56,24 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
 // they are pooled into blocks of `blockSize` level-n pixels and the pass drawn over those alone.
 Target drawParentMarks(const GpuScene& scene, Target varies, int ratio, int finerWidth, int finerHeight,
                        Target* blocks = nullptr, int blockSize = 1);
-// Level n's marks chosen on the host (SPEC §12.4's selection) as a target, for drawParentMarks.
-Target uploadMarks(const GpuScene& scene, const ImageU8& varies);
+
+// SPEC §12.4's budgeted selection on the GPU (refinement_budget.frag), common/effect_budget.h's
+// steps: each level-n pixel's price from the a-priori S_ℓ (`finerStencil`), level 0's hit
+// (`positionHit0`, in w) and SSM's PCF sample (`pcfSample`, 0 without); its key from v (`range`,
+// drawRangeTest's RANGE_OUT); the threshold found kBudgetRadix keys a pass from the level's share
+// of what is left (the frame's budget `r.leftUnits`, or what `before`, the refined level before
+// this one, left); the marks. Nothing is read back: the state stays on the GPU for the next level
+// and for the report's figures after the clock.
+struct BudgetedSelection {
+  Target candidates;  // level n, RGBA32UI: (price, key or kBudgetKeys, marked before, 0)
+  Target state;       // 1×1, RGBA32UI: (T, left, S(T), share)
+  Target marks;       // level n, R8: [key ≥ T]
+};
+BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, unsigned finerStencil,
+                                        unsigned positionHit0, unsigned pcfSample, const Constants& constants, int level,
+                                        int coarser, const RefinementRecord& r, const Framebuffer* before);
+// Step 9, after the clock: per level-n pixel (candidate, marked, marked and marked before, 0)
+// (RGBA32UI), for gpu/counts.h to sum.
+Target drawBudgetCounts(const GpuScene& scene, const BudgetedSelection& selection);
 
 }  // namespace mrr::gpu

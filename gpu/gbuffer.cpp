@@ -193,6 +193,17 @@ ImageU8 Framebuffer::readBytes(int i) const {
   return out;
 }
 
+std::vector<uint32_t> Framebuffer::readUint(int i) const {
+  require(formats_[static_cast<size_t>(i)] == Texel::Rgba32ui, "gpu: readUint needs an RGBA32UI target");
+  std::vector<uint32_t> out(static_cast<size_t>(width_) * static_cast<size_t>(height_) * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  readImage(width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, out.data(), out.size() * sizeof(uint32_t));
+  checkGl("readback");
+  return out;
+}
+
 ImageU8 Framebuffer::readBinary(int i) const {
   ImageU8 out(width_, height_);
   if (formats_[static_cast<size_t>(i)] == Texel::R8) {  // one byte a texel: read as it is stored

@@ -44,6 +44,7 @@ class Framebuffer {
   ImageF read(int i, int channels) const;  // the first `channels` of target i
   ImageU8 readBinary(int i) const;  // channel r of target i as 0/1 (> ½), row 0 = image row 0
   ImageF readChannel(int i, int channel) const;  // one channel (0–2) of a float target i: a quarter of read(i)
+  std::vector<uint32_t> readUint(int i) const;  // an RGBA32UI target's texels, 4 a texel, row-major
   ImageU8 readBytes(int i) const;   // an R8 target's bytes as stored (a level index: ℓ/255 → ℓ)
   int width() const { return width_; }
   int height() const { return height_; }

@@ -11,9 +11,11 @@
 #include "common/driver.h"
 #include "common/effect_budget.h"
 #include "common/error.h"
+#include "common/shader_constants.h"
 #include "common/stages.h"
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
+#include "gpu/counts.h"
 #include "gpu/edges.h"
 #include "gpu/effect_masks.h"
 #include "gpu/gbuffer.h"
@@ -297,27 +299,17 @@ class PortFrame final : public FrameBackend {
     Target marks;
     RefinementRecord& r = f.refinement[i];
     if (r.budgeted) {
-      // SPEC §12.4: v(q), S_ℓ, the full-res hit and SSM's PCF sample read back (the budgeted term's
-      // readbacks, counted in the frame's gl), the marks selected on the host (common/effect_budget.h),
-      // uploaded, pooled into their blocks and drawn as the τ_v path's
+      // SPEC §12.4: v(q), then the prices, keys, threshold and marks on the GPU (drawBudgetedSelection),
+      // from what the refined level before this one left; the marks pooled into their blocks and
+      // drawn as the τ_v path's. The record is filled after the clock (readOutputs).
       const Target range = drawRangeTest(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
                                          gbuffers_[n]->texture(0), c.effectMask.posterior,
                                          maskTargets_->supportCover(next), true);
-      const ImageU8 stencil = keep_ ? f.levels[i].masks.stencil : readStencil(l);
-      if (!keep_ && f.constants.effect == Effect::Ssm && pcfSample_ && f.pcfSample.empty())
-        f.pcfSample = readPcfSample(*pcfSample_);
-      std::vector<double> prices = candidatePrices(stencil, hostHit(f), f.pcfSample, c, l, next, r.prices);
-      RefinementSelection chosen =
-          selectRefinement(range->read(0, 1), prices, r.budgetNs, c.effectMask.posterior, c.effectMask.hysteresis,
-                           r.previousMarked.empty() ? nullptr : &r.previousMarked);
-      r.spentNs = chosen.spentNs;
-      r.candidates = chosen.candidates;
-      r.taken = chosen.taken;
-      r.kept = chosen.kept;
-      r.candidatePrices = std::move(prices);
-      marks = drawParentMarks(scene_, uploadMarks(scene_, chosen.varies), ratio, lc.width, lc.height, &marksBlocks,
-                              blockSize);
-      f.levels[i].marked = std::move(chosen.varies);
+      const Framebuffer* before = r.after >= 0 ? budget_[static_cast<size_t>(r.after)].state.get() : nullptr;
+      BudgetedSelection& chosen = budget_[i];
+      chosen = drawBudgetedSelection(scene_, range->texture(0), maskTargets_->stencil[i], gbuffers_[0]->texture(0),
+                                     pcfSample_ ? pcfSample_->texture(0) : 0, c, l, next, r, before);
+      marks = drawParentMarks(scene_, std::move(chosen.marks), ratio, lc.width, lc.height, &marksBlocks, blockSize);
     } else {
       marks = drawRefinementMarks(scene_, subTexture_[n], c.channels(), maskTargets_->stencil[n],
                                   gbuffers_[n]->texture(0), ratio, lc.width, lc.height, c.effectMask.posterior,
@@ -387,6 +379,7 @@ class PortFrame final : public FrameBackend {
   // traffic since the frame's clock stopped.
   void readOutputs(FrameResult& f) {
     const Constants& c = f.constants;
+    readBudget(f);
     const GpuImage& blended = blended_.target ? blended_ : final_;  // the blend's (or composition's) target
     // the temporal term's next frame reads final' (FrameHistory)
     const bool wantFinal = (outputs_ & kOutputFinal) || c.temporal.on();
@@ -422,6 +415,46 @@ class PortFrame final : public FrameBackend {
   }
 
  private:
+  // SPEC §12.4, after the clock: each budgeted level's state and counts in one small read, and
+  // its candidates' prices and marks where the stages are kept or the next frame's hysteresis
+  // reads them (as the oracle's record).
+  void readBudget(FrameResult& f) {
+    CountBatch batch(scene_);
+    std::array<size_t, kLevelCount> at{};
+    for (size_t l = 0; l < kLevelCount; ++l) {
+      if (!f.refinement[l].budgeted || !budget_[l].state) continue;
+      at[l] = batch.add(drawBudgetCounts(scene_, budget_[l]));
+      batch.add(std::move(budget_[l].state));  // a 1×1 target sums to itself
+    }
+    const std::vector<int64_t> values = batch.read();
+    if (values.empty()) return;
+    const bool wantMarks = keep_ || f.constants.temporal.on();
+    for (size_t l = 0; l < kLevelCount; ++l) {
+      RefinementRecord& r = f.refinement[l];
+      if (!r.budgeted || !budget_[l].candidates) continue;
+      const int64_t* counts = &values[at[l]];
+      const int64_t* state = counts + 4;
+      r.threshold = static_cast<uint32_t>(state[0]);
+      r.leftUnits = static_cast<uint32_t>(state[1]);
+      r.spentUnits = static_cast<uint32_t>(state[2]);
+      r.shareUnits = static_cast<uint32_t>(state[3]);
+      r.candidates = counts[0];
+      r.taken = counts[1];
+      r.kept = counts[2];
+      if (wantMarks) {
+        const Framebuffer& cand = *budget_[l].candidates;
+        const std::vector<uint32_t> texels = cand.readUint(0);
+        r.candidatePrices.resize(texels.size() / 4);
+        ImageU8 marked(cand.width(), cand.height());
+        for (size_t k = 0; k < r.candidatePrices.size(); ++k) {
+          r.candidatePrices[k] = texels[4 * k];
+          marked.data[k] = texels[4 * k + 1] != static_cast<uint32_t>(kBudgetKeys) && texels[4 * k + 1] >= r.threshold;
+        }
+        f.levels[l].marked = std::move(marked);
+        if (!keep_) r.candidatePrices.clear();
+      }
+    }
+  }
   // Level ℓ's G-buffer targets, fresh from the pool. A coarse level's albedo is read only by
   // SSGI's direct light (and --stages): the resident frame leaves that target out otherwise.
   const Framebuffer& gbufferTarget(const FrameResult& f, int l) {
@@ -435,17 +468,6 @@ class PortFrame final : public FrameBackend {
   // countEarly's per-block hit bits (rule.frag step 1's counts2), where it ran: countStencils reads
   // a level pixel's hit there
   unsigned hitBitsTexture() const { return hitBits_ ? hitBits_->texture(2) : 0; }
-  // The host images SPEC §12.4's budget prices with, read back where keepStages did not already
-  // (the budgeted a-posteriori term is the one part of a frame that reads images back).
-  const ImageU8& hostHit(const FrameResult& f) {
-    if (!f.levels[0].gbuffer.hit.empty()) return f.levels[0].gbuffer.hit;
-    if (hit_.empty()) {  // the w of level 0's position target
-      const ImageF positionHit = gbuffers_[0]->read(0);
-      hit_ = ImageU8::uninitialised(positionHit.width, positionHit.height);
-      for (size_t i = 0; i < hit_.data.size(); ++i) hit_.data[i] = positionHit.data[4 * i + 3] > 0.5f;
-    }
-    return hit_;
-  }
   ImageU8 readStencil(int l) const {  // S_ℓ: its own target, or beside a_ℓ where no mark refined it
     const size_t i = static_cast<size_t>(l);
     return maskTargets_->stencilTarget[i] ? maskTargets_->stencilTarget[i]->readBinary(0)
@@ -471,7 +493,7 @@ class PortFrame final : public FrameBackend {
   const Scene& source_;  // its light
   const bool timerQueries_, keep_;
   const unsigned outputs_;
-  ImageU8 hit_;  // the full-res hit channel, where SPEC §12.4 read it back
+  std::array<BudgetedSelection, kLevelCount> budget_;  // SPEC §12.4's selection per budgeted level
   const GlTraffic start_;  // the process's traffic when the frame began
   GlTraffic afterFrame_;   // ... when its clock stopped
   std::vector<std::pair<size_t, unsigned>> queries_;

@@ -200,7 +200,7 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
       const RefinementRecord& r = f.refinement[static_cast<size_t>(l)];
       nlohmann::json lj = {{"level", l}, {"predicted_ms", f.predictedLevelMs[static_cast<size_t>(l)]}, {"measured_ms", measured}};
       if (r.budgeted)
-        lj.update({{"budget_ms", r.budgetNs * 1e-6}, {"spent_ms", r.spentNs * 1e-6}, {"candidates", r.candidates},
+        lj.update({{"budget_ms", r.budgetNs() * 1e-6}, {"spent_ms", r.spentNs() * 1e-6}, {"candidates", r.candidates},
                    {"taken", r.taken}, {"kept", r.kept}});
       budget.push_back(lj);
     }

@@ -9,6 +9,7 @@
 
 #include "common/effect_budget.h"
 #include "common/hash.h"
+#include "common/shader_constants.h"
 #include "common/temporal.h"
 #include "cpu_ref/effect_masks.h"
 #include "cpu_ref/temporal.h"
@@ -44,7 +45,7 @@ TEST(EffectBudget, SeparableRangeEqualsTheWholeNeighbourhood) {
       }
 }
 
-// SPEC §12.4 step 1: a candidate's price is the sum of its window's unshaded pixels' prices, the
+// SPEC §12.4 step 2: a candidate's price is the sum of its window's unshaded pixels' prices, the
 // window its children widened by r_ℓ and clipped; checked against a direct sum.
 TEST(EffectBudget, CandidatePricesSumTheUnshadedWindow) {
   Settings s = ssaoSettings(96, 48);
@@ -53,53 +54,106 @@ TEST(EffectBudget, CandidatePricesSumTheUnshadedWindow) {
   ImageU8 hit(c.paddedWidth, c.paddedHeight);
   for (int y = 0; y < hit.height; ++y)
     for (int x = 0; x < hit.width; ++x) hit.at(x, y) = x + y > 20;
-  const PixelPrices prices{5.0, 7.0, 1.0};
+  const UnitPrices prices{5, 7, 1};
   // a coarser level one and two steps away (its windows 2 and 4 level pixels a side, widened)
   for (const auto& [level, coarser] : {std::pair{1, 2}, std::pair{0, 2}, std::pair{0, 1}}) {
     const LevelConstants& fine = c.levels[static_cast<size_t>(level)];
     ImageU8 stencil(fine.width, fine.height);
     for (int y = 0; y < stencil.height; ++y)
       for (int x = 0; x < stencil.width; ++x) stencil.at(x, y) = pcgHash(static_cast<uint32_t>(x * 31 + y)) % 3 == 0;
-    const std::vector<double> got = candidatePrices(stencil, hit, ImageU8(), c, level, coarser, prices);
+    const std::vector<uint32_t> got = candidatePrices(stencil, hit, ImageU8(), c, level, coarser, prices);
     const LevelConstants& coarse = c.levels[static_cast<size_t>(coarser)];
     ASSERT_EQ(got.size(), static_cast<size_t>(coarse.width) * static_cast<size_t>(coarse.height));
     const int r = fine.blurRadius, ratio = 1 << (coarser - level);
     ASSERT_GT(r, 0);
     for (int qy = 0; qy < coarse.height; ++qy)
       for (int qx = 0; qx < coarse.width; ++qx) {
-        double expected = 0.0;
+        uint32_t expected = 0;
         for (int y = qy * ratio - r; y < (qy + 1) * ratio + r; ++y)
           for (int x = qx * ratio - r; x < (qx + 1) * ratio + r; ++x) {
             if (x < 0 || y < 0 || x >= fine.width || y >= fine.height || stencil.at(x, y)) continue;
             expected += levelPixelHit(hit, x, y, fine.scale) ? prices.paying : prices.leaving;
           }
-        ASSERT_NEAR(got[static_cast<size_t>(qy * coarse.width + qx)], expected, 1e-9)
+        ASSERT_EQ(got[static_cast<size_t>(qy * coarse.width + qx)], expected)
             << "level " << level << " from " << coarser << ": " << qx << "," << qy;
       }
   }
 }
 
-// SPEC §12.4 step 2: the most variation per nanosecond first, a free candidate first of all, each
-// taken while it fits; one that does not fit is passed over.
-TEST(EffectBudget, SelectionTakesTheMostVariationPerNanosecondWithinTheBudget) {
-  ImageF range(5, 1);
-  range.data = {0.5f, 0.2f, 0.9f, 0.05f, 0.3f};
-  const std::vector<double> prices = {10.0, 1.0, 30.0, 0.0, 4.0};  // priorities 0.05, 0.2, 0.03, inf, 0.075
-  const RefinementSelection s = selectRefinement(range, prices, 15.0, 0.1f, 0.0f, nullptr);
-  // τ 0.1 drops pixel 3 (0.05); then 1 (0.2), 4 (0.075), 0 (0.05): 1 + 4 + 10 = 15 fits; 2 does not
-  EXPECT_EQ(s.candidates, 4);
-  EXPECT_EQ(std::vector<uint8_t>(s.varies.data.begin(), s.varies.data.end()), (std::vector<uint8_t>{1, 1, 0, 0, 1}));
-  EXPECT_DOUBLE_EQ(s.spentNs, 15.0);
-  // τ 0: the free one first; a budget of 5 takes it, 1 and 4
-  const RefinementSelection t = selectRefinement(range, prices, 5.0, 0.0f, 0.0f, nullptr);
-  EXPECT_EQ(std::vector<uint8_t>(t.varies.data.begin(), t.varies.data.end()), (std::vector<uint8_t>{0, 1, 0, 1, 1}));
-  // SPEC §14.2: marked before, pixel 0 keeps its mark at (1 − h) τ and its priority / (1 − h) puts it first
-  ImageU8 before(5, 1);
-  before.data = {1, 0, 0, 0, 0};
-  const RefinementSelection u = selectRefinement(range, prices, 10.0, 0.1f, 0.9f, &before);
-  EXPECT_EQ(u.varies.data[0], 1);
+// SPEC §12.4 step 3: the key from the bits. v = 1 (0x3f800000 >> 20 = 1016) at a price of 1 (log key
+// 0) is 1016 + 256; each octave of price is kBudgetKeyBits steps down, each of v up; the hysteresis'
+// bonus adds; a free candidate is the top key.
+TEST(EffectBudget, PriorityKeysGrowWithVariationPerUnit) {
+  EXPECT_EQ(priceKey(1), 0u);
+  EXPECT_EQ(priceKey(2), 8u);
+  EXPECT_EQ(priceKey(3), 12u);   // 2^1 × 1.5: the mantissa's top bit
+  EXPECT_EQ(priceKey(15), 31u);  // 2^3 × 1.875
+  EXPECT_EQ(priceKey(1000), 9u * 8u + 7u);  // 2^9 × 1.953
+  EXPECT_EQ(priorityKey(1.0f, 1, 0), 1016u + 256u);
+  EXPECT_EQ(priorityKey(1.0f, 2, 0), 1016u + 256u - 8u);
+  EXPECT_EQ(priorityKey(2.0f, 2, 0), 1016u + 256u);
+  EXPECT_EQ(priorityKey(0.5f, 1, 3), 1016u - 8u + 256u + 3u);
+  // every v and price lands inside the keys, below the free candidates' top key
+  EXPECT_GE(priorityKey(1e-45f, 0xffffffffu, 0), 1u);
+  EXPECT_LE(priorityKey(3e38f, 1, 54), static_cast<uint32_t>(kBudgetKeys - 2));
+  EXPECT_EQ(priorityKey(0.25f, 0, 0), static_cast<uint32_t>(kBudgetKeys - 1));
+  EXPECT_EQ(hysteresisBonus(0.0f), 0u);
+  EXPECT_EQ(hysteresisBonus(0.5f), 8u);
+  EXPECT_EQ(hysteresisBonus(0.75f), 16u);
+  // monotone: more variation never lowers the key, a higher price never raises it
+  for (uint32_t price = 1; price < 5000; price += 37) {
+    uint32_t last = 0;
+    for (float v = 1e-4f; v < 4.0f; v *= 1.13f) {
+      const uint32_t k = priorityKey(v, price, 0);
+      EXPECT_GE(k, last);
+      EXPECT_GE(k, priorityKey(v, price + 1, 0));
+      last = k;
+    }
+  }
+}
+
+// SPEC §12.4 step 4: the candidates at or above the least key whose total price fits; a free one
+// always; all where all fit.
+TEST(EffectBudget, SelectionTakesTheMostVariationPerUnitWithinTheShare) {
+  ImageF range(6, 1);
+  range.data = {0.5f, 0.2f, 0.9f, 0.05f, 0.3f, 0.4f};
+  const std::vector<uint32_t> prices = {10, 1, 30, 0, 4, 0};
+  std::vector<uint32_t> key(6);
+  for (size_t i = 0; i < 6; ++i) key[i] = priorityKey(range.data[i], prices[i], 0);
+  // priorities 0.05, 0.2, 0.03, (free), 0.075, (free): keys in that order
+  ASSERT_GT(key[1], key[4]);
+  ASSERT_GT(key[4], key[0]);
+  ASSERT_GT(key[0], key[2]);
+  const auto marks = [](const RefinementSelection& s) { return std::vector<uint8_t>(s.varies.data.begin(), s.varies.data.end()); };
+  // τ 0.1 drops pixel 3; a share of 15 takes 1, 4 and 0 (15) and the free 5, not 2
+  const RefinementSelection s = selectRefinement(range, prices, 15, 0.1f, 0.0f, nullptr);
+  EXPECT_EQ(s.candidates, 5);
+  EXPECT_EQ(marks(s), (std::vector<uint8_t>{1, 1, 0, 0, 1, 1}));
+  EXPECT_EQ(s.spent, 15u);
+  EXPECT_EQ(s.threshold, key[2] + 1);  // the least key whose total fits: one past the first that does not
+  // a share of 14: 0 no longer fits, and the threshold rises past it (nothing cheaper below is taken)
+  const RefinementSelection t = selectRefinement(range, prices, 14, 0.1f, 0.0f, nullptr);
+  EXPECT_EQ(marks(t), (std::vector<uint8_t>{0, 1, 0, 0, 1, 1}));
+  EXPECT_EQ(t.spent, 5u);
+  // a share of 0: the free ones alone; a share of 45 or more: all
+  EXPECT_EQ(marks(selectRefinement(range, prices, 0, 0.0f, 0.0f, nullptr)), (std::vector<uint8_t>{0, 0, 0, 1, 0, 1}));
+  const RefinementSelection all = selectRefinement(range, prices, 45, 0.0f, 0.0f, nullptr);
+  EXPECT_EQ(all.taken, 6);
+  EXPECT_EQ(all.threshold, 0u);
+  EXPECT_EQ(all.spent, 45u);
+  // SPEC §14.2: marked before, pixel 0 keeps its mark at (1 − h) τ and its bonus puts it above 4
+  ImageU8 before(6, 1);
+  before.data = {1, 0, 0, 0, 0, 0};
+  const RefinementSelection u = selectRefinement(range, prices, 11, 0.1f, 0.9f, &before);
+  EXPECT_EQ(marks(u), (std::vector<uint8_t>{1, 1, 0, 0, 0, 1}));
   EXPECT_EQ(u.kept, 1);
-  EXPECT_LE(u.spentNs, 10.0);
+  EXPECT_EQ(u.spent, 11u);
+  // held at 2^32 − 1: totals past it never fit a share below it
+  ImageF two(2, 1);
+  two.data = {0.5f, 0.5f};
+  const RefinementSelection big = selectRefinement(two, {0xffffffffu, 0xffffffffu}, 0xfffffffeu, 0.0f, 0.0f, nullptr);
+  EXPECT_EQ(big.taken, 0);
+  EXPECT_EQ(big.threshold, priorityKey(0.5f, 0xffffffffu, 0) + 1);
 }
 
 // On a frame: the budgeted term spends no more than the level's share, refines a subset of what τ
@@ -117,7 +171,7 @@ TEST(EffectBudget, BudgetedFramesSpendWithinTheirShare) {
     for (int l = 0; l < kLevelCount; ++l) {
       const RefinementRecord& r = f.frame.refinement[static_cast<size_t>(l)];
       if (!r.budgeted) continue;
-      EXPECT_LE(r.spentNs, r.budgetNs + 1e-6) << "budget " << budget << " level " << l;
+      EXPECT_LE(r.spentUnits, r.shareUnits) << "budget " << budget << " level " << l;
       EXPECT_LE(r.taken, r.candidates);
     }
     // the first refined level (2, from the unrefined level 3): the budget's marks are some of τ's
@@ -133,13 +187,13 @@ TEST(EffectBudget, BudgetedFramesSpendWithinTheirShare) {
   for (int l = 0; l < kLevelCount; ++l) {
     const RefinementRecord& r = none.frame.refinement[static_cast<size_t>(l)];
     if (!r.budgeted) continue;
-    EXPECT_EQ(r.spentNs, 0.0) << "level " << l;
+    EXPECT_EQ(r.spentUnits, 0u) << "level " << l;
     const ImageU8& marked = none.frame.levels[static_cast<size_t>(l)].marked;
     ASSERT_EQ(marked.data.size(), r.candidatePrices.size());
     int64_t marks = 0;
     for (size_t i = 0; i < marked.data.size(); ++i)
       if (marked.data[i]) {
-        EXPECT_EQ(r.candidatePrices[i], 0.0) << "level " << l << " candidate " << i;
+        EXPECT_EQ(r.candidatePrices[i], 0u) << "level " << l << " candidate " << i;
         ++marks;
       }
     EXPECT_EQ(marks, r.taken) << "level " << l;

@@ -317,6 +317,46 @@ const std::vector<ShaderContract>& shaderContracts() {
        {{"result", "vec4 -> R8", "M_l | marks (step 1), S_l | [a_l > 0] (step 3) in r", 0}},
        "cpu_ref/effect_masks.cpp refineMasks (docs/spec.md §12.2 step 2): M_l |= marks; a_l = G * M_l again; S_l |= "
        "[a_l > 0], keeping what the closure gave S_l."},
+      {"refinement_budget.frag", "fragment", "refinement_budget.*",
+       "STEP: 2 each level-l pixel's price summed down its candidates' windows (level l's width, level n's height), "
+       "3 the prices along the windows and the candidates' keys (level n), 4 the level's state (1x1), 5 the totals "
+       "at kBudgetRadix thresholds per block of FACTOR^2 candidates, 6 those summed, 7 the threshold (1x1), 8 the "
+       "marks (level n), 9 the report's counts (level n, after the clock); RATIO: 2^(n-l) (steps 2-3); PCF_SAMPLE "
+       "(step 2): SSM's sample prices PCF; HYSTERESIS (step 3): the previous frame's marks; CHAINED (step 4): "
+       "left from the refined level before; FACTOR (steps 5-6); STRIDE (steps 5, 7): the keys between thresholds",
+       {{"stencil", "sampler2D R8", "the a-priori S_l", -1, "STEP == 2"},
+        {"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w", -1, "STEP == 2"},
+        {"pcfSample", "sampler2D R8", "SSM: what PCSS pays per 8x8 block", -1, "STEP == 2 && PCF_SAMPLE"},
+        {"range", "sampler2D R32F", "v(q), -1 off S_n (refinement_marks.frag RANGE_OUT)", -1, "STEP == 3"},
+        {"previous", "sampler2D R8", "the previous frame's selection at this level", -1, "STEP == 3 && HYSTERESIS"}},
+       {{"columns", "usampler2D RGBA32UI", "step 2's sums", -1, "STEP == 3"},
+        {"before", "usampler2D RGBA32UI", "the refined level before: its final state", -1, "STEP == 4 && CHAINED"},
+        {"state", "usampler2D RGBA32UI", "(T, left, S(T), share)", -1, "STEP >= 5"},
+        {"candidates", "usampler2D RGBA32UI", "step 3's (price, key, marked before, 0)", -1, "STEP == 5 || STEP >= 8"},
+        {"values0", "usampler2D RGBA32UI", "the totals at thresholds 0-3", -1, "STEP == 6 || STEP == 7"},
+        {"values1", "usampler2D RGBA32UI", "the totals at thresholds 4-7", -1, "STEP == 6 || STEP == 7"},
+        {"values2", "usampler2D RGBA32UI", "the totals at thresholds 8-11", -1, "STEP == 6 || STEP == 7"},
+        {"values3", "usampler2D RGBA32UI", "the totals at thresholds 12-15", -1, "STEP == 6 || STEP == 7"},
+        {"prices", "uvec3", "the class prices in units: paying, paying PCF, leaving", -1, "STEP == 2"},
+        {"levelScale", "int", "s_l", -1, "STEP == 2"},
+        {"radius", "int", "r_l, the level's blur radius", -1, "STEP == 2 || STEP == 3"},
+        {"tau", "float", "tau_v", -1, "STEP == 3"},
+        {"keepTau", "float", "(1 - h) tau_v", -1, "STEP == 3 && HYSTERESIS"},
+        {"bonus", "uint", "the hysteresis' keys", -1, "STEP == 3 && HYSTERESIS"},
+        {"levelsLeft", "int", "the refined levels from this one down", -1, "STEP == 4"},
+        {"budget", "uint", "the frame's budget in units", -1, "STEP == 4 && !CHAINED"}},
+       {{"result", "uvec4 -> RGBA32UI or vec4 -> R8",
+         "the window's column sums (2), (price, key, before, 0) (3), the state (4, 7), the marks in r (8), "
+         "(candidate, marked, kept, 0) (9)",
+         0},
+        {"sums0", "uvec4 -> RGBA32UI", "steps 5-6: the totals at thresholds 0-3", 0, "STEP == 5 || STEP == 6"},
+        {"sums1", "uvec4 -> RGBA32UI", "steps 5-6: the totals at thresholds 4-7", 1, "STEP == 5 || STEP == 6"},
+        {"sums2", "uvec4 -> RGBA32UI", "steps 5-6: the totals at thresholds 8-11", 2, "STEP == 5 || STEP == 6"},
+        {"sums3", "uvec4 -> RGBA32UI", "steps 5-6: the totals at thresholds 12-15", 3, "STEP == 5 || STEP == 6"}},
+       "common/effect_budget.cpp (docs/spec.md §12.4): candidatePrices (step 2), priorityKey (step 3), levelShare "
+       "(step 4), selectRefinement (step 4a-c: the least key T whose total S(T) fits the share; the port finds it "
+       "kBudgetRadix keys a pass, the host over a histogram: the same T). Whole numbers, sums held at 2^32 - 1: "
+       "exact."},
       {"refinement_marks.frag", "fragment", "refinement_marks.*",
        "STEP: 1 the range test at the coarser level n, 2 each finer pixel takes its parent's mark; PASS (step 1): 1 "
        "along x, 2 along y (the separable form the pipeline draws), 0 the whole 3x3 at once (the readable form); "

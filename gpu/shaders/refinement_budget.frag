@@ -30,10 +30,10 @@ layout(location = 0) out vec4 result;
 layout(location = 0) out uvec4 result;
 #endif
 
-const uint kSaturated = 0xffffffffu;
+// a + b, held at 2^32 − 1
 uint saturatingAdd(uint a, uint b) {
   uint s = a + b;
-  return s < a ? kSaturated : s;
+  return s < a ? 0xffffffffu : s;
 }
 
 #if STEP == 2

@@ -40,10 +40,18 @@ TEST(ResidentRender, AReportAloneReadsNoImageAndFinishesOnce) {
   REQUIRE_GL(dir);
   for (const std::string effect : {"ssao", "ssm", "ssgi"})
     for (const std::string method : {"mrr", "full", "uniform-2", "mrr-effect"}) {  // tiles' report reads its rate map
-      const nlohmann::json j = render(dir, effect, method, {"--gpu-timing", "query"});
+      // mrr-effect with the rule off, so that its budget (SPEC §12.4) selects on the GPU at this size
+      std::vector<std::string> more = {"--gpu-timing", "query"};
+      if (method == "mrr-effect") more.insert(more.end(), {"--never-slower", "off"});
+      const nlohmann::json j = render(dir, effect, method, more);
       ASSERT_TRUE(j.contains("gl")) << effect << " " << method;
       const nlohmann::json& gl = j["gl"];
       const std::string what = effect + " " + method + ": " + gl.dump();
+      if (method == "mrr-effect") {
+        int64_t taken = 0;
+        for (const nlohmann::json& level : j["effect_budget"]["levels"]) taken += level.value("taken", int64_t{0});
+        EXPECT_GT(taken, 0) << effect << ": the budget marked nothing, the check would not hold it";
+      }
       EXPECT_EQ(gl["process"]["readbacks"], 0) << what;
       EXPECT_LE(gl["process"]["readback_bytes"].get<int64_t>(), 1024) << what;
       EXPECT_LE(gl["process"]["finishes"].get<int64_t>(), 1) << what;

@@ -323,7 +323,7 @@ const std::vector<ShaderContract>& shaderContracts() {
        "at kBudgetRadix thresholds per block of FACTOR^2 candidates, 6 those summed, 7 the threshold (1x1), 8 the "
        "marks (level n), 9 the report's counts (level n, after the clock); RATIO: 2^(n-l) (steps 2-3); PCF_SAMPLE "
        "(step 2): SSM's sample prices PCF; HYSTERESIS (step 3): the previous frame's marks; CHAINED (step 4): "
-       "left from the refined level before; FACTOR (steps 5-6); STRIDE (steps 5, 7): the keys between thresholds",
+       "left from the refined level before; FACTOR (steps 5-6)",
        {{"stencil", "sampler2D R8", "the a-priori S_l", -1, "STEP == 2"},
         {"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w", -1, "STEP == 2"},
         {"pcfSample", "sampler2D R8", "SSM: what PCSS pays per 8x8 block", -1, "STEP == 2 && PCF_SAMPLE"},
@@ -344,6 +344,7 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"keepTau", "float", "(1 - h) tau_v", -1, "STEP == 3 && HYSTERESIS"},
         {"bonus", "uint", "the hysteresis' keys", -1, "STEP == 3 && HYSTERESIS"},
         {"levelsLeft", "int", "the refined levels from this one down", -1, "STEP == 4"},
+        {"stride", "int", "the keys between two thresholds this round: 256, 16, 1", -1, "STEP == 5 || STEP == 7"},
         {"budget", "uint", "the frame's budget in units", -1, "STEP == 4 && !CHAINED"}},
        {{"result", "uvec4 -> RGBA32UI or vec4 -> R8",
          "the window's column sums (2), (price, key, before, 0) (3), the state (4, 7), the marks in r (8), "

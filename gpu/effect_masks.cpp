@@ -238,12 +238,13 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   // the least that fits
   const std::string factor = "#define FACTOR " + std::to_string(kBudgetFactor) + "\n";
   const unsigned reduce = budgetProgram(scene, "6", "#define STEP 6\n" + factor);
+  const unsigned totals = budgetProgram(scene, "5", "#define STEP 5\n" + factor);
+  const unsigned decide = budgetProgram(scene, "7", "#define STEP 7\n");
   for (int stride = kBudgetKeys / kBudgetRadix; stride >= 1; stride /= kBudgetRadix) {
-    const std::string strideDefine = "#define STRIDE " + std::to_string(stride) + "\n";
-    const unsigned totals = budgetProgram(scene, "5." + std::to_string(stride), "#define STEP 5\n" + factor + strideDefine);
     int w = (coarse.width + kBudgetFactor - 1) / kBudgetFactor, h = (coarse.height + kBudgetFactor - 1) / kBudgetFactor;
     Target sums = startBudgetPass(scene, totals, w, h, four,
                                   {{"state", out.state->texture(0)}, {"candidates", out.candidates->texture(0)}});
+    glUniform1i(uniform(totals, "stride"), stride);
     scene.drawFullscreen();
     while (w > 1 || h > 1) {
       w = (w + kBudgetFactor - 1) / kBudgetFactor;
@@ -253,10 +254,10 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
                               {"values3", sums->texture(3)}});
       scene.drawFullscreen();
     }
-    const unsigned decide = budgetProgram(scene, "7." + std::to_string(stride), "#define STEP 7\n" + strideDefine);
     out.state = startBudgetPass(scene, decide, 1, 1, one,
                                 {{"state", out.state->texture(0)}, {"values0", sums->texture(0)}, {"values1", sums->texture(1)},
                                  {"values2", sums->texture(2)}, {"values3", sums->texture(3)}});
+    glUniform1i(uniform(decide, "stride"), stride);
     scene.drawFullscreen();
     checkGl("refinement_budget threshold");
   }

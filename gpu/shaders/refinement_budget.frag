@@ -12,7 +12,7 @@
 //     the share = left / levelsLeft); left is the frame's budget for the first refined level, else
 //     what the one before it left (its state's left − S)
 //   STEP 5 at level n's blocks of FACTOR² candidates: 4a for the kBudgetRadix thresholds
-//     t_j = max(0, T − (kBudgetRadix − j)·STRIDE) below the state's T, the total price of the
+//     t_j = max(0, T − (kBudgetRadix − j)·stride) below the state's T, the total price of the
 //     block's candidates with a key of at least t_j (4 targets × 4 channels)
 //   STEP 6 the same totals, FACTOR² blocks of them summed (to 1×1)
 //   STEP 7 (1×1): 4b the least t_j whose total fits the share becomes T (with its S), else T stays
@@ -103,6 +103,7 @@ uniform uint budget;        // the frame's budget (units)
 
 #if STEP == 5 || STEP == 7
 uniform usampler2D state;   // (T, left, S(T), share)
+uniform int stride;         // the keys between two thresholds this round: 256, 16, 1
 #endif
 #if STEP == 5
 uniform usampler2D candidates;  // STEP 3's
@@ -119,9 +120,9 @@ uniform usampler2D state;
 #endif
 
 #if STEP == 5 || STEP == 7
-// The thresholds this round tries, below T by STRIDE steps
+// The thresholds this round tries, below T by `stride` keys each
 uint threshold(uint t, int j) {
-  uint down = uint((kBudgetRadix - j) * STRIDE);
+  uint down = uint((kBudgetRadix - j) * stride);
   return t >= down ? t - down : 0u;
 }
 #endif

@@ -209,9 +209,11 @@ inline constexpr PartInfo kParts[] = {
      "tiles: each 16x16 tile's rate, 0 (1x1), 1 (2x2) or 2 (4x4)", Grid::Tiles, &kTileRatesImage,
      {{Part::Edges}, {Part::LevelLimit}},
      {Display::Levels, "each 16x16 tile's rate: 0 = 1x1, 1 = 2x2, 2 = 4x4"}},
-    {Part::Marks, "marks", true, 3, Timed::Masking, "refinement_marks.frag", "marks", "", "marks.same_input",
-     "mrr-effect with tau_v (SPEC 12.2): where the next coarser level's shaded result varies by more than tau_v over "
-     "3x3 (after the level limit); M_l, a_l and S_l are then refined with them (refine_masks.frag)",
+    {Part::Marks, "marks", true, 3, Timed::Masking, "refinement_marks.frag refinement_budget.frag", "marks", "",
+     "marks.same_input",
+     "mrr-effect's a-posteriori term (SPEC 12.2): where the next coarser level's shaded result varies by more than "
+     "tau_v over 3x3, or with a budget (SPEC 12.4, refinement_budget.frag) the most variation per unit of predicted "
+     "cost that fits (after the level limit); M_l, a_l and S_l are then refined with them (refine_masks.frag)",
      Grid::Level, &kMarksImage,
      {{Part::Sub, InputLevel::NextCoarser}, {Part::Stencil, InputLevel::NextCoarser},
       {Part::GBuffer, InputLevel::NextCoarser}, {Part::LevelLimit}},

@@ -47,6 +47,16 @@ const std::vector<ShaderFault>& shaderFaults() {
        "for (int d = 0; d <= 1; ++d) {\n    ivec2 q = ivec2(p.x + d, p.y);",
        "mrr-effect's a-posteriori range over 2 columns of the 3x3 neighbourhood (SPEC 12.2 step 1; the separable "
        "pass along x)", partName(Part::Marks)},
+      {"budget-key-octaves", "refinement_budget.frag",
+       "return uint(top) * (1u << uint(kBudgetKeyBits)) + (below & ((1u << uint(kBudgetKeyBits)) - 1u));",
+       "return uint(top) * (1u << uint(kBudgetKeyBits));",
+       "mrr-effect's budget keys a price by its octave alone, without the bits below its top bit (SPEC 12.4 step 3)",
+       partName(Part::Marks)},
+      {"budget-last-round-skipped", "refinement_budget.frag", "      if (t < st.x) {",
+       "      if (t < st.x && stride > 1) {",
+       "mrr-effect's budget stops its threshold search a round early: the threshold is a multiple of 16 keys "
+       "(SPEC 12.4 step 4)",
+       partName(Part::Marks)},
       {"temporal-keeps-level-zero", "temporal.frag", "float lambdaP = weight > 0.0 ? lambda * (1.0 - a0) : 0.0;",
        "float lambdaP = weight > 0.0 ? lambda : 0.0;",
        "the temporal term without its (1 - alpha_0): pixels level 0 shades keep the history too (SPEC 14 step 5)",

@@ -133,6 +133,7 @@ std::string ParityResult::shaderOf(const std::string& stage) const {
   const std::string_view shaders = partInfo(part).shader;
   if (shaders.find(' ') == std::string_view::npos) return std::string(shaders);
   if (part == Part::Mask) return methodInfo(mode).masks == MaskBuilder::EffectEdges ? "effect_masks.frag" : "masks.frag";
+  if (part == Part::Marks) return std::string(shaders);  // the range test's, and the budget's where it selected
   // One file per effect ("ssao.frag ssm.frag ssgi.frag"): the frame's.
   const std::string mine = toString(effect) + ".frag";
   return shaders.find(mine) != std::string_view::npos ? mine : std::string(shaders);

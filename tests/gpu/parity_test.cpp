@@ -1163,7 +1163,9 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
   };
   for (const Case& fc : {Case{"marks-2x2", Effect::Ssao, "demo"}, Case{"marks-inclusive", Effect::Ssm, "shadows"},
                          Case{"refine-marks-dropped", Effect::Ssao, "demo"},
-                         Case{"refine-stencil-replaced", Effect::Ssao, "demo"}}) {
+                         Case{"refine-stencil-replaced", Effect::Ssao, "demo"},
+                         Case{"budget-key-octaves", Effect::Ssao, "demo"},
+                         Case{"budget-last-round-skipped", Effect::Ssgi, "demo"}}) {
     const gpu::ShaderFault* fault = nullptr;
     for (const gpu::ShaderFault& f : gpu::shaderFaults())
       if (f.name == fc.fault) fault = &f;
@@ -1171,7 +1173,14 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     Settings s = peerSettings(fc.effect, Mode::MrrEffect, 161, 97);
     s.effectMask.cap = 4;
     s.effectMask.posterior = posteriorTau(fc.effect);
-    s.effectMask.budget = 0.0f;  // τ_v's marks, drawn by refinement_marks.frag where the faults are
+    // τ_v's marks, drawn by refinement_marks.frag where the faults are; the budget's (SPEC §12.4),
+    // selected by refinement_budget.frag, with a share that leaves candidates out
+    const bool budget = fc.fault.rfind("budget-", 0) == 0;
+    s.effectMask.budget = budget ? 0.85f : 0.0f;
+    if (budget) {
+      s.effectMask.posterior = 0.01f;
+      s.neverSlower = false;  // a frame this small would fall back
+    }
     if (fc.fault == "refine-stencil-replaced") {
       s.levels[1].sigma2 = 0.0f;
       s.effectMask.firstLevel = 2;

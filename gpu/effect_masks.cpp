@@ -24,11 +24,11 @@ void drawOver(const GpuScene& scene, const Cover& cover, int width, int height, 
   glClearBufferfv(GL_COLOR, 0, clear);
   scene.draw(cover, width, height);
 }
-// A pass's program in use over a fresh width × height target of `texel`, with its textures bound
-// (units 0, 1, ...): the caller sets its uniforms and draws (drawOver).
-Target startPass(const GpuScene& scene, unsigned program, int width, int height, Texel texel,
+// A pass's program in use over a fresh width × height target of `texels` (one a target), with its
+// textures bound (units 0, 1, ...): the caller sets its uniforms and draws (drawOver).
+Target startPass(const GpuScene& scene, unsigned program, int width, int height, const std::vector<Texel>& texels,
                  std::initializer_list<std::pair<const char*, unsigned>> textures) {
-  Target target = scene.target(width, height, 1, false, texel);
+  Target target = scene.target(width, height, texels, false);
   target->bind();
   glUseProgram(program);
   bindTextures(program, textures);
@@ -45,7 +45,7 @@ Target drawFootprint(const GpuScene& scene, const Framebuffer& gbuffer0, unsigne
   const unsigned program = scene.passProgram("effect_masks.1." + std::to_string(edgeChannel) + (ssm ? ".ssm" : ""),
                                              "effect_masks.frag", defines, cover);
   Target target =
-      startPass(scene, program, gbuffer0.width(), gbuffer0.height(), Texel::R32f,
+      startPass(scene, program, gbuffer0.width(), gbuffer0.height(), {Texel::R32f},
                 {{"positionHit", gbuffer0.texture(0)}, {"normalDepth", gbuffer0.texture(1)}, {"edges", edges}});
   if (ssm) {
     bindShadowMap(program, *map, mapTexture, 3, view, c.ssm.biasTexels);
@@ -67,13 +67,13 @@ Target drawDilateByReach(const GpuScene& scene, unsigned mask, int maskChannel, 
   const std::string key = std::to_string(cap) + "." + std::to_string(maskChannel);
   // 1. reach and the pass along x: H as float (−1: no reach)
   const unsigned acrossProgram = scene.passProgram("effect_masks.2." + key, "effect_masks.frag", "#define STEP 2\n" + shape, across);
-  Target h = startPass(scene, acrossProgram, width, height, Texel::R32f, {{"source", mask}, {"footprint", footprint}});
+  Target h = startPass(scene, acrossProgram, width, height, {Texel::R32f}, {{"source", mask}, {"footprint", footprint}});
   glUniform1f(uniform(acrossProgram, "levelScale"), static_cast<float>(levelScale));
   drawOver(scene, across, width, height, -1.0f);
   checkGl("effect_masks across");
   // 2. the pass along y: M'_ℓ
   const unsigned down = scene.passProgram("effect_masks.3." + key, "effect_masks.frag", "#define STEP 3\n" + shape, within);
-  Target widened = startPass(scene, down, width, height, Texel::R8, {{"source", h->texture(0)}});
+  Target widened = startPass(scene, down, width, height, {Texel::R8}, {{"source", h->texture(0)}});
   drawOver(scene, within, width, height, 0.0f);
   checkGl("effect_masks down");
   return widened;
@@ -85,7 +85,7 @@ Target drawWideningOnly(const GpuScene& scene, unsigned widened, unsigned mask, 
                                              "#define STEP 4\n#define MASK_CHANNEL " + std::to_string(maskChannel) + "\n",
                                              within);
   // 1. the pixels the widening adds: M'_ℓ ∧ ¬M_ℓ
-  Target only = startPass(scene, program, width, height, Texel::R8, {{"source", widened}, {"geometry", mask}});
+  Target only = startPass(scene, program, width, height, {Texel::R8}, {{"source", widened}, {"geometry", mask}});
   drawOver(scene, within, width, height, 0.0f);
   checkGl("effect_masks widening only");
   return only;
@@ -106,7 +106,7 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
     // 1. v(q) over each whole 3×3 (the readable form)
     const unsigned program =
         scene.passProgram("refinement_marks.1.0." + key, "refinement_marks.frag", shape + "#define PASS 0\n", shaded);
-    Target t = startPass(scene, program, width, height, out,
+    Target t = startPass(scene, program, width, height, {out},
                          {{"source", coarser}, {"stencil", coarserStencil}, {"positionHit", coarserPositionHit}});
     if (!rangeOut) glUniform1f(uniform(program, "tau"), tau);
     drawOver(scene, shaded, width, height, outside);
@@ -125,7 +125,7 @@ Target drawRangeTest(const GpuScene& scene, unsigned coarser, int channels, unsi
   // 1b. along y: v, then [v > τ] or v
   const unsigned down =
       scene.passProgram("refinement_marks.1.2." + key, "refinement_marks.frag", shape + "#define PASS 2\n", shaded);
-  Target t = startPass(scene, down, width, height, out,
+  Target t = startPass(scene, down, width, height, {out},
                        {{"source", extremes->texture(0)}, {"maxima", extremes->texture(1)}, {"stencil", coarserStencil},
                         {"positionHit", coarserPositionHit}});
   if (!rangeOut) glUniform1f(uniform(down, "tau"), tau);  // v itself: τ is the host's
@@ -140,7 +140,7 @@ Target drawParent(const GpuScene& scene, unsigned varies, int ratio, int finerWi
                   const Cover& marked) {
   const unsigned parent = scene.passProgram("refinement_marks.2." + std::to_string(ratio), "refinement_marks.frag",
                                             "#define STEP 2\n#define RATIO " + std::to_string(ratio) + "\n", marked);
-  Target marks = startPass(scene, parent, finerWidth, finerHeight, Texel::R8, {{"source", varies}});
+  Target marks = startPass(scene, parent, finerWidth, finerHeight, {Texel::R8}, {{"source", varies}});
   drawOver(scene, marked, finerWidth, finerHeight, 0.0f);
   checkGl("refinement_marks parent");
   return marks;
@@ -172,15 +172,6 @@ Target drawRefinementMarks(const GpuScene& scene, unsigned coarser, int channels
 
 namespace {
 constexpr int kBudgetFactor = 16;  // candidates a side per fragment of STEP 5, totals of STEP 6
-// A budget pass over a fresh width × height target of `texels`, its textures bound.
-Target startBudgetPass(const GpuScene& scene, unsigned program, int width, int height, const std::vector<Texel>& texels,
-                       std::initializer_list<std::pair<const char*, unsigned>> textures) {
-  Target target = scene.target(width, height, texels, false);
-  target->bind();
-  glUseProgram(program);
-  bindTextures(program, textures);
-  return target;
-}
 unsigned budgetProgram(const GpuScene& scene, const std::string& key, const std::string& defines) {
   return scene.program("refinement_budget." + key, "fullscreen.vert", "refinement_budget.frag", defines);
 }
@@ -199,7 +190,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   const bool pcf = pcfSample != 0;
   const unsigned down = budgetProgram(scene, "2." + std::to_string(ratio) + (pcf ? ".pcf" : ""),
                                       "#define STEP 2\n#define PCF_SAMPLE " + std::string(pcf ? "1" : "0") + "\n" + shape);
-  Target columns = startBudgetPass(scene, down, fine.width, coarse.height, one,
+  Target columns = startPass(scene, down, fine.width, coarse.height, one,
                                    {{"stencil", finerStencil}, {"positionHit", positionHit0}});
   if (pcf) bindTextures(down, {{"pcfSample", pcfSample}}, 2);
   glUniform3ui(uniform(down, "prices"), r.units.paying, r.units.pcf, r.units.leaving);
@@ -213,7 +204,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
                       r.previousMarked.height == coarse.height;
   const unsigned keys = budgetProgram(scene, "3." + std::to_string(ratio) + (sticky ? ".h" : ""),
                                       "#define STEP 3\n#define HYSTERESIS " + std::string(sticky ? "1" : "0") + "\n" + shape);
-  out.candidates = startBudgetPass(scene, keys, coarse.width, coarse.height, one,
+  out.candidates = startPass(scene, keys, coarse.width, coarse.height, one,
                                    {{"columns", columns->texture(0)}, {"range", range}});
   glUniform1i(uniform(keys, "radius"), fine.blurRadius);
   glUniform1f(uniform(keys, "tau"), c.effectMask.posterior);
@@ -229,7 +220,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   const bool chained = before != nullptr;
   const unsigned begin = budgetProgram(scene, std::string("4.") + (chained ? "chained" : "first"),
                                        "#define STEP 4\n#define CHAINED " + std::string(chained ? "1" : "0") + "\n");
-  out.state = startBudgetPass(scene, begin, 1, 1, one, {});
+  out.state = startPass(scene, begin, 1, 1, one, {});
   glUniform1i(uniform(begin, "levelsLeft"), r.levelsLeft);
   if (chained) bindTextures(begin, {{"before", before->texture(0)}});
   else glUniform1ui(uniform(begin, "budget"), r.leftUnits);
@@ -242,19 +233,19 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   const unsigned decide = budgetProgram(scene, "7", "#define STEP 7\n");
   for (int stride = kBudgetKeys / kBudgetRadix; stride >= 1; stride /= kBudgetRadix) {
     int w = (coarse.width + kBudgetFactor - 1) / kBudgetFactor, h = (coarse.height + kBudgetFactor - 1) / kBudgetFactor;
-    Target sums = startBudgetPass(scene, totals, w, h, four,
+    Target sums = startPass(scene, totals, w, h, four,
                                   {{"state", out.state->texture(0)}, {"candidates", out.candidates->texture(0)}});
     glUniform1i(uniform(totals, "stride"), stride);
     scene.drawFullscreen();
     while (w > 1 || h > 1) {
       w = (w + kBudgetFactor - 1) / kBudgetFactor;
       h = (h + kBudgetFactor - 1) / kBudgetFactor;
-      sums = startBudgetPass(scene, reduce, w, h, four,
+      sums = startPass(scene, reduce, w, h, four,
                              {{"values0", sums->texture(0)}, {"values1", sums->texture(1)}, {"values2", sums->texture(2)},
                               {"values3", sums->texture(3)}});
       scene.drawFullscreen();
     }
-    out.state = startBudgetPass(scene, decide, 1, 1, one,
+    out.state = startPass(scene, decide, 1, 1, one,
                                 {{"state", out.state->texture(0)}, {"values0", sums->texture(0)}, {"values1", sums->texture(1)},
                                  {"values2", sums->texture(2)}, {"values3", sums->texture(3)}});
     glUniform1i(uniform(decide, "stride"), stride);
@@ -263,7 +254,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   }
   // 4c. the marks
   const unsigned mark = budgetProgram(scene, "8", "#define STEP 8\n");
-  out.marks = startBudgetPass(scene, mark, coarse.width, coarse.height, {Texel::R8},
+  out.marks = startPass(scene, mark, coarse.width, coarse.height, {Texel::R8},
                               {{"candidates", out.candidates->texture(0)}, {"state", out.state->texture(0)}});
   scene.drawFullscreen();
   checkGl("refinement_budget marks");
@@ -272,7 +263,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
 
 Target drawBudgetCounts(const GpuScene& scene, const BudgetedSelection& s) {
   const unsigned program = budgetProgram(scene, "9", "#define STEP 9\n");
-  Target t = startBudgetPass(scene, program, s.candidates->width(), s.candidates->height(), {Texel::Rgba32ui},
+  Target t = startPass(scene, program, s.candidates->width(), s.candidates->height(), {Texel::Rgba32ui},
                              {{"candidates", s.candidates->texture(0)}, {"state", s.state->texture(0)}});
   scene.drawFullscreen();
   checkGl("refinement_budget counts");

@@ -202,6 +202,8 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   TextureSet uploaded;
   const bool sticky = c.effectMask.hysteresis > 0.0f && r.previousMarked.width == coarse.width &&
                       r.previousMarked.height == coarse.height;
+  // uploaded before the pass binds its textures (an upload binds on the active unit)
+  const unsigned previous = sticky ? uploaded.add(uploadBinary(r.previousMarked)) : 0;
   const unsigned keys = budgetProgram(scene, "3." + std::to_string(ratio) + (sticky ? ".h" : ""),
                                       "#define STEP 3\n#define HYSTERESIS " + std::string(sticky ? "1" : "0") + "\n" + shape);
   out.candidates = startPass(scene, keys, coarse.width, coarse.height, one,
@@ -209,7 +211,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   glUniform1i(uniform(keys, "radius"), fine.blurRadius);
   glUniform1f(uniform(keys, "tau"), c.effectMask.posterior);
   if (sticky) {
-    bindTextures(keys, {{"previous", uploaded.add(uploadBinary(r.previousMarked))}}, 2);
+    bindTextures(keys, {{"previous", previous}}, 2);
     glUniform1f(uniform(keys, "keepTau"), (1.0f - c.effectMask.hysteresis) * c.effectMask.posterior);
     glUniform1ui(uniform(keys, "bonus"), hysteresisBonus(c.effectMask.hysteresis));
   }

@@ -117,6 +117,54 @@ TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
   }
 }
 
+// SPEC §14.2 on both paths along an orbit: the budget's second and third frames read each path's
+// previous selection (uploaded to the port's keys pass), and the port's marks are the oracle's
+// selection on the port's own v, prices and previous selection, exact; some candidates kept their
+// mark by the hysteresis, so the check is not vacuous.
+TEST(GpuEffectBudget, TheMarksHysteresisIsTheOraclesOnThePortsOwnHistory) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const CostModel model = CostModel::defaults("cpu");
+  for (const Effect e : {Effect::Ssao, Effect::Ssm}) {
+    Settings s = smallEffectFrame(e);
+    s.width = 161;
+    s.height = 97;
+    s.effectMask.cap = 4;
+    s.effectMask.posterior = 0.01f;
+    s.effectMask.budget = 0.85f;
+    s.effectMask.temporal = 0.5f;  // a previous frame, and so a previous selection
+    s.effectMask.hysteresis = 0.5f;
+    test::Rendered base = test::renderScene("builtin:demo", s);
+    const Constants k = makeConstants(s, base.framedSize);
+    const gpu::GpuRenderer port(*base.scene);
+    const std::vector<Camera> path = cameraPath(base.camera, "orbit", 12);
+    FrameHistory cpuHistory, portHistory;
+    FrameResult cpu, gpuFrame;
+    for (int t = 0; t < 3; ++t) {
+      RenderOptions co{true, {}, &model}, po{true, {}, &model};
+      if (!cpuHistory.empty()) co.history = &cpuHistory;
+      if (!portHistory.empty()) po.history = &portHistory;
+      cpu = base.renderer->render(path[static_cast<size_t>(t)], k, co);
+      gpuFrame = port.render(path[static_cast<size_t>(t)], k, po);
+      cpuHistory = cpu.history;
+      portHistory = gpuFrame.history;
+    }
+    const ParityResult r = compareFrames(cpu, gpuFrame, base.scene->light);
+    int64_t kept = 0;
+    for (int l = 0; l < kLevelCount; ++l) {
+      const RefinementRecord& rec = gpuFrame.refinement[static_cast<size_t>(l)];
+      if (!rec.budgeted) continue;
+      ASSERT_FALSE(rec.previousMarked.empty()) << "level " << l << ": no previous selection";
+      kept += rec.kept;
+      const StageRow* marks = r.row("marks.L" + std::to_string(l));
+      ASSERT_NE(marks, nullptr) << formatParityTable(r);
+      ASSERT_TRUE(marks->sameInput);
+      EXPECT_EQ(marks->sameInput->figures.maxAbs, 0.0) << toString(e) << " marks.L" << l << "\n" << formatParityTable(r);
+    }
+    EXPECT_GT(kept, 0) << toString(e) << ": no candidate kept its mark, the check would be vacuous";
+  }
+}
+
 // SPEC §14 on both paths along an orbit: each path carries its own history; on the third frame the
 // port's temporal term is the oracle's on the port's own blend, G-buffer, masks and history.
 TEST(GpuTemporal, TheTermIsTheOraclesOnThePortsOwnHistory) {

@@ -191,7 +191,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   const unsigned down = budgetProgram(scene, "2." + std::to_string(ratio) + (pcf ? ".pcf" : ""),
                                       "#define STEP 2\n#define PCF_SAMPLE " + std::string(pcf ? "1" : "0") + "\n" + shape);
   Target columns = startPass(scene, down, fine.width, coarse.height, one,
-                                   {{"stencil", finerStencil}, {"positionHit", positionHit0}});
+                             {{"stencil", finerStencil}, {"positionHit", positionHit0}});
   if (pcf) bindTextures(down, {{"pcfSample", pcfSample}}, 2);
   glUniform3ui(uniform(down, "prices"), r.units.paying, r.units.pcf, r.units.leaving);
   glUniform1i(uniform(down, "levelScale"), fine.scale);
@@ -207,7 +207,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   const unsigned keys = budgetProgram(scene, "3." + std::to_string(ratio) + (sticky ? ".h" : ""),
                                       "#define STEP 3\n#define HYSTERESIS " + std::string(sticky ? "1" : "0") + "\n" + shape);
   out.candidates = startPass(scene, keys, coarse.width, coarse.height, one,
-                                   {{"columns", columns->texture(0)}, {"range", range}});
+                             {{"columns", columns->texture(0)}, {"range", range}});
   glUniform1i(uniform(keys, "radius"), fine.blurRadius);
   glUniform1f(uniform(keys, "tau"), c.effectMask.posterior);
   if (sticky) {
@@ -236,20 +236,20 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   for (int stride = kBudgetKeys / kBudgetRadix; stride >= 1; stride /= kBudgetRadix) {
     int w = (coarse.width + kBudgetFactor - 1) / kBudgetFactor, h = (coarse.height + kBudgetFactor - 1) / kBudgetFactor;
     Target sums = startPass(scene, totals, w, h, four,
-                                  {{"state", out.state->texture(0)}, {"candidates", out.candidates->texture(0)}});
+                            {{"state", out.state->texture(0)}, {"candidates", out.candidates->texture(0)}});
     glUniform1i(uniform(totals, "stride"), stride);
     scene.drawFullscreen();
     while (w > 1 || h > 1) {
       w = (w + kBudgetFactor - 1) / kBudgetFactor;
       h = (h + kBudgetFactor - 1) / kBudgetFactor;
       sums = startPass(scene, reduce, w, h, four,
-                             {{"values0", sums->texture(0)}, {"values1", sums->texture(1)}, {"values2", sums->texture(2)},
-                              {"values3", sums->texture(3)}});
+                       {{"values0", sums->texture(0)}, {"values1", sums->texture(1)}, {"values2", sums->texture(2)},
+                        {"values3", sums->texture(3)}});
       scene.drawFullscreen();
     }
     out.state = startPass(scene, decide, 1, 1, one,
-                                {{"state", out.state->texture(0)}, {"values0", sums->texture(0)}, {"values1", sums->texture(1)},
-                                 {"values2", sums->texture(2)}, {"values3", sums->texture(3)}});
+                          {{"state", out.state->texture(0)}, {"values0", sums->texture(0)}, {"values1", sums->texture(1)},
+                           {"values2", sums->texture(2)}, {"values3", sums->texture(3)}});
     glUniform1i(uniform(decide, "stride"), stride);
     scene.drawFullscreen();
     checkGl("refinement_budget threshold");
@@ -257,7 +257,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
   // 4c. the marks
   const unsigned mark = budgetProgram(scene, "8", "#define STEP 8\n");
   out.marks = startPass(scene, mark, coarse.width, coarse.height, {Texel::R8},
-                              {{"candidates", out.candidates->texture(0)}, {"state", out.state->texture(0)}});
+                        {{"candidates", out.candidates->texture(0)}, {"state", out.state->texture(0)}});
   scene.drawFullscreen();
   checkGl("refinement_budget marks");
   return out;
@@ -266,7 +266,7 @@ BudgetedSelection drawBudgetedSelection(const GpuScene& scene, unsigned range, u
 Target drawBudgetCounts(const GpuScene& scene, const BudgetedSelection& s) {
   const unsigned program = budgetProgram(scene, "9", "#define STEP 9\n");
   Target t = startPass(scene, program, s.candidates->width(), s.candidates->height(), {Texel::Rgba32ui},
-                             {{"candidates", s.candidates->texture(0)}, {"state", s.state->texture(0)}});
+                       {{"candidates", s.candidates->texture(0)}, {"state", s.state->texture(0)}});
   scene.drawFullscreen();
   checkGl("refinement_budget counts");
   return t;

@@ -11,7 +11,6 @@
 #include "common/driver.h"
 #include "common/effect_budget.h"
 #include "common/error.h"
-#include "common/shader_constants.h"
 #include "common/stages.h"
 #include "gpu/bilateral.h"
 #include "gpu/blend.h"
@@ -415,16 +414,19 @@ class PortFrame final : public FrameBackend {
   }
 
  private:
-  // SPEC §12.4, after the clock: each budgeted level's state and counts in one small read, and
-  // its candidates' prices and marks where the stages are kept or the next frame's hysteresis
-  // reads them (as the oracle's record).
+  // SPEC §12.4, after the clock: each budgeted level's state and counts in one small read; its
+  // marks (step 9's, as the GPU drew them) where the next frame's hysteresis reads them, and its
+  // candidates' prices where the stages are kept (as the oracle's record).
   void readBudget(FrameResult& f) {
     CountBatch batch(scene_);
-    std::array<size_t, kLevelCount> at{};
+    std::array<size_t, kLevelCount> at{}, counted{};
+    size_t targets = 0;
     for (size_t l = 0; l < kLevelCount; ++l) {
       if (!f.refinement[l].budgeted || !budget_[l].state) continue;
       at[l] = batch.add(drawBudgetCounts(scene_, budget_[l]));
+      counted[l] = targets;
       batch.add(std::move(budget_[l].state));  // a 1×1 target sums to itself
+      targets += 2;
     }
     const std::vector<int64_t> values = batch.read();
     if (values.empty()) return;
@@ -441,17 +443,17 @@ class PortFrame final : public FrameBackend {
       r.candidates = counts[0];
       r.taken = counts[1];
       r.kept = counts[2];
-      if (wantMarks) {
-        const Framebuffer& cand = *budget_[l].candidates;
-        const std::vector<uint32_t> texels = cand.readUint(0);
-        r.candidatePrices.resize(texels.size() / 4);
-        ImageU8 marked(cand.width(), cand.height());
-        for (size_t k = 0; k < r.candidatePrices.size(); ++k) {
-          r.candidatePrices[k] = texels[4 * k];
-          marked.data[k] = texels[4 * k + 1] != static_cast<uint32_t>(kBudgetKeys) && texels[4 * k + 1] >= r.threshold;
-        }
+      if (wantMarks) {  // (candidate, marked, kept, 0) per candidate
+        const Target perCandidate = batch.take(counted[l]);
+        const std::vector<uint32_t> texels = perCandidate->readUint(0);
+        ImageU8 marked(perCandidate->width(), perCandidate->height());
+        for (size_t k = 0; k < marked.data.size(); ++k) marked.data[k] = static_cast<uint8_t>(texels[4 * k + 1]);
         f.levels[l].marked = std::move(marked);
-        if (!keep_) r.candidatePrices.clear();
+      }
+      if (keep_) {  // (price, key, before, 0)
+        const std::vector<uint32_t> texels = budget_[l].candidates->readUint(0);
+        r.candidatePrices.resize(texels.size() / 4);
+        for (size_t k = 0; k < r.candidatePrices.size(); ++k) r.candidatePrices[k] = texels[4 * k];
       }
     }
   }

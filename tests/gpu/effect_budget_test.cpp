@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <random>
+#include <utility>
 
 #include "common/cost_model.h"
 #include "common/stages.h"
@@ -117,6 +118,26 @@ TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
   }
 }
 
+// Three frames along an orbit on both paths, each path carrying its own history (SPEC §14): the
+// third frame of each, with the stages.
+std::pair<FrameResult, FrameResult> thirdFrameOfAnOrbit(const test::Rendered& base, const Constants& k,
+                                                        const CostModel& model) {
+  const gpu::GpuRenderer port(*base.scene);
+  const std::vector<Camera> path = cameraPath(base.camera, "orbit", 12);
+  FrameHistory cpuHistory, portHistory;
+  FrameResult cpu, gpuFrame;
+  for (int t = 0; t < 3; ++t) {
+    RenderOptions co{true, {}, &model}, po{true, {}, &model};
+    if (!cpuHistory.empty()) co.history = &cpuHistory;
+    if (!portHistory.empty()) po.history = &portHistory;
+    cpu = base.renderer->render(path[static_cast<size_t>(t)], k, co);
+    gpuFrame = port.render(path[static_cast<size_t>(t)], k, po);
+    cpuHistory = cpu.history;
+    portHistory = gpuFrame.history;
+  }
+  return {std::move(cpu), std::move(gpuFrame)};
+}
+
 // SPEC §14.2 on both paths along an orbit: the budget's second and third frames read each path's
 // previous selection (uploaded to the port's keys pass), and the port's marks are the oracle's
 // selection on the port's own v, prices and previous selection, exact; some candidates kept their
@@ -136,19 +157,7 @@ TEST(GpuEffectBudget, TheMarksHysteresisIsTheOraclesOnThePortsOwnHistory) {
     s.effectMask.hysteresis = 0.5f;
     test::Rendered base = test::renderScene("builtin:demo", s);
     const Constants k = makeConstants(s, base.framedSize);
-    const gpu::GpuRenderer port(*base.scene);
-    const std::vector<Camera> path = cameraPath(base.camera, "orbit", 12);
-    FrameHistory cpuHistory, portHistory;
-    FrameResult cpu, gpuFrame;
-    for (int t = 0; t < 3; ++t) {
-      RenderOptions co{true, {}, &model}, po{true, {}, &model};
-      if (!cpuHistory.empty()) co.history = &cpuHistory;
-      if (!portHistory.empty()) po.history = &portHistory;
-      cpu = base.renderer->render(path[static_cast<size_t>(t)], k, co);
-      gpuFrame = port.render(path[static_cast<size_t>(t)], k, po);
-      cpuHistory = cpu.history;
-      portHistory = gpuFrame.history;
-    }
+    const auto [cpu, gpuFrame] = thirdFrameOfAnOrbit(base, k, model);
     const ParityResult r = compareFrames(cpu, gpuFrame, base.scene->light);
     int64_t kept = 0;
     for (int l = 0; l < kLevelCount; ++l) {
@@ -176,19 +185,7 @@ TEST(GpuTemporal, TheTermIsTheOraclesOnThePortsOwnHistory) {
     s.effectMask.temporal = 0.6f;
     test::Rendered base = test::renderScene("builtin:demo", s);
     const Constants k = makeConstants(s, base.framedSize);
-    const gpu::GpuRenderer port(*base.scene);
-    const std::vector<Camera> path = cameraPath(base.camera, "orbit", 12);
-    FrameHistory cpuHistory, portHistory;
-    FrameResult cpu, gpuFrame;
-    for (int t = 0; t < 3; ++t) {
-      RenderOptions co{true, {}, &model}, po{true, {}, &model};
-      if (!cpuHistory.empty()) co.history = &cpuHistory;
-      if (!portHistory.empty()) po.history = &portHistory;
-      cpu = base.renderer->render(path[static_cast<size_t>(t)], k, co);
-      gpuFrame = port.render(path[static_cast<size_t>(t)], k, po);
-      cpuHistory = cpu.history;
-      portHistory = gpuFrame.history;
-    }
+    const auto [cpu, gpuFrame] = thirdFrameOfAnOrbit(base, k, model);
     ASSERT_FALSE(gpuFrame.temporal.empty());
     const ParityResult r = compareFrames(cpu, gpuFrame, base.scene->light);
     EXPECT_TRUE(r.pass()) << toString(e) << ": first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);

@@ -67,9 +67,11 @@ inline constexpr float kGrazingCosine = 1e-3f;
 // allows the coarsest level motionCap allows).
 inline constexpr float kMotionBehind = 1.0e9f;
 // The port's passes over a block map (gpu/gbuffer.cpp GpuScene::draw, blocks.geom): one point per
-// row of the map and segment of this many blocks, each becoming the rectangles of its runs (at
-// most one per two blocks: blocks.geom's max_vertices = 2 · 64 is a literal, as GLSL 3.30 wants).
-inline constexpr int kBlockSegment = 64;
+// row of the map and segment of this many blocks, each becoming the rectangles of its runs, cut
+// every 32 blocks (at most one per two blocks: blocks.geom's max_vertices = 2 · 128 is a literal,
+// as GLSL 3.30 wants, and 1,024 components, the least GL 3.3 allows). A segment's blocks are the
+// four 32-bit words of one texel (blocks.frag STEP 4 packs them).
+inline constexpr int kBlockSegment = 128;
 
 // mrr-effect's budget (docs/spec.md §12.4, common/effect_budget.h, refinement_budget.frag): a
 // candidate's priority is a key in [0, kBudgetKeys): the bits of v above its top kBudgetKeyBits

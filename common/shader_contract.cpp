@@ -87,14 +87,16 @@ const std::vector<ShaderContract>& shaderContracts() {
        "cpu_ref/blend.cpp: upsampleAt (bilinear over the four level texels with S = 1, renormalised) and blendStep "
        "with the erratum-corrected Eq. 1, c'_l = alpha_l c^_l + (1 - alpha_l) c'_(l+1), coarse to fine."},
       {"blocks.frag", "fragment", "blocks.*",
-       "STEP: 1 dilate, 2 pool, 3 maps; DX, DY: the box's half sides in blocks (step 1); UNITE: OR another map "
+       "STEP: 1 dilate, 2 pool, 3 maps, 4 pack (a row's blocks as bits, for blocks.geom); DX, DY: the box's half sides in blocks (step 1); UNITE: OR another map "
        "(step 1); FACTOR_X, FACTOR_Y: the pooled blocks' sides (step 2); OUTPUTS: the maps (step 3, 1-8); SPEC_k: "
        "map k's (ax, ay, bx, by), -1 no term (step 3); REACH_A, REACH_B: the largest a and b; FINE: read `fine`",
        {{"source", "sampler2D R8", "a block map (1: the block may hold work)"},
         {"also", "sampler2D R8", "step 1 with UNITE: a map of the output's grid, OR-ed in", -1, "STEP == 1 && UNITE"},
         {"fine", "sampler2D R8", "step 3 with FINE: the map of the grid twice as fine", -1, "STEP == 3 && FINE"}},
        {},
-       {{"result", "vec4 -> R8", "the block map: dilated (step 1), pooled (step 2), map 0 (step 3) in r", 0},
+       {{"result", "vec4 -> R8", "the block map: dilated (step 1), pooled (step 2), map 0 (step 3) in r", 0, "STEP != 4"},
+        {"packedBits", "uvec4 -> RGBA32UI", "step 4: bit k of component c of texel (i, y) = block (128 i + 32 c + k, y) set", 0,
+         "STEP == 4"},
         {"map1", "vec4 -> R8", "step 3: map 1", 1, "OUTPUTS > 1"},
         {"map2", "vec4 -> R8", "step 3: map 2", 2, "OUTPUTS > 2"},
         {"map3", "vec4 -> R8", "step 3: map 3", 3, "OUTPUTS > 3"},
@@ -106,17 +108,19 @@ const std::vector<ShaderContract>& shaderContracts() {
        "set where any under it is): the GPU-resident frame's block maps, which say where a pass has work; step 3: "
        "map k = nearBlocks(source, ax, ay) OR blocksOf(nearBlocks(fine, bx, by), 2)."},
       {"blocks.geom", "geometry", "every pass drawn over a block map (*.blocks)", "",
-       {{"blockMap", "sampler2D R8", "the block map whose runs are drawn (texture unit 15)"}},
-       {{"blockValue", "int", "the runs of blocks equal to it: 1 set, 0 clear"},
+       {},
+       {{"blockBits", "usampler2D RGBA32UI", "the block map whose runs are drawn, packed by blocks.frag step 4 (texture unit 15)"},
+        {"blockGrid", "ivec2", "the map's size in blocks"},
+        {"blockValue", "int", "the runs of blocks equal to it: 1 set, 0 clear"},
         {"blockSize", "int", "target pixels per block side"},
         {"targetSize", "vec2", "the target's size in pixels"}},
        {},
-       "gpu/masks.cpp blockRects: each row's runs of matching blocks (cut every 64 blocks), a run the row above "
+       "gpu/masks.cpp blockRects: each row's runs of matching blocks (cut every 32 blocks), a run the row above "
        "holds too drawn from there down to its last row, as rectangles clipped to the target; from the point "
        "blocks.vert gives (its segment and row, the flat varying segmentRow)."},
       {"blocks.vert", "vertex", "every pass drawn over a block map (*.blocks)", "",
        {},
-       {{"segments", "int", "segments of 64 blocks per row of the map"}},
+       {{"segments", "int", "segments of 128 blocks per row of the map"}},
        {},
        "none: one point per (segment, row) of the block map, gl_VertexID = row x segments + segment, for blocks.geom."},
       {"common.glsl", "include", "ssao, ssgi, hash", "", {}, {}, {},

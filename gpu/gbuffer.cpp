@@ -412,16 +412,44 @@ unsigned GpuScene::passProgram(const std::string& stage, const std::string& frag
 void GpuScene::draw(const Cover& cover, int width, int height) const {
   if (cover.rects) return drawRects(*cover.rects, width, height);
   if (!cover.blocks) return drawFullscreen();
-  // blocks.geom: a point per row of the map and segment of kBlockSegment blocks along it
-  static_assert(2 * kBlockSegment == 128, "blocks.geom's max_vertices");
+  // blocks.geom: a point per row of the map and segment of kBlockSegment blocks along it, which
+  // reads the map packed, a segment a texel of four words (blocks.frag STEP 4), drawn here first
+  static_assert(2 * kBlockSegment == 256 && kBlockSegment == 4 * 32, "blocks.geom's max_vertices and its four words a texel");
   constexpr int kBlockUnit = 15;  // the last unit GL 3.3 guarantees: the passes' own textures sit below
-  GLint current = 0;
+  GLint current = 0, framebuffer = 0, viewport[4] = {};
   glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+  glGetIntegerv(GL_VIEWPORT, viewport);
   const unsigned program = static_cast<unsigned>(current);
   const int segments = (cover.blockWidth + kBlockSegment - 1) / kBlockSegment;
-  glActiveTexture(GL_TEXTURE0 + kBlockUnit);
+  glActiveTexture(GL_TEXTURE0 + kBlockUnit);  // a new target's texture binds there, not over a pass's own
+  const Target packed = target(segments, cover.blockHeight, {Texel::Rgba32ui}, false);
+  packed->bind();
+  const unsigned pack = this->program("blocks.pack", "fullscreen.vert", "blocks.frag", "#define STEP 4\n#define UNITE 0\n");
+  glUseProgram(pack);
   glBindTexture(GL_TEXTURE_2D, cover.blocks);
-  glUniform1i(uniform(program, "blockMap"), kBlockUnit);
+  glUniform1i(uniform(pack, "source"), kBlockUnit);
+  // the caller's pass may have set tests and masks for its own target (the stencil fill writes no
+  // colour): the pack is drawn without them
+  GLboolean colorMask[4] = {};
+  glGetBooleanv(GL_COLOR_WRITEMASK, colorMask);
+  const GLenum tests[] = {GL_STENCIL_TEST, GL_DEPTH_TEST, GL_SCISSOR_TEST, GL_BLEND};
+  bool enabled[4] = {};
+  for (size_t i = 0; i < 4; ++i) {
+    enabled[i] = glIsEnabled(tests[i]) == GL_TRUE;
+    glDisable(tests[i]);
+  }
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  drawFullscreen();
+  glColorMask(colorMask[0], colorMask[1], colorMask[2], colorMask[3]);
+  for (size_t i = 0; i < 4; ++i)
+    if (enabled[i]) glEnable(tests[i]);
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(framebuffer));
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glUseProgram(program);
+  glBindTexture(GL_TEXTURE_2D, packed->texture(0));
+  glUniform1i(uniform(program, "blockBits"), kBlockUnit);
+  glUniform2i(uniform(program, "blockGrid"), cover.blockWidth, cover.blockHeight);
   glUniform1i(uniform(program, "blockValue"), cover.value);
   glUniform1i(uniform(program, "blockSize"), cover.blockSize);
   glUniform1i(uniform(program, "segments"), segments);

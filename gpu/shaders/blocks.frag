@@ -14,6 +14,9 @@
 //     block's 2×2 children: nearBlocks of `source`, OR blocksOf(nearBlocks of `fine`, 2). A union
 //     of boxes about one block is the largest box, so a dilation of a dilation, and the masks'
 //     closure of several levels' supports, are one term each.
+//   STEP 4 pack: bit k of component c of output texel (i, y) is 1 where block (i kBlockSegment +
+//     32 c + k, y) of `source` is set: a row's segments as four words each, which blocks.geom reads
+//     (GpuScene::draw packs a map before each pass drawn over its runs)
 uniform sampler2D source;  // a block map
 #if STEP == 1 && UNITE
 uniform sampler2D also;    // step 1: a block map of the output's grid, OR-ed in
@@ -21,7 +24,11 @@ uniform sampler2D also;    // step 1: a block map of the output's grid, OR-ed in
 #if STEP == 3 && FINE
 uniform sampler2D fine;    // step 3: the map of the grid twice as fine
 #endif
+#if STEP == 4
+layout(location = 0) out uvec4 packedBits;
+#else
 layout(location = 0) out vec4 result;
+#endif
 #if STEP == 3
 #if OUTPUTS > 1
 layout(location = 1) out vec4 map1;
@@ -63,6 +70,14 @@ void main() {
     for (int i = 0; i < FACTOR_X; ++i)
       set = max(set, texelFetch(source, min(p * ivec2(FACTOR_X, FACTOR_Y) + ivec2(i, j), last), 0).r);
   result = vec4(set > 0.5 ? 1.0 : 0.0, 0.0, 0.0, 1.0);
+#elif STEP == 4
+  uvec4 bits = uvec4(0u);
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 32; ++k) {
+      int x = p.x * kBlockSegment + 32 * c + k;
+      if (x <= last.x && texelFetch(source, ivec2(x, p.y), 0).r > 0.5) bits[c] |= 1u << uint(k);
+    }
+  packedBits = bits;
 #else
   // one scan of each window, every map's box tested against each set block found
   const ivec4 kSpecs[8] = ivec4[8](SPEC_0, SPEC_1, SPEC_2, SPEC_3, SPEC_4, SPEC_5, SPEC_6, SPEC_7);

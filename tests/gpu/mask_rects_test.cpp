@@ -59,7 +59,7 @@ TEST(GpuBlockMaps, EqualTheHostsAndTheirRunsCoverEachBlockOnce) {
   Scene empty;
   const gpu::GpuScene scene(empty);
   std::mt19937 rng(5);
-  const int w = 150, h = 45;  // more than two segments of 64 blocks a row
+  const int w = 300, h = 45;  // more than two segments of 128 blocks a row, and runs cut at their words
   const ImageU8 blocks = sparseMask(w, h, 60, rng), other = sparseMask(w, h, 20, rng);
   const gpu::Target map = targetOf(scene, blocks), otherMap = targetOf(scene, other);
   for (const auto& [dx, dy] : {std::pair{0, 0}, {1, 0}, {0, 2}, {3, 1}}) {
@@ -94,30 +94,46 @@ TEST(GpuBlockMaps, EqualTheHostsAndTheirRunsCoverEachBlockOnce) {
     for (int x = 0; x < w; ++x) rows.at(x / 8, y) |= blocks.at(x, y);
   EXPECT_EQ(gpu::poolBlocks(scene, *map, 8, 1)->readBinary(0).data, rows.data);
   // the runs of set (clear) blocks, blockSize 3 on a target cut short of the grid: every pixel of
-  // a matching block drawn exactly once (additive blending counts), no other pixel
+  // a matching block drawn exactly once (additive blending counts), no other pixel. The sparse map,
+  // and one of bands: boxes across the 32-block words and the 128-block segments blocks.geom reads
+  // at once, tall enough to be drawn from their first row, one ending at the grid's last column,
+  // and a row of alternating blocks (the most runs a segment holds)
+  ImageU8 bands(w, h);
+  for (const glm::ivec4& box : {glm::ivec4(20, 3, 150, 20), glm::ivec4(31, 22, 33, 44), glm::ivec4(250, 0, w, 45)})
+    for (int y = box.y; y < box.w; ++y)
+      for (int x = box.x; x < box.z; ++x) bands.at(x, y) = 1;
+  for (int x = 0; x < w; x += 2) bands.at(x, 21) = 1;
+  const gpu::Target bandMap = targetOf(scene, bands);
   const int size = 3, tw = w * size - 2, th = h * size - 1;
   const unsigned program = gpu::compileProgramFromSource(
       "blocks test", "blocks.vert", gpu::shaderSource("blocks.vert"), "count.frag",
       "#version 330 core\nlayout(location = 0) out vec4 count;\nvoid main() { count = vec4(1.0); }\n");
-  for (int value : {1, 0}) {
-    const gpu::Target target = scene.target(tw, th, 1, false, gpu::Texel::R32f);
-    target->bind();
-    const float zero[4] = {0, 0, 0, 0};
-    glClearBufferfv(GL_COLOR, 0, zero);
-    glUseProgram(program);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    scene.draw(gpu::Cover::blocksOf(*map, size, value), tw, th);
-    glDisable(GL_BLEND);
-    const ImageF drawn = target->read(0, 1);
-    int wrong = 0;
-    for (int y = 0; y < th; ++y)
-      for (int x = 0; x < tw; ++x) {
-        const float want = (blocks.at(x / size, y / size) != 0) == (value != 0) ? 1.0f : 0.0f;
-        wrong += drawn.at(x, y) != want;
-      }
-    EXPECT_EQ(wrong, 0) << "blocks of value " << value;
-  }
+  for (const auto& [source, texture] : {std::pair{&blocks, map->texture(0)}, {&bands, bandMap->texture(0)}})
+    for (int value : {1, 0}) {
+      const gpu::Target target = scene.target(tw, th, 1, false, gpu::Texel::R32f);
+      target->bind();
+      const float zero[4] = {0, 0, 0, 0};
+      glClearBufferfv(GL_COLOR, 0, zero);
+      glUseProgram(program);
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      gpu::Cover cover;
+      cover.blocks = texture;
+      cover.blockWidth = w;
+      cover.blockHeight = h;
+      cover.blockSize = size;
+      cover.value = value;
+      scene.draw(cover, tw, th);
+      glDisable(GL_BLEND);
+      const ImageF drawn = target->read(0, 1);
+      int wrong = 0;
+      for (int y = 0; y < th; ++y)
+        for (int x = 0; x < tw; ++x) {
+          const float want = (source->at(x / size, y / size) != 0) == (value != 0) ? 1.0f : 0.0f;
+          wrong += drawn.at(x, y) != want;
+        }
+      EXPECT_EQ(wrong, 0) << (source == &blocks ? "sparse" : "bands") << " map, blocks of value " << value;
+    }
   glDeleteProgram(program);
 }
 

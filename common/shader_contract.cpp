@@ -165,18 +165,25 @@ const std::vector<ShaderContract>& shaderContracts() {
        {},
        "common/scene.cpp cutoutTexel and Cutout::opaqueAt (docs/spec.md 1.1): the texel floor(t n), wrapped; the "
        "oracle refuses hits on transparent texels in an Embree filter function."},
+      {"edge_test.glsl", "include", "edges, edgesample, rule.1 (its hits; with WITH_SAMPLE the edge sample)", "",
+       {{"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth (0 on sky: a pixel is on geometry where it is > 0)"},
+        {"shadowLit", "sampler2D R8", "the one-tap shadow test per pixel, 1 lit", -1, "SHADOW_EDGES"}},
+       {{"normalThreshold", "float", "the normal-edge threshold on 1 - N.N' (Settings::edges, common/params.h)"},
+        {"depthThreshold", "float", "the depth-edge threshold on |second difference of 1/z| / (1/z) (Settings::edges)"}},
+       {},
+       "cpu_ref/edges.cpp edgeAt: normal edges (1 - N.N' > the normal threshold over the 4-neighbourhood), depth edges "
+       "(second difference of 1/z), background edges (hit next to sky), SSM's shadow edges, from a pixel's texel and "
+       "its 4-neighbours' (edgeKindsOf) or read here (edgeAt)."},
       {"edges.frag", "fragment", "edges, edges.shadow, edges.E, edgesample, edgesample.shadow",
        "SHADOW_EDGES: the shadow kind too (SSM); E_ONLY: E alone in r of an R8 target; EDGE_SAMPLE: the never-slower "
        "rule's edge sample: E at each 8x8 block's diagonal pixels, a block's eight side by side on a (W/8)*8 x H/8 "
        "target, ORed per block by the host (cpu_ref/edges.cpp edgeSample)",
-       {{"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth (0 on sky)"},
-        {"shadowLit", "sampler2D R8", "the one-tap shadow test per pixel, 1 lit", -1, "SHADOW_EDGES"}},
-       {{"normalThreshold", "float", "the normal-edge threshold on 1 - N.N' (Settings::edges, common/params.h)"},
-        {"depthThreshold", "float", "the depth-edge threshold on |second difference of 1/z| / (1/z) (Settings::edges)"}},
+       {},
+       {},
        {{"edges", "vec4 -> RGBA8 (E_ONLY, EDGE_SAMPLE: R8)", "(normal, depth, background, E), 0 or 1 each; EDGE_SAMPLE: (E at a diagonal pixel, 0, 0, 1)", 0},
         {"shadowEdge", "vec4 -> RGBA8", "(shadow edge, 0, 0, 1)", 1, "SHADOW_EDGES without EDGE_SAMPLE"}},
-       "cpu_ref/edges.cpp detectEdges: normal edges (1 - N.N' > the normal threshold over the 4-neighbourhood), depth edges (second "
-       "difference of 1/z), background edges (hit next to sky), SSM's shadow edges; E is their OR."},
+       "cpu_ref/edges.cpp detectEdges: the edge test of edge_test.glsl (its inputs and uniforms) at every pixel, or "
+       "at the edge sample's; E is the OR of the kinds."},
       {"fullscreen.vert", "vertex", "every image-space pass", "",
        {{"corner", "vec2", "useRects: a rectangle corner in target pixels", 0}},
        {{"useRects", "bool", "draw the given pixel rectangles instead of one full-screen triangle"},
@@ -383,15 +390,12 @@ const std::vector<ShaderContract>& shaderContracts() {
        "a level-l pixel p is marked where v(floor(p / 2^(n-l))) > tau_v, or where §12.4's budget selected its parent. "
        "SPEC §13's limit is then masks.frag STEP 5."},
       {"rule.frag", "fragment", "rule.*",
-       "STEP: 1 hits, 2 reach, 3 stencils, 4 shaded; WITH_PCF: SSM's PCF sample is read; WITH_SAMPLE: the edge "
-       "sample's diagonals are read (step 1); WITH_HIT_BITS: step 3 reads the hits from step 1's bits; LEVEL: l "
-       "(step 4)",
-       {{"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w (padded full res)", -1,
-         "!(STEP == 3 && WITH_HIT_BITS)"},
-
+       "STEP: 1 hits, 2 reach, 3 stencils, 4 shaded; WITH_PCF: SSM's PCF sample is read; WITH_SAMPLE: step 1 tests "
+       "the edge sample's diagonal pixels (edge_test.glsl, with SHADOW_EDGES for SSM); WITH_HIT_BITS: step 3 reads "
+       "the hits from step 1's bits; LEVEL: l (step 4)",
+       {{"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w (padded full res); step 1 reads "
+         "edge_test.glsl's normalDepth", -1, "(STEP == 3 && !WITH_HIT_BITS) || STEP == 4"},
         {"pcfSample", "sampler2D R8", "SSM: what PCSS pays per 8 x 8 block, the byte / 255", -1, "WITH_PCF"},
-        {"edgeSample", "sampler2D R8", "step 1: E at each block's 8 diagonal pixels, side by side in a row", -1,
-         "STEP == 1 && WITH_SAMPLE"},
         {"stencil0", "sampler2D R8", "step 3: S_0", -1, "STEP == 3"},
         {"stencil1", "sampler2D R8", "step 3: S_1", -1, "STEP == 3"},
         {"stencil2", "sampler2D R8", "step 3: S_2", -1, "STEP == 3"},

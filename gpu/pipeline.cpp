@@ -107,16 +107,18 @@ class PortFrame final : public FrameBackend {
   }
 
   // SPEC §11's counts, on the GPU (gpu/rule.h): the same counts as the host's (common/frame.h),
-  // a small read at each decision. The edge sample is drawn before the floor is known, so that
-  // the early decision takes one read; where the floor rules the method out it is not counted.
+  // a small read at each decision. The edge sample is tested in the same pass as the hits, before
+  // the floor is known, so that the early decision takes one read; where the floor rules the
+  // method out it is not counted. --stages draws it apart too, to read it back.
   void countEarly(FrameResult& f, const std::function<bool(const FrameCounts&)>& wantSample) override {
     const unsigned shadowEdges = f.constants.effect == Effect::Ssm ? shadowTest_->texture(0) : 0;
-    Target sample;
-    if (wantSample) sample = drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges);
-    f.edgeSampled = gpu::countEarly(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0,
-                                    sample ? sample->texture(0) : 0, f.constants, f.counts, wantSample, &hitBits_);
+    EdgeSampleInputs sample;
+    if (wantSample) sample = {&f.constants.edges, shadowEdges};
+    f.edgeSampled = gpu::countEarly(scene_, *gbuffers_[0], pcfSample_ ? pcfSample_->texture(0) : 0, sample,
+                                    f.constants, f.counts, wantSample, &hitBits_);
     hitsCounted_ = true;  // H, which the report's idealSpeedupHit needs too
-    if (keep_ && f.edgeSampled) f.edgeSample = readEdgeSample(*sample);
+    if (keep_ && f.edgeSampled)
+      f.edgeSample = readEdgeSample(*drawEdgeSample(scene_, *gbuffers_[0], f.constants.edges, shadowEdges));
   }
   void countStencils(FrameResult& f, const FrameMasks& masks) override {
     const std::shared_ptr<MaskTargets> targets = targetsOf(f, masks);

@@ -18,13 +18,13 @@ static_assert(kBlock == 8 && kPcfSampleStep == 8 && kLevelCount == 4, "rule.frag
 // A rule.frag pass over the per-block grid of the padded full-res grid (width × height blocks).
 Target rulePass(const GpuScene& scene, int step, bool withPcf, int targets, int width, int height,
                 const std::function<void(unsigned)>& setInputs, int level = -1, bool withSample = false,
-                bool withHitBits = false) {
+                bool withHitBits = false, bool shadowEdges = false) {
   const std::string defines = (level >= 0 ? "#define LEVEL " + std::to_string(level) + "\n" : "") +
                               "#define WITH_SAMPLE " + (withSample ? "1" : "0") + "\n#define WITH_HIT_BITS " +
-                              (withHitBits ? "1" : "0") + "\n";
+                              (withHitBits ? "1" : "0") + "\n" + (shadowEdges ? "#define SHADOW_EDGES\n" : "");
   const unsigned program = scene.program("rule." + std::to_string(step) + (withPcf ? ".pcf" : "") +
-                                             (withSample ? ".sample" : "") + (withHitBits ? ".bits" : "") +
-                                             (level >= 0 ? ".L" + std::to_string(level) : ""),
+                                             (withSample ? ".sample" : "") + (shadowEdges ? ".shadow" : "") +
+                                             (withHitBits ? ".bits" : "") + (level >= 0 ? ".L" + std::to_string(level) : ""),
                                          "fullscreen.vert", "rule.frag",
                                          "#define STEP " + std::to_string(step) + "\n#define WITH_PCF " +
                                              (withPcf ? "1" : "0") + "\n" + defines);
@@ -37,16 +37,21 @@ Target rulePass(const GpuScene& scene, int step, bool withPcf, int targets, int 
   return target;
 }
 
-// STEP 1 (countHits' counts per block; with the edge sample's diagonals, Ê per block too).
-Target drawHits(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
+// STEP 1 (countHits' counts per block; with the edge sample, Ê per block too).
+Target drawHits(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, const EdgeSampleInputs& sample,
                 const Constants& c) {
+  const bool withSample = sample.settings != nullptr;
   return rulePass(scene, 1, pcfSample != 0, 3, gbuffer0.width() / kBlock, gbuffer0.height() / kBlock, [&](unsigned p) {
-    bindTextures(p, {{"positionHit", gbuffer0.texture(0)}});
+    bindTextures(p, {{"normalDepth", gbuffer0.texture(1)}});
     int unit = 1;
     if (pcfSample) bindTextures(p, {{"pcfSample", pcfSample}}, unit++);
-    if (edgeSample) bindTextures(p, {{"edgeSample", edgeSample}}, unit++);
+    if (withSample) {
+      glUniform1f(uniform(p, "normalThreshold"), sample.settings->normalThreshold);
+      glUniform1f(uniform(p, "depthThreshold"), sample.settings->depthThreshold);
+      if (sample.shadowLit) bindTextures(p, {{"shadowLit", sample.shadowLit}}, unit++);
+    }
     glUniform2i(uniform(p, "frame"), c.width, c.height);
-  }, -1, edgeSample != 0);
+  }, -1, withSample, false, withSample && sample.shadowLit != 0);
 }
 
 // H, H_a, H_p, F and B_ℓ from STEP 1's sums (values[first..first+8)), as countHits sets them.
@@ -60,7 +65,7 @@ void takeHits(const std::vector<int64_t>& v, size_t first, const Constants& c, F
 }
 }  // namespace
 
-bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
+bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, const EdgeSampleInputs& sample,
                 const Constants& c, FrameCounts& n, const std::function<bool(const FrameCounts&)>& wantSample,
                 Target* hitBits) {
   n.hitPixels = n.searchedPixels = n.pcfPixels = n.searchedFootprint = 0;
@@ -68,10 +73,11 @@ bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcf
   n.edgeBlocks = 0;
   n.reach = n.reachHits = {};
   CountBatch batch(scene);
-  Target hits = drawHits(scene, gbuffer0, pcfSample, edgeSample, c);
+  Target hits = drawHits(scene, gbuffer0, pcfSample, sample, c);
   const unsigned hitsPerBlock = hits->texture(2);
   Target reach;
-  if (edgeSample) {
+  const bool sampled = sample.settings != nullptr;
+  if (sampled) {
     // R_ℓ: the union of the boxes of every level ℓ' ≤ ℓ below the coarsest enabled one, each
     // ceil(r_ℓ' / b_ℓ') blocks (nearBlocks), b_ℓ' = 8 / s_ℓ' its pixels per block side
     int reachBlocks[3] = {-1, -1, -1};
@@ -94,7 +100,7 @@ bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcf
   const std::vector<int64_t> v = batch.read();
   if (hitBits) *hitBits = batch.take(0);  // step 1's targets: counts2 holds each block's hit bits
   takeHits(v, hitsAt, c, n);
-  if (!edgeSample || !wantSample || !wantSample(n)) return false;
+  if (!sampled || !wantSample || !wantSample(n)) return false;
   n.edgeBlocks = v[reachAt];
   for (const LevelConstants& lc : c.levels) {
     if (lc.index >= c.coarsestEnabled || lc.index >= 3) break;
@@ -162,7 +168,7 @@ void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::
   if (finalCounts && hitPixels < 0) countStencils(scene, gbuffer0, pcfSample, stencils, c, *finalCounts, hitBits);
   const bool together = finalCounts && hitPixels >= 0;
   const size_t finalAt = together ? addStencilCounts(batch, scene, gbuffer0, pcfSample, stencils, c, hitBits) : 0;
-  const size_t hitsAt = hitPixels < 0 ? batch.add(drawHits(scene, gbuffer0, 0, 0, c)) : 0;  // H, unless known
+  const size_t hitsAt = hitPixels < 0 ? batch.add(drawHits(scene, gbuffer0, 0, {}, c)) : 0;  // H, unless known
   std::array<size_t, kLevelCount> at{};
   for (int l = 0; l < kLevelCount; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];

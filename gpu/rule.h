@@ -10,17 +10,25 @@
 
 #include "common/cost_model.h"
 #include "common/frame.h"
+#include "common/params.h"
 #include "gpu/gbuffer.h"
 
 namespace mrr::gpu {
 
+// The edge sample countEarly tests itself (rule.frag step 1 WITH_SAMPLE: SPEC §2's edge test at
+// each 8×8 block's diagonal pixels, from the G-buffer rows it reads for the hits): the thresholds
+// and, SSM, the one-tap shadow test's target (0: no shadow edges). No settings: no sample.
+struct EdgeSampleInputs {
+  const EdgeSettings* settings = nullptr;
+  unsigned shadowLit = 0;
+};
+
 // countHits into `counts` (H, H_a, H_p, F, B_ℓ) from level 0's G-buffer and, SSM, the PCF sample
-// (`pcfSample`: ssm.frag PCF_SAMPLE's R8 target, or 0: none). Then, with `edgeSample` (edges.frag
-// EDGE_SAMPLE's diagonals, gpu/edges.h drawEdgeSample; 0: none) and where `wantSample(counts)`
-// says so, countEdgeSample's Ê, R_ℓ and their hit pixels; returns whether it counted them. Both
-// in one small read. With `hitBits`, step 1's target comes back (its counts2 holds each 8×8
-// block's 64 hit bits in z, w) for countStencils.
-bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, unsigned edgeSample,
+// (`pcfSample`: ssm.frag PCF_SAMPLE's R8 target, or 0: none). Then, with `sample` and where
+// `wantSample(counts)` says so, countEdgeSample's Ê, R_ℓ and their hit pixels; returns whether it
+// counted them. Both in one small read. With `hitBits`, step 1's target comes back (its counts2
+// holds each 8×8 block's 64 hit bits in z, w) for countStencils.
+bool countEarly(const GpuScene& scene, const Framebuffer& gbuffer0, unsigned pcfSample, const EdgeSampleInputs& sample,
                 const Constants& constants, FrameCounts& counts,
                 const std::function<bool(const FrameCounts&)>& wantSample,
                 Target* hitBits = nullptr);

@@ -7,7 +7,10 @@
 //     2×2, 4×4 and 8×8 blocks holding a silhouette pixel (counts1); the block's hit pixels over
 //     the padded grid, Ê: it holds a silhouette pixel or (WITH_SAMPLE) its diagonal an edge, and
 //     its 64 hit bits, rows 0–3 in z and 4–7 in w, 8 a row, column i at bit i (counts2). A row of
-//     the block and its border is 10 bits, so a pixel's 4-neighbours are shifts.
+//     the block and its border is 10 bits, so a pixel's 4-neighbours are shifts. A pixel is on
+//     geometry where its depth is > 0 (edge_test.glsl isHit). WITH_SAMPLE tests SPEC §2's edge at
+//     the block's 8 diagonal pixels (the edge sample, countEdgeSample; edges.frag EDGE_SAMPLE draws
+//     the same for --stages) from the texels the rows already read.
 //   STEP 2 reach (countEdgeSample): per level ℓ < 3, R_ℓ: Ê within reachBlocks[ℓ] blocks (the
 //     union of the finer levels' boxes); counts0 (Ê, R_0, R_1, R_2), counts1 (the hit pixels of
 //     R_0, R_1, R_2)
@@ -20,7 +23,7 @@
 // levelPixelHit); a full-res pixel pays what its 8×8 block's PCF sample says (pcfSampleValue).
 #if STEP == 3 && WITH_HIT_BITS
 uniform usampler2D hitBits;     // step 1's counts2: each block's 64 hit bits in z, w
-#else
+#elif STEP == 3 || STEP == 4
 uniform sampler2D positionHit;  // level 0's G-buffer: hit in w (padded full res)
 #endif
 #if WITH_PCF
@@ -37,7 +40,7 @@ layout(location = 2) out uvec4 counts2;
 layout(location = 3) out uvec4 counts3;
 #endif
 
-#if !(STEP == 3 && WITH_HIT_BITS)
+#if (STEP == 3 && !WITH_HIT_BITS) || STEP == 4
 bool hitAt(ivec2 q) { return texelFetch(positionHit, q, 0).w > 0.5; }
 #endif
 
@@ -52,16 +55,19 @@ ivec2 pays(ivec2 b) {
 }
 
 #if STEP == 1
+#include "edge_test.glsl"  // normalDepth (level 0's G-buffer), isHit; WITH_SAMPLE: SPEC §2's test
 uniform ivec2 frame;  // W×H
-#if WITH_SAMPLE
-uniform sampler2D edgeSample;  // edges.frag EDGE_SAMPLE: a block's eight diagonal pixels side by side in a row
-#endif
 // 10 hit flags of row y as bits (bit i: column o.x − 1 + i), clamped to the image: a 4-neighbour
-// outside it is the pixel itself, as countHits takes it
-uint rowBits(ivec2 o, int y, ivec2 last) {
-  int yc = clamp(y, 0, last.y);
+// outside it is the pixel itself, as countHits takes it. `near` gets the texels of columns
+// o.x + r − 1 … o.x + r + 1, r = y − o.y: the row's part of the edge test at diagonal pixels.
+uint rowBits(ivec2 o, int y, ivec2 last, out vec4 near[3]) {
+  int yc = clamp(y, 0, last.y), r = y - o.y;
   uint bits = 0u;
-  for (int i = 0; i < 10; ++i) bits |= hitAt(ivec2(clamp(o.x - 1 + i, 0, last.x), yc)) ? 1u << uint(i) : 0u;
+  for (int i = 0; i < 10; ++i) {
+    vec4 texel = texelFetch(normalDepth, ivec2(clamp(o.x - 1 + i, 0, last.x), yc), 0);
+    bits |= isHit(texel) ? 1u << uint(i) : 0u;
+    if (i - r >= 0 && i - r < 3) near[i - r] = texel;
+  }
   return bits;
 }
 uint ones(uint v) {  // the set bits of v (GLSL 3.30 has no bitCount)
@@ -70,14 +76,22 @@ uint ones(uint v) {  // the set bits of v (GLSL 3.30 has no bitCount)
   return (((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24;
 }
 void main() {
-  ivec2 b = ivec2(gl_FragCoord.xy), o = b * 8, last = textureSize(positionHit, 0) - 1;
+  ivec2 b = ivec2(gl_FragCoord.xy), o = b * 8, last = textureSize(normalDepth, 0) - 1;
   uint inW = (1u << uint(clamp(frame.x - o.x, 0, 8))) - 1u;  // the block's columns inside W, bits 0–7
   uint hits = 0u, padded = 0u, b0 = 0u, b1 = 0u, b2 = 0u;
   uint pair = 0u, quad0 = 0u, quad1 = 0u;  // silhouette bits OR-ed over row pairs and row quads
-  uint up = rowBits(o, o.y - 1, last), cur = rowBits(o, o.y, last);
+  vec4 upNear[3], nearHere[3], downNear[3];  // rows j − 1, j, j + 1 about column j (rowBits)
+  uint up = rowBits(o, o.y - 1, last, upNear), cur = rowBits(o, o.y, last, nearHere);
   uvec2 blockBits = uvec2(0u);  // rows 0–3, rows 4–7
+  bool diagonalEdge = false;    // E at a diagonal pixel (WITH_SAMPLE)
   for (int j = 0; j < 8; ++j) {
-    uint down = rowBits(o, o.y + j + 1, last);
+    uint down = rowBits(o, o.y + j + 1, last, downNear);
+#if WITH_SAMPLE
+    // the edge sample: E at the diagonal pixel (j, j), from its texel and its 4-neighbours'
+    ivec2 q = o + ivec2(j);
+    vec4 neighbour[4] = vec4[4](nearHere[0], nearHere[2], upNear[2], downNear[0]);
+    diagonalEdge = diagonalEdge || (inside(q, last + 1) && anyKind(edgeKindsOf(q, last + 1, nearHere[1], neighbour)));
+#endif
     uint row = (cur >> 1) & 0xFFu;  // the block's 8 columns
     if (j < 4) blockBits.x |= row << uint(8 * j); else blockBits.y |= row << uint(8 * (j - 4));
     padded += ones(row);
@@ -94,6 +108,8 @@ void main() {
     }
     up = cur;
     cur = down;
+    upNear = nearHere;
+    nearHere = downNear;
   }
   b2 = ones((quad0 | quad0 >> 1 | quad0 >> 2 | quad0 >> 3) & 0x11u) + ones((quad1 | quad1 >> 1 | quad1 >> 2 | quad1 >> 3) & 0x11u);
   bool any3 = (quad0 | quad1) != 0u;
@@ -106,10 +122,7 @@ void main() {
   uint footprint = 0u;  // F without a sample: none
 #endif
   // Ê for step 2: a silhouette block, or (with the sample) one whose diagonal holds an edge
-  bool sampled = any3;
-#if WITH_SAMPLE
-  for (int i = 0; i < 8; ++i) sampled = sampled || texelFetch(edgeSample, ivec2(b.x * 8 + i, b.y), 0).r > 0.5;
-#endif
+  bool sampled = any3 || diagonalEdge;
   counts0 = uvec4(hits, searched, pcf, footprint);
   counts1 = uvec4(b0, b1, b2, any3 ? 1u : 0u);
   counts2 = uvec4(padded, sampled ? 1u : 0u, blockBits);

@@ -172,8 +172,8 @@ const std::vector<ShaderContract>& shaderContracts() {
         {"depthThreshold", "float", "the depth-edge threshold on |second difference of 1/z| / (1/z) (Settings::edges)"}},
        {},
        "cpu_ref/edges.cpp edgeAt: normal edges (1 - N.N' > the normal threshold over the 4-neighbourhood), depth edges "
-       "(second difference of 1/z), background edges (hit next to sky), SSM's shadow edges, from a pixel's texel and "
-       "its 4-neighbours' (edgeKindsOf) or read here (edgeAt)."},
+       "(second difference of 1/z), background edges (hit next to sky) and SSM's shadow edges at one pixel (edgeAt), "
+       "from its texel and its 4-neighbours'; anyKind: E."},
       {"edges.frag", "fragment", "edges, edges.shadow, edges.E, edgesample, edgesample.shadow",
        "SHADOW_EDGES: the shadow kind too (SSM); E_ONLY: E alone in r of an R8 target; EDGE_SAMPLE: the never-slower "
        "rule's edge sample: E at each 8x8 block's diagonal pixels, a block's eight side by side on a (W/8)*8 x H/8 "

@@ -10,7 +10,7 @@
 //     the block and its border is 10 bits, so a pixel's 4-neighbours are shifts. A pixel is on
 //     geometry where its depth is > 0 (edge_test.glsl isHit). WITH_SAMPLE tests SPEC §2's edge at
 //     the block's 8 diagonal pixels (the edge sample, countEdgeSample; edges.frag EDGE_SAMPLE draws
-//     the same for --stages) from the texels the rows already read.
+//     the same for --stages), whose texels lie in the rows the pass reads anyway.
 //   STEP 2 reach (countEdgeSample): per level ℓ < 3, R_ℓ: Ê within reachBlocks[ℓ] blocks (the
 //     union of the finer levels' boxes); counts0 (Ê, R_0, R_1, R_2), counts1 (the hit pixels of
 //     R_0, R_1, R_2)
@@ -58,16 +58,12 @@ ivec2 pays(ivec2 b) {
 #include "edge_test.glsl"  // normalDepth (level 0's G-buffer), isHit; WITH_SAMPLE: SPEC §2's test
 uniform ivec2 frame;  // W×H
 // 10 hit flags of row y as bits (bit i: column o.x − 1 + i), clamped to the image: a 4-neighbour
-// outside it is the pixel itself, as countHits takes it. `near` gets the texels of columns
-// o.x + r − 1 … o.x + r + 1, r = y − o.y: the row's part of the edge test at diagonal pixels.
-uint rowBits(ivec2 o, int y, ivec2 last, out vec4 near[3]) {
-  int yc = clamp(y, 0, last.y), r = y - o.y;
+// outside it is the pixel itself, as countHits takes it
+uint rowBits(ivec2 o, int y, ivec2 last) {
+  int yc = clamp(y, 0, last.y);
   uint bits = 0u;
-  for (int i = 0; i < 10; ++i) {
-    vec4 texel = texelFetch(normalDepth, ivec2(clamp(o.x - 1 + i, 0, last.x), yc), 0);
-    bits |= isHit(texel) ? 1u << uint(i) : 0u;
-    if (i - r >= 0 && i - r < 3) near[i - r] = texel;
-  }
+  for (int i = 0; i < 10; ++i)
+    bits |= isHit(texelFetch(normalDepth, ivec2(clamp(o.x - 1 + i, 0, last.x), yc), 0)) ? 1u << uint(i) : 0u;
   return bits;
 }
 uint ones(uint v) {  // the set bits of v (GLSL 3.30 has no bitCount)
@@ -80,17 +76,15 @@ void main() {
   uint inW = (1u << uint(clamp(frame.x - o.x, 0, 8))) - 1u;  // the block's columns inside W, bits 0–7
   uint hits = 0u, padded = 0u, b0 = 0u, b1 = 0u, b2 = 0u;
   uint pair = 0u, quad0 = 0u, quad1 = 0u;  // silhouette bits OR-ed over row pairs and row quads
-  vec4 upNear[3], nearHere[3], downNear[3];  // rows j − 1, j, j + 1 about column j (rowBits)
-  uint up = rowBits(o, o.y - 1, last, upNear), cur = rowBits(o, o.y, last, nearHere);
+  uint up = rowBits(o, o.y - 1, last), cur = rowBits(o, o.y, last);
   uvec2 blockBits = uvec2(0u);  // rows 0–3, rows 4–7
   bool diagonalEdge = false;    // E at a diagonal pixel (WITH_SAMPLE)
   for (int j = 0; j < 8; ++j) {
-    uint down = rowBits(o, o.y + j + 1, last, downNear);
+    uint down = rowBits(o, o.y + j + 1, last);
 #if WITH_SAMPLE
-    // the edge sample: E at the diagonal pixel (j, j), from its texel and its 4-neighbours'
+    // the edge sample: E at the diagonal pixel (j, j); its five texels are in the rows just read
     ivec2 q = o + ivec2(j);
-    vec4 neighbour[4] = vec4[4](nearHere[0], nearHere[2], upNear[2], downNear[0]);
-    diagonalEdge = diagonalEdge || (inside(q, last + 1) && anyKind(edgeKindsOf(q, last + 1, nearHere[1], neighbour)));
+    diagonalEdge = diagonalEdge || (inside(q, last + 1) && anyKind(edgeAt(q, last + 1)));
 #endif
     uint row = (cur >> 1) & 0xFFu;  // the block's 8 columns
     if (j < 4) blockBits.x |= row << uint(8 * j); else blockBits.y |= row << uint(8 * (j - 4));
@@ -108,8 +102,6 @@ void main() {
     }
     up = cur;
     cur = down;
-    upNear = nearHere;
-    nearHere = downNear;
   }
   b2 = ones((quad0 | quad0 >> 1 | quad0 >> 2 | quad0 >> 3) & 0x11u) + ones((quad1 | quad1 >> 1 | quad1 >> 2 | quad1 >> 3) & 0x11u);
   bool any3 = (quad0 | quad1) != 0u;

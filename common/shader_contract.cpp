@@ -165,7 +165,7 @@ const std::vector<ShaderContract>& shaderContracts() {
        {},
        "common/scene.cpp cutoutTexel and Cutout::opaqueAt (docs/spec.md 1.1): the texel floor(t n), wrapped; the "
        "oracle refuses hits on transparent texels in an Embree filter function."},
-      {"edge_test.glsl", "include", "edges, edgesample, rule.1 (its hits; with WITH_SAMPLE the edge sample)", "",
+      {"edge_test.glsl", "include", "edges, edgesample, rule.* (a pixel's hit, depth > 0; step 1 WITH_SAMPLE: the edge sample)", "",
        {{"normalDepth", "sampler2D RGBA32F", "the level-0 G-buffer: view normal, depth (0 on sky: a pixel is on geometry where it is > 0)"},
         {"shadowLit", "sampler2D R8", "the one-tap shadow test per pixel, 1 lit", -1, "SHADOW_EDGES"}},
        {{"normalThreshold", "float", "the normal-edge threshold on 1 - N.N' (Settings::edges, common/params.h)"},
@@ -393,9 +393,7 @@ const std::vector<ShaderContract>& shaderContracts() {
        "STEP: 1 hits, 2 reach, 3 stencils, 4 shaded; WITH_PCF: SSM's PCF sample is read; WITH_SAMPLE: step 1 tests "
        "the edge sample's diagonal pixels (edge_test.glsl, with SHADOW_EDGES for SSM); WITH_HIT_BITS: step 3 reads "
        "the hits from step 1's bits; LEVEL: l (step 4)",
-       {{"positionHit", "sampler2D RGBA32F", "level 0's G-buffer: hit in w (padded full res); step 1 reads "
-         "edge_test.glsl's normalDepth", -1, "(STEP == 3 && !WITH_HIT_BITS) || STEP == 4"},
-        {"pcfSample", "sampler2D R8", "SSM: what PCSS pays per 8 x 8 block, the byte / 255", -1, "WITH_PCF"},
+       {{"pcfSample", "sampler2D R8", "SSM: what PCSS pays per 8 x 8 block, the byte / 255", -1, "WITH_PCF"},
         {"stencil0", "sampler2D R8", "step 3: S_0", -1, "STEP == 3"},
         {"stencil1", "sampler2D R8", "step 3: S_1", -1, "STEP == 3"},
         {"stencil2", "sampler2D R8", "step 3: S_2", -1, "STEP == 3"},

@@ -129,7 +129,7 @@ size_t addStencilCounts(CountBatch& batch, const GpuScene& scene, const Framebuf
                               if (hitBits)
                                 bindTextures(p, {{"hitBits", hitBits}});
                               else
-                                bindTextures(p, {{"positionHit", gbuffer0.texture(0)}});
+                                bindTextures(p, {{"normalDepth", gbuffer0.texture(1)}});
                               int unit = 1;
                               if (pcfSample) bindTextures(p, {{"pcfSample", pcfSample}}, unit++);
                               for (int l = 0; l < kLevelCount; ++l) {
@@ -175,7 +175,7 @@ void countShaded(const GpuScene& scene, const Framebuffer& gbuffer0, const std::
     if (!lc.enabled || !stencils[static_cast<size_t>(l)]) continue;
     at[static_cast<size_t>(l)] = batch.add(rulePass(scene, 4, false, 1, (lc.width + 3) / 4, (lc.height + 1) / 2,
                                                     [&](unsigned p) {
-                                                      bindTextures(p, {{"positionHit", gbuffer0.texture(0)},
+                                                      bindTextures(p, {{"normalDepth", gbuffer0.texture(1)},
                                                                        {"stencil", stencils[static_cast<size_t>(l)]}});
                                                     },
                                                     l));

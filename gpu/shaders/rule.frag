@@ -7,24 +7,25 @@
 //     2×2, 4×4 and 8×8 blocks holding a silhouette pixel (counts1); the block's hit pixels over
 //     the padded grid, Ê: it holds a silhouette pixel or (WITH_SAMPLE) its diagonal an edge, and
 //     its 64 hit bits, rows 0–3 in z and 4–7 in w, 8 a row, column i at bit i (counts2). A row of
-//     the block and its border is 10 bits, so a pixel's 4-neighbours are shifts. A pixel is on
-//     geometry where its depth is > 0 (edge_test.glsl isHit). WITH_SAMPLE tests SPEC §2's edge at
-//     the block's 8 diagonal pixels (the edge sample, countEdgeSample; edges.frag EDGE_SAMPLE draws
-//     the same for --stages), whose texels lie in the rows the pass reads anyway.
+//     the block and its border is 10 bits, so a pixel's 4-neighbours are shifts. WITH_SAMPLE
+//     tests SPEC §2's edge at the block's 8 diagonal pixels (the edge sample, countEdgeSample;
+//     edges.frag EDGE_SAMPLE draws the same for --stages), whose texels lie in the rows the pass
+//     reads anyway.
 //   STEP 2 reach (countEdgeSample): per level ℓ < 3, R_ℓ: Ê within reachBlocks[ℓ] blocks (the
 //     union of the finer levels' boxes); counts0 (Ê, R_0, R_1, R_2), counts1 (the hit pixels of
 //     R_0, R_1, R_2)
 //   STEP 3 stencils (countForRule): per level ℓ of `counted`, |S_ℓ|, |S_ℓ ∩ hit|, |S_ℓ ∩ hit ∩
 //     searched|, |S_ℓ ∩ hit ∩ pcf| over the block's level-ℓ pixels (counts0..3); WITH_HIT_BITS:
-//     the hits from step 1's bits of the block (every sample pixel lies in it), else positionHit
+//     the hits from step 1's bits of the block (every sample pixel lies in it), else normalDepth
 //   STEP 4 shaded (countShadedPixels, countHitPixels), one fragment per 4×2 block of level
 //     LEVEL's grid: |S_ℓ|, the block holds any (0/1), |S_ℓ ∩ hit| (counts0)
-// A level-ℓ pixel q is on geometry where the full-res pixel it samples, q s + s/2, is (SPEC §0,
-// levelPixelHit); a full-res pixel pays what its 8×8 block's PCF sample says (pcfSampleValue).
+// A full-res pixel is on geometry where its depth is > 0 (edge_test.glsl isHit, on level 0's
+// G-buffer normalDepth, padded full res); a level-ℓ pixel q where the full-res pixel it samples,
+// q s + s/2, is (SPEC §0, levelPixelHit); a full-res pixel pays what its 8×8 block's PCF sample
+// says (pcfSampleValue).
+#include "edge_test.glsl"  // normalDepth, isHit; step 1 WITH_SAMPLE: SPEC §2's test
 #if STEP == 3 && WITH_HIT_BITS
 uniform usampler2D hitBits;     // step 1's counts2: each block's 64 hit bits in z, w
-#elif STEP == 3 || STEP == 4
-uniform sampler2D positionHit;  // level 0's G-buffer: hit in w (padded full res)
 #endif
 #if WITH_PCF
 uniform sampler2D pcfSample;    // SSM: what PCSS pays per 8×8 block, the byte / 255 (ssm.frag PCF_SAMPLE)
@@ -41,7 +42,7 @@ layout(location = 3) out uvec4 counts3;
 #endif
 
 #if (STEP == 3 && !WITH_HIT_BITS) || STEP == 4
-bool hitAt(ivec2 q) { return texelFetch(positionHit, q, 0).w > 0.5; }
+bool hitAt(ivec2 q) { return isHit(texelFetch(normalDepth, q, 0)); }
 #endif
 
 // What a pixel on geometry of block b pays: its class (kPcfSample…) and map footprint steps.
@@ -55,7 +56,6 @@ ivec2 pays(ivec2 b) {
 }
 
 #if STEP == 1
-#include "edge_test.glsl"  // normalDepth (level 0's G-buffer), isHit; WITH_SAMPLE: SPEC §2's test
 uniform ivec2 frame;  // W×H
 // 10 hit flags of row y as bits (bit i: column o.x − 1 + i), clamped to the image: a 4-neighbour
 // outside it is the pixel itself, as countHits takes it
@@ -178,7 +178,7 @@ void main() {
 #else
 uniform sampler2D stencil;  // S_ℓ of level LEVEL (R8)
 void main() {
-  ivec2 b = ivec2(gl_FragCoord.xy), size = textureSize(stencil, 0), hitLast = textureSize(positionHit, 0) - 1;
+  ivec2 b = ivec2(gl_FragCoord.xy), size = textureSize(stencil, 0), hitLast = textureSize(normalDepth, 0) - 1;
   const int scale = 1 << LEVEL;
   uint set = 0u, onGeometry = 0u;
   for (int j = 0; j < 2; ++j)

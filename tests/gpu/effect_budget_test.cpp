@@ -74,6 +74,18 @@ Settings smallEffectFrame(Effect e) {
   return s;
 }
 
+// smallEffectFrame at 161×97 with a budget whose share binds there (some candidates fit, some do
+// not): the default B = 0.85 over the range test's marks at τ_v = 0.01, cap 4.
+Settings bindingBudgetFrame(Effect e) {
+  Settings s = smallEffectFrame(e);
+  s.width = 161;
+  s.height = 97;
+  s.effectMask.cap = 4;
+  s.effectMask.posterior = 0.01f;
+  s.effectMask.budget = 0.85f;
+  return s;
+}
+
 struct BudgetFrames {
   test::Rendered oracle;
   FrameResult cpu, port;
@@ -86,12 +98,7 @@ TEST(GpuEffectBudget, BudgetedMarksAreTheOraclesSelection) {
   const gpu::GlContext context;
   const CostModel model = CostModel::defaults("cpu");
   for (const Effect e : {Effect::Ssao, Effect::Ssgi}) {
-    Settings s = smallEffectFrame(e);
-    s.effectMask.cap = 4;
-    s.effectMask.posterior = 0.01f;
-    s.effectMask.budget = 0.85f;
-    s.width = 161;  // a frame whose share binds: some candidates fit, some do not
-    s.height = 97;
+    const Settings s = bindingBudgetFrame(e);
     BudgetFrames b;
     b.oracle = test::renderScene("builtin:demo", s);
     const Constants k = makeConstants(s, b.oracle.framedSize);
@@ -147,12 +154,7 @@ TEST(GpuEffectBudget, TheMarksHysteresisIsTheOraclesOnThePortsOwnHistory) {
   const gpu::GlContext context;
   const CostModel model = CostModel::defaults("cpu");
   for (const Effect e : {Effect::Ssao, Effect::Ssm}) {
-    Settings s = smallEffectFrame(e);
-    s.width = 161;
-    s.height = 97;
-    s.effectMask.cap = 4;
-    s.effectMask.posterior = 0.01f;
-    s.effectMask.budget = 0.85f;
+    Settings s = bindingBudgetFrame(e);
     s.effectMask.temporal = 0.5f;  // a previous frame, and so a previous selection
     s.effectMask.hysteresis = 0.5f;
     test::Rendered base = test::renderScene("builtin:demo", s);

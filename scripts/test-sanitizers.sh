@@ -79,7 +79,7 @@ fi
 
 echo "== TSan build" >&2
 (cd "$here" && cmake --preset tsan >/dev/null)  # CMakePresets.json: MRR_SANITIZE=thread
-cmake --build "$here/build-tsan" -j"$jobs" --target oracle_tests planted_race
+cmake --build "$here/build-tsan" -j"$jobs" --target oracle_thread_tests planted_race
 echo "== TSan must report the planted race" >&2
 if TSAN_OPTIONS="halt_on_error=1" "$here/build-tsan/tests/planted_race" >"$scratch/race.txt" 2>&1 ||
   ! grep -q "ThreadSanitizer: data race" "$scratch/race.txt"; then
@@ -89,5 +89,5 @@ if TSAN_OPTIONS="halt_on_error=1" "$here/build-tsan/tests/planted_race" >"$scrat
 fi
 echo "== oracle threads (1, 2, 8) under TSan" >&2
 TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$here/tests/tsan.supp" \
-  "$here/build-tsan/tests/oracle_tests" --gtest_brief=1 --gtest_filter='*OneTwoAndEightThreads*'
+  "$here/build-tsan/tests/oracle_thread_tests" --gtest_brief=1 --gtest_filter='*OneTwoAndEightThreads*'
 echo "test-sanitizers: clean" >&2

@@ -258,7 +258,7 @@ void addBenchCommand(CLI::App& app, BenchCommand& c) {
       "bench", "speed against accuracy: every method against full, side by side; charts, stability, stress scenes");
   c.command->add_option("--paths", c.paths, "cpu (the oracle) and/or gpu (the port)")->capture_default_str();
   c.command->add_option(optionName(Param::GlDevice), c.path.glDevice, "gpu: the EGL device index");
-  c.command->add_option(optionName(Param::GpuTiming), c.path.gpuTiming, "gpu: auto, wall or query (as render's --gpu-timing)")
+  c.command->add_option(optionName(Param::GpuTiming), c.path.gpuTiming, "gpu: auto, wall, query or passes (as render's --gpu-timing)")
       ->capture_default_str();
   addSweepOptions(*c.command, c);
   addOutputAndRuleOptions(*c.command, c);

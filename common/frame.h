@@ -178,6 +178,16 @@ struct StageTiming {
   double ms = 0.0;
 };
 
+// One GL program's draws within one timed stage of the port, each draw timed alone
+// (--gpu-timing passes, gpu/pass_clock.h; the report's `passes`).
+struct PassTiming {
+  std::string stage;     // the timed stage they fell in ("masks", "blend", ...; "" between stages)
+  std::string pass;      // the program: the key it was compiled under, its variant included
+  std::string shader;    // its fragment shader file
+  int calls = 0;
+  double ms = 0.0;
+};
+
 // What a frame of the port said to the host (gpu/traffic.h, the report's `gl` object;
 // docs/port.md, "What a frame costs the host"). Counted where the port makes the calls.
 struct GlTraffic {
@@ -228,6 +238,7 @@ struct FrameResult {
   // stencil (docs/platform.md), so this is the most a stencilled pass can gain there.
   double blockIdealSpeedup = 1.0;
   std::vector<StageTiming> timings;  // in pipeline order; "total" last
+  std::vector<PassTiming> passTimings;  // the port with --gpu-timing passes: each program's draws
   // The port (gpu/traffic.h): inside the timed frame; after it (the images and counts the caller
   // asked for, RenderOptions::outputs); and the whole process up to then.
   GlTraffic gl, glAfterFrame, glProcess;

@@ -48,8 +48,9 @@ const std::vector<FrameParamInfo> kFrameParams = {
     {Param::GlDevice, "gl_device", "", K::Int, "",
      "gpu: the EGL device index (default: the first that gives GL 3.3 core)", kNoFile, kNoPage},
     {Param::GpuTiming, "gpu_timing", "", K::Text, "",
-     "gpu: stage timings by glFinish + wall clock (wall), GL_TIME_ELAPSED queries (query), or auto: wall on "
-     "llvmpipe, whose queries are wrong, query elsewhere",
+     "gpu: stage timings by glFinish + wall clock (wall), GL_TIME_ELAPSED queries (query), auto: wall on "
+     "llvmpipe, whose queries are wrong, query elsewhere, or passes: wall and each draw timed alone too, the "
+     "report's passes (a diagnostic: its waits slow the frame)",
      kNoFile, kNoPage},
     {Param::Size, "size", "", K::Text, "", "WIDTHxHEIGHT", kFile, kPage},
     {Param::Samples, "samples", "", K::Int, "", "samples per pixel (ssm: PCF taps)", kFile, kPage},

@@ -14,7 +14,7 @@ namespace mrr {
 // What choosing a path takes beside its name (the port's; the oracle needs none).
 struct PathOptions {
   int glDevice = -1;               // --gl-device: the EGL device (-1: the first that gives GL 3.3 core)
-  std::string gpuTiming = "auto";  // --gpu-timing: auto, wall or query
+  std::string gpuTiming = "auto";  // --gpu-timing: auto, wall, query or passes
 };
 
 class FrameRenderer {

@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "common/shader_constants.h"
+#include "gpu/pass_clock.h"
 #include "gpu/program.h"
 #include "gpu/traffic.h"
 
@@ -389,6 +390,7 @@ void GpuScene::drawRects(const std::vector<glm::ivec4>& rects, int width, int he
   glBindBuffer(GL_ARRAY_BUFFER, rectBuffer_);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(corners.size() * sizeof(glm::vec2)), corners.data(),
                GL_STREAM_DRAW);
+  const TimedDraw timed;
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(corners.size()));
   glBindVertexArray(0);
 }
@@ -455,6 +457,7 @@ void GpuScene::draw(const Cover& cover, int width, int height) const {
   glUniform1i(uniform(program, "segments"), segments);
   glUniform2f(uniform(program, "targetSize"), static_cast<float>(width), static_cast<float>(height));
   glBindVertexArray(emptyVao_);
+  const TimedDraw timed;
   glDrawArrays(GL_POINTS, 0, segments * cover.blockHeight);
   glBindVertexArray(0);
 }
@@ -464,6 +467,7 @@ void GpuScene::drawFullscreen() const {
   glGetIntegerv(GL_CURRENT_PROGRAM, &program);
   glUniform1i(uniform(static_cast<unsigned>(program), "useRects"), 0);
   glBindVertexArray(emptyVao_);
+  const TimedDraw timed;
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
 }
@@ -524,6 +528,7 @@ void drawGBuffer(const GpuScene& scene, const View& view, const Framebuffer& tar
   glUniform1i(uniform(program, "srgbToLinear"), 2);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, scene.srgbToLinear());
+  const TimedDraw timed;  // the meshes' draws as one
   for (const GpuScene::MeshGl& m : scene.meshes()) {
     glUniform3f(albedo, m.color.x, m.color.y, m.color.z);
     bindCutout(program, m, 0);

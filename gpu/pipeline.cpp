@@ -4,6 +4,7 @@
 #include <GL/glcorearb.h>
 
 #include <chrono>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "gpu/effect_masks.h"
 #include "gpu/gbuffer.h"
 #include "gpu/masks.h"
+#include "gpu/pass_clock.h"
 #include "gpu/peers.h"
 #include "gpu/program.h"
 #include "gpu/rule.h"
@@ -42,12 +44,13 @@ GpuTiming parseGpuTiming(const std::string& name) {
   if (name == "auto") return GpuTiming::Auto;
   if (name == "wall") return GpuTiming::Wall;
   if (name == "query") return GpuTiming::Query;
-  throw MrrError("--gpu-timing " + name + ": unknown timing (expected auto, wall or query)");
+  if (name == "passes") return GpuTiming::Passes;
+  throw MrrError("--gpu-timing " + name + ": unknown timing (expected auto, wall, query or passes)");
 }
 
 GpuRenderer::GpuRenderer(const Scene& scene, int deviceIndex, GpuTiming timing)
     : scene_(scene), context_(deviceIndex), gpuScene_(scene),
-      timerQueries_(usesTimerQueries(timing, context_.renderer())) {}
+      timerQueries_(usesTimerQueries(timing, context_.renderer())), passTiming_(timing == GpuTiming::Passes) {}
 
 bool usesTimerQueries(GpuTiming timing, const std::string& renderer) {
   const bool software =
@@ -56,6 +59,9 @@ bool usesTimerQueries(GpuTiming timing, const std::string& renderer) {
 }
 
 std::string GpuRenderer::timingMethod() const {
+  if (passTiming_)
+    return "glFinish + wall clock around each stage and around each draw (--gpu-timing passes, a diagnostic: the "
+           "waits serialise the frame; the report's passes give each program's draws per stage)";
   if (timerQueries_)
     return "GL_TIME_ELAPSED queries around each stage's GL work (no glFinish between stages); total on the wall "
            "clock";
@@ -73,9 +79,11 @@ namespace {
 // read back too, inside its timing, into the structures the oracle fills.
 class PortFrame final : public FrameBackend {
  public:
-  PortFrame(const GpuScene& scene, const Scene& source, bool timerQueries, const RenderOptions& options)
+  PortFrame(const GpuScene& scene, const Scene& source, bool timerQueries, bool passTiming, const RenderOptions& options)
       : scene_(scene), source_(source), timerQueries_(timerQueries), keep_(options.keepStages),
-        outputs_(options.outputs), start_(processTraffic()) {}
+        outputs_(options.outputs), start_(processTraffic()) {
+    if (passTiming) passClock_.emplace();
+  }
 
   const char* pathName() const override { return "gpu"; }
 
@@ -90,10 +98,13 @@ class PortFrame final : public FrameBackend {
       f.timings.push_back({name, 0.0});
       return;
     }
+    const std::string outer = passClock_ ? passClock_->stage() : std::string();
+    if (passClock_) passClock_->setStage(name);
     FrameBackend::timeStage(f, name, [&] {
       body();
       finish(WaitFor::Timing);
     });
+    if (passClock_) passClock_->setStage(outer);
   }
   void endFrame(FrameResult& f) override {
     finish(WaitFor::Timing);  // the frame's wall clock stops when its GL work is done
@@ -102,6 +113,10 @@ class PortFrame final : public FrameBackend {
       glDeleteQueries(1, &query);
     }
     checkGl("timer queries");
+    if (passClock_) {  // the draws after the clock (outputs, counts) are not the frame's
+      f.passTimings = passClock_->take();
+      passClock_.reset();
+    }
     f.gl = processTraffic() - start_;  // the timed frame's talk with the host
     afterFrame_ = processTraffic();
   }
@@ -501,6 +516,7 @@ class PortFrame final : public FrameBackend {
   const GlTraffic start_;  // the process's traffic when the frame began
   GlTraffic afterFrame_;   // ... when its clock stopped
   std::vector<std::pair<size_t, unsigned>> queries_;
+  std::optional<PassClock> passClock_;  // --gpu-timing passes: every draw of the timed frame
   std::array<Target, kLevelCount> gbuffers_;
   const ShadowMapTarget* shadowMap_ = nullptr;  // the scene's, kept from frame to frame
   Target shadowTest_, edges_, pcfSample_;
@@ -519,7 +535,7 @@ class PortFrame final : public FrameBackend {
 }  // namespace
 
 FrameResult GpuRenderer::render(const Camera& camera, const Constants& constants, const RenderOptions& options) const {
-  PortFrame backend(gpuScene_, scene_, timerQueries_, options);
+  PortFrame backend(gpuScene_, scene_, timerQueries_, passTiming_, options);
   FrameResult f = renderFrame(backend, scene_.light, camera, constants, options);
   backend.readOutputs(f);  // after the clock: what the caller asked for
   return f;

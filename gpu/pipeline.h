@@ -26,9 +26,10 @@ bool isPortOnlyStage(const std::string& stage);
 // its GL_TIME_ELAPSED figures are wrong, docs/platform.md). query: GL_TIME_ELAPSED around each
 // stage's GL work, read when the frame is done, and no glFinish between stages; `total` stays
 // on the wall clock. auto: wall on Mesa's
-// software rasterisers (llvmpipe, softpipe), query elsewhere (NVIDIA).
-enum class GpuTiming { Auto, Wall, Query };
-GpuTiming parseGpuTiming(const std::string& name);  // auto | wall | query; throws MrrError
+// software rasterisers (llvmpipe, softpipe), query elsewhere (NVIDIA). passes: wall, and every
+// draw timed alone too (gpu/pass_clock.h, a diagnostic: FrameResult::passTimings).
+enum class GpuTiming { Auto, Wall, Query, Passes };
+GpuTiming parseGpuTiming(const std::string& name);  // auto | wall | query | passes; throws MrrError
 // Whether `timing` means timer queries on the GL renderer named `renderer` (GL_RENDERER).
 bool usesTimerQueries(GpuTiming timing, const std::string& renderer);
 
@@ -48,6 +49,7 @@ class GpuRenderer final : public FrameRenderer {
   GlContext context_;
   GpuScene gpuScene_;
   bool timerQueries_ = false;
+  bool passTiming_ = false;
 };
 
 }  // namespace mrr::gpu

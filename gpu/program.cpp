@@ -118,10 +118,10 @@ std::string sharedConstantsGlsl() {
 }
 
 namespace {
-// Which stage each linked program was compiled for, to name it in errors.
-std::map<unsigned, std::string>& programStages() {
-  static std::map<unsigned, std::string> stages;
-  return stages;
+// Which stage each linked program was compiled for, to name it in errors, and its fragment file.
+std::map<unsigned, ProgramName>& programNames() {
+  static std::map<unsigned, ProgramName> names;
+  return names;
 }
 // The programs made with a user's file (--shaders DIR): their uniforms are optional.
 std::set<unsigned>& userPrograms() {
@@ -129,8 +129,8 @@ std::set<unsigned>& userPrograms() {
   return programs;
 }
 std::string programStage(unsigned program) {
-  const auto it = programStages().find(program);
-  return it == programStages().end() ? std::string("unknown stage") : "stage " + it->second;
+  const auto it = programNames().find(program);
+  return it == programNames().end() ? std::string("unknown stage") : "stage " + it->second.stage;
 }
 
 std::string oneLine(std::string s) {
@@ -330,10 +330,15 @@ unsigned compileProgramFromSource(const std::string& stage, const std::string& v
   const GLuint program =
       compileAndLink(stage, vertexName, vertexText, fragmentName, fragmentText, defines, lookupActive, blame);
   if (!blame.empty()) checkAgainstBuiltin(program, stage, vertexName, fragmentName, defines, blame);
-  programStages()[program] = stage;
+  programNames()[program] = {stage, fragmentName};
   if (!blame.empty()) userPrograms().insert(program);
   else userPrograms().erase(program);
   return program;
+}
+
+ProgramName programName(unsigned program) {
+  const auto it = programNames().find(program);
+  return it == programNames().end() ? ProgramName() : it->second;
 }
 
 int uniform(unsigned program, const char* name) {

@@ -55,6 +55,13 @@ unsigned compileProgramFromSource(const std::string& stage, const std::string& v
                                   const std::string& vertexText, const std::string& fragmentName,
                                   const std::string& fragmentText, const std::string& defines = "");
 
+// What compiled `program`: the stage key it was compiled under (its variant included, e.g.
+// "blend.final.7.3.covered.blocks") and its fragment shader file; empty for a program not made here.
+struct ProgramName {
+  std::string stage, fragment;
+};
+ProgramName programName(unsigned program);
+
 // The location of the uniform `name` of `program`. A name the program does not have as an
 // active uniform (a typo, or a value the shader ignores) would silently set nothing: with
 // MRR_STRICT_UNIFORMS=1 (every test runs so, tests/CMakeLists.txt) it throws MrrError naming

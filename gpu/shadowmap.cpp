@@ -4,6 +4,7 @@
 #include <GL/glcorearb.h>
 
 #include "common/error.h"
+#include "gpu/pass_clock.h"
 #include "gpu/program.h"
 #include "gpu/traffic.h"
 
@@ -81,6 +82,7 @@ void drawShadowMap(const GpuScene& scene, const ShadowMap& frame, const ShadowMa
   glDepthFunc(GL_LESS);
   glEnable(GL_DEPTH_CLAMP);  // the depth buffer only orders surfaces: never clip one away
   glDisable(GL_CULL_FACE);   // rays hit both sides of a triangle
+  const TimedDraw timed;     // the meshes' draws as one
   for (const GpuScene::MeshGl& m : scene.meshes()) {
     bindCutout(program, m, 0);
     glBindVertexArray(m.vao);

@@ -109,7 +109,7 @@ class Sweep {
     std::vector<std::string> all = {reference};
     for (const std::string& m : methods)
       if (m != reference) all.push_back(m);
-    std::map<std::string, std::map<std::string, std::vector<double>>> stageRuns;
+    std::map<std::string, std::map<std::string, std::vector<double>>> stageRuns, passRuns;
     std::map<std::string, FrameResult> last;
     FrameResult firstFull;
     const float framed = framedSize(*sc.scene, camera, static_cast<float>(w) / static_cast<float>(h)).size;
@@ -122,6 +122,7 @@ class Sweep {
           continue;
         }
         for (const auto& [k, v] : stageMs(f)) stageRuns[m][k].push_back(v);
+        for (const PassTiming& p : f.passTimings) passRuns[m][p.stage + " " + p.pass].push_back(p.ms);
         if (i == o_.repeats) last[m] = std::move(f);
       }
     const std::map<std::string, ColdFrame> cold = group == "main" && o_.coldRuns > 0
@@ -143,6 +144,7 @@ class Sweep {
       r.height = h;
       r.samples = samples;
       for (const auto& [k, v] : stageRuns[m]) r.stageMs[k] = median(v);
+      for (const auto& [k, v] : passRuns[m]) r.passMs[k] = median(v);
       r.effectMs = effectMs(r.stageMs);
       r.totalMs = r.stageMs[timedName(Timed::Total)];
       const FrameResult& f = last.at(m);

@@ -334,7 +334,7 @@ std::string benchMarkdown(const BenchResults& res, const std::vector<std::string
 
 nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>& failures) {
   nlohmann::json runs = nlohmann::json::array(), stab = nlohmann::json::array();
-  for (const BenchRecord& r : res.records)
+  for (const BenchRecord& r : res.records) {
     runs.push_back({{"path", r.path}, {"scene", r.scene}, {"group", r.group}, {"camera", r.camera}, {"method", r.method},
                     {"effect", r.effect}, {"width", r.width}, {"height", r.height}, {"samples", r.samples},
                     {"stage_ms", r.stageMs}, {"effect_ms", r.effectMs}, {"total_ms", r.totalMs},
@@ -345,6 +345,8 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"rms", r.error.rms}, {"psnr", std::isfinite(r.error.psnr) ? nlohmann::json(r.error.psnr) : nlohmann::json(nullptr)},
                     {"ssim", r.error.ssim}, {"max_abs", r.error.maxAbs}, {"edge_band_rms", r.error.edgeBandRms},
                     {"shaded_rms", r.shadedRms}, {"flip", r.flip}, {"shaded_flip", r.shadedFlip}});
+    if (!r.passMs.empty()) runs.back()["pass_ms"] = r.passMs;  // --gpu-timing passes
+  }
   for (const StabilityRecord& s : res.stability)
     stab.push_back({{"path", s.path}, {"scene", s.scene}, {"effect", s.effect}, {"samples", s.samples}, {"camera_path", s.kind},
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},

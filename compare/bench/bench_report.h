@@ -18,6 +18,7 @@ struct BenchRecord {
   std::string path, scene, group, method, effect;  // group: main, samples, resolution, stress
   int camera = 0, width = 0, height = 0, samples = 0;
   std::map<std::string, double> stageMs;  // median per stage, and "total"
+  std::map<std::string, double> passMs;   // --gpu-timing passes: median per "stage program" (FrameResult::passTimings)
   double effectMs = 0.0;                  // total − the full-res G-buffer (shared by every method)
   double totalMs = 0.0;
   long long shadedPixels = 0;

@@ -234,6 +234,12 @@ nlohmann::json makeReport(const FrameResult& f, const RunInfo& info, const std::
       return nlohmann::json{{"readbacks", t.readbacks}, {"readback_bytes", t.readbackBytes}, {"count_reads", t.countReads},
                             {"waits", t.waits}, {"timing_waits", t.timingWaits}, {"finishes", t.finishes}};
     };
+    if (!f.passTimings.empty()) {  // --gpu-timing passes: each program's draws, per stage
+      nlohmann::json passes = nlohmann::json::array();
+      for (const PassTiming& p : f.passTimings)
+        passes.push_back({{"stage", p.stage}, {"pass", p.pass}, {"shader", p.shader}, {"calls", p.calls}, {"ms", p.ms}});
+      j["passes"] = passes;
+    }
     if (f.gl.measured) {
       j["gl"] = traffic(f.gl);
       j["gl"]["after_frame"] = traffic(f.glAfterFrame);

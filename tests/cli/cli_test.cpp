@@ -1462,18 +1462,20 @@ TEST(CliProbeBothTest, MarksTheFirstStageWhereThePathsPart) {
       << shown.out;
 }
 
-// The port's two timing methods: the report names the one used, and each gives a figure for
-// every stage (on llvmpipe the query figures themselves are wrong, docs/platform.md; what is tested
-// is that the path runs and says so). auto picks the wall clock on llvmpipe.
+// The port's timing methods: the report names the one used, and each gives a figure for every
+// stage (on llvmpipe the query figures themselves are wrong, docs/platform.md; what is tested is
+// that the path runs and says so). auto picks the wall clock on llvmpipe. passes also times each
+// program's draws within its stage (gpu/pass_clock.h): they lie inside their stage's time, name
+// the shader that drew, and timing them changes no bit of the image.
 TEST(CliGpuTimingTest, TheReportSaysWhichTimingWasUsed) {
   const std::string dir = test::scratchDir();
   MRR_REQUIRE_GL_FOR_CLI(dir);
   std::map<std::string, json> reports;
-  for (const char* timing : {"wall", "query", "auto"}) {
+  for (const char* timing : {"wall", "query", "auto", "passes"}) {
     const std::string report = (fs::path(dir) / (std::string(timing) + ".json")).string();
     const RunResult r = runMrr({"render", "--scene", "builtin:demo", "--path", "gpu", "--size", "96x64", "--samples",
                                 "8", "--never-slower", "off", "--gpu-timing", timing, "--out",
-                                (fs::path(dir) / "o.exr").string(), "--report", report, "-q"},
+                                (fs::path(dir) / (std::string(timing) + ".exr")).string(), "--report", report, "-q"},
                                dir);
     ASSERT_EQ(r.status, 0) << describe(r);
     reports[timing] = json::parse(std::ifstream(report));
@@ -1486,6 +1488,27 @@ TEST(CliGpuTimingTest, TheReportSaysWhichTimingWasUsed) {
   const std::string renderer = reports["auto"]["renderer"];
   if (renderer.find("llvmpipe") != std::string::npos)
     EXPECT_EQ(reports["auto"]["timing_method"], reports["wall"]["timing_method"]);
+  EXPECT_FALSE(reports["wall"].contains("passes"));
+  const json& passes = reports["passes"]["passes"];
+  ASSERT_TRUE(passes.is_array() && !passes.empty()) << reports["passes"].dump();
+  std::map<std::string, double> inStage;
+  std::map<std::string, std::set<std::string>> shaders;
+  for (const json& p : passes) {
+    EXPECT_GE(p["calls"].get<int>(), 1) << p.dump();
+    inStage[p["stage"]] += p["ms"].get<double>();
+    shaders[p["stage"]].insert(p["shader"].get<std::string>());
+  }
+  const json& t = reports["passes"]["timings_ms"];
+  for (const auto& [stage, ms] : inStage) {
+    ASSERT_TRUE(t.contains(stage)) << "a pass in stage '" << stage << "', which the report does not time";
+    EXPECT_LE(ms, t[stage].get<double>() + 1e-6) << stage;  // the stage's clock holds its draws
+  }
+  EXPECT_TRUE(shaders["masks"].count("masks.frag")) << reports["passes"].dump();
+  EXPECT_TRUE(shaders["blend"].count("blend.frag")) << reports["passes"].dump();
+  EXPECT_TRUE(shaders["gbuffer.L0"].count("gbuffer.frag")) << reports["passes"].dump();
+  EXPECT_EQ(reports["passes"]["gl"]["readbacks"], 0);
+  EXPECT_EQ(readImage((fs::path(dir) / "passes.exr").string()).data, readImage((fs::path(dir) / "wall.exr").string()).data)
+      << "timing each draw changed the image";
 }
 
 TEST(CliOutputTest, NoSubcommandIsAnError) {

@@ -148,10 +148,11 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
   // M_1 and M_3. M_2's and M_3's texels are the block maps of E on the 4×4 and the 8×8 grid
   // (which blocks hold an edge: gpu/blocks.h); they stay on the GPU. Level 0's passes below,
   // which have work only near an edge, are drawn over the runs of maps made from them. The
-  // coarser levels' passes are drawn whole: they hold a quarter of level 0's pixels or fewer,
-  // and drawing a cover costs more than the pixels it skips there (blocks.geom runs on the host's
-  // cores under llvmpipe; docs/port.md, "The GPU-resident frame"). Either way a pass writes the
-  // same bits: a cover holds every pixel where the pass can be non-zero.
+  // coarser levels' passes are drawn whole: they hold a quarter of level 0's pixels or fewer.
+  // Covering level 1 too (its blur, stencil fill, closure) gave the same bits and saved 0.5–0.7 ms
+  // of a warm 720p frame's masks on llvmpipe, but its five more programs with blocks.geom made a
+  // cold `mrr render` 1.8% slower (docs/port.md, "Where a frame's time goes"). Either way a pass
+  // writes the same bits: a cover holds every pixel where the pass can be non-zero.
   auto maxPool = [&](int l, unsigned source, int channel, int factor) {
     Pass::Inputs in;
     in.source = source;

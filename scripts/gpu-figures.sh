@@ -2,8 +2,9 @@
 # The GPU run, ready in one command and within one 10-minute device call: `mrr compare` of every
 # effect on the shared scenes, `mrr bench` of full and its peers (uniform-1, uniform-2, tiles,
 # mrr) on the GL port at 1280x720, 1920x1080 and 3840x2160 with GL_TIME_ELAPSED timer queries
-# (the GPU-resident frame: the report's gl object says what each frame read back), and the
-# paper's sweeps
+# (the GPU-resident frame: the report's gl object says what each frame read back), mrr's
+# passes at 1080p each timed alone (--gpu-timing passes: which draw holds the method back), and
+# the paper's sweeps
 # that feed Figs. 6 (speedup against samples, at 4K as in the paper), 7 (speedup against
 # resolution) and 9 (RMS against resolution), drawn beside the paper's own points
 # ($MRR_PAPER_FIGURES, docs/figures.md "The paper's sweeps") by the bench's --report. Everything goes into
@@ -71,7 +72,7 @@ usage: scripts/gpu-figures.sh [options]
                      else DIR/html under --out)
   --small            tiny sizes for llvmpipe in CI (160x90, 320x180, 640x360; builtin:demo; 1 camera,
                      1 repeat, 16 samples; --gpu-timing auto)
-  --steps LIST       comma-separated: compare, sweeps, main (every size), main-WxH; default all
+  --steps LIST       comma-separated: compare, passes, sweeps, main (every size), main-WxH; default all
   --gl-device N      the EGL device index (passed to every mrr command)
   --gpu-timing T     query (default), wall or auto (--small: auto)
   --cameras N        cameras per scene in every main sweep (default: the budget's, 4 at 720p and
@@ -215,12 +216,12 @@ fi
 # compare, 249 s for the sweeps (60 of them SSGI-4224 at 4K), and per scene, camera and effect
 # 1.25 s of main sweep at 720p, 2.5 s at 1080p and ~11 s at 4K (estimated: it did not fit). A
 # setting costs its repeats and a warm-up, so with the cameras and repeats below: compare ~35 s,
-# sweeps ~140 s, main ~45 s at 720p, ~65 s at 1080p, ~100 s at 4K; ~7 minutes with the processes'
+# passes ~15 s (estimated: one camera, full and mrr), sweeps ~140 s, main ~45 s at 720p, ~65 s at 1080p, ~100 s at 4K; ~7 minutes with the processes'
 # starts and the reports. --cameras and --repeats set every step's.
 declare -A step_cameras=() step_repeats=()
 if [ "$small" = 0 ]; then
   step_cameras=([1280x720]=4 [1920x1080]=4 [3840x2160]=2)
-  step_repeats=([1280x720]=3 [1920x1080]=2 [3840x2160]=1 [sweeps]=2)
+  step_repeats=([1280x720]=3 [1920x1080]=2 [3840x2160]=1 [sweeps]=2 [passes]=2)
 fi
 cameras_of() { echo "${cameras:-${step_cameras[$1]:-8}}"; }
 repeats_of() { echo "${repeats:-${step_repeats[$1]:-3}}"; }
@@ -232,7 +233,7 @@ if [ -z "$deadline" ]; then if [ -n "${OUT:-}" ]; then deadline=540; else deadli
 gl_args=()
 [ -n "$gl_device" ] && gl_args=(--gl-device "$gl_device")
 
-all_steps=(compare sweeps)
+all_steps=(compare passes sweeps)
 for s in "${main_sizes[@]}"; do all_steps+=("main-$s"); done
 selected=()
 IFS=',' read -r -a asked <<< "$steps_arg"
@@ -240,9 +241,9 @@ for a in "${asked[@]}"; do
   case "$a" in
     all) selected+=("${all_steps[@]}") ;;
     main) for s in "${main_sizes[@]}"; do selected+=("main-$s"); done ;;
-    compare|sweeps) selected+=("$a") ;;
+    compare|passes|sweeps) selected+=("$a") ;;
     main-*) printf '%s\n' "${all_steps[@]}" | grep -qx -- "$a" || die "--steps: no step $a here (main sizes: ${main_sizes[*]})"; selected+=("$a") ;;
-    *) die "--steps: unknown step '$a' (compare, sweeps, main, main-WxH, all)" ;;
+    *) die "--steps: unknown step '$a' (compare, passes, sweeps, main, main-WxH, all)" ;;
   esac
 done
 # In the canonical order, each once.
@@ -339,6 +340,24 @@ if mains:
         L.append("")
         for f in charts:
             L.append("![%s](%s)" % (f[:-4], f))
+# mrr's passes, each draw timed alone (--gpu-timing passes): where the method's own work goes.
+pj = os.path.join(out, "bench-passes.json")
+if os.path.exists(pj):
+    j = json.load(open(pj))
+    L += ["", "## Where mrr's frame goes, pass by pass (`--gpu-timing passes`)", "",
+          "Each draw timed alone (glFinish around it), medians of the repeats; read a pass as a share of its "
+          "stage (docs/port.md, \"Where a frame's time goes, pass by pass\"). The stages between the G-buffer and "
+          "the effect, and the blend, of mrr with the never-slower rule off (`mrr+norule`, so that they run):", "",
+          "| effect | size | stage (ms) | passes, costliest first (ms) |", "|---|---|---|---|"]
+    for r in j["runs"]:
+        if r["method"] != "mrr+norule" or "pass_ms" not in r:
+            continue
+        for stage in ("edges", "masks", "rule", "blend"):
+            ps = sorted(((k.split(" ", 1)[1], v) for k, v in r["pass_ms"].items() if k.split(" ", 1)[0] == stage),
+                        key=lambda kv: -kv[1])
+            if ps:
+                L.append("| %s-%d | %dx%d | %s (%.2f) | %s |" % (r["effect"], r["samples"], r["width"], r["height"], stage,
+                         r["stage_ms"].get(stage, 0.0), ", ".join("`%s` %.2f" % kv for kv in ps[:8])))
 # The port against the oracle.
 cj = os.path.join(out, "compare.json")
 if os.path.exists(cj):
@@ -548,6 +567,7 @@ export_out() {  # export_out [html]
 step_what() {
   case "$1" in
     compare) echo "mrr compare, ${effects[*]} on ${compare_scenes[*]} at $compare_size" ;;
+    passes) echo "mrr's passes (--gpu-timing passes): full and mrr (the rule off, so that its passes run) at ${main_sizes[1]}, ${effects[*]}, ${bench_scenes[0]}, 1 camera" ;;
     sweeps) echo "Figs. 6, 7, 9: samples sweep at $sweep_size, resolution sweep ${resolutions[*]} on ${bench_scenes[0]}" ;;
     main-*) echo "bench main sweep at ${1#main-}: ${bench_scenes[*]}, $(cameras_of "${1#main-}") cameras, $(repeats_of "${1#main-}") repeats, ${methods[*]}" ;;
   esac
@@ -607,6 +627,15 @@ step_bench() {  # step_bench NAME ARGS...: one bench, its tables, and its charts
     esac
   done
 }
+step_passes() {  # each draw timed alone (docs/port.md, "Where a frame's time goes"): pass_ms in the JSON
+  local rc=0
+  run_mrr /dev/null 1 bench --paths gpu "${gl_args[@]}" --gpu-timing passes --methods full mrr+norule --effects "${effects[@]}" \
+    --frames 0 --no-stress --no-fovea --no-sweeps --scenes "${bench_scenes[0]}" --cameras 1 --repeats "$(repeats_of passes)" \
+    --sizes "${main_sizes[1]}" "${main_samples[@]}" --json "$out/bench-passes.json" --markdown "$out/bench-passes.md" || rc=$?
+  if [ "$rc" = 124 ]; then step_status="cut at the deadline"; return; fi
+  if [ "$rc" != 0 ]; then step_status="failed (mrr bench exited $rc)"; failed=1; return; fi
+  step_status=ok
+}
 step_sweeps() {
   step_bench sweeps --scenes "${bench_scenes[0]}" --cameras 1 --repeats "$(repeats_of sweeps)" --sizes "${main_sizes[0]}" "${main_samples[@]}" \
     --sweep-size "$sweep_size" --resolutions "${resolutions[@]}" \
@@ -631,6 +660,7 @@ for step in "${plan[@]}"; do
           report_for "compare-${s//:/-}-$e"
           run_mrr /dev/null 0 compare --scene "$s" --effect "$e" --size "$compare_size" "${compare_samples[@]}" "${gl_args[@]}" -q "${rep[@]}"
         done; done ;;
+      passes) step_passes ;;
       sweeps) step_sweeps ;;
       main-*) step_main "${step#main-}" ;;
     esac
@@ -665,6 +695,7 @@ for step in "${plan[@]}"; do
     t0=$(date +%s.%N)
     case "$step" in
       compare) step_compare ;;
+      passes) step_passes ;;
       sweeps) step_sweeps ;;
       main-*) step_main "${step#main-}" ;;
     esac

@@ -5,7 +5,8 @@
 # Checks: bad usage and a missing GL context each stop it with exit 2 and one
 # "gpu-figures: error:" line; the small run exits 0 with "[gpu-figures] step k/n" progress on
 # stderr; every compare passed (compare.json); each bench JSON has a main-sweep record of every
-# method on the gpu path, the sweeps JSON its samples and resolution sweeps; Figs. 6, 7 and 9
+# method on the gpu path, the sweeps JSON its samples and resolution sweeps, the passes JSON
+# mrr's draws per stage (--gpu-timing passes); Figs. 6, 7 and 9
 # were drawn (when python3 has jinja2 and matplotlib); README.md names the GL renderer, lists
 # every step with its wall time and the commands run.
 # Exit 77 (ctest: skipped) when no GL context can be made and MRR_REQUIRE_GL is not 1.
@@ -57,8 +58,8 @@ if [ "$rc" -ne 0 ]; then
   why="$(python3 -c 'import json, sys; print("; ".join("compare %s %s: %s" % (r["scene"], r["effect"], r["verdict"]) for r in json.load(open(sys.argv[1])) if not r["pass"]))' "$out/compare.json" 2> /dev/null)"
   fail "gpu-figures.sh --small exited $rc: ${why:-$(grep -m1 -E 'error|FAIL|failed' "$work/run.err" || tail -n1 "$work/run.err")}"
 fi
-grep -q '^\[gpu-figures\] step 1/5: ' "$work/run.err" || fail "no '[gpu-figures] step 1/5: ...' progress line on stderr"
-grep -q '^\[gpu-figures\] step 5/5: main-640x360: ok in ' "$work/run.err" || fail "no line saying step 5/5 ended ok"
+grep -q '^\[gpu-figures\] step 1/6: ' "$work/run.err" || fail "no '[gpu-figures] step 1/6: ...' progress line on stderr"
+grep -q '^\[gpu-figures\] step 6/6: main-640x360: ok in ' "$work/run.err" || fail "no line saying step 6/6 ended ok"
 charts=0
 if python3 -c 'import jinja2, matplotlib' 2> /dev/null; then charts=1; fi
 python3 - "$out" "$renderer" "$charts" <<'PY' || exit 1
@@ -101,9 +102,17 @@ if charts:
              ["main-160x90-speed-vs-rms-gpu-%s.png" % e for e in effects]:
         p = os.path.join(out, f)
         if not os.path.exists(p) or open(p, "rb").read(8) != b"\x89PNG\r\n\x1a\n": fail("no chart %s" % f)
+# the passes step: mrr's draws timed alone, per stage, on every effect
+pj = json.load(open(os.path.join(out, "bench-passes.json")))
+for e in effects:
+    rs = [r for r in pj["runs"] if r["method"] == "mrr+norule" and r["effect"] == e]
+    if not rs or not rs[0].get("pass_ms"): fail("bench-passes.json: no pass_ms for mrr %s" % e)
+    stages = {k.split(" ", 1)[0] for k in rs[0]["pass_ms"]}
+    if not {"masks", "blend", "edges"} <= stages: fail("bench-passes.json: mrr %s's passes fall in %s" % (e, sorted(stages)))
 readme = open(os.path.join(out, "README.md"), encoding="utf-8").read()
 if renderer not in readme: fail("README.md does not name the renderer %r" % renderer)
-for s in ("compare", "sweeps", "main-160x90", "main-320x180", "main-640x360"):
+if "## Where mrr's frame goes, pass by pass" not in readme: fail("README.md has no table of mrr's passes")
+for s in ("compare", "passes", "sweeps", "main-160x90", "main-320x180", "main-640x360"):
     if not any(line.startswith("| %s | " % s) and " s | ok |" in line for line in readme.splitlines()):
         fail("README.md has no row saying step %s ran ok with its wall time" % s)
 for want in ("mrr compare --scene builtin:demo --effect ssgi", "mrr bench --paths gpu", "--sweep-size 320x180", "date (UTC)"):

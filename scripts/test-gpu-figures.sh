@@ -109,6 +109,7 @@ for e in effects:
     if not rs or not rs[0].get("pass_ms"): fail("bench-passes.json: no pass_ms for mrr %s" % e)
     stages = {k.split(" ", 1)[0] for k in rs[0]["pass_ms"]}
     if not {"masks", "blend", "edges"} <= stages: fail("bench-passes.json: mrr %s's passes fall in %s" % (e, sorted(stages)))
+if "### Passes (--gpu-timing passes)" not in open(os.path.join(out, "bench-passes.md")).read(): fail("bench-passes.md has no passes table")
 readme = open(os.path.join(out, "README.md"), encoding="utf-8").read()
 if renderer not in readme: fail("README.md does not name the renderer %r" % renderer)
 if "## Where mrr's frame goes, pass by pass" not in readme: fail("README.md has no table of mrr's passes")

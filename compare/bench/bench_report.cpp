@@ -319,6 +319,36 @@ std::vector<std::string> sanityChecks(const BenchResults& res) {
   return fails;
 }
 
+namespace {
+// --gpu-timing passes: each run's costliest programs, stage by stage (BenchRecord::passMs).
+std::string passesMarkdown(const BenchResults& res) {
+  std::ostringstream o;
+  bool any = false;
+  for (const BenchRecord& r : res.records) {
+    if (r.passMs.empty()) continue;
+    if (!any)
+      o << "### Passes (--gpu-timing passes)\n\nEach draw timed alone, glFinish around it, medians of the repeats; "
+           "read a pass as a share of its stage (docs/port.md, \"Where a frame's time goes, pass by pass\"). The "
+           "ten costliest of each run:\n\n";
+    any = true;
+    std::vector<std::pair<std::string, double>> passes(r.passMs.begin(), r.passMs.end());
+    std::sort(passes.begin(), passes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    o << "**" << r.path << " " << r.scene << " camera " << r.camera << " " << sizeName(r.width, r.height) << " "
+      << r.effect << "-" << r.samples << " " << r.method << "**\n\n| stage (ms) | pass | ms |\n|---|---|---|\n";
+    for (size_t i = 0; i < passes.size() && i < 10; ++i) {
+      const std::string& key = passes[i].first;
+      const size_t space = key.find(' ');
+      const std::string stage = key.substr(0, space), pass = space == std::string::npos ? "" : key.substr(space + 1);
+      const auto st = r.stageMs.find(stage);
+      o << "| " << stage << " (" << fixed(st == r.stageMs.end() ? 0.0 : st->second, 2) << ") | `" << pass << "` | "
+        << fixed(passes[i].second, 2) << " |\n";
+    }
+    o << "\n";
+  }
+  return o.str();
+}
+}  // namespace
+
 std::string benchMarkdown(const BenchResults& res, const std::vector<std::string>& failures) {
   const std::vector<PaperFigure> paper = readPaperFigures(paperFiguresPath());
   std::ostringstream o;
@@ -326,6 +356,7 @@ std::string benchMarkdown(const BenchResults& res, const std::vector<std::string
   if (paper.empty()) o << "(The paper's figures were not found at " << paperFiguresPath() << "; set MRR_PAPER_FIGURES.)\n\n";
   for (const Table& t : tables(res, paper)) o << t.markdown();
   o << foveaMarkdown(res.fovea);
+  o << passesMarkdown(res);
   o << "### Sanity checks\n\n";
   if (failures.empty()) o << "All passed: full's error is 0 and it shades W·H pixels; no method beats its ideal speedup (where that is above 1); every figure is finite.\n";
   for (const std::string& f : failures) o << "- FAILED: " << f << "\n";

@@ -28,7 +28,7 @@
 # of at most 50 MiB, so that each part plus the working tree stays under the 64 MiB one call
 # carries; build/ is ignored, so the parts can be carried). Then three calls, back to back (a
 # machine stays warm only 30 s after a call; the parts wait in /tmp/mrr-gpu-bundle on it):
-#   1. run(kind="nvidia-h100-x1", carry=["build/gpu-bundle/part1"], timeout_s=120,
+#   1. run(carry=["build/gpu-bundle/part1"], timeout_s=120,
 #          command="bash scripts/gpu-figures.sh --bundle build/gpu-bundle")
 #      -> "bundle: 1 of 2 parts here", exit 0
 #   2. run(carry=["build/gpu-bundle/part2"], timeout_s=600,

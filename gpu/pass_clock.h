@@ -14,7 +14,7 @@ namespace mrr::gpu {
 
 class PassClock {
  public:
-  // Starts timing this thread's draws (one frame at a time; the previous clock's are dropped).
+  // Starts timing this thread's draws; a clock already running is set aside until this one ends.
   PassClock();
   ~PassClock();
   PassClock(const PassClock&) = delete;

@@ -87,6 +87,11 @@ void addOutputAndRuleOptions(CLI::App& b, BenchCommand& c) {
                "(full, and tiles, mrr and mrr-effect where --methods has them, alternating), and report their speedup "
                "and process time (start to exit) beside the warm figures")
       ->check(CLI::Range(0, 100));
+  b.add_option("--expectation", o.expectationSeeds,
+               "for SSAO and SSGI, also measure each frame's error and each camera path's flicker against the effect's "
+               "expectation: full's mean over this many other seeds (docs/spec.md section 10), beside the error against "
+               "full's one draw (0: off)")
+      ->check(CLI::Range(0, 256));
   b.add_option("--rule-sweep", c.ruleSweepOut,
                "check the never-slower rule on frames nobody tuned it to (shared, built-in and stress scenes; "
                "catalogue, default, sky and close-up views; 320x180 to 1920x1080) and write them as JSON "

@@ -22,6 +22,8 @@
 #include "compare/report/process.h"
 #include "common/stages.h"
 #include "compare/bench/bench_report.h"
+#include "compare/metrics/metrics.h"
+#include "compare/parity/noise.h"
 #include "compare/report/report.h"
 #include "scenes/cameras.h"
 #include "scenes/catalog.h"
@@ -86,6 +88,31 @@ using bench_format::sizeName;
 
 int middleSamples(Effect e) { return e == Effect::Ssm ? 196 : e == Effect::Ssgi ? 288 : 64; }
 
+// The effect's expectation (docs/spec.md §10): full's effect buffer averaged over seeds 1..K,
+// each an independent draw of the same estimator (Settings::seed), untimed. Empty where K is 0
+// or the effect draws no noise (SSM).
+ImageF effectExpectation(const OpenScene& sc, const Camera& camera, const Settings& full, float framed, int seeds) {
+  if (seeds <= 0 || !isStochastic(full.effect)) return {};
+  ImageF sum;
+  for (int k = 1; k <= seeds; ++k) {
+    Settings s = full;
+    s.seed = static_cast<uint32_t>(k);
+    const FrameResult f = sc.render(camera, makeConstants(s, framed), {false, {}, nullptr});
+    const ImageF& img = f.final();
+    if (sum.empty()) sum = ImageF(img.width, img.height, img.channels, 0.0f);
+    for (size_t i = 0; i < img.data.size(); ++i) sum.data[i] += img.data[i];
+  }
+  for (float& v : sum.data) v /= static_cast<float>(seeds);
+  return sum;
+}
+
+// Mean |test − ref| over pixels and channels.
+double meanAbsError(const ImageF& test, const ImageF& ref) {
+  double sum = 0.0;
+  for (size_t i = 0; i < test.data.size(); ++i) sum += std::abs(static_cast<double>(test.data[i]) - ref.data[i]);
+  return test.data.empty() ? 0.0 : sum / static_cast<double>(test.data.size());
+}
+
 struct Progress {
   size_t done = 0, total = 0;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
@@ -129,6 +156,8 @@ class Sweep {
                                                       ? coldFrames(path, sc, camera, effect, w, h, samples, all)
                                                       : std::map<std::string, ColdFrame>{};
     const FrameResult& full = last.at(reference);
+    const ImageF expectation =
+        effectExpectation(sc, camera, settingsFor(reference, effect, w, h, samples), framed, o_.expectationSeeds);
     std::map<std::string, double> fullMedian;
     for (const auto& [k, v] : stageRuns[reference]) fullMedian[k] = median(v);
     const double fullEffect = effectMs(fullMedian);
@@ -165,6 +194,10 @@ class Sweep {
       r.shadedRms = e.shaded.rms;
       r.flip = e.effectFlip.mean;
       r.shadedFlip = e.shadedFlip.mean;
+      if (!expectation.empty()) {
+        r.expectationRms = rmsError(f.final(), expectation);
+        r.expectationMae = meanAbsError(f.final(), expectation);
+      }
       records_.push_back(r);
     }
     return last;
@@ -342,14 +375,19 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
             const Effect e = parseEffect(effectName);
             progress.step(path.name + " stability " + sceneName + " " + kind + " " + std::to_string(o.frames) + " frames " +
                           effectName);
-            std::map<std::string, FlickerMeter> meters;
+            std::map<std::string, FlickerMeter> meters, expected;  // against full; against its expectation
             // SPEC §14: each method's frames in sequence, each reading what the previous one left
             // (a method whose temporal term is off leaves nothing, and reads nothing).
             std::map<std::string, FrameHistory> histories;
             const auto [w, h] = o.stabilitySize;
             for (const Camera& cam : cameraPath(sc.camera, kind, o.frames)) {
-              const FrameResult full = sc.render(
-                  cam, makeConstants(settingsFor(referenceMethod(), e, w, h, middleSamples(e)), framed), {false, {}, nullptr});
+              const Settings fullSettings = settingsFor(referenceMethod(), e, w, h, middleSamples(e));
+              const FrameResult full = sc.render(cam, makeConstants(fullSettings, framed), {false, {}, nullptr});
+              const ImageF expectation = effectExpectation(sc, cam, fullSettings, framed, o.expectationSeeds);
+              if (!expectation.empty()) {  // full's own row: 0 against itself, its noise against the expectation
+                meters[referenceMethod()].add(full.final(), full.final());
+                expected[referenceMethod()].add(full.final(), expectation);
+              }
               for (const std::string& m : o.methods) {
                 if (m == referenceMethod()) continue;
                 RenderOptions options{false, {}, nullptr};
@@ -357,12 +395,19 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
                 if (!history.empty()) options.history = &history;
                 FrameResult f = sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), options);
                 meters[m].add(f.final(), full.final());
+                if (!expectation.empty()) expected[m].add(f.final(), expectation);
                 history = std::move(f.history);
               }
             }
-            for (const auto& [m, meter] : meters)
-              stability.push_back({path.name, sceneName, effectName, middleSamples(e), kind, o.frames, w, h, m,
-                                   meter.flicker(), meter.meanRms(), meter.flipFlicker(), meter.meanFlip()});
+            for (const auto& [m, meter] : meters) {
+              StabilityRecord r{path.name, sceneName, effectName, middleSamples(e), kind, o.frames, w, h, m,
+                                meter.flicker(), meter.meanRms(), meter.flipFlicker(), meter.meanFlip()};
+              if (expected.count(m)) {
+                r.expectationFlicker = expected.at(m).flicker();
+                r.expectationMeanRms = expected.at(m).meanRms();
+              }
+              stability.push_back(r);
+            }
           }
       }
     // 4. The stress scenes: every method, and the paper's without the never-slower rule.

@@ -75,6 +75,10 @@ struct BenchOptions {
   // processes each of full and of the methods of kColdMethods that `methods` holds,
   // alternating (0: none), their medians beside the warm ones.
   int coldRuns = 0;
+  // The error against the effect's expectation (SPEC §10): for SSAO and SSGI, whose estimator
+  // draws noise, full's mean over this many other seeds (1..K) is a second reference beside
+  // full, on every main-sweep frame and every camera-path frame (0: off). SSM has no noise.
+  int expectationSeeds = 0;
   // Outputs.
   std::string jsonOut, csvOut, markdownOut, reportDir;
   bool check = false;  // exit 1 when a sanity check fails (full's error 0, ideal ≥ measured, …)

@@ -71,13 +71,18 @@ struct Table {
   std::string markdown() const {
     std::ostringstream o;
     o << "### " << title << "\n\n|";
-    for (const auto& h : header) o << " " << h << " |";
+    // a | inside a cell ("max |Δ|") is escaped, or Markdown reads it as a column
+    const auto cell = [](std::string c) {
+      for (size_t i = c.find('|'); i != std::string::npos; i = c.find('|', i + 2)) c.insert(i, "\\");
+      return c;
+    };
+    for (const auto& h : header) o << " " << cell(h) << " |";
     o << "\n|";
     for (size_t i = 0; i < header.size(); ++i) o << "---|";
     o << "\n";
     for (const auto& r : rows) {
       o << "|";
-      for (const auto& c : r) o << " " << c << " |";
+      for (const auto& c : r) o << " " << cell(c) << " |";
       o << "\n";
     }
     return o.str() + "\n";
@@ -205,6 +210,49 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
       t.rows.push_back({s.path, s.scene, s.effect + "-" + std::to_string(s.samples), s.kind, std::to_string(s.frames),
                         sizeName(s.width, s.height), s.method, sci(s.flicker), sci(s.meanRms), sci(s.flipFlicker),
                         sci(s.meanFlip)});
+    out.push_back(t);
+  }
+  // 4b. Against the effect's expectation (--expectation K, SPEC §10): the error a method adds to
+  // the estimator's own, beside the error against full's one draw of it.
+  {
+    Table t{"Error against the effect's expectation (SPEC §10: full's mean over K other seeds; full's own row is the "
+            "estimator's noise; medians over every scene and camera)",
+            {"path", "effect", "samples", "method", "settings", "RMS against full", "RMS against the expectation",
+             "mean |Δ| against the expectation", "measured speedup"},
+            {}};
+    const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main" && std::isfinite(r.expectationRms); });
+    for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
+      for (const std::string& effect : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.effect; }))
+        for (int samples : distinct<BenchRecord, int>(main, [](const BenchRecord& r) { return r.samples; }))
+          for (const std::string& m : methodsOf(main)) {
+            const auto sel = select(main, [&](const BenchRecord& r) {
+              return r.path == path && r.effect == effect && r.samples == samples && r.method == m;
+            });
+            if (sel.empty()) continue;
+            std::vector<double> rms, erms, emae, meas;
+            for (const BenchRecord& r : sel) {
+              rms.push_back(r.error.rms);
+              erms.push_back(r.expectationRms);
+              emae.push_back(r.expectationMae);
+              meas.push_back(r.measuredSpeedup);
+            }
+            t.rows.push_back({path, effect, std::to_string(samples), m, std::to_string(sel.size()), sci(median(rms)),
+                              sci(median(erms)), sci(median(emae)), fixed(median(meas), 2) + "x"});
+          }
+    if (!t.rows.empty()) out.push_back(t);
+  }
+  if (std::any_of(res.stability.begin(), res.stability.end(),
+                  [](const StabilityRecord& s) { return std::isfinite(s.expectationFlicker); })) {
+    Table t{"Stability against the effect's expectation (SPEC §10 flicker with the expectation for full; full's row is "
+            "the estimator's own)",
+            {"path", "scene", "effect", "camera path", "frames", "size", "method", "flicker against full",
+             "flicker against the expectation", "mean RMS against the expectation"},
+            {}};
+    for (const StabilityRecord& s : res.stability)
+      if (std::isfinite(s.expectationFlicker))
+        t.rows.push_back({s.path, s.scene, s.effect + "-" + std::to_string(s.samples), s.kind, std::to_string(s.frames),
+                          sizeName(s.width, s.height), s.method, sci(s.flicker), sci(s.expectationFlicker),
+                          sci(s.expectationMeanRms)});
     out.push_back(t);
   }
   // 5. Stress scenes.
@@ -377,12 +425,21 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
                     {"ssim", r.error.ssim}, {"max_abs", r.error.maxAbs}, {"edge_band_rms", r.error.edgeBandRms},
                     {"shaded_rms", r.shadedRms}, {"flip", r.flip}, {"shaded_flip", r.shadedFlip}});
     if (!r.passMs.empty()) runs.back()["pass_ms"] = r.passMs;  // --gpu-timing passes
+    if (std::isfinite(r.expectationRms)) {  // --expectation
+      runs.back()["rms_expectation"] = r.expectationRms;
+      runs.back()["mae_expectation"] = r.expectationMae;
+    }
   }
-  for (const StabilityRecord& s : res.stability)
+  for (const StabilityRecord& s : res.stability) {
     stab.push_back({{"path", s.path}, {"scene", s.scene}, {"effect", s.effect}, {"samples", s.samples}, {"camera_path", s.kind},
                     {"frames", s.frames}, {"width", s.width}, {"height", s.height}, {"method", s.method},
                     {"flicker", s.flicker}, {"mean_rms", s.meanRms}, {"flip_flicker", s.flipFlicker},
                     {"mean_flip", s.meanFlip}});
+    if (std::isfinite(s.expectationFlicker)) {  // --expectation
+      stab.back()["expectation_flicker"] = s.expectationFlicker;
+      stab.back()["expectation_mean_rms"] = s.expectationMeanRms;
+    }
+  }
   // The method table's rows, as the charts draw them (compare/report/report.py reads them here).
   const nlohmann::json methodRows = methodRowsJson();
   return {{"machine", res.options.machine}, {"devices", res.devices}, {"threads", res.threads},
@@ -390,28 +447,40 @@ nlohmann::json benchJson(const BenchResults& res, const std::vector<std::string>
           {"fovea", foveaJson(res.fovea)}, {"sanity_failures", failures}};
 }
 
+namespace {
+// A CSV cell: the figure, or empty where it was not measured (NaN).
+std::string measured(double v) {
+  if (!std::isfinite(v)) return "";
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+}  // namespace
+
 std::string benchCsv(const BenchResults& res) {
   std::ostringstream o;
   o << "path,scene,group,camera,method,effect,width,height,samples,effect_ms,total_ms,shaded_pixels,ideal_speedup,"
        "ideal_speedup_hit,measured_speedup,fell_back,rms,psnr,ssim,max_abs,edge_band_rms,shaded_rms,cold_effect_ms,"
-       "cold_speedup,flip,shaded_flip,cold_process_ms\n";
+       "cold_speedup,flip,shaded_flip,cold_process_ms,rms_expectation,mae_expectation\n";
   for (const BenchRecord& r : res.records)
     o << r.path << "," << r.scene << "," << r.group << "," << r.camera << "," << r.method << "," << r.effect << "," << r.width
       << "," << r.height << "," << r.samples << "," << r.effectMs << "," << r.totalMs << "," << r.shadedPixels << ","
       << r.idealSpeedup << "," << r.idealSpeedupHit << "," << r.measuredSpeedup << "," << (r.fellBack ? 1 : 0) << "," << r.error.rms << ","
       << (std::isfinite(r.error.psnr) ? std::to_string(r.error.psnr) : "inf") << "," << r.error.ssim << "," << r.error.maxAbs
       << "," << r.error.edgeBandRms << "," << r.shadedRms << "," << r.coldEffectMs << "," << r.coldSpeedup << "," << r.flip << ","
-      << r.shadedFlip << "," << r.coldProcessMs << "\n";
+      << r.shadedFlip << "," << r.coldProcessMs << "," << measured(r.expectationRms) << "," << measured(r.expectationMae)
+      << "\n";
   return o.str();
 }
 
 std::string benchStabilityCsv(const BenchResults& res) {
   std::ostringstream o;
-  o << "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip\n";
+  o << "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip,"
+       "expectation_flicker,expectation_mean_rms\n";
   for (const StabilityRecord& s : res.stability)
     o << s.path << "," << s.scene << "," << s.effect << "," << s.samples << "," << s.kind << "," << s.frames << "," << s.width
       << "," << s.height << "," << s.method << "," << s.flicker << "," << s.meanRms << "," << s.flipFlicker << ","
-      << s.meanFlip << "\n";
+      << s.meanFlip << "," << measured(s.expectationFlicker) << "," << measured(s.expectationMeanRms) << "\n";
   return o.str();
 }
 

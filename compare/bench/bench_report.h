@@ -1,6 +1,7 @@
 #pragma once
 // What `mrr bench` measured, and everything written from it: the sanity checks, the Markdown
 // tables, JSON and CSV, and the HTML page with its charts (drawn by compare/report/report.py).
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ struct BenchRecord {
   double shadedRms = 0.0;        // RMS of the shaded image against full's
   double flip = 0.0;             // mean LDR-FLIP of the effect buffer (as grey) against full's
   double shadedFlip = 0.0;       // mean LDR-FLIP of the shaded image against full's
+  // BenchOptions::expectationSeeds: the effect buffer against full's mean over K other seeds
+  // (SPEC §10); NaN where not measured (off, or an effect without noise)
+  double expectationRms = std::nan(""), expectationMae = std::nan("");
 };
 
 // One method along one camera path.
@@ -51,6 +55,9 @@ struct StabilityRecord {
   double meanRms = 0.0;
   double flipFlicker = 0.0;  // SPEC §10: mean |FLIP_t − FLIP_{t−1}| against full, per pixel
   double meanFlip = 0.0;     // the mean per-frame mean FLIP against full
+  // BenchOptions::expectationSeeds: flicker and mean RMS against the expectation instead of
+  // full (SPEC §10), full's own row included; NaN where not measured
+  double expectationFlicker = std::nan(""), expectationMeanRms = std::nan("");
 };
 
 struct BenchResults {

@@ -319,10 +319,86 @@ TEST(BenchStability, TheFlickerTableCarriesFlipInJsonCsvAndMarkdown) {
   const std::string csv = test::readFile(stabilityCsvPath(o.csvOut));
   EXPECT_EQ(stabilityCsvPath(o.csvOut), dir + "/bench-stability.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip");
+            "path,scene,effect,samples,camera_path,frames,width,height,method,flicker,mean_rms,flip_flicker,mean_flip,"
+            "expectation_flicker,expectation_mean_rms");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + static_cast<long>(j.at("stability").size()));
   const std::string md = test::readFile(o.markdownOut);
   EXPECT_NE(md.find("| flicker | mean RMS | FLIP flicker | mean FLIP |"), std::string::npos);
+}
+
+// --expectation K (SPEC §10): on SSAO each frame's error is also measured against full's mean over
+// seeds 1..K, recomputed here from the same renders; SSM, which draws no noise, gets none; the
+// camera paths get full's own row, steady against itself and not against the expectation.
+TEST(BenchExpectation, IsFullsMeanOverTheOtherSeedsAndOnlyForNoisyEffects) {
+  const std::string dir = test::scratchDir();
+  BenchOptions o;
+  o.scenes = {"builtin:demo"};
+  o.sizes = {{48, 27}};
+  o.effects = {"ssao", "ssm"};
+  o.samples = {4};
+  o.methods = {"full", "mrr"};
+  o.cameras = 1;
+  o.repeats = 1;
+  o.paperSweeps = false;
+  o.frames = 3;
+  o.stabilitySize = {48, 27};
+  o.stabilityScenes = {"builtin:demo"};
+  o.stressScenes = {};
+  o.expectationSeeds = 3;
+  o.jsonOut = dir + "/bench.json";
+  o.markdownOut = dir + "/bench.md";
+  const BenchPath cpu{"cpu", "cpu_ref, for a test", [](const Scene& scene) -> RenderFn {
+                        auto r = std::make_shared<Renderer>(scene);
+                        return [r](const Camera& c, const Constants& k, const RenderOptions& ro) { return r->render(c, k, ro); };
+                      }};
+  std::ostringstream out;
+  ASSERT_EQ(runBench(o, {cpu}, out), 0);
+  const nlohmann::json j = nlohmann::json::parse(test::readFile(o.jsonOut));
+
+  // The expectation as its definition says, from the bench's own camera and settings.
+  const OpenScene sc = openScene("builtin:demo", cpu);
+  const Camera camera = benchCameras(sc.camera, 1)[0];
+  const float framed = framedSize(*sc.scene, camera, 48.0f / 27.0f).size;
+  Settings s = settingsFor("full", Effect::Ssao, 48, 27, 4);
+  const ImageF full = sc.render(camera, makeConstants(s, framed), {false, {}, nullptr}).final();
+  ImageF mean(full.width, full.height, full.channels, 0.0f);
+  for (uint32_t k = 1; k <= 3; ++k) {
+    s.seed = k;
+    const ImageF draw = sc.render(camera, makeConstants(s, framed), {false, {}, nullptr}).final();
+    for (size_t i = 0; i < mean.data.size(); ++i) mean.data[i] += draw.data[i];
+  }
+  for (float& v : mean.data) v /= 3.0f;
+  const double fullNoise = rmsError(full, mean);
+  ASSERT_GT(fullNoise, 1e-3) << "4 samples a pixel: full is one noisy draw";
+
+  int ssao = 0;
+  for (const nlohmann::json& r : j.at("runs")) {
+    if (r.at("effect") == "ssm") {
+      EXPECT_FALSE(r.contains("rms_expectation")) << "SSM draws no noise: " << r.dump();
+      continue;
+    }
+    ++ssao;
+    ASSERT_TRUE(r.contains("rms_expectation")) << r.dump();
+    const double e = r.at("rms_expectation").get<double>(), mae = r.at("mae_expectation").get<double>();
+    EXPECT_GT(e, 0.0);
+    EXPECT_LE(mae, e + 1e-12) << "a mean |Δ| is at most the RMS";
+    if (r.at("method") == "full") EXPECT_NEAR(e, fullNoise, 1e-9 + 1e-6 * fullNoise) << "full against the mean of seeds 1..3";
+  }
+  EXPECT_EQ(ssao, 2);
+
+  int fullRows = 0;
+  for (const nlohmann::json& st : j.at("stability")) {
+    ASSERT_TRUE(st.contains("expectation_flicker")) << st.dump();
+    EXPECT_GT(st.at("expectation_mean_rms").get<double>(), 0.0) << st.dump();
+    if (st.at("method") != "full") continue;
+    ++fullRows;
+    EXPECT_EQ(st.at("flicker").get<double>(), 0.0) << "full against itself";
+    EXPECT_GT(st.at("expectation_flicker").get<double>(), 0.0) << "its noise moves with the camera";
+  }
+  EXPECT_EQ(fullRows, static_cast<int>(cameraPathKinds().size()));
+  const std::string md = test::readFile(o.markdownOut);
+  EXPECT_NE(md.find("### Error against the effect's expectation"), std::string::npos);
+  EXPECT_NE(md.find("### Stability against the effect's expectation"), std::string::npos);
 }
 
 }  // namespace

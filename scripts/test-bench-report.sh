@@ -4,7 +4,9 @@
 #   scripts/test-bench-report.sh [path/to/mrr]
 # Checks: the bench exits 0 with --check (full's error 0, no method above its ideal speedup,
 # finite figures); the JSON has every method on both paths, the stability and stress runs;
-# the CSV has a row per run, the stability CSV one per stability run with FLIP beside RMS; the
+# the CSV has a row per run, the stability CSV one per stability run with FLIP beside RMS; SSAO's
+# and SSGI's main-sweep runs carry their error against the expectation (--expectation 2), SSM's
+# none, and each path's full differs from it (its seeds draw noise); the
 # page loads with no console message, every chart and image
 # decodes, and it holds one figure per chart written. Then takes a screenshot for
 # docs/images/bench-report.png (MRR_BENCH_SCREENSHOT=path to override, "" to skip).
@@ -31,7 +33,7 @@ fi
 
 # 1. The quick bench on both paths, with its sanity checks.
 start=$(date +%s)
-"$mrr" bench --quick --check --paths "${paths[@]}" --report "$work/report" --json "$work/bench.json" \
+"$mrr" bench --quick --check --expectation 2 --paths "${paths[@]}" --report "$work/report" --json "$work/bench.json" \
   --csv "$work/bench.csv" --markdown "$work/bench.md" > "$work/bench.out" 2> "$work/bench.err"
 rc=$?
 [ "$rc" -eq 0 ] || fail "mrr bench --quick --check exited $rc: $(grep -m1 -E 'sanity check failed|error' "$work/bench.err" || tail -n1 "$work/bench.err")"
@@ -58,6 +60,12 @@ rows = open(sys.argv[2]).read().strip().split("\n")
 if len(rows) != len(runs) + 1: fail("CSV has %d rows for %d runs" % (len(rows) - 1, len(runs)))
 for s in j["stability"]:  # FLIP beside RMS in the flicker table
     if not (0 <= s["flip_flicker"] <= 1 and 0 <= s["mean_flip"] <= 1): fail("stability FLIP outside [0,1]: %s" % s)
+for r in runs:  # --expectation: the main sweep's SSAO and SSGI against full's mean over other seeds, SSM none
+    if (r["group"] == "main" and r["effect"] != "ssm") != ("rms_expectation" in r):
+        fail("rms_expectation where it should not be, or none: %s" % r)
+for path in ("cpu", "gpu"):  # each path draws its own noise anew with the seed
+    if not [r for r in runs if r["path"] == path and r["method"] == "full" and r.get("rms_expectation", 0) > 0]:
+        fail("%s: full has no noise against the expectation" % path)
 stab = open(sys.argv[2][:-len(".csv")] + "-stability.csv").read().strip().split("\n")
 if len(stab) != len(j["stability"]) + 1 or ",flip_flicker,mean_flip," not in stab[0]:
     fail("the stability CSV has %d rows for %d stability runs, header %s" % (len(stab) - 1, len(j["stability"]), stab[0]))

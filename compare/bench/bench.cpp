@@ -156,8 +156,9 @@ class Sweep {
                                                       ? coldFrames(path, sc, camera, effect, w, h, samples, all)
                                                       : std::map<std::string, ColdFrame>{};
     const FrameResult& full = last.at(reference);
-    const ImageF expectation =
-        effectExpectation(sc, camera, settingsFor(reference, effect, w, h, samples), framed, o_.expectationSeeds);
+    const ImageF expectation = group == "main" ? effectExpectation(sc, camera, settingsFor(reference, effect, w, h, samples),
+                                                                   framed, o_.expectationSeeds)
+                                               : ImageF{};  // the main sweep's frames only
     std::map<std::string, double> fullMedian;
     for (const auto& [k, v] : stageRuns[reference]) fullMedian[k] = median(v);
     const double fullEffect = effectMs(fullMedian);

@@ -78,6 +78,7 @@ struct BenchOptions {
   // The error against the effect's expectation (SPEC §10): for SSAO and SSGI, whose estimator
   // draws noise, full's mean over this many other seeds (1..K) is a second reference beside
   // full, on every main-sweep frame and every camera-path frame (0: off). SSM has no noise.
+  // The paper's sweeps and the stress scenes go without it.
   int expectationSeeds = 0;
   // Outputs.
   std::string jsonOut, csvOut, markdownOut, reportDir;

@@ -79,6 +79,20 @@ float levelSample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int
   return blendAlpha(coverage, alphaHat, weight);
 }
 
+// levelSample at level 0, as its own function: with s = 1, u = p, so tap 0 is p itself with
+// b = 1 and taps 1–3 have b = 0. Each of levelSample's sums is then level 0's own texel (x + 0·y
+// = x for the finite values the levels hold), bit for bit, and the three zero-weight taps are
+// not read: 3 reads a pixel instead of up to 12.
+float levelZeroSample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, float weight, ivec2 p,
+                      out vec3 color) {
+  float alphaHat = texelFetch(alphaMask, p, 0).r;
+  color = vec3(0.0);
+  if (alphaHat == 0.0) return 0.0;
+  float coverage = texelFetch(stencilMask, p, 0).r < 0.5 ? 0.0 : 1.0;
+  if (coverage > 0.0) color = texelFetch(sub, p, 0).rgb;
+  return blendAlpha(coverage, alphaHat, weight);
+}
+
 // ĉ_C of the coarsest enabled level, whose S is 1 on its whole grid where the host says so
 // (COARSEST_COVERED: masks drawn by drawMasks), so its stencil is not read: the same sums.
 vec3 coarsestSample(sampler2D sub, sampler2D stencilMask, int scale, ivec2 p) {
@@ -149,7 +163,7 @@ void main() {
   vec3 c0 = vec3(0.0), c1 = vec3(0.0), c2 = vec3(0.0);
   bool opaque = false;
 #if (FINE_LEVELS & 1) != 0
-  a0 = levelSample(sub0, stencil0, alpha0, 1, weights[0], p, c0);
+  a0 = levelZeroSample(sub0, stencil0, alpha0, weights[0], p, c0);
   opaque = a0 == 1.0;
 #endif
 #if (FINE_LEVELS & 2) != 0

@@ -97,6 +97,22 @@ const PaperFigure* findPaper(const std::vector<PaperFigure>& paper, const std::s
   return nullptr;
 }
 
+// Calls `row` once per path × effect × sample count × method of the main sweep's records `main`
+// that has records, with them (over every scene and camera), in the tables' order.
+void perSetting(const std::vector<BenchRecord>& main,
+                const std::function<void(const std::string& path, const std::string& effect, int samples,
+                                         const std::string& method, const std::vector<BenchRecord>& sel)>& row) {
+  for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
+    for (const std::string& effect : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.effect; }))
+      for (int samples : distinct<BenchRecord, int>(main, [](const BenchRecord& r) { return r.samples; }))
+        for (const std::string& m : methodsOf(main)) {
+          const auto sel = select(main, [&](const BenchRecord& r) {
+            return r.path == path && r.effect == effect && r.samples == samples && r.method == m;
+          });
+          if (!sel.empty()) row(path, effect, samples, m, sel);
+        }
+}
+
 // Every table, in the order the page and the Markdown show them.
 std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure>& paper) {
   std::vector<Table> out;
@@ -108,14 +124,8 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
              "RMS", "FLIP", "shaded FLIP", "PSNR", "SSIM", "edge-band RMS", "max |Δ|", "fell back", "effect ms"},
             {}};
     const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main"; });
-    for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
-      for (const std::string& effect : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.effect; }))
-        for (int samples : distinct<BenchRecord, int>(main, [](const BenchRecord& r) { return r.samples; }))
-          for (const std::string& m : methodsOf(main)) {
-            const auto sel = select(main, [&](const BenchRecord& r) {
-              return r.path == path && r.effect == effect && r.samples == samples && r.method == m;
-            });
-            if (sel.empty()) continue;
+    perSetting(main, [&](const std::string& path, const std::string& effect, int samples, const std::string& m,
+                         const std::vector<BenchRecord>& sel) {
             std::vector<double> meas, ideal, rms, flipMean, shadedFlip, psnr, ssim, band, maxAbs, ms;
             int fell = 0;
             int64_t bandPixels = 0;
@@ -139,7 +149,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
                               sci(median(flipMean)), sci(median(shadedFlip)), median(psnr) >= 999.0 ? "inf" : fixed(median(psnr), 1), fixed(median(ssim), 4),
                               bandPixels > 0 ? sci(median(band)) : "—", sci(median(maxAbs)), std::to_string(fell) + "/" + std::to_string(sel.size()),
                               fixed(median(ms), 1)});
-          }
+    });
     out.push_back(t);
   }
   // 1b. Single frames: fresh `mrr render` processes beside the warm bench (--cold).
@@ -221,14 +231,8 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
              "mean |Δ| against the expectation", "measured speedup"},
             {}};
     const auto main = select(rs, [](const BenchRecord& r) { return r.group == "main" && std::isfinite(r.expectationRms); });
-    for (const std::string& path : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.path; }))
-      for (const std::string& effect : distinct<BenchRecord, std::string>(main, [](const BenchRecord& r) { return r.effect; }))
-        for (int samples : distinct<BenchRecord, int>(main, [](const BenchRecord& r) { return r.samples; }))
-          for (const std::string& m : methodsOf(main)) {
-            const auto sel = select(main, [&](const BenchRecord& r) {
-              return r.path == path && r.effect == effect && r.samples == samples && r.method == m;
-            });
-            if (sel.empty()) continue;
+    perSetting(main, [&](const std::string& path, const std::string& effect, int samples, const std::string& m,
+                         const std::vector<BenchRecord>& sel) {
             std::vector<double> rms, erms, emae, meas;
             for (const BenchRecord& r : sel) {
               rms.push_back(r.error.rms);
@@ -238,7 +242,7 @@ std::vector<Table> tables(const BenchResults& res, const std::vector<PaperFigure
             }
             t.rows.push_back({path, effect, std::to_string(samples), m, std::to_string(sel.size()), sci(median(rms)),
                               sci(median(erms)), sci(median(emae)), fixed(median(meas), 2) + "x"});
-          }
+    });
     if (!t.rows.empty()) out.push_back(t);
   }
   if (std::any_of(res.stability.begin(), res.stability.end(),

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "compare/bench/bench.h"
+#include "tests/oracle/bench_helpers.h"
 #include "compare/bench/bench_fovea.h"
 #include "compare/bench/bench_report.h"
 #include "render_helpers.h"
@@ -47,10 +48,7 @@ TEST(BenchFovea, TheFoveaKeepsTheMethodsDecisionsThePeripheryAndMotionShadeLess)
   o.jsonOut = dir + "/bench.json";
   o.csvOut = dir + "/bench.csv";
   o.markdownOut = dir + "/bench.md";
-  const BenchPath cpu{"cpu", "cpu_ref, for a test", [](const Scene& scene) -> RenderFn {
-                        auto r = std::make_shared<Renderer>(scene);
-                        return [r](const Camera& c, const Constants& k, const RenderOptions& ro) { return r->render(c, k, ro); };
-                      }};
+  const BenchPath cpu = oracleBenchPath();
   std::ostringstream out;
   ASSERT_EQ(runBench(o, {cpu}, out), 0);
   const nlohmann::json j = nlohmann::json::parse(test::readFile(o.jsonOut));

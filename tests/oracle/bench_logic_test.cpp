@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "common/stages.h"
 #include "compare/bench/bench.h"
+#include "tests/oracle/bench_helpers.h"
 #include "compare/bench/bench_report.h"
 #include "compare/metrics/flip.h"
 #include "compare/metrics/metrics.h"
@@ -298,10 +299,7 @@ TEST(BenchStability, TheFlickerTableCarriesFlipInJsonCsvAndMarkdown) {
   o.jsonOut = dir + "/bench.json";
   o.csvOut = dir + "/bench.csv";
   o.markdownOut = dir + "/bench.md";
-  const BenchPath cpu{"cpu", "cpu_ref, for a test", [](const Scene& scene) -> RenderFn {
-                        auto r = std::make_shared<Renderer>(scene);
-                        return [r](const Camera& c, const Constants& k, const RenderOptions& ro) { return r->render(c, k, ro); };
-                      }};
+  const BenchPath cpu = oracleBenchPath();
   std::ostringstream out;
   ASSERT_EQ(runBench(o, {cpu}, out), 0);
 
@@ -347,10 +345,7 @@ TEST(BenchExpectation, IsFullsMeanOverTheOtherSeedsAndOnlyForNoisyEffects) {
   o.expectationSeeds = 3;
   o.jsonOut = dir + "/bench.json";
   o.markdownOut = dir + "/bench.md";
-  const BenchPath cpu{"cpu", "cpu_ref, for a test", [](const Scene& scene) -> RenderFn {
-                        auto r = std::make_shared<Renderer>(scene);
-                        return [r](const Camera& c, const Constants& k, const RenderOptions& ro) { return r->render(c, k, ro); };
-                      }};
+  const BenchPath cpu = oracleBenchPath();
   std::ostringstream out;
   ASSERT_EQ(runBench(o, {cpu}, out), 0);
   const nlohmann::json j = nlohmann::json::parse(test::readFile(o.jsonOut));

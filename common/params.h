@@ -18,6 +18,9 @@ enum class Effect { Ssao, Ssm, Ssgi };
 
 std::string toString(Effect effect);
 Effect parseEffect(const std::string& name);  // throws MrrError on an unknown name
+// Whether the effect's estimator draws noise (SSAO's and SSGI's rotations and kernel, SPEC §7;
+// SSM's PCF grid does not): its stages are stochastic, and a seed draws them anew.
+constexpr bool isStochastic(Effect effect) { return effect == Effect::Ssao || effect == Effect::Ssgi; }
 
 constexpr int kLevelCount = 4;           // full, ½, ¼, ⅛ (SPEC §0: L = 4)
 constexpr int kMaxImageSize = 16384;     // per side; beyond it the G-buffers alone exceed RAM

@@ -23,7 +23,6 @@
 #include "common/stages.h"
 #include "compare/bench/bench_report.h"
 #include "compare/metrics/metrics.h"
-#include "compare/parity/noise.h"
 #include "compare/report/report.h"
 #include "scenes/cameras.h"
 #include "scenes/catalog.h"

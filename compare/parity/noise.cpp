@@ -9,8 +9,6 @@
 
 namespace mrr {
 
-bool isStochastic(Effect effect) { return effect == Effect::Ssao || effect == Effect::Ssgi; }
-
 namespace {
 
 // The stochastic stages of a frame, by name, as the parity rows name them.

@@ -26,9 +26,6 @@
 
 namespace mrr {
 
-// Whether the effect's stages are stochastic (SSAO and SSGI; SSM's PCF grid is not).
-bool isStochastic(Effect effect);
-
 // The oracle's stochastic stages over K seeds: "raw.L0" → K images, in the stage's own grid.
 struct NoiseReference {
   int seeds = 0;

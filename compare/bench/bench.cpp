@@ -105,13 +105,6 @@ ImageF effectExpectation(const OpenScene& sc, const Camera& camera, const Settin
   return sum;
 }
 
-// Mean |test − ref| over pixels and channels.
-double meanAbsError(const ImageF& test, const ImageF& ref) {
-  double sum = 0.0;
-  for (size_t i = 0; i < test.data.size(); ++i) sum += std::abs(static_cast<double>(test.data[i]) - ref.data[i]);
-  return test.data.empty() ? 0.0 : sum / static_cast<double>(test.data.size());
-}
-
 struct Progress {
   size_t done = 0, total = 0;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
@@ -375,7 +368,12 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
             const Effect e = parseEffect(effectName);
             progress.step(path.name + " stability " + sceneName + " " + kind + " " + std::to_string(o.frames) + " frames " +
                           effectName);
-            std::map<std::string, FlickerMeter> meters, expected;  // against full; against its expectation
+            std::map<std::string, FlickerMeter> meters;
+            // against the expectation: flicker and mean RMS, no FLIP; full's own row among them
+            std::map<std::string, FlickerMeter> expected;
+            const auto againstExpectation = [&](const std::string& m, const ImageF& frame, const ImageF& expectation) {
+              expected.try_emplace(m, false).first->second.add(frame, expectation);
+            };
             // SPEC §14: each method's frames in sequence, each reading what the previous one left
             // (a method whose temporal term is off leaves nothing, and reads nothing).
             std::map<std::string, FrameHistory> histories;
@@ -384,10 +382,7 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
               const Settings fullSettings = settingsFor(referenceMethod(), e, w, h, middleSamples(e));
               const FrameResult full = sc.render(cam, makeConstants(fullSettings, framed), {false, {}, nullptr});
               const ImageF expectation = effectExpectation(sc, cam, fullSettings, framed, o.expectationSeeds);
-              if (!expectation.empty()) {  // full's own row: 0 against itself, its noise against the expectation
-                meters[referenceMethod()].add(full.final(), full.final());
-                expected[referenceMethod()].add(full.final(), expectation);
-              }
+              if (!expectation.empty()) againstExpectation(referenceMethod(), full.final(), expectation);
               for (const std::string& m : o.methods) {
                 if (m == referenceMethod()) continue;
                 RenderOptions options{false, {}, nullptr};
@@ -395,10 +390,12 @@ int runBench(const BenchOptions& optionsIn, const std::vector<BenchPath>& paths,
                 if (!history.empty()) options.history = &history;
                 FrameResult f = sc.render(cam, makeConstants(settingsFor(m, e, w, h, middleSamples(e)), framed), options);
                 meters[m].add(f.final(), full.final());
-                if (!expectation.empty()) expected[m].add(f.final(), expectation);
+                if (!expectation.empty()) againstExpectation(m, f.final(), expectation);
                 history = std::move(f.history);
               }
             }
+            // full's own row, beside its expectation only: against itself every figure is 0
+            if (expected.count(referenceMethod())) meters.try_emplace(referenceMethod());
             for (const auto& [m, meter] : meters) {
               StabilityRecord r{path.name, sceneName, effectName, middleSamples(e), kind, o.frames, w, h, m,
                                 meter.flicker(), meter.meanRms(), meter.flipFlicker(), meter.meanFlip()};

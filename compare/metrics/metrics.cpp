@@ -217,6 +217,13 @@ double rmsError(const ImageF& test, const ImageF& ref) {
   return std::sqrt(meanSquaredError(test, ref));
 }
 
+double meanAbsError(const ImageF& test, const ImageF& ref) {
+  requireComparable(test, ref, "mean |error|");
+  double sum = 0.0;  // in index order: the same sum for any thread count
+  for (size_t i = 0; i < test.data.size(); ++i) sum += std::abs(static_cast<double>(test.data[i]) - ref.data[i]);
+  return test.data.empty() ? 0.0 : sum / static_cast<double>(test.data.size());
+}
+
 double maxAbsError(const ImageF& test, const ImageF& ref) {
   requireComparable(test, ref, "max |error|");
   const size_t rowLength = static_cast<size_t>(test.width) * test.channels;
@@ -361,17 +368,21 @@ ErrorFigures compareToReference(const ImageF& test, const ImageF& ref, const Ima
 void FlickerMeter::add(const ImageF& test, const ImageF& ref) {
   require(test.width == ref.width && test.height == ref.height && test.channels == ref.channels,
           "flicker: the frame and its reference differ in size");
+  const bool first = frames_ == 0;
   ImageF error(test.width, test.height, test.channels);
   for (size_t i = 0; i < error.data.size(); ++i) error.data[i] = test.data[i] - ref.data[i];
-  if (frames_ > 0) {
+  if (!first) {
     require(previousError_.data.size() == error.data.size(), "flicker: frames of a path differ in size");
     for (size_t i = 0; i < error.data.size(); ++i)
       sum_ += std::abs(static_cast<double>(error.data[i]) - static_cast<double>(previousError_.data[i]));
     count_ += static_cast<int64_t>(error.data.size());
   }
   rmsSum_ += rmsError(test, ref);
+  previousError_ = std::move(error);
+  ++frames_;
+  if (!withFlip_) return;
   FlipResult f = flip(ref, test);
-  if (frames_ > 0) {
+  if (!first) {
     double s = 0.0;  // in index order: the same sum for any thread count
     for (size_t i = 0; i < f.errorMap.data.size(); ++i)
       s += std::abs(static_cast<double>(f.errorMap.data[i]) - static_cast<double>(previousFlip_.data[i]));
@@ -380,8 +391,6 @@ void FlickerMeter::add(const ImageF& test, const ImageF& ref) {
   }
   flipMeanSum_ += f.stats.mean;
   previousFlip_ = std::move(f.errorMap);
-  previousError_ = std::move(error);
-  ++frames_;
 }
 
 double FlickerMeter::flipFlicker() const { return flipCount_ > 0 ? flipSum_ / static_cast<double>(flipCount_) : 0.0; }

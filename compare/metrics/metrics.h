@@ -20,6 +20,7 @@ struct ErrorFigures {
 
 double rmsError(const ImageF& test, const ImageF& ref);
 double maxAbsError(const ImageF& test, const ImageF& ref);
+double meanAbsError(const ImageF& test, const ImageF& ref);  // mean |Δ| over pixels and channels
 double psnr(const ImageF& test, const ImageF& ref);
 double ssim(const ImageF& test, const ImageF& ref);
 
@@ -44,6 +45,8 @@ ErrorFigures compareToReference(const ImageF& test, const ImageF& ref, const Ima
 // so an error that only changes sign is steady here; an error that comes and goes is not.
 class FlickerMeter {
  public:
+  // `withFlip` false: flicker and mean RMS only, no FLIP map a frame (flipFlicker and meanFlip 0)
+  explicit FlickerMeter(bool withFlip = true) : withFlip_(withFlip) {}
   void add(const ImageF& test, const ImageF& ref);
   double flicker() const;          // 0 before two frames
   int frames() const { return frames_; }
@@ -56,6 +59,7 @@ class FlickerMeter {
   double sum_ = 0.0, rmsSum_ = 0.0, flipSum_ = 0.0, flipMeanSum_ = 0.0;
   int64_t count_ = 0, flipCount_ = 0;
   int frames_ = 0;
+  bool withFlip_ = true;
 };
 
 }  // namespace mrr

@@ -79,6 +79,7 @@ TEST(Metrics, IdenticalImages) {
   hashPair(32, 24, 3, a, b);
   EXPECT_EQ(rmsError(a, a), 0.0);
   EXPECT_EQ(maxAbsError(a, a), 0.0);
+  EXPECT_EQ(meanAbsError(a, a), 0.0);
   EXPECT_EQ(psnr(a, a), std::numeric_limits<double>::infinity());
   EXPECT_DOUBLE_EQ(ssim(a, a), 1.0);
   const ErrorFigures f = compareToReference(a, a, ImageU8(32, 24, 1, 0));
@@ -98,6 +99,18 @@ TEST(Metrics, ConstantOffset) {
   EXPECT_NEAR(rmsError(test, ref), delta, 1e-14);
   EXPECT_EQ(maxAbsError(test, ref), delta);
   EXPECT_NEAR(psnr(test, ref), 20.0, 1e-5);
+}
+
+// Mean |Δ| weighs every error by its size where RMS weighs it by its square: half the pixels
+// off by 0.2 and half exact give 0.1 against an RMS of 0.2/√2.
+TEST(Metrics, MeanAbsErrorIsTheMeanOfTheErrorsSizes) {
+  const ImageF ref(8, 4, 2, 0.5f);
+  ImageF test = ref;
+  for (size_t i = 0; i < test.data.size(); i += 2) test.data[i] = i % 4 == 0 ? 0.7f : 0.3f;  // ±0.2, either sign
+  const double d = static_cast<double>(0.7f) - 0.5;
+  EXPECT_NEAR(meanAbsError(test, ref), 0.5 * d, 1e-7);
+  EXPECT_NEAR(rmsError(test, ref), d / std::sqrt(2.0), 1e-7);
+  EXPECT_THROW(meanAbsError(ImageF(8, 4, 1, 0.0f), ref), MrrError);
 }
 
 TEST(Metrics, SsimOfConstantImagesIsTheLuminanceTerm) {

@@ -41,6 +41,24 @@ TEST(Flicker, AnErrorThatFlipsSignEachFrameFlickersByTwiceItsSize) {
   EXPECT_NEAR(m.flicker(), 0.06, 1e-6);
 }
 
+// Without FLIP (the bench's meters against the expectation) the flicker and the mean RMS are
+// the same figures, and the FLIP ones are 0.
+TEST(Flicker, WithoutFlipTheFlickerAndRmsAreTheSame) {
+  FlickerMeter with, without(false);
+  for (int t = 0; t < 4; ++t) {
+    const ImageF frame = filled(t % 2 ? 0.47f : 0.53f), ref = filled(0.5f + 0.01f * static_cast<float>(t));
+    with.add(frame, ref);
+    without.add(frame, ref);
+  }
+  EXPECT_GT(with.flicker(), 0.0);
+  EXPECT_EQ(without.flicker(), with.flicker());
+  EXPECT_EQ(without.meanRms(), with.meanRms());
+  EXPECT_EQ(without.frames(), 4);
+  EXPECT_GT(with.meanFlip(), 0.0);
+  EXPECT_EQ(without.flipFlicker(), 0.0);
+  EXPECT_EQ(without.meanFlip(), 0.0);
+}
+
 // A grey ramp with a bright square planted in the middle, or without it.
 ImageF scene(bool planted) {
   ImageF img(48, 32, 1, 0.0f);

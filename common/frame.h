@@ -90,6 +90,9 @@ struct MaskLevel {
   ImageU8 mask;     // M_ℓ: 2×2 max-pool chain of E
   ImageF alpha;     // a_ℓ = G(σ_ℓ²) ∗ M_ℓ (≡ 1 at the coarsest enabled level); empty if disabled
   ImageU8 stencil;  // S_ℓ = [a_ℓ > 0], closed from fine to coarse; empty if disabled
+  // SPEC §12.5 (mrr-effect's trim): D_ℓ, the level pixels the blend reads; S_ℓ ∧= D_ℓ, and the
+  // a-posteriori refinement keeps it. Empty: not trimmed (every other method, ℓ = 0, trim off).
+  ImageU8 read;
 };
 using Masks = std::array<MaskLevel, kLevelCount>;
 

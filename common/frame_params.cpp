@@ -134,6 +134,11 @@ const std::vector<FrameParamInfo> kFrameParams = {
      "mrr-effect: the a-posteriori marks' hysteresis h: a pixel the previous frame refined stays refined while its "
      "variation stays above (1 - h) of what a new mark needs (0: off; docs/spec.md section 14.2)",
      kFile, kPage, {0.0, 1.0, false, true}, MRR_FIELD(s.effectMask.hysteresis)},
+    {Param::EffectTrim, "effect_trim", "", K::Switch, "",
+     "mrr-effect: shade a level > 0 only where the blend reads it: its pixels that are bilinear taps of a full-res "
+     "pixel no finer level covers with alpha = 1 (a priori), and for SSAO its blur's 5x5 around them: on|off "
+     "(docs/spec.md section 12.5)",
+     kFile, kPage, {}, MRR_FIELD(s.effectMask.trim)},
     {Param::TilesTemporal, "tiles_temporal", "", K::Number, "",
      "tiles: docs/spec.md section 14's temporal term with this lambda, as mrr-effect's --effect-temporal, for "
      "comparison (0: off, tiles as it is)",

@@ -34,6 +34,7 @@ enum class Param {
   EffectOnly,                                // the ablation's effect-only arm (SPEC §12.3)
   EffectBudget,                              // the a-posteriori term's budget in predicted time (SPEC §12.4)
   EffectTemporal, EffectHysteresis,          // the temporal term (SPEC §14)
+  EffectTrim,                                // shading only what the blend reads (SPEC §12.5)
   TilesTemporal,                             // the same temporal term for tiles (SPEC §14)
   Ppd, Gaze, Foveate, PrevFrame, Pan,  // viewing conditions, foveation and motion (SPEC §13)
   MemoryLimit, Quiet,

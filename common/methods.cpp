@@ -19,7 +19,8 @@ constexpr MethodVariant kRuleVariants[] = {
 // mrr-effect's parameters, and its switches (the ablation's arms, docs/spec.md §12).
 constexpr Param kEffectParams[] = {Param::EffectCap,       Param::EffectFirstLevel,      Param::EffectScale,
                                    Param::EffectPosterior, Param::EffectPosteriorFinest, Param::EffectOnly,
-                                   Param::EffectBudget,    Param::EffectTemporal,        Param::EffectHysteresis};
+                                   Param::EffectBudget,    Param::EffectTemporal,        Param::EffectHysteresis,
+                                   Param::EffectTrim};
 constexpr MethodVariant kEffectVariants[] = {
     {"c", Param::EffectCap, "", "the widening's cap, level pixels"},
     {"f", Param::EffectFirstLevel, "", "the finest level widened"},
@@ -30,6 +31,8 @@ constexpr MethodVariant kEffectVariants[] = {
     {"b", Param::EffectBudget, "", "the a-posteriori term's budget, a share of full's predicted time (docs/spec.md §12.4)"},
     {"t", Param::EffectTemporal, "", "the temporal term's lambda (docs/spec.md §14)"},
     {"h", Param::EffectHysteresis, "", "the a-posteriori marks' hysteresis (docs/spec.md §14.2)"},
+    {"trim", Param::EffectTrim, "on", "a level > 0 shaded only where the blend reads it (docs/spec.md §12.5)"},
+    {"notrim", Param::EffectTrim, "off", "every level's whole stencil shaded, read or not (docs/spec.md §12.5)"},
     {"noblur", Param::Sigma2, "0,0,0,0", "no mask blur (sigma2 0 at every level): the widening alone"},
     {"norule", Param::NeverSlower, "off", "without the never-slower rule (docs/spec.md §11)"},
 };

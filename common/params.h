@@ -106,6 +106,9 @@ struct EffectMaskSettings {
   // SPEC §14.2, the marks' hysteresis: a candidate the previous frame refined keeps its mark while
   // its variation stays above (1 − h) × what a new one needs, [0, 1); 0 = off.
   float hysteresis = 0.0f;
+  // SPEC §12.5: each level ℓ ≥ 1 keeps only the pixels the blend reads (the taps of a full-res
+  // pixel that no finer level covers with α = 1 a priori, and SSAO's blur around them); both paths.
+  bool trim = false;
   // The a-posteriori term runs (coarse to fine shading, §12.2): a threshold or a budget.
   bool refines() const { return posterior > 0.0f || budget > 0.0f; }
   static constexpr int kDefaultCap = 8;
@@ -269,6 +272,11 @@ struct Constants {
   // This frame shaded at full res only (SPEC §11's fallback): level 0 alone, every pixel.
   void fallBackToFull();
 };
+
+// SPEC §12.5: how far past the blend's taps mrr-effect's trim keeps a level's pixels: SSAO's
+// bilateral blur radius (its taps around a pixel the blend reads must be shaded, SPEC §4); SSM
+// and SSGI are not blurred.
+inline int trimMargin(const Constants& c) { return c.effect == Effect::Ssao ? c.bilateral.radius : 0; }
 
 // Builds the constants for a W×H frame. `framedSize` (what the view frames, world units:
 // scenes/default_light.h framedSize, ResolvedScene::framed) resolves the automatic SSAO and

@@ -199,16 +199,10 @@ float blendStep(float alpha, float fine, float coarserComposite) {
 
 namespace {
 
-// Fast path, equal to blendReference's final image and level map (steps 1–5), without the
-// per-level images, bit-identical to the full pass below: levels are visited fine to coarse for their α first, and only the ones that
-// can change the result are upsampled. That is exact because blendStep(1, f, c) = f and
-// blendStep(0, f, c) = c in float arithmetic for finite values.
-template <int kChannels>
-void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, BlendResult& r) {
-  constexpr int channels = kChannels;
-  // live_ℓ(q) = some a_ℓ > 0 within q's 3×3 neighbourhood: the bilinear taps of every
-  // full-res pixel inside level pixel q lie there, so where it is 0, α_ℓ = 0 exactly and the
-  // level is skipped with one byte read.
+// live_ℓ(q) = some a_ℓ > 0 within q's 3×3 neighbourhood, for every enabled level finer than the
+// coarsest: the bilinear taps of every full-res pixel inside level pixel q lie there, so where it
+// is 0, α_ℓ = 0 exactly and the level is skipped with one byte read.
+std::array<ImageU8, kLevelCount> liveMaps(const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
   std::array<ImageU8, kLevelCount> live;
   for (int l = 0; l < c.coarsestEnabled; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
@@ -238,6 +232,31 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
       for (int x = 0; x < lc.width; ++x) dst[x] = mid[x] | up[x] | down[x];
     });
   }
+  return live;
+}
+
+// The finest enabled level whose α is 1 at full-res pixel x of the rows' row (nothing coarser
+// shows there: blendStep(1, f, c) = f), else the coarsest; each finer level's α into `alphas`.
+[[gnu::always_inline]] inline int opaqueBase(const std::array<LevelRow, kLevelCount>& rows,
+                                             const std::array<const uint8_t*, kLevelCount>& liveRow, const Constants& c,
+                                             int x, float (&alphas)[kLevelCount]) {
+  for (int l = 0; l < c.coarsestEnabled; ++l) {
+    if (!liveRow[static_cast<size_t>(l)]) continue;  // disabled
+    if (!liveRow[static_cast<size_t>(l)][x >> l]) continue;  // α = 0 (s = 2^ℓ)
+    alphas[l] = alphaImpl(rows[static_cast<size_t>(l)], x);
+    if (alphas[l] == 1.0f) return l;
+  }
+  return c.coarsestEnabled;
+}
+
+// Fast path, equal to blendReference's final image and level map (steps 1–5), without the
+// per-level images, bit-identical to the full pass below: levels are visited fine to coarse for their α first, and only the ones that
+// can change the result are upsampled. That is exact because blendStep(1, f, c) = f and
+// blendStep(0, f, c) = c in float arithmetic for finite values.
+template <int kChannels>
+void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Constants& c, BlendResult& r) {
+  constexpr int channels = kChannels;
+  const std::array<ImageU8, kLevelCount> live = liveMaps(levels, c);
   parallelFor(0, c.height, [&](int y) {
     std::array<LevelRow, kLevelCount> rows;
     std::array<const uint8_t*, kLevelCount> liveRow{};
@@ -252,16 +271,7 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
     uint8_t* levelMap = &r.levelMap.at(0, y);
     for (int x = 0; x < c.width; ++x) {
       float alphas[kLevelCount] = {0, 0, 0, 0};
-      int base = c.coarsestEnabled;  // the finest level whose α is 1: nothing coarser shows
-      for (int l = 0; l < c.coarsestEnabled; ++l) {
-        if (!liveRow[static_cast<size_t>(l)]) continue;  // disabled
-        if (!liveRow[static_cast<size_t>(l)][x >> l]) continue;  // α = 0 (s = 2^ℓ)
-        alphas[l] = alphaImpl(rows[static_cast<size_t>(l)], x);
-        if (alphas[l] == 1.0f) {
-          base = l;
-          break;
-        }
-      }
+      const int base = opaqueBase(rows, liveRow, c, x, alphas);  // the finest level whose α is 1
       const Upsampled bu = upsampleImpl<kChannels>(rows[static_cast<size_t>(base)], channels, x);
       float composite[4] = {bu.color[0], bu.color[1], bu.color[2], bu.color[3]};
       uint8_t finest = static_cast<uint8_t>(base);
@@ -321,6 +331,29 @@ BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, cons
     }
   });
   return r;
+}
+
+ImageU8 blendReach(const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
+  const LevelConstants& l0 = c.levels[0];
+  ImageU8 reach(l0.width, l0.height, 1, 0);  // 0 outside W×H, which the blend never draws
+  const std::array<ImageU8, kLevelCount> live = liveMaps(levels, c);
+  parallelFor(0, c.height, [&](int y) {
+    std::array<LevelRow, kLevelCount> rows;
+    std::array<const uint8_t*, kLevelCount> liveRow{};
+    for (int l = 0; l < c.coarsestEnabled; ++l) {
+      const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+      if (!lc.enabled) continue;
+      const LevelImages& in = levels[static_cast<size_t>(l)];
+      rows[static_cast<size_t>(l)] = levelRow(nullptr, *in.stencil, *in.alpha, lc, y);
+      liveRow[static_cast<size_t>(l)] = &live[static_cast<size_t>(l)].at(0, y >> lc.index);
+    }
+    uint8_t* out = &reach.at(0, y);
+    for (int x = 0; x < c.width; ++x) {
+      float alphas[kLevelCount] = {0, 0, 0, 0};
+      out[x] = static_cast<uint8_t>(opaqueBase(rows, liveRow, c, x, alphas));
+    }
+  });
+  return reach;
 }
 
 }  // namespace mrr

@@ -57,4 +57,10 @@ BlendResult blendReference(const std::array<LevelImages, kLevelCount>& levels, c
 BlendResult blendLevels(const std::array<LevelImages, kLevelCount>& levels, const Constants& constants,
                         bool keepStages = true);
 
+// SPEC §12.5 step 1, R(p): at each full-res pixel of W×H, the coarsest level the blend reads, the
+// finest enabled level whose α is 1 there (step 3; nothing coarser shows: blendStep(1, f, c) = f),
+// else the coarsest enabled level: the base blendLevels' final-only path starts from. On the
+// padded full-res grid, 0 outside W×H. Reads each level's S and a alone (`sub` may be null).
+ImageU8 blendReach(const std::array<LevelImages, kLevelCount>& levels, const Constants& constants);
+
 }  // namespace mrr

@@ -192,6 +192,14 @@ ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, co
   return parentMarks(varies, ratio, finerWidth, finerHeight);
 }
 
+namespace {
+void keepBlendReads(MaskLevel& level) {
+  if (level.read.empty()) return;
+  for (size_t i = 0; i < level.stencil.data.size(); ++i)
+    level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] & level.read.data[i]);
+}
+}  // namespace
+
 void refineMasksReference(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
   // 1. M_ℓ ∨= marks
   for (size_t i = 0; i < level.mask.data.size(); ++i) level.mask.data[i] = level.mask.data[i] | marks.data[i];
@@ -200,6 +208,8 @@ void refineMasksReference(MaskLevel& level, const ImageU8& marks, const LevelCon
   // 3. S_ℓ ∨= [a_ℓ > 0]
   for (size_t i = 0; i < level.alpha.data.size(); ++i)
     level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] | (level.alpha.data[i] > 0.0f));
+  // 4. S_ℓ ∧= D_ℓ where the level is trimmed (SPEC §12.5): the blend reads no other pixel
+  keepBlendReads(level);
 }
 
 void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
@@ -224,6 +234,8 @@ void refineMasks(MaskLevel& level, const ImageU8& marks, const LevelConstants& l
   // 3. S_ℓ ∨= [a_ℓ > 0]
   for (size_t i = 0; i < level.alpha.data.size(); ++i)
     level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] | (level.alpha.data[i] > 0.0f));
+  // 4. S_ℓ ∧= D_ℓ where the level is trimmed (SPEC §12.5)
+  keepBlendReads(level);
 }
 
 }  // namespace mrr

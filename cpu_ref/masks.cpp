@@ -1,6 +1,7 @@
 #include "cpu_ref/masks.h"
 
 #include "common/parallel.h"
+#include "cpu_ref/blend.h"
 #include "cpu_ref/effect_masks.h"
 #include "cpu_ref/foveation.h"
 
@@ -173,6 +174,92 @@ void stencilsFromPyramid(Masks& levels, const Constants& c) {
   }
 }
 
+ImageU8 blendReadsReference(const ImageU8& reach, int level, int margin, const Constants& c) {
+  const LevelConstants& lc = c.levels[static_cast<size_t>(level)];
+  const int s = lc.scale;
+  ImageU8 read(lc.width, lc.height, 1, 0);
+  for (int qy = 0; qy < lc.height; ++qy)
+    for (int qx = 0; qx < lc.width; ++qx) {
+      bool any = false;
+      // 2. level pixel q' within `margin` of q (the blur's taps) ...
+      for (int dy = -margin; dy <= margin && !any; ++dy)
+        for (int dx = -margin; dx <= margin && !any; ++dx) {
+          const int tx = qx + dx, ty = qy + dy;
+          if (tx < 0 || ty < 0 || tx >= lc.width || ty >= lc.height) continue;
+          // ... is a bilinear tap of a full-res pixel p that reaches this level: its taps'
+          // floor(u) is q' − 1 or q', u = (p − s/2)/s, so p ∈ [q's − s/2, q's + 3s/2) (clamped taps
+          // at the border included), within W×H
+          for (int py = std::max(0, ty * s - s / 2); py < std::min(c.height, ty * s + 3 * s / 2) && !any; ++py)
+            for (int px = std::max(0, tx * s - s / 2); px < std::min(c.width, tx * s + 3 * s / 2) && !any; ++px)
+              any = reach.at(px, py) >= level;
+        }
+      read.at(qx, qy) = any;
+    }
+  return read;
+}
+
+ImageU8 blendReads(const ImageU8& reach, int level, int margin, const Constants& c) {
+  const LevelConstants& lc = c.levels[static_cast<size_t>(level)];
+  const int s = lc.scale, w = lc.width, h = lc.height;
+  // 2a. along x, per full-res row: some p of the row in [qs − s/2, qs + 3s/2) ∩ [0, W) reaches ℓ
+  ImageU8 across = ImageU8::uninitialised(w, c.height);
+  parallelFor(0, c.height, [&](int y) {
+    const uint8_t* r = &reach.at(0, y);
+    uint8_t* dst = &across.at(0, y);
+    for (int qx = 0; qx < w; ++qx) {
+      uint8_t any = 0;
+      for (int px = std::max(0, qx * s - s / 2), end = std::min(c.width, qx * s + 3 * s / 2); px < end; ++px)
+        any |= static_cast<uint8_t>(r[px] >= level);
+      dst[qx] = any;
+    }
+  });
+  // 2b. along y: some such row in [qs − s/2, qs + 3s/2) ∩ [0, H)
+  ImageU8 taps(w, h, 1, 0);
+  parallelFor(0, h, [&](int qy) {
+    uint8_t* dst = &taps.at(0, qy);
+    for (int py = std::max(0, qy * s - s / 2), end = std::min(c.height, qy * s + 3 * s / 2); py < end; ++py) {
+      const uint8_t* src = &across.at(0, py);
+      for (int qx = 0; qx < w; ++qx) dst[qx] |= src[qx];
+    }
+  });
+  if (margin == 0) return taps;
+  // 2c. within `margin` level pixels (the blur's taps), along x then y, clipped to the grid
+  ImageU8 wide = ImageU8::uninitialised(w, h), read = ImageU8::uninitialised(w, h);
+  parallelFor(0, h, [&](int y) {
+    const uint8_t* src = &taps.at(0, y);
+    uint8_t* dst = &wide.at(0, y);
+    for (int x = 0; x < w; ++x) {
+      uint8_t any = 0;
+      for (int i = std::max(0, x - margin), end = std::min(w - 1, x + margin); i <= end; ++i) any |= src[i];
+      dst[x] = any;
+    }
+  });
+  parallelFor(0, h, [&](int y) {
+    uint8_t* dst = &read.at(0, y);
+    std::fill(dst, dst + w, uint8_t{0});
+    for (int j = std::max(0, y - margin), end = std::min(h - 1, y + margin); j <= end; ++j) {
+      const uint8_t* src = &wide.at(0, j);
+      for (int x = 0; x < w; ++x) dst[x] |= src[x];
+    }
+  });
+  return read;
+}
+
+void trimToBlend(Masks& levels, const Constants& c) {
+  // 1. R(p), the coarsest level the blend reads at each full-res pixel, from the a-priori S and a
+  std::array<LevelImages, kLevelCount> in;
+  for (size_t l = 0; l < kLevelCount; ++l) in[l] = {nullptr, &levels[l].stencil, &levels[l].alpha};
+  const ImageU8 reach = blendReach(in, c);
+  for (int l = 1; l < kLevelCount; ++l) {
+    if (!c.levels[static_cast<size_t>(l)].enabled) continue;
+    MaskLevel& ml = levels[static_cast<size_t>(l)];
+    // 2. D_ℓ: the taps of the pixels with R ≥ ℓ, within SSAO's blur radius
+    ml.read = blendReads(reach, l, trimMargin(c), c);
+    // 3. S_ℓ ∧= D_ℓ
+    for (size_t i = 0; i < ml.stencil.data.size(); ++i) ml.stencil.data[i] = static_cast<uint8_t>(ml.stencil.data[i] & ml.read.data[i]);
+  }
+}
+
 std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Constants& c, const ImageF* footprint,
                                               const ImageU8* levelLimit) {
   std::array<MaskLevel, kLevelCount> levels;
@@ -183,6 +270,8 @@ std::array<MaskLevel, kLevelCount> buildMasks(const ImageU8& edges, const Consta
   if (levelLimit) applyLevelLimit(levels, *levelLimit, c);
   // 2–4. blur, stencil, closure
   stencilsFromPyramid(levels, c);
+  // 5. mrr-effect's trim (SPEC §12.5): each level ℓ ≥ 1 only where the blend reads it
+  if (footprint && c.effectMask.trim) trimToBlend(levels, c);
   return levels;
 }
 

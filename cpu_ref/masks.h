@@ -39,6 +39,20 @@ MaskStages maskStages(const ImageU8& edges, const Constants& constants, const Im
 // mask rule written in numpy, python/, docs/python.md) go through the same blur and closure.
 void stencilsFromPyramid(Masks& levels, const Constants& constants);
 
+// SPEC §12.5, mrr-effect's trim: shade a level only where the blend reads it.
+// D_ℓ = the level pixels within `margin` (common/params.h trimMargin: SSAO's blur radius, 0 for SSM and SSGI) of a
+// bilinear tap (SPEC §5) of some full-res pixel p of W×H with R(p) ≥ ℓ (`reach`, blendReach):
+// the taps' floor(u) is q − 1 or q, so p ∈ [q s − s/2, q s + 3s/2) per axis. blendReadsReference
+// is the rule pixel by pixel; blendReads the same separably (along x, then y, then the margin),
+// tested equal.
+ImageU8 blendReadsReference(const ImageU8& reach, int level, int margin, const Constants& constants);
+ImageU8 blendReads(const ImageU8& reach, int level, int margin, const Constants& constants);
+// Steps 1–3 on masks after the closure: R from their S and a, then for each enabled level ℓ ≥ 1
+// D_ℓ into `read` and S_ℓ ∧= D_ℓ. A full-res pixel with R(p) ≥ ℓ keeps all four of its taps, so
+// the final image is the untrimmed one's bit for bit (without the a-posteriori term, which reads
+// the trimmed results).
+void trimToBlend(Masks& levels, const Constants& constants);
+
 // The whole of SPEC §3 for multires mode. `edges` is E on the padded full-res grid.
 // mrr-effect (SPEC §12): `footprint` (cpu_ref/effect_masks.h) widens each enabled level's M_ℓ
 // but the coarsest before its blur; null: the paper's masks, untouched.

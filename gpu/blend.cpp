@@ -110,4 +110,33 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
   return r;
 }
 
+Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c) {
+  int fine = 0;  // the enabled levels finer than C, a bit each (FINE_LEVELS)
+  for (int l = 0; l < c.coarsestEnabled; ++l)
+    if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
+  const int coarsest = c.coarsestEnabled;
+  const unsigned program = scene.program("blend.reach." + std::to_string(fine) + "." + std::to_string(coarsest),
+                                         "fullscreen.vert", "blend.frag",
+                                         "#define REACH\n#define FINE_LEVELS " + std::to_string(fine) +
+                                             "\n#define COARSEST_LEVEL " + std::to_string(coarsest) + "\n");
+  const LevelConstants& l0 = c.levels[0];
+  Target target = scene.target(l0.width, l0.height, {Texel::R8}, false);
+  target->bind();
+  glUseProgram(program);
+  int unit = 0;
+  for (int l = 0; l < 3; ++l) {
+    if (!(fine & (1 << l))) continue;
+    const LevelTextures& in = levels[static_cast<size_t>(l)];
+    const std::string L = std::to_string(l);
+    bindTextures(program, {{("stencil" + L).c_str(), in.stencil}, {("alpha" + L).c_str(), in.alpha}}, unit);
+    unit += 2;
+  }
+  const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
+  if (fine) glUniform1fv(uniform(program, "weights"), 3, weights);
+  glUniform2i(uniform(program, "frame"), c.width, c.height);
+  scene.drawFullscreen();
+  checkGl("blend reach");
+  return target;
+}
+
 }  // namespace mrr::gpu

@@ -26,4 +26,9 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
                         const Constants& constants, bool keepStages = true, const BlockMap& nearBlocks = {},
                         GpuImage* finalOnGpu = nullptr);
 
+// SPEC §12.5 step 1 (blend.frag REACH, cpu_ref/blend.cpp blendReach): R(p), the coarsest level
+// the blend reads at each full-res pixel, from the levels' `stencil` and `alpha` alone (`sub` is
+// not read): ℓ/255 in an R8 target on the padded full-res grid, 0 outside W×H.
+Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& constants);
+
 }  // namespace mrr::gpu

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "gpu/blend.h"
 #include "gpu/blocks.h"
 #include "gpu/effect_masks.h"
 #include "gpu/program.h"
@@ -337,7 +338,49 @@ std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, in
       out->alpha[l] = out->alphaTarget[l]->texture(0);
       out->stencil[l] = stencilTexture(l);
     }
+  // 5. mrr-effect's trim (SPEC §12.5): each level ℓ ≥ 1 only where the blend reads it
+  if (footprint && c.effectMask.trim) trimToBlend(scene, *out, c);
   return out;
+}
+
+void trimToBlend(const GpuScene& scene, MaskTargets& masks, const Constants& c) {
+  // 1. R(p) from the a-priori S and a (blend.frag REACH)
+  std::array<LevelTextures, kLevelCount> levels;
+  for (size_t l = 0; l < kLevelCount; ++l) levels[l] = {0, masks.stencil[l], masks.alpha[l]};
+  const Target reach = blendReach(scene, levels, c);
+  const int margin = trimMargin(c);
+  // trim.frag STEP `step` for level ℓ into a fresh R8 target of width × height
+  const auto step = [&](int n, int l, unsigned source, int width, int height, unsigned read = 0) {
+    const unsigned program = scene.program("trim." + std::to_string(n) + "." + std::to_string(l) + "." + std::to_string(margin),
+                                           "fullscreen.vert", "trim.frag",
+                                           "#define STEP " + std::to_string(n) + "\n#define LEVEL " + std::to_string(l) +
+                                               "\n#define MARGIN " + std::to_string(margin) + "\n");
+    Target target = scene.target(width, height, {Texel::R8}, false);
+    target->bind();
+    glUseProgram(program);
+    bindTextures(program, {{"source", source}});
+    if (read) bindTextures(program, {{"read", read}}, 1);
+    if (n <= 2) glUniform2i(uniform(program, "frame"), c.width, c.height);
+    scene.drawFullscreen();
+    checkGl("trim");
+    return target;
+  };
+  for (int l = 1; l < kLevelCount; ++l) {
+    const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
+    if (!lc.enabled) continue;
+    const size_t i = static_cast<size_t>(l);
+    // 2. D_ℓ: the taps of the pixels with R ≥ ℓ (2a, 2b), within SSAO's blur radius (2c)
+    const Target across = step(1, l, reach->texture(0), lc.width, c.levels[0].height);
+    Target read = step(2, l, across->texture(0), lc.width, lc.height);
+    if (margin > 0) {
+      const Target wide = step(3, l, read->texture(0), lc.width, lc.height);
+      read = step(4, l, wide->texture(0), lc.width, lc.height);
+    }
+    // 3. S_ℓ ∧= D_ℓ
+    masks.stencilTarget[i] = step(5, l, masks.stencil[i], lc.width, lc.height, read->texture(0));
+    masks.readTarget[i] = std::move(read);
+    masks.stencil[i] = masks.stencilTarget[i]->texture(0);
+  }
 }
 
 Target drawLevelLimited(const GpuScene& scene, unsigned mask, int level, unsigned limit, const Constants& c) {
@@ -364,12 +407,16 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
                       marksBlocks.height() != masks.maskBlocks[i].height()))
     marksBlocks = BlockMap();  // blocks on another grid: the whole level
   const auto coverOf = [&](const BlockMap& blocks) { return Cover::blocksOf(blocks, blockSize); };
+  const unsigned read = masks.readTarget[i] ? masks.readTarget[i]->texture(0) : 0;  // D_ℓ (SPEC §12.5), or none
   // The step's program: refine_masks.frag STEP 1 or 3 (SOURCE_CHANNEL: M_ℓ's channel, step 1).
   const auto step = [&](int n, int channel, std::initializer_list<std::pair<const char*, unsigned>> textures,
                         const Cover& cover) {
+    const bool withRead = textures.size() == 3;  // step 3 of a trimmed level: S_ℓ's D_ℓ too
     const unsigned program =
-        scene.passProgram("refine_masks." + std::to_string(n) + "." + std::to_string(channel), "refine_masks.frag",
-                          "#define STEP " + std::to_string(n) + "\n#define SOURCE_CHANNEL " + std::to_string(channel) + "\n",
+        scene.passProgram("refine_masks." + std::to_string(n) + "." + std::to_string(channel) + (withRead ? ".read" : ""),
+                          "refine_masks.frag",
+                          "#define STEP " + std::to_string(n) + "\n#define SOURCE_CHANNEL " + std::to_string(channel) +
+                              "\n" + (withRead ? "#define WITH_READ\n" : ""),
                           cover);
     Target target = scene.target(lc.width, lc.height, 1, false, Texel::R8);
     target->bind();
@@ -399,8 +446,9 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     const Target h = pass.run(2, {Texel::R32f}, lc.width, lc.height, horizontal);
     vertical.source = h->texture(0);
     Target alpha = pass.run(2, {Texel::R32f}, lc.width, lc.height, vertical);
-    // 3. S_ℓ ∨= [a_ℓ > 0]
-    Target stencil = step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}}, Cover::whole());
+    // 3. S_ℓ ∨= [a_ℓ > 0], ∧ D_ℓ where trimmed (SPEC §12.5)
+    Target stencil = read ? step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}, {"read", read}}, Cover::whole())
+                          : step(3, 0, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}}, Cover::whole());
     masks.alphaTarget[i] = std::move(alpha);
     masks.stencilTarget[i] = std::move(stencil);
     masks.supportBlocks[i] = BlockMap();  // the whole level
@@ -421,13 +469,16 @@ void refineMasks(const GpuScene& scene, MaskTargets& masks, int level, Target ma
     pass.draw(2, *alpha, vertical, false);
     // 3. S_ℓ ∨= [a_ℓ > 0]: likewise, a copy of S_ℓ redrawn where a_ℓ changed
     const Cover changedCover = coverOf(changed);
-    const unsigned program = scene.passProgram("refine_masks.3.0", "refine_masks.frag",
-                                               "#define STEP 3\n#define SOURCE_CHANNEL 0\n", changedCover);
+    const unsigned program = scene.passProgram(std::string("refine_masks.3.0") + (read ? ".read" : ""), "refine_masks.frag",
+                                               std::string("#define STEP 3\n#define SOURCE_CHANNEL 0\n") +
+                                                   (read ? "#define WITH_READ\n" : ""),
+                                               changedCover);
     Target stencil = scene.target(lc.width, lc.height, 1, false, Texel::R8);
     if (masks.stencilTarget[i]) stencil->copyFrom(*masks.stencilTarget[i], 0);
     else stencil->copyFrom(*masks.alphaTarget[i], 1);  // S_ℓ beside a_ℓ (the blur's second target)
     glUseProgram(program);
     bindTextures(program, {{"source", masks.stencil[i]}, {"alpha", alpha->texture(0)}});
+    if (read) bindTextures(program, {{"read", read}}, 2);
     scene.draw(changedCover, lc.width, lc.height);
     checkGl("refine_masks");
     masks.alphaTarget[i] = std::move(alpha);

@@ -30,6 +30,9 @@ struct MaskTargets final : DeviceMasks {
   // SPEC §12.2 (refineMasks): M_ℓ ∨ the marks (R8) and the marks themselves, for the levels
   // refined; readMasks reports the former as M_ℓ.
   std::array<Target, kLevelCount> refinedTarget, marksTarget;
+  // SPEC §12.5 (trimToBlend): D_ℓ (R8), the level pixels the blend reads, for the levels trimmed;
+  // S_ℓ ∧= D_ℓ is in stencilTarget[ℓ], and refineMasks keeps it.
+  std::array<Target, kLevelCount> readTarget;
   TextureSet uploaded;                                                       // or uploaded
   std::array<unsigned, kLevelCount> alpha{}, stencil{};
   bool drawn = false;  // the edge pyramid's (drawMasks): the fast paths below know where work is
@@ -67,6 +70,11 @@ using FootprintFn = std::function<unsigned(const Cover& edgeBlocks)>;
 std::unique_ptr<MaskTargets> drawMasks(const GpuScene& scene, unsigned edges, int edgeChannel,
                                        const Constants& constants, const FootprintFn& footprint = {},
                                        unsigned limit = 0);
+
+// SPEC §12.5, mrr-effect's trim (gpu/shaders/trim.frag, cpu_ref/masks.cpp trimToBlend): R(p)
+// from the drawn masks' S and a (blend.frag REACH), then for each enabled level ℓ ≥ 1 D_ℓ into
+// readTarget[ℓ] and S_ℓ ∧= D_ℓ. drawMasks calls it last where the constants ask for it.
+void trimToBlend(const GpuScene& scene, MaskTargets& masks, const Constants& constants);
 
 // SPEC §13 steps 1–5 (limit.frag) on the padded full-res grid from the level-0 G-buffer:
 // RGBA32F (e, |v|, fovea + 4·motion, ℓ_min).

@@ -21,10 +21,12 @@
 #include <memory>
 #include <string>
 
+#include "common/effect_budget.h"
 #include "common/error.h"
 #include "common/params.h"
 #include "common/paths.h"
 #include "common/stages.h"
+#include "cpu_ref/effect_masks.h"
 #include "cpu_ref/oracle.h"
 #include "cpu_ref/pipeline.h"
 #include "scenes/catalog.h"
@@ -140,6 +142,29 @@ void registerStages() {
     add(masks + "/footprint", full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.footprint(f)); });
     add(masks + "/widen", full, [&oracle, &f, footprint] { benchmark::DoNotOptimize(oracle.maskStages(f, footprint.get())); });
     add(masks + "/widened_rest", full, [&oracle, &f, footprint] { benchmark::DoNotOptimize(oracle.effectMasks(f, footprint.get())); });
+  }
+  // SPEC §12.2's a-posteriori term, per refined level (the frame's `masks` stage holds these too):
+  // the marks from the next coarser level's result (the 3×3 range, with a budget the candidates'
+  // prices and the selection), then M_ℓ ∨= marks and the re-blur, on the frame's a-priori masks.
+  for (int l = 0; l < kLevelCount; ++l) {
+    if (f.levels[static_cast<size_t>(l)].marks.empty()) continue;
+    const std::string level = ".L" + std::to_string(l);
+    add(masks + "/marks" + level, full, [&oracle, &f, l] { benchmark::DoNotOptimize(oracle.marks(f, l)); });
+    add(masks + "/range" + level, full, [&f, l] {
+      const LevelResult& coarser = f.levels[static_cast<size_t>(f.constants.nextCoarserEnabled(l))];
+      benchmark::DoNotOptimize(localRangesSeparable(coarser.sub, coarser.masks.stencil, coarser.gbuffer.hit));
+    });
+    const RefinementRecord& r = f.refinement[static_cast<size_t>(l)];
+    if (r.budgeted)
+      add(masks + "/prices" + level, full, [&f, &r, l] {
+        benchmark::DoNotOptimize(candidatePrices(f.levels[static_cast<size_t>(l)].masks.stencil, f.levels[0].gbuffer.hit,
+                                                 f.pcfSample, f.constants, l, f.constants.nextCoarserEnabled(l), r.units));
+      });
+    add(masks + "/refine" + level, full, [&oracle, &f, l] {
+      MaskLevel level = f.levels[static_cast<size_t>(l)].masks;  // a copy: the refinement changes it
+      oracle.refine(level, f.levels[static_cast<size_t>(l)].marks, f.constants.levels[static_cast<size_t>(l)]);
+      benchmark::DoNotOptimize(level);
+    });
   }
   // The never-slower rule's own work before its early decision (SPEC §11, its stage `rule`):
   // the edge sample, and the counts of H, B_ℓ and the sample's reach.

@@ -11,6 +11,10 @@
 //               compiles one variant per set of finer levels (FINE_LEVELS, a bit per level
 //               0–2), so no sampler is chosen at run time, and draws the variant without
 //               finer levels over the blocks where no finer α can be > 0 (gpu/blend.cpp).
+//   REACH       SPEC §12.5 step 1 (mrr-effect's trim), before any level is shaded: R(p), the
+//               coarsest level the blend reads at p, from the levels' S and a alone: FINAL_ONLY's
+//               α fine to coarse up to the first α = 1 (else the coarsest), ℓ/255 in an R8
+//               target on the padded grid, 0 outside W×H (cpu_ref/blend.cpp blendReach).
 
 // 1. u = (p − ⌊s/2⌋)/s for full-res pixel p on a level of scale s (level pixel x holds full-res
 // pixel x·s + ⌊s/2⌋, SPEC §0): tap k's texel (clamped to the level grid) and bilinear weight b.
@@ -51,6 +55,44 @@ float blendAlpha(float coverage, float alphaHat, float weight) {
   return alpha;
 }
 
+#if defined(FINAL_ONLY) || defined(REACH)
+// â = Σ b a over a finer level's four taps, in upsample's order.
+float alphaHatAt(sampler2D alphaMask, int scale, ivec2 p) {
+  ivec2 last = textureSize(alphaMask, 0) - 1;
+  float alphaHat = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q;
+    float b;
+    bilinearTap(k, p, scale, last, q, b);
+    alphaHat += b * texelFetch(alphaMask, q, 0).r;
+  }
+  return alphaHat;
+}
+#endif
+
+#ifdef REACH
+// α_ℓ of a finer level alone: levelSample's α, the same sums without the colour.
+float levelAlpha(sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, ivec2 p) {
+  float alphaHat = alphaHatAt(alphaMask, scale, p);
+  if (alphaHat == 0.0) return 0.0;
+  ivec2 last = textureSize(stencilMask, 0) - 1;
+  float coverage = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 q;
+    float b;
+    bilinearTap(k, p, scale, last, q, b);
+    if (texelFetch(stencilMask, q, 0).r >= 0.5) coverage += b;
+  }
+  return blendAlpha(coverage, alphaHat, weight);
+}
+// ... and at level 0, levelZeroSample's: its own texel (s = 1)
+float levelZeroAlpha(sampler2D stencilMask, sampler2D alphaMask, float weight, ivec2 p) {
+  float alphaHat = texelFetch(alphaMask, p, 0).r;
+  if (alphaHat == 0.0) return 0.0;
+  return blendAlpha(texelFetch(stencilMask, p, 0).r < 0.5 ? 0.0 : 1.0, alphaHat, weight);
+}
+#endif
+
 #ifdef FINAL_ONLY
 // α_ℓ and ĉ_ℓ of a finer level in one sweep of its taps, with upsample's sums in upsample's
 // order: â first (four reads), and only where â > 0 (else α = 0 whatever the coverage) the
@@ -58,14 +100,8 @@ float blendAlpha(float coverage, float alphaHat, float weight) {
 float levelSample(sampler2D sub, sampler2D stencilMask, sampler2D alphaMask, int scale, float weight, ivec2 p,
                   out vec3 color) {
   ivec2 last = textureSize(stencilMask, 0) - 1;
-  float alphaHat = 0.0, coverage = 0.0;
+  float alphaHat = alphaHatAt(alphaMask, scale, p), coverage = 0.0;
   color = vec3(0.0);
-  for (int k = 0; k < 4; ++k) {
-    ivec2 q;
-    float b;
-    bilinearTap(k, p, scale, last, q, b);
-    alphaHat += b * texelFetch(alphaMask, q, 0).r;
-  }
   if (alphaHat == 0.0) return 0.0;
   for (int k = 0; k < 4; ++k) {
     ivec2 q;
@@ -113,7 +149,41 @@ vec3 coarsestSample(sampler2D sub, sampler2D stencilMask, int scale, ivec2 p) {
 }
 #endif
 
-#ifndef FINAL_ONLY
+#ifdef REACH
+uniform sampler2D stencil0, stencil1, stencil2;  // S_ℓ and a_ℓ of the finer levels (those in FINE_LEVELS)
+uniform sampler2D alpha0, alpha1, alpha2;
+uniform float weights[3];  // w_ℓ of the finer levels
+uniform ivec2 frame;       // W×H
+// COARSEST_LEVEL: C (defined by the host, gpu/blend.cpp drawBlendReach)
+layout(location = 0) out vec4 reachOut;
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  int reach = COARSEST_LEVEL;
+  if (p.x >= frame.x || p.y >= frame.y) {
+    reach = 0;  // outside W×H, which the blend never draws
+  } else {
+    bool opaque = false;
+#if (FINE_LEVELS & 1) != 0
+    opaque = levelZeroAlpha(stencil0, alpha0, weights[0], p) == 1.0;
+    if (opaque) reach = 0;
+#endif
+#if (FINE_LEVELS & 2) != 0
+    if (!opaque) {
+      opaque = levelAlpha(stencil1, alpha1, 2, weights[1], p) == 1.0;
+      if (opaque) reach = 1;
+    }
+#endif
+#if (FINE_LEVELS & 4) != 0
+    if (!opaque) {
+      opaque = levelAlpha(stencil2, alpha2, 4, weights[2], p) == 1.0;
+      if (opaque) reach = 2;
+    }
+#endif
+  }
+  reachOut = vec4(float(reach) / 255.0, 0.0, 0.0, 1.0);
+}
+#elif !defined(FINAL_ONLY)
 uniform sampler2D sub;          // c_ℓ at level resolution (rgb)
 uniform sampler2D stencilMask;  // S_ℓ
 uniform sampler2D alphaMask;    // a_ℓ

@@ -30,6 +30,7 @@ const char* coverageName(Coverage c) {
     case Coverage::Coarsest: return "coarsest";
     case Coverage::Fallback: return "fallback";
     case Coverage::Limit: return "limit";
+    case Coverage::Trim: return "trim";
   }
   return "?";
 }
@@ -94,6 +95,9 @@ CoverageArms coverageArms(const FrameResult& f) {
 Coverage coverageReason(const CoverageArms& arms, const FrameResult& f, int l, int qx, int qy) {
   const Constants& c = f.constants;
   const size_t li = static_cast<size_t>(l);
+  // SPEC §12.5: mrr-effect's trim cut it, whatever covered it: the blend does not read it
+  const ImageU8& read = f.levels[li].masks.read;
+  if (!read.empty() && !read.at(qx, qy)) return Coverage::Trim;
   if (l == c.coarsestEnabled) return f.fallback.fellBack ? Coverage::Fallback : Coverage::Coarsest;
   if (arms.aGeometry[li].at(qx, qy) > 0.0f) return Coverage::Geometry;
   if (arms.aWidened[li].at(qx, qy) > 0.0f) return Coverage::Effect;

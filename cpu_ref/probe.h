@@ -18,7 +18,7 @@ namespace mrr {
 // after §12's widening; marks: (G ∗ (L(M'_ℓ) ∨ L(marks_ℓ)))(q) > 0 (§12.2); closure: S_ℓ(q) = 1
 // from a finer level (§3 step 4). Not covered: limit, when an arm without §13's limit L would
 // reach q; else none.
-enum class Coverage { None, Geometry, Effect, Marks, Closure, Coarsest, Fallback, Limit };
+enum class Coverage { None, Geometry, Effect, Marks, Closure, Coarsest, Fallback, Limit, Trim };
 const char* coverageName(Coverage coverage);
 
 // The arms, recomputed by the oracle's functions on a frame's own inputs (its E, level-0

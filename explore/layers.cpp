@@ -64,9 +64,9 @@ const char* kindName(LayerKind k) {
 // How a Colour layer maps its values: 0.5 + 0.5 v (normals), v / hi (positions), sRGB (shaded).
 enum class ColourMap { Signed, Scaled, Plain, Srgb };
 // SPEC §12.3's reasons, by Coverage: none black, geometry white, effect cyan, marks orange,
-// closure blue-grey, coarsest dark grey, fallback dark red, limit red.
-constexpr uint8_t kReasonColours[][3] = {{0, 0, 0},     {255, 255, 255}, {0, 200, 230}, {255, 160, 40},
-                                         {90, 110, 150}, {60, 60, 60},   {120, 20, 20}, {230, 40, 40}};
+// closure blue-grey, coarsest dark grey, fallback dark red, limit red, trim (SPEC §12.5) purple.
+constexpr uint8_t kReasonColours[][3] = {{0, 0, 0},     {255, 255, 255}, {0, 200, 230}, {255, 160, 40}, {90, 110, 150},
+                                         {60, 60, 60},  {120, 20, 20},   {230, 40, 40}, {150, 60, 200}};
 
 ColourMap colourMapOf(const LayerImage& l) {
   if (l.name.find(".normal") != std::string::npos) return ColourMap::Signed;
@@ -321,10 +321,11 @@ void maskArmLayer(const FrameResult& f, int level, const std::string& arm, const
         out.values.at(x, y) = static_cast<float>(coverageReason(arms, f, level, x, y));
     out.channels = {"why"};
     out.lo = 0.0f;
-    out.hi = static_cast<float>(Coverage::Limit);
+    out.hi = static_cast<float>(Coverage::Trim);
     out.caption = "why this level covers each pixel (docs/spec.md 12.3): white an edge (geometry), cyan the "
                   "effect's footprint, orange the a-posteriori marks, blue-grey the closure (a finer level "
-                  "shades inside), dark grey the coarsest level; not covered: black nothing, red the level limit";
+                  "shades inside), dark grey the coarsest level; not covered: black nothing, red the level limit, "
+                  "purple the trim (docs/spec.md 12.5: the blend does not read it)";
   } else {
     throw MrrError("no layer " + name);
   }

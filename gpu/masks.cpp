@@ -555,6 +555,7 @@ std::array<MaskLevel, kLevelCount> readMasks(const MaskTargets& masks, const Con
     out[l].stencil = masks.stencilTarget[l] ? masks.stencilTarget[l]->readBinary(0)
                                             : masks.alphaTarget[l]->readBinary(1);
     if (!stencilsOnly) out[l].alpha = masks.alphaTarget[l]->read(0, 1);
+    if (!stencilsOnly && masks.readTarget[l]) out[l].read = masks.readTarget[l]->readBinary(0);  // SPEC §12.5
   }
   return out;
 }

@@ -657,7 +657,7 @@ int64_t expectTheSameWhy(const FrameResult& cpu, const FrameResult& port, const 
     for (int y = 0; y < st.height; ++y)
       for (int x = 0; x < st.width; ++x) {
         const Coverage o = coverageReason(oracleArms, cpu, l, x, y), p = coverageReason(portArms, port, l, x, y);
-        const bool covered = p != Coverage::None && p != Coverage::Limit;
+        const bool covered = p != Coverage::None && p != Coverage::Limit && p != Coverage::Trim;
         if (o != p || (st.at(x, y) != 0) != covered || (noGeometry && p == Coverage::Geometry)) {
           ADD_FAILURE() << "level " << l << " " << x << "," << y << shape << ": the oracle's why " << coverageName(o)
                         << ", the port's " << coverageName(p) << ", its S " << int(st.at(x, y))
@@ -844,6 +844,44 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
   EXPECT_GT(b.port.shadedPixelsTotal, prior.port.shadedPixelsTotal) << "the refinement shaded nothing more";
   EXPECT_GT(b.cpu.shadedPixelsTotal, prior.cpu.shadedPixelsTotal);
 }
+
+// mrr-effect's trim (SPEC §12.5) on both paths: blend.frag REACH and trim.frag give the oracle's
+// trimmed S_ℓ exactly on the port's own inputs, a priori and with the budget's refinement (which
+// keeps S_ℓ ⊆ D_ℓ), and every stage is within its rule. Not vacuous: the port shades fewer
+// pixels than without the trim, as many as the oracle.
+class GpuTrimParity : public GpuPeerParity {};  // the same GL context per case
+
+TEST_P(GpuTrimParity, TrimmedStencilsAreExactAndEveryStageMatches) {
+  const PeerCase& pc = GetParam();
+  const CostModel model = CostModel::defaults("cpu");
+  for (const float budget : {0.0f, 0.85f}) {
+    Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
+    s.ssm.lightAngle = 0.4f;
+    s.effectMask.budget = budget;
+    const BothPaths whole = renderBoth("builtin:" + pc.scene, s, model);
+    s.effectMask.trim = true;
+    const BothPaths b = renderBoth("builtin:" + pc.scene, s, model);
+    const std::string shape = budget > 0.0f ? " (budget)" : " (a priori)";
+    const ParityResult r = compareFrames(b.cpu, b.port, b.oracle.scene->light);
+    EXPECT_TRUE(r.pass()) << shape << " first failing stage " << r.firstFailing() << "\n" << formatParityTable(r);
+    for (int l = 1; l < kLevelCount; ++l) {
+      if (!b.port.constants.levels[static_cast<size_t>(l)].enabled) continue;
+      const StageRow* row = r.row("stencil.L" + std::to_string(l));
+      ASSERT_NE(row, nullptr) << "stencil.L" << l;
+      ASSERT_TRUE(row->sameInput);
+      EXPECT_EQ(row->sameInput->figures.maxAbs, 0.0) << "stencil.L" << l << shape;
+    }
+    EXPECT_LT(b.port.shadedPixelsTotal, whole.port.shadedPixelsTotal) << shape << ": the trim cut nothing";
+    EXPECT_EQ(b.port.shadedPixelsTotal, b.cpu.shadedPixelsTotal) << shape;
+    if (budget == 0.0f) EXPECT_EQ(b.port.blend.final.data, whole.port.blend.final.data) << "the blend reads nothing it cut";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Effects, GpuTrimParity,
+                         ::testing::Values(PeerCase{"demo", Effect::Ssao, Mode::MrrEffect},
+                                           PeerCase{"shadows", Effect::Ssm, Mode::MrrEffect},
+                                           PeerCase{"demo", Effect::Ssgi, Mode::MrrEffect}),
+                         effectCaseName);
 
 // With SPEC §13's level limit (a gaze), the port limits its marks as the oracle does (masks.frag
 // STEP 5 on the marks, applyLevelLimit on the oracle's): exact on the port's own inputs, and the
@@ -1200,6 +1238,25 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
     const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
     expectCaughtAt(r, k, model, cpu, *fault, fc.fault + ": ");
   }
+}
+
+// The planted fault trim-window-short (trim.frag's window along x s/2 short on the left) makes
+// compareFrames fail first at the stencil; the same frame without it passes.
+TEST(GpuTrimFaults, AShortWindowFailsAtTheStencil) {
+  MRR_REQUIRE_GL_OR_SKIP();
+  const gpu::GlContext context;
+  const gpu::ShaderFault* fault = nullptr;
+  for (const gpu::ShaderFault& f : gpu::shaderFaults())
+    if (f.name == "trim-window-short") fault = &f;
+  ASSERT_NE(fault, nullptr);
+  Settings s = peerSettings(Effect::Ssao, Mode::MrrEffect, 161, 97);
+  s.effectMask.budget = 0.0f;
+  s.effectMask.trim = true;
+  const CostModel model = CostModel::defaults("cpu");
+  const auto r = test::renderScene("builtin:demo", s);
+  const Constants k = makeConstants(s, r.framedSize);
+  const FrameResult cpu = r.renderer->render(r.camera, k, {true, {}, &model});
+  expectCaughtAt(r, k, model, cpu, *fault, "trim-window-short: ");
 }
 
 // The planted fault effect-only-keeps-edges (STEP 4 without the ∧ ¬M_ℓ: each widened level is

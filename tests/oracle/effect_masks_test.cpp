@@ -5,7 +5,9 @@
 #include "common/error.h"
 #include "common/hash.h"
 #include "common/kernels.h"
+#include "cpu_ref/blend.h"
 #include "cpu_ref/effect_masks.h"
+#include "cpu_ref/masks.h"
 #include "cpu_ref/foveation.h"
 #include "tests/oracle/render_helpers.h"
 
@@ -169,6 +171,118 @@ TEST(EffectMasks, NoFootprintIsMrrExactly) {
     }
     EXPECT_EQ(mrr.frame.blend.final.data, eff.frame.blend.final.data);
   }
+}
+
+
+// ---- SPEC §12.5: the trim ---------------------------------------------------------------------
+
+// blendReads (separable) is blendReadsReference (the window of every level pixel, read pixel by
+// pixel) bit for bit: odd frames whose padded grid is wider than W×H, every level, margin 0 and
+// SSAO's 2, reaches sparse, dense and on the borders.
+TEST(EffectTrim, ReadsFastPathMatchesTheReference) {
+  for (const auto [w, h] : {std::pair{97, 61}, std::pair{64, 40}, std::pair{13, 9}})
+    for (int pattern = 0; pattern < 4; ++pattern) {
+      Settings s = ssaoSettings(w, h, 4, Mode::MrrEffect);
+      const Constants c = makeConstants(s, 1.0f);
+      ImageU8 reach(c.levels[0].width, c.levels[0].height, 1, 0);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+          const uint32_t r = pcgHash(static_cast<uint32_t>(x + 977 * y + 7919 * pattern));
+          switch (pattern) {
+            case 0: reach.at(x, y) = static_cast<uint8_t>(r % 101 == 0 ? 1 + r % 3 : 0); break;  // sparse
+            case 1: reach.at(x, y) = static_cast<uint8_t>(r % 4); break;                         // dense
+            case 2: reach.at(x, y) = static_cast<uint8_t>(x == c.width - 1 || y == 0 ? 3 : 0); break;
+            case 3: reach.at(x, y) = static_cast<uint8_t>(x == 0 && y == c.height - 1 ? 3 : 0); break;
+          }
+        }
+      for (int l = 1; l < kLevelCount; ++l)
+        for (const int margin : {0, 2}) {
+          const ImageU8 fast = blendReads(reach, l, margin, c), reference = blendReadsReference(reach, l, margin, c);
+          ASSERT_EQ(fast.data, reference.data) << w << "x" << h << " pattern " << pattern << " level " << l << " margin " << margin;
+          if (pattern == 1) EXPECT_GT(test::countSet(fast), 0);
+        }
+    }
+}
+
+// R(p), blendReach on a frame's masks, is where the blend stops: the finest level whose α_ℓ (the
+// blend's own stage image) is 1, else the coarsest; the same on the trimmed and the untrimmed
+// masks (a pixel keeps the taps of every level it reads).
+TEST(EffectTrim, ReachIsTheBlendsFirstOpaqueLevel) {
+  for (const Effect effect : {Effect::Ssao, Effect::Ssm, Effect::Ssgi}) {
+    Settings s = defaultSettings(effect);
+    s.width = 97;
+    s.height = 61;
+    s.mode = Mode::MrrEffect;
+    s.neverSlower = false;
+    s.effectMask.budget = 0.0f;  // the a-priori masks
+    ImageU8 reaches[2];
+    for (const bool trim : {false, true}) {
+      s.effectMask.trim = trim;
+      const auto r = renderScene(effect == Effect::Ssm ? "builtin:shadows" : "builtin:demo", s);
+      const FrameResult& f = r.frame;
+      const Constants& c = f.constants;
+      std::array<LevelImages, kLevelCount> in;
+      for (size_t l = 0; l < kLevelCount; ++l) in[l] = {nullptr, &f.levels[l].masks.stencil, &f.levels[l].masks.alpha};
+      const ImageU8 reach = blendReach(in, c);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+          int expected = c.coarsestEnabled;
+          for (int l = 0; l < c.coarsestEnabled; ++l)
+            if (c.levels[static_cast<size_t>(l)].enabled && f.blend.alpha[static_cast<size_t>(l)].at(x, y) == 1.0f) {
+              expected = l;
+              break;
+            }
+          ASSERT_EQ(reach.at(x, y), expected) << toString(effect) << (trim ? " trimmed" : "") << " at " << x << "," << y;
+        }
+      reaches[trim ? 1 : 0] = reach;
+    }
+    EXPECT_EQ(reaches[0].data, reaches[1].data) << toString(effect);
+  }
+}
+
+// Without the a-posteriori term the trim changes nothing the blend shows: the final image and
+// level map are the untrimmed frame's bit for bit (fast and stepwise blend alike), each level's
+// S_ℓ ⊆ the untrimmed one's and ⊆ D_ℓ, and fewer pixels are shaded (not vacuous). With the budget's
+// refinement the trimmed levels keep S_ℓ ⊆ D_ℓ.
+TEST(EffectTrim, KeepsTheFinalImageBitForBitAndShadesLess) {
+  for (const Effect effect : {Effect::Ssao, Effect::Ssm, Effect::Ssgi})
+    for (const bool keepStages : {true, false}) {
+      Settings s = defaultSettings(effect);
+      s.width = 160;
+      s.height = 90;
+      s.mode = Mode::MrrEffect;
+      s.neverSlower = false;
+      s.effectMask.budget = 0.0f;
+      const std::string scene = effect == Effect::Ssm ? "builtin:shadows" : "builtin:demo";
+      const auto whole = renderScene(scene, s);
+      s.effectMask.trim = true;
+      const test::Rendered trimmed = [&] {
+        test::Rendered r = renderScene(scene, s);
+        if (!keepStages) r.frame = r.renderer->render(r.camera, r.frame.constants, {false});
+        return r;
+      }();
+      const std::string what = toString(effect) + (keepStages ? "" : " (final-only blend)");
+      EXPECT_EQ(trimmed.frame.blend.final.data, whole.frame.blend.final.data) << what;
+      EXPECT_EQ(trimmed.frame.blend.levelMap.data, whole.frame.blend.levelMap.data) << what;
+      EXPECT_LT(trimmed.frame.shadedPixelsTotal, whole.frame.shadedPixelsTotal) << what << ": the trim cut nothing";
+      EXPECT_TRUE(trimmed.frame.levels[0].masks.read.empty()) << "level 0 is never trimmed";
+      for (int l = 1; l < kLevelCount; ++l) {
+        const MaskLevel& t = trimmed.frame.levels[static_cast<size_t>(l)].masks;
+        const MaskLevel& u = whole.frame.levels[static_cast<size_t>(l)].masks;
+        if (t.stencil.empty()) continue;
+        ASSERT_EQ(t.read.data.size(), t.stencil.data.size()) << what << " level " << l;
+        for (size_t i = 0; i < t.stencil.data.size(); ++i)
+          ASSERT_TRUE(!t.stencil.data[i] || (u.stencil.data[i] && t.read.data[i])) << what << " level " << l << " pixel " << i;
+      }
+      s.effectMask.budget = 0.85f;  // the default: refined levels keep the trim
+      const auto refined = renderScene(scene, s);
+      for (int l = 1; l < kLevelCount; ++l) {
+        const MaskLevel& t = refined.frame.levels[static_cast<size_t>(l)].masks;
+        if (t.stencil.empty()) continue;
+        for (size_t i = 0; i < t.stencil.data.size(); ++i)
+          ASSERT_TRUE(!t.stencil.data[i] || t.read.data[i]) << what << " refined level " << l << " pixel " << i;
+      }
+    }
 }
 
 }  // namespace

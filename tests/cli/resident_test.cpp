@@ -39,15 +39,20 @@ TEST(ResidentRender, AReportAloneReadsNoImageAndFinishesOnce) {
   const std::string dir = test::scratchDir();
   REQUIRE_GL(dir);
   for (const std::string effect : {"ssao", "ssm", "ssgi"})
-    for (const std::string method : {"mrr", "full", "uniform-2", "mrr-effect"}) {  // tiles' report reads its rate map
-      // mrr-effect with the rule off, so that its budget (SPEC §12.4) selects on the GPU at this size
+    for (const std::string row : {"mrr", "full", "uniform-2", "mrr-effect", "mrr-effect+notrim"}) {  // tiles' report reads its rate map
+      // mrr-effect with the rule off, so that its budget (SPEC §12.4) selects on the GPU at this size;
+      // by default with SPEC §12.5's trim (its passes resident too), and without it, where the
+      // budget binds on every effect at this size
+      const bool notrim = row == "mrr-effect+notrim";
+      const std::string method = notrim ? "mrr-effect" : row;
       std::vector<std::string> more = {"--gpu-timing", "query"};
       if (method == "mrr-effect") more.insert(more.end(), {"--never-slower", "off"});
+      if (notrim) more.insert(more.end(), {"--effect-trim", "off"});
       const nlohmann::json j = render(dir, effect, method, more);
       ASSERT_TRUE(j.contains("gl")) << effect << " " << method;
       const nlohmann::json& gl = j["gl"];
       const std::string what = effect + " " + method + ": " + gl.dump();
-      if (method == "mrr-effect") {
+      if (notrim) {
         int64_t taken = 0;
         for (const nlohmann::json& level : j["effect_budget"]["levels"]) taken += level.value("taken", int64_t{0});
         EXPECT_GT(taken, 0) << effect << ": the budget marked nothing, the check would not hold it";

@@ -83,6 +83,7 @@ Settings bindingBudgetFrame(Effect e) {
   s.effectMask.cap = 4;
   s.effectMask.posterior = 0.01f;
   s.effectMask.budget = 0.85f;
+  s.effectMask.trim = false;  // what §12.5's trim saves, the budget would spend: a share that binds
   return s;
 }
 

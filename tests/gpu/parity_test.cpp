@@ -682,6 +682,7 @@ TEST_P(GpuEffectMaskParity, WidenedMasksAreExactAndEveryStageMatches) {
   const CostModel model = CostModel::defaults("cpu");
   for (const bool fromLevel0 : {false, true}) {
     Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
+    s.effectMask.trim = false;  // the widening alone (§12.5's trim: GpuTrimParity)
     s.ssm.lightAngle = 0.4f;  // penumbrae wide enough to reach past half a level pixel at 97×61
     if (fromLevel0) {
       s.effectMask.firstLevel = 0;
@@ -725,6 +726,7 @@ class GpuEffectOnlyParity : public GpuPeerParity {};  // the same GL context per
 // pixel at 97×61 (as GpuEffectMaskParity).
 Settings effectOnlySettings(Effect effect, bool fromLevel0) {
   Settings s = peerSettings(effect, Mode::MrrEffect, 97, 61);
+  s.effectMask.trim = false;  // the arms before §12.5's trim, which cuts what the blend never reads
   s.ssm.lightAngle = 0.4f;
   s.effectMask.effectOnly = true;
   s.effectMask.budget = 0.0f;  // the ablation's arms are a priori
@@ -808,6 +810,7 @@ TEST_P(GpuPosteriorParity, MarksAndRefinedMasksAreExactAndEveryStageMatches) {
   const PeerCase& pc = GetParam();
   const CostModel model = CostModel::defaults("cpu");
   Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
+  s.effectMask.trim = false;  // §12.2 alone: the trim keeps a coarser level only where it is read (GpuTrimParity)
   s.ssm.lightAngle = 0.4f;
   s.effectMask.cap = 4;
   s.effectMask.budget = 0.0f;  // a priori, then τ_v's marks (SPEC §12.4's budget: GpuEffectBudget)
@@ -856,6 +859,7 @@ TEST_P(GpuTrimParity, TrimmedStencilsAreExactAndEveryStageMatches) {
   const CostModel model = CostModel::defaults("cpu");
   for (const float budget : {0.0f, 0.85f}) {
     Settings s = peerSettings(pc.effect, Mode::MrrEffect, 97, 61);
+    s.effectMask.trim = false;
     s.ssm.lightAngle = 0.4f;
     s.effectMask.budget = budget;
     const BothPaths whole = renderBoth("builtin:" + pc.scene, s, model);
@@ -1209,6 +1213,7 @@ TEST(GpuPosteriorFaults, ComparisonFailsAtTheStageWhereTheBugIs) {
       if (f.name == fc.fault) fault = &f;
     ASSERT_NE(fault, nullptr) << fc.fault;
     Settings s = peerSettings(fc.effect, Mode::MrrEffect, 161, 97);
+    s.effectMask.trim = false;  // the marks' faults on every level's whole stencil (§12.5's trim has its own)
     s.effectMask.cap = 4;
     s.effectMask.posterior = posteriorTau(fc.effect);
     // τ_v's marks, drawn by refinement_marks.frag where the faults are; the budget's (SPEC §12.4),

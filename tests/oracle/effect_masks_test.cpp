@@ -54,6 +54,7 @@ TEST(EffectMasks, ShadesASupersetOfMrrsPixels) {
   for (const int first : {1, 0}) {
     s.mode = Mode::MrrEffect;
     s.effectMask.budget = 0.0f;  // the a-priori masks (the budget's marks may add level-0 pixels)
+    s.effectMask.trim = false;   // the widening alone (§12.5's trim then cuts what the blend never reads)
     s.effectMask.firstLevel = first;
     const auto eff = renderScene("builtin:demo", s);
     ASSERT_FALSE(eff.frame.fallback.fellBack);
@@ -160,6 +161,7 @@ TEST(EffectMasks, NoFootprintIsMrrExactly) {
     const auto mrr = renderScene("builtin:demo", s);
     s.mode = Mode::MrrEffect;
     s.effectMask.budget = 0.0f;  // the a-priori masks alone
+    s.effectMask.trim = false;   // and not §12.5's trim, which cuts mrr's closure too
     if (!tinyRadius) s.effectMask.scale = 0.0f;
     s.effectMask.firstLevel = 0;  // every level could widen
     const auto eff = renderScene("builtin:demo", s);
@@ -254,6 +256,7 @@ TEST(EffectTrim, KeepsTheFinalImageBitForBitAndShadesLess) {
       s.neverSlower = false;
       s.effectMask.budget = 0.0f;
       const std::string scene = effect == Effect::Ssm ? "builtin:shadows" : "builtin:demo";
+      s.effectMask.trim = false;
       const auto whole = renderScene(scene, s);
       s.effectMask.trim = true;
       const test::Rendered trimmed = [&] {

@@ -110,18 +110,28 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
   return r;
 }
 
-Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c) {
+Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& c,
+                  const BlockMap& nearBlocks) {
   int fine = 0;  // the enabled levels finer than C, a bit each (FINE_LEVELS)
   for (int l = 0; l < c.coarsestEnabled; ++l)
     if (c.levels[static_cast<size_t>(l)].enabled) fine |= 1 << l;
   const int coarsest = c.coarsestEnabled;
-  const unsigned program = scene.program("blend.reach." + std::to_string(fine) + "." + std::to_string(coarsest),
-                                         "fullscreen.vert", "blend.frag",
-                                         "#define REACH\n#define FINE_LEVELS " + std::to_string(fine) +
-                                             "\n#define COARSEST_LEVEL " + std::to_string(coarsest) + "\n");
+  // Near an edge the pass; far from every edge no finer α can be > 0 (MaskTargets::blendNear, as
+  // the final-only blend's far pass), so R = C there: the target is cleared to it. (Outside W×H
+  // a far block then holds C, not 0, but trim.frag reads R inside W×H alone.)
+  const Cover cover = nearBlocks && fine ? Cover::blocksOf(nearBlocks, 1 << (kLevelCount - 1), 1) : Cover::whole();
+  const unsigned program = scene.passProgram("blend.reach." + std::to_string(fine) + "." + std::to_string(coarsest),
+                                             "blend.frag",
+                                             "#define REACH\n#define FINE_LEVELS " + std::to_string(fine) +
+                                                 "\n#define COARSEST_LEVEL " + std::to_string(coarsest) + "\n",
+                                             cover);
   const LevelConstants& l0 = c.levels[0];
   Target target = scene.target(l0.width, l0.height, {Texel::R8}, false);
   target->bind();
+  if (!cover.isWhole()) {
+    const float far[4] = {static_cast<float>(coarsest) / 255.0f, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, far);
+  }
   glUseProgram(program);
   int unit = 0;
   for (int l = 0; l < 3; ++l) {
@@ -134,7 +144,7 @@ Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelC
   const float weights[3] = {c.levels[0].weight, c.levels[1].weight, c.levels[2].weight};
   if (fine) glUniform1fv(uniform(program, "weights"), 3, weights);
   glUniform2i(uniform(program, "frame"), c.width, c.height);
-  scene.drawFullscreen();
+  scene.draw(cover, l0.width, l0.height);
   checkGl("blend reach");
   return target;
 }

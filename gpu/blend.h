@@ -28,7 +28,9 @@ BlendResult blendLevels(const GpuScene& scene, const std::array<LevelTextures, k
 
 // SPEC §12.5 step 1 (blend.frag REACH, cpu_ref/blend.cpp blendReach): R(p), the coarsest level
 // the blend reads at each full-res pixel, from the levels' `stencil` and `alpha` alone (`sub` is
-// not read): ℓ/255 in an R8 target on the padded full-res grid, 0 outside W×H.
-Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& constants);
+// not read): ℓ/255 in an R8 target on the padded full-res grid, 0 outside W×H. With `nearBlocks`
+// (MaskTargets::blendNear) drawn over those blocks alone, C elsewhere (far from every edge).
+Target blendReach(const GpuScene& scene, const std::array<LevelTextures, kLevelCount>& levels, const Constants& constants,
+                  const BlockMap& nearBlocks = {});
 
 }  // namespace mrr::gpu

@@ -347,7 +347,7 @@ void trimToBlend(const GpuScene& scene, MaskTargets& masks, const Constants& c) 
   // 1. R(p) from the a-priori S and a (blend.frag REACH)
   std::array<LevelTextures, kLevelCount> levels;
   for (size_t l = 0; l < kLevelCount; ++l) levels[l] = {0, masks.stencil[l], masks.alpha[l]};
-  const Target reach = blendReach(scene, levels, c);
+  const Target reach = blendReach(scene, levels, c, masks.blendNear);  // far from every edge: C
   const int margin = trimMargin(c);
   // trim.frag STEP `step` for level ℓ into a fresh R8 target of width × height
   const auto step = [&](int n, int l, unsigned source, int width, int height, unsigned read = 0) {

@@ -195,8 +195,9 @@ class ExploreApi(unittest.TestCase):
 
     def test_mrr_effect_layers_and_the_why(self):
         # SPEC 12.3: mrr-effect's arms as layers, and the why layer's code is the probe's reason
-        reasons = ["none", "geometry", "effect", "marks", "closure", "coarsest", "fallback", "limit"]
-        q = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off&effect_posterior=0.05"
+        reasons = ["none", "geometry", "effect", "marks", "closure", "coarsest", "fallback", "limit", "trim"]
+        # the arms without SPEC 12.5's trim (which the trim's own check below covers)
+        q = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off&effect_posterior=0.05&effect_trim=off"
         status, report = self.server.json("api/frame?" + q)
         self.assertEqual(status, 200, report)
         layers = report["explore"]["layers"]
@@ -221,6 +222,19 @@ class ExploreApi(unittest.TestCase):
         self.assertEqual((meta["kind"], meta["names"][:3]), ("reason", ["none", "geometry", "effect"]))
         self.assertEqual(len(meta["swatches"]), len(reasons))
         self.assertTrue({"geometry", "coarsest"} <= seen, seen)
+        # SPEC 12.5, the trim (on by default): a level pixel it cut says so, and is not shaded
+        qt = q.replace("&effect_trim=off", "")
+        trimmed = 0
+        for x, y in [(80, 45), (10, 80), (150, 10), (40, 60), (120, 70)]:
+            status, probe = self.server.json("api/probe?x=%d&y=%d&path=cpu&%s" % (x, y, qt))
+            self.assertEqual(status, 200, probe)
+            for level in range(1, 4):
+                why = probe["levels"][level]["why"]
+                status, v = self.server.json("api/value?layer=mask.L%d.why&x=%d&y=%d&%s" % (level, x, y, qt))
+                self.assertEqual(reasons[int(v["values"]["why"])], why["reason"], (x, y, level))
+                self.assertEqual(why["reason"] not in ("none", "limit", "trim"), probe["levels"][level]["S"] == 1)
+                trimmed += why["reason"] == "trim"
+        self.assertGreater(trimmed, 0, "no probed level pixel was trimmed: the check is vacuous")
         # each knob of mrr-effect is a different frame, not the cached one
         # (a priori: at 160x90 the budget finds no time left, so it would shade what the a priori masks do)
         base = "effect=ssao&method=mrr-effect&samples=8&size=160x90&never_slower=off&effect_budget=0"

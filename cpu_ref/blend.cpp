@@ -199,12 +199,13 @@ float blendStep(float alpha, float fine, float coarserComposite) {
 
 namespace {
 
-// live_ℓ(q) = some a_ℓ > 0 within q's 3×3 neighbourhood, for every enabled level finer than the
-// coarsest: the bilinear taps of every full-res pixel inside level pixel q lie there, so where it
-// is 0, α_ℓ = 0 exactly and the level is skipped with one byte read.
+// live_ℓ(q) = some a_ℓ > 0 within q's 3×3 neighbourhood, for every enabled level ℓ ≥ 1 finer
+// than the coarsest: the bilinear taps of every full-res pixel inside level pixel q lie there, so
+// where it is 0, α_ℓ = 0 exactly and the level is skipped with one byte read. (Level 0 reads its
+// own texel: alphaLevelZero.)
 std::array<ImageU8, kLevelCount> liveMaps(const std::array<LevelImages, kLevelCount>& levels, const Constants& c) {
   std::array<ImageU8, kLevelCount> live;
-  for (int l = 0; l < c.coarsestEnabled; ++l) {
+  for (int l = 1; l < c.coarsestEnabled; ++l) {
     const LevelConstants& lc = c.levels[static_cast<size_t>(l)];
     if (!lc.enabled) continue;
     const ImageF& a = *levels[static_cast<size_t>(l)].alpha;
@@ -235,12 +236,24 @@ std::array<ImageU8, kLevelCount> liveMaps(const std::array<LevelImages, kLevelCo
   return live;
 }
 
+// alphaImpl at level 0 (s = 1): u = p, so tap 0 is p itself with b = 1 and taps 1–3 have b = 0;
+// â = 1·a(p) + 0 + 0 + 0 = a(p) and the coverage is [S(p)] for the finite values a holds, so α is
+// min(a(p) w, 1) where S(p), else 0, bit for bit (blend.frag's levelZeroSample).
+[[gnu::always_inline]] inline float alphaLevelZero(const LevelRow& row, int px) {
+  return row.stencil[0][px] ? std::min(row.alpha[0][px] * row.level->weight, 1.0f) : 0.0f;
+}
+
 // The finest enabled level whose α is 1 at full-res pixel x of the rows' row (nothing coarser
 // shows there: blendStep(1, f, c) = f), else the coarsest; each finer level's α into `alphas`.
+// `liveRow[ℓ]`: live_ℓ's row for the enabled levels 1 ≤ ℓ < C (null otherwise).
 [[gnu::always_inline]] inline int opaqueBase(const std::array<LevelRow, kLevelCount>& rows,
                                              const std::array<const uint8_t*, kLevelCount>& liveRow, const Constants& c,
                                              int x, float (&alphas)[kLevelCount]) {
-  for (int l = 0; l < c.coarsestEnabled; ++l) {
+  if (c.coarsestEnabled > 0 && c.levels[0].enabled) {
+    alphas[0] = alphaLevelZero(rows[0], x);
+    if (alphas[0] == 1.0f) return 0;
+  }
+  for (int l = 1; l < c.coarsestEnabled; ++l) {
     if (!liveRow[static_cast<size_t>(l)]) continue;  // disabled
     if (!liveRow[static_cast<size_t>(l)][x >> l]) continue;  // α = 0 (s = 2^ℓ)
     alphas[l] = alphaImpl(rows[static_cast<size_t>(l)], x);
@@ -265,7 +278,7 @@ void blendFinalOnly(const std::array<LevelImages, kLevelCount>& levels, const Co
       if (!lc.enabled) continue;
       const LevelImages& in = levels[static_cast<size_t>(l)];
       rows[static_cast<size_t>(l)] = levelRow(in.sub, *in.stencil, *in.alpha, lc, y);
-      if (l < c.coarsestEnabled) liveRow[static_cast<size_t>(l)] = &live[static_cast<size_t>(l)].at(0, y >> lc.index);
+      if (l >= 1 && l < c.coarsestEnabled) liveRow[static_cast<size_t>(l)] = &live[static_cast<size_t>(l)].at(0, y >> lc.index);
     }
     float* out = &r.final.at(0, y);
     uint8_t* levelMap = &r.levelMap.at(0, y);
@@ -345,7 +358,7 @@ ImageU8 blendReach(const std::array<LevelImages, kLevelCount>& levels, const Con
       if (!lc.enabled) continue;
       const LevelImages& in = levels[static_cast<size_t>(l)];
       rows[static_cast<size_t>(l)] = levelRow(nullptr, *in.stencil, *in.alpha, lc, y);
-      liveRow[static_cast<size_t>(l)] = &live[static_cast<size_t>(l)].at(0, y >> lc.index);
+      if (l >= 1) liveRow[static_cast<size_t>(l)] = &live[static_cast<size_t>(l)].at(0, y >> lc.index);
     }
     uint8_t* out = &reach.at(0, y);
     for (int x = 0; x < c.width; ++x) {

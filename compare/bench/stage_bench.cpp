@@ -27,6 +27,7 @@
 #include "common/paths.h"
 #include "common/stages.h"
 #include "cpu_ref/effect_masks.h"
+#include "cpu_ref/masks.h"
 #include "cpu_ref/oracle.h"
 #include "cpu_ref/pipeline.h"
 #include "scenes/catalog.h"
@@ -142,6 +143,16 @@ void registerStages() {
     add(masks + "/footprint", full, [&oracle, &f] { benchmark::DoNotOptimize(oracle.footprint(f)); });
     add(masks + "/widen", full, [&oracle, &f, footprint] { benchmark::DoNotOptimize(oracle.maskStages(f, footprint.get())); });
     add(masks + "/widened_rest", full, [&oracle, &f, footprint] { benchmark::DoNotOptimize(oracle.effectMasks(f, footprint.get())); });
+    if (c.effectMask.trim) {  // SPEC §12.5 alone, on the frame's untrimmed a-priori masks
+      FrameResult untrimmed = f;
+      untrimmed.constants.effectMask.trim = false;
+      auto whole = std::make_shared<Masks>(oracle.effectMasks(untrimmed, footprint.get()));
+      add(masks + "/trim", full, [&c, whole] {
+        Masks m = *whole;
+        trimToBlend(m, c);
+        benchmark::DoNotOptimize(m);
+      });
+    }
   }
   // SPEC §12.2's a-posteriori term, per refined level (the frame's `masks` stage holds these too):
   // the marks from the next coarser level's result (the 3×3 range, with a budget the candidates'

@@ -192,14 +192,6 @@ ImageU8 refinementMarks(const ImageF& coarser, const ImageU8& coarserStencil, co
   return parentMarks(varies, ratio, finerWidth, finerHeight);
 }
 
-namespace {
-void keepBlendReads(MaskLevel& level) {
-  if (level.read.empty()) return;
-  for (size_t i = 0; i < level.stencil.data.size(); ++i)
-    level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] & level.read.data[i]);
-}
-}  // namespace
-
 void refineMasksReference(MaskLevel& level, const ImageU8& marks, const LevelConstants& lc) {
   // 1. M_ℓ ∨= marks
   for (size_t i = 0; i < level.mask.data.size(); ++i) level.mask.data[i] = level.mask.data[i] | marks.data[i];

@@ -245,6 +245,12 @@ ImageU8 blendReads(const ImageU8& reach, int level, int margin, const Constants&
   return read;
 }
 
+void keepBlendReads(MaskLevel& level) {
+  if (level.read.empty()) return;
+  for (size_t i = 0; i < level.stencil.data.size(); ++i)
+    level.stencil.data[i] = static_cast<uint8_t>(level.stencil.data[i] & level.read.data[i]);
+}
+
 void trimToBlend(Masks& levels, const Constants& c) {
   // 1. R(p), the coarsest level the blend reads at each full-res pixel, from the a-priori S and a
   std::array<LevelImages, kLevelCount> in;
@@ -256,7 +262,7 @@ void trimToBlend(Masks& levels, const Constants& c) {
     // 2. D_ℓ: the taps of the pixels with R ≥ ℓ, within SSAO's blur radius
     ml.read = blendReads(reach, l, trimMargin(c), c);
     // 3. S_ℓ ∧= D_ℓ
-    for (size_t i = 0; i < ml.stencil.data.size(); ++i) ml.stencil.data[i] = static_cast<uint8_t>(ml.stencil.data[i] & ml.read.data[i]);
+    keepBlendReads(ml);
   }
 }
 

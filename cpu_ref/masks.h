@@ -52,6 +52,9 @@ ImageU8 blendReads(const ImageU8& reach, int level, int margin, const Constants&
 // the final image is the untrimmed one's bit for bit (without the a-posteriori term, which reads
 // the trimmed results).
 void trimToBlend(Masks& levels, const Constants& constants);
+// Step 3, S_ℓ ∧= D_ℓ, where `level.read` holds D_ℓ (nothing where it is empty); §12.2's
+// refinement ends with it too.
+void keepBlendReads(MaskLevel& level);
 
 // The whole of SPEC §3 for multires mode. `edges` is E on the padded full-res grid.
 // mrr-effect (SPEC §12): `footprint` (cpu_ref/effect_masks.h) widens each enabled level's M_ℓ
